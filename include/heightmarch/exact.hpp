@@ -1,0 +1,60 @@
+#pragma once
+// The exact ray/heightfield intersection (SPEC section 3), in double precision.
+#include <cstdint>
+#include <vector>
+
+#include "heightmarch/heightfield.hpp"
+#include "heightmarch/hits.hpp"
+#include "heightmarch/rays.hpp"
+#include "heightmarch/sampler.hpp"
+
+namespace heightmarch {
+
+// A path through the heightfield, linear in t: texel-space position (x, y) = origin + t dir,
+// with x = u W - 0.5 as in the sampler, and depth = depth0 + t ddepth.
+struct HeightfieldPath {
+  double x0, y0, dx, dy;
+  double depth0, ddepth;
+  double t_max;
+};
+
+struct PathHit {
+  bool found = false;
+  double t = 0.0;
+  std::uint32_t cells = 0;  // texel cells solved on the way
+};
+
+// Walks the texel cells the path crosses (2D DDA), skipping blocks whose minimum depth lies
+// below the path with a min-depth mip pyramid, and solves each cell's quadratic exactly.
+class ExactIntersector {
+ public:
+  ExactIntersector(const DepthMap& map, Wrap wrap);
+
+  // Smallest t in [0, t_max] with depth(t) >= D(x(t), y(t)).
+  PathHit first_hit(const HeightfieldPath& path) const;
+
+  // d* of SPEC section 3 for one ray, and the cells solved.
+  PathHit intersect(double tx, double ty, double vx, double vy, double vz, double scale) const;
+
+  // Whether the light is visible from the surface point at uv (depth d) along unit L.
+  bool visible(double u, double v, double depth, const float light[3], double scale) const;
+
+  // Bilinear depth at texel-space (x, y), in double (the SPEC formula).
+  double depth_at(double x, double y) const;
+
+ private:
+  double texel(long long i, long long j) const;
+  bool cell_first_root(long long ci, long long cj, const HeightfieldPath& path, double t0,
+                       double t1, double& t_hit) const;
+
+  const DepthMap* map_;
+  Wrap wrap_;
+  // levels_[L] holds, per block of 2^L x 2^L cells, the minimum of the texels its cells read.
+  struct Level {
+    int blocks_x, blocks_y;
+    std::vector<float> min_depth;
+  };
+  std::vector<Level> levels_;
+};
+
+}  // namespace heightmarch

@@ -1,0 +1,33 @@
+#pragma once
+// Error and speed measures (SPEC section 5) of a technique's hits against the exact ones.
+#include <cstddef>
+#include <vector>
+
+#include "heightmarch/heightfield.hpp"
+#include "heightmarch/hits.hpp"
+#include "heightmarch/rays.hpp"
+
+namespace heightmarch {
+
+// Per ray: |(uv - T*) * (W, H)| in texels, unwrapped coordinates.
+float uv_error_texels(float u, float v, float exact_u, float exact_v, int width, int height);
+
+struct ErrorSummary {
+  std::size_t rays = 0;        // real rays measured (not discarded)
+  std::size_t discarded = 0;
+  double mean = 0, rms = 0, p50 = 0, p95 = 0, p99 = 0, max = 0;  // uv error, texels
+  double wrong_surface_rate = 0;   // share of rays with uv error > 1 texel
+  double depth_error_mean = 0;
+  double samples_per_ray = 0;      // over all real rays, discarded included
+  // Shadow technique only: |factor - exact visibility| and the share of rays whose factor,
+  // thresholded at 0.5, disagrees with the exact visibility.
+  bool has_shadow = false;
+  double shadow_error_mean = 0, shadow_mismatch_rate = 0;
+};
+
+// Errors per ray (0 for padding and discarded rays) and their summary.
+ErrorSummary summarize_errors(const RayBatch& rays, const HitBuffers& hits, const HitBuffers& exact,
+                              int map_width, int map_height, bool shadow,
+                              std::vector<float>* per_ray_error = nullptr);
+
+}  // namespace heightmarch

@@ -1,0 +1,63 @@
+#pragma once
+// Rays in tangent space (SPEC section 2) and the views that make them, as structure-of-arrays
+// tile batches: the view is cut into tiles, each tile's rays are stored together, ordered in
+// 4 x 4 pixel blocks so that any packet of 4, 8 or 16 consecutive rays is a compact 2D block.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace heightmarch {
+
+// Every tile's ray range starts at a multiple of this and is padded to it, so packet kernels
+// of any width never need a partial load.
+inline constexpr std::size_t kRayAlignment = 16;
+inline constexpr std::uint32_t kPaddingRay = 0xffffffffu;
+
+struct RayBatch {
+  // T (entry point on the top plane) and V (unit, towards the eye, vz > 0).
+  std::vector<float> tx, ty, vx, vy, vz;
+  // For each ray, its pixel (y * image_width + x) or input row; kPaddingRay for padding.
+  std::vector<std::uint32_t> origin;
+  // Tile t holds rays [tile_offsets[t], tile_offsets[t + 1]).
+  std::vector<std::size_t> tile_offsets{0};
+  int image_width = 0;   // pixels of the view (rays file: row count x 1)
+  int image_height = 0;
+  std::size_t ray_count = 0;  // rays without the padding
+
+  std::size_t size() const { return tx.size(); }
+  std::size_t tile_count() const { return tile_offsets.size() - 1; }
+  bool is_padding(std::size_t i) const { return origin[i] == kPaddingRay; }
+};
+
+struct ViewSpec {
+  enum class Kind { perspective, sweep };
+  Kind kind = Kind::perspective;
+  int width = 1024;
+  int height = 1024;
+  float theta_degrees = 0.0f;   // sweep: angle of V from the normal
+  float phi_degrees = 270.0f;   // sweep: azimuth of V (270: eye towards -v, as the default view)
+};
+
+inline constexpr int kMaxViewSide = 16384;
+inline constexpr int kDefaultTileSize = 32;
+
+// "default" or "sweep:THETA[,PHI]" (degrees); throws InputError.
+ViewSpec parse_view(const std::string& text, int width, int height);
+std::string describe(const ViewSpec& view);
+
+// The default view: a perspective camera at (0.5, -0.113, 0.196) looking at the plane so view
+// angles span 30 degrees (near edge) to 80 degrees (far edge). The sweep view: one fixed V over a
+// width x height grid of T at pixel centres of [0,1]^2.
+RayBatch make_view_rays(const ViewSpec& view, int tile_size = kDefaultTileSize);
+
+// A CSV file with header tx,ty,vx,vy,vz; rays keep their input order, cut into tiles of
+// tile_size^2 rays. V is normalised; vz <= 0, NaN and malformed rows are InputErrors.
+RayBatch load_rays_csv(const std::string& path, int tile_size = kDefaultTileSize);
+
+// Builds a batch from explicit rays (used by the CSV loader and tests).
+RayBatch make_ray_list(const std::vector<float>& tx, const std::vector<float>& ty,
+                       const std::vector<float>& vx, const std::vector<float>& vy,
+                       const std::vector<float>& vz, int tile_size = kDefaultTileSize);
+
+}  // namespace heightmarch

@@ -1,0 +1,71 @@
+#pragma once
+// Width 1: plain scalar code, so that the packet kernels compile as the scalar reference.
+#include <cmath>
+#include <cstdint>
+
+#include "heightmarch/simd/packet.hpp"
+
+namespace heightmarch::HEIGHTMARCH_ISA_NS {
+
+template <> struct vbool<1> {
+  bool b;
+  friend vbool operator&(vbool a, vbool c) { return {a.b && c.b}; }
+  friend vbool operator|(vbool a, vbool c) { return {a.b || c.b}; }
+  friend vbool operator!(vbool a) { return {!a.b}; }
+  friend bool any(vbool a) { return a.b; }
+  friend bool all(vbool a) { return a.b; }
+  friend bool none(vbool a) { return !a.b; }
+  friend int popcount(vbool a) { return a.b ? 1 : 0; }
+  static vbool all_true() { return {true}; }
+};
+
+template <> struct vint<1> {
+  std::int32_t i;
+  vint() = default;
+  vint(std::int32_t x) : i(x) {}
+  friend vint operator+(vint a, vint c) { return {a.i + c.i}; }
+  friend vint operator-(vint a, vint c) { return {a.i - c.i}; }
+  friend vint operator*(vint a, vint c) { return {a.i * c.i}; }
+  friend vbool<1> operator<(vint a, vint c) { return {a.i < c.i}; }
+  friend vint min(vint a, vint c) { return {a.i < c.i ? a.i : c.i}; }
+  friend vint max(vint a, vint c) { return {a.i > c.i ? a.i : c.i}; }
+  friend vint select(vbool<1> m, vint a, vint c) { return m.b ? a : c; }
+  void store(std::int32_t* p) const { *p = i; }
+};
+
+template <> struct vfloat<1> {
+  float f;
+  static constexpr int width = 1;
+  vfloat() = default;
+  vfloat(float x) : f(x) {}
+  static vfloat load(const float* p) { return {*p}; }
+  void store(float* p) const { *p = f; }
+  friend vfloat operator+(vfloat a, vfloat c) { return {a.f + c.f}; }
+  friend vfloat operator-(vfloat a, vfloat c) { return {a.f - c.f}; }
+  friend vfloat operator*(vfloat a, vfloat c) { return {a.f * c.f}; }
+  friend vfloat operator/(vfloat a, vfloat c) { return {a.f / c.f}; }
+  friend vbool<1> operator<(vfloat a, vfloat c) { return {a.f < c.f}; }
+  friend vbool<1> operator>(vfloat a, vfloat c) { return {a.f > c.f}; }
+  friend vbool<1> operator>=(vfloat a, vfloat c) { return {a.f >= c.f}; }
+  friend vbool<1> operator!=(vfloat a, vfloat c) { return {a.f != c.f}; }
+  // min/max return the second operand when either is NaN, as minps/maxps do.
+  friend vfloat min(vfloat a, vfloat c) { return {a.f < c.f ? a.f : c.f}; }
+  friend vfloat max(vfloat a, vfloat c) { return {a.f > c.f ? a.f : c.f}; }
+  friend vfloat abs(vfloat a) { return {std::fabs(a.f)}; }
+  friend vfloat floor(vfloat a) { return {std::floor(a.f)}; }
+  friend vfloat ceil(vfloat a) { return {std::ceil(a.f)}; }
+  friend vfloat select(vbool<1> m, vfloat a, vfloat c) { return m.b ? a : c; }
+  // Truncation; out of range and NaN give INT32_MIN, as cvttps2dq does.
+  friend vint<1> to_int(vfloat a) {
+    return {a.f >= -2147483648.0f && a.f < 2147483648.0f ? static_cast<std::int32_t>(a.f)
+                                                          : INT32_MIN};
+  }
+  friend vfloat to_float(vint<1> a) { return {static_cast<float>(a.i)}; }
+};
+
+// The lane's value at base[index], or 0 where the mask is off.
+inline vfloat<1> gather(const float* base, vint<1> index, vbool<1> mask) {
+  return {mask.b ? base[index.i] : 0.0f};
+}
+
+}  // namespace heightmarch::HEIGHTMARCH_ISA_NS

@@ -1,0 +1,67 @@
+#pragma once
+// Width 16: AVX-512F/BW/DQ/VL. Masks are k-registers.
+#include <immintrin.h>
+
+#include "heightmarch/simd/packet.hpp"
+
+namespace heightmarch::HEIGHTMARCH_ISA_NS {
+
+template <> struct vbool<16> {
+  __mmask16 m;
+  friend vbool operator&(vbool a, vbool c) { return {__mmask16(a.m & c.m)}; }
+  friend vbool operator|(vbool a, vbool c) { return {__mmask16(a.m | c.m)}; }
+  friend vbool operator!(vbool a) { return {__mmask16(~a.m)}; }
+  friend bool any(vbool a) { return a.m != 0; }
+  friend bool all(vbool a) { return a.m == 0xffff; }
+  friend bool none(vbool a) { return a.m == 0; }
+  friend int popcount(vbool a) { return __builtin_popcount(unsigned(a.m)); }
+  static vbool all_true() { return {__mmask16(0xffff)}; }
+};
+
+template <> struct vint<16> {
+  __m512i i;
+  vint() = default;
+  vint(__m512i x) : i(x) {}
+  vint(std::int32_t x) : i(_mm512_set1_epi32(x)) {}
+  friend vint operator+(vint a, vint c) { return _mm512_add_epi32(a.i, c.i); }
+  friend vint operator-(vint a, vint c) { return _mm512_sub_epi32(a.i, c.i); }
+  friend vint operator*(vint a, vint c) { return _mm512_mullo_epi32(a.i, c.i); }
+  friend vbool<16> operator<(vint a, vint c) { return {_mm512_cmplt_epi32_mask(a.i, c.i)}; }
+  friend vint min(vint a, vint c) { return _mm512_min_epi32(a.i, c.i); }
+  friend vint max(vint a, vint c) { return _mm512_max_epi32(a.i, c.i); }
+  friend vint select(vbool<16> m, vint a, vint c) { return _mm512_mask_blend_epi32(m.m, c.i, a.i); }
+  void store(std::int32_t* p) const { _mm512_storeu_si512(p, i); }
+};
+
+template <> struct vfloat<16> {
+  __m512 f;
+  static constexpr int width = 16;
+  vfloat() = default;
+  vfloat(__m512 x) : f(x) {}
+  vfloat(float x) : f(_mm512_set1_ps(x)) {}
+  static vfloat load(const float* p) { return _mm512_loadu_ps(p); }
+  void store(float* p) const { _mm512_storeu_ps(p, f); }
+  friend vfloat operator+(vfloat a, vfloat c) { return _mm512_add_ps(a.f, c.f); }
+  friend vfloat operator-(vfloat a, vfloat c) { return _mm512_sub_ps(a.f, c.f); }
+  friend vfloat operator*(vfloat a, vfloat c) { return _mm512_mul_ps(a.f, c.f); }
+  friend vfloat operator/(vfloat a, vfloat c) { return _mm512_div_ps(a.f, c.f); }
+  friend vbool<16> operator<(vfloat a, vfloat c) { return {_mm512_cmp_ps_mask(a.f, c.f, _CMP_LT_OQ)}; }
+  friend vbool<16> operator>(vfloat a, vfloat c) { return {_mm512_cmp_ps_mask(a.f, c.f, _CMP_GT_OQ)}; }
+  friend vbool<16> operator>=(vfloat a, vfloat c) { return {_mm512_cmp_ps_mask(a.f, c.f, _CMP_GE_OQ)}; }
+  friend vbool<16> operator!=(vfloat a, vfloat c) { return {_mm512_cmp_ps_mask(a.f, c.f, _CMP_NEQ_UQ)}; }
+  friend vfloat min(vfloat a, vfloat c) { return _mm512_min_ps(a.f, c.f); }
+  friend vfloat max(vfloat a, vfloat c) { return _mm512_max_ps(a.f, c.f); }
+  friend vfloat abs(vfloat a) { return _mm512_abs_ps(a.f); }
+  friend vfloat floor(vfloat a) { return _mm512_roundscale_ps(a.f, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
+  friend vfloat ceil(vfloat a) { return _mm512_roundscale_ps(a.f, _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC); }
+  friend vfloat select(vbool<16> m, vfloat a, vfloat c) { return _mm512_mask_blend_ps(m.m, c.f, a.f); }
+  friend vint<16> to_int(vfloat a) { return _mm512_cvttps_epi32(a.f); }
+  friend vfloat to_float(vint<16> a) { return _mm512_cvtepi32_ps(a.i); }
+};
+
+// Masked hardware gather: lanes whose mask is off load nothing and read 0.
+inline vfloat<16> gather(const float* base, vint<16> index, vbool<16> mask) {
+  return _mm512_mask_i32gather_ps(_mm512_setzero_ps(), mask.m, index.i, base, 4);
+}
+
+}  // namespace heightmarch::HEIGHTMARCH_ISA_NS

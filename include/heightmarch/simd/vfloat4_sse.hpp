@@ -1,0 +1,73 @@
+#pragma once
+// Width 4: SSE4.2. SSE has no gather; gather() loads the four lanes one by one (see gather).
+#include <nmmintrin.h>
+
+#include "heightmarch/simd/packet.hpp"
+
+namespace heightmarch::HEIGHTMARCH_ISA_NS {
+
+template <> struct vbool<4> {
+  __m128 m;  // all-ones lanes are true
+  friend vbool operator&(vbool a, vbool c) { return {_mm_and_ps(a.m, c.m)}; }
+  friend vbool operator|(vbool a, vbool c) { return {_mm_or_ps(a.m, c.m)}; }
+  friend vbool operator!(vbool a) { return {_mm_xor_ps(a.m, _mm_castsi128_ps(_mm_set1_epi32(-1)))}; }
+  friend bool any(vbool a) { return _mm_movemask_ps(a.m) != 0; }
+  friend bool all(vbool a) { return _mm_movemask_ps(a.m) == 0xf; }
+  friend bool none(vbool a) { return _mm_movemask_ps(a.m) == 0; }
+  friend int popcount(vbool a) { return __builtin_popcount(unsigned(_mm_movemask_ps(a.m))); }
+  static vbool all_true() { return {_mm_castsi128_ps(_mm_set1_epi32(-1))}; }
+};
+
+template <> struct vint<4> {
+  __m128i i;
+  vint() = default;
+  vint(__m128i x) : i(x) {}
+  vint(std::int32_t x) : i(_mm_set1_epi32(x)) {}
+  friend vint operator+(vint a, vint c) { return _mm_add_epi32(a.i, c.i); }
+  friend vint operator-(vint a, vint c) { return _mm_sub_epi32(a.i, c.i); }
+  friend vint operator*(vint a, vint c) { return _mm_mullo_epi32(a.i, c.i); }
+  friend vbool<4> operator<(vint a, vint c) { return {_mm_castsi128_ps(_mm_cmplt_epi32(a.i, c.i))}; }
+  friend vint min(vint a, vint c) { return _mm_min_epi32(a.i, c.i); }
+  friend vint max(vint a, vint c) { return _mm_max_epi32(a.i, c.i); }
+  friend vint select(vbool<4> m, vint a, vint c) {
+    return _mm_castps_si128(_mm_blendv_ps(_mm_castsi128_ps(c.i), _mm_castsi128_ps(a.i), m.m));
+  }
+  void store(std::int32_t* p) const { _mm_storeu_si128(reinterpret_cast<__m128i*>(p), i); }
+};
+
+template <> struct vfloat<4> {
+  __m128 f;
+  static constexpr int width = 4;
+  vfloat() = default;
+  vfloat(__m128 x) : f(x) {}
+  vfloat(float x) : f(_mm_set1_ps(x)) {}
+  static vfloat load(const float* p) { return _mm_loadu_ps(p); }
+  void store(float* p) const { _mm_storeu_ps(p, f); }
+  friend vfloat operator+(vfloat a, vfloat c) { return _mm_add_ps(a.f, c.f); }
+  friend vfloat operator-(vfloat a, vfloat c) { return _mm_sub_ps(a.f, c.f); }
+  friend vfloat operator*(vfloat a, vfloat c) { return _mm_mul_ps(a.f, c.f); }
+  friend vfloat operator/(vfloat a, vfloat c) { return _mm_div_ps(a.f, c.f); }
+  friend vbool<4> operator<(vfloat a, vfloat c) { return {_mm_cmplt_ps(a.f, c.f)}; }
+  friend vbool<4> operator>(vfloat a, vfloat c) { return {_mm_cmpgt_ps(a.f, c.f)}; }
+  friend vbool<4> operator>=(vfloat a, vfloat c) { return {_mm_cmpge_ps(a.f, c.f)}; }
+  friend vbool<4> operator!=(vfloat a, vfloat c) { return {_mm_cmpneq_ps(a.f, c.f)}; }
+  friend vfloat min(vfloat a, vfloat c) { return _mm_min_ps(a.f, c.f); }
+  friend vfloat max(vfloat a, vfloat c) { return _mm_max_ps(a.f, c.f); }
+  friend vfloat abs(vfloat a) { return _mm_andnot_ps(_mm_set1_ps(-0.0f), a.f); }
+  friend vfloat floor(vfloat a) { return _mm_floor_ps(a.f); }
+  friend vfloat ceil(vfloat a) { return _mm_ceil_ps(a.f); }
+  friend vfloat select(vbool<4> m, vfloat a, vfloat c) { return _mm_blendv_ps(c.f, a.f, m.m); }
+  friend vint<4> to_int(vfloat a) { return _mm_cvttps_epi32(a.f); }
+  friend vfloat to_float(vint<4> a) { return _mm_cvtepi32_ps(a.i); }
+};
+
+// Four scalar loads; every lane loads, since the sampler keeps all indices in range and a
+// branch per lane would cost more than the load.
+inline vfloat<4> gather(const float* base, vint<4> index, vbool<4>) {
+  const long long lo = _mm_cvtsi128_si64(index.i);
+  const long long hi = _mm_extract_epi64(index.i, 1);
+  return _mm_setr_ps(base[std::int32_t(lo)], base[std::int32_t(lo >> 32)], base[std::int32_t(hi)],
+                     base[std::int32_t(hi >> 32)]);
+}
+
+}  // namespace heightmarch::HEIGHTMARCH_ISA_NS

@@ -1,0 +1,74 @@
+#pragma once
+// Width 8: AVX2 (+ FMA available, though the kernels do not contract; see src/isa/README.md).
+#include <immintrin.h>
+
+#include "heightmarch/simd/packet.hpp"
+
+namespace heightmarch::HEIGHTMARCH_ISA_NS {
+
+template <> struct vbool<8> {
+  __m256 m;  // all-ones lanes are true
+  friend vbool operator&(vbool a, vbool c) { return {_mm256_and_ps(a.m, c.m)}; }
+  friend vbool operator|(vbool a, vbool c) { return {_mm256_or_ps(a.m, c.m)}; }
+  friend vbool operator!(vbool a) {
+    return {_mm256_xor_ps(a.m, _mm256_castsi256_ps(_mm256_set1_epi32(-1)))};
+  }
+  friend bool any(vbool a) { return _mm256_movemask_ps(a.m) != 0; }
+  friend bool all(vbool a) { return _mm256_movemask_ps(a.m) == 0xff; }
+  friend bool none(vbool a) { return _mm256_movemask_ps(a.m) == 0; }
+  friend int popcount(vbool a) { return __builtin_popcount(unsigned(_mm256_movemask_ps(a.m))); }
+  static vbool all_true() { return {_mm256_castsi256_ps(_mm256_set1_epi32(-1))}; }
+};
+
+template <> struct vint<8> {
+  __m256i i;
+  vint() = default;
+  vint(__m256i x) : i(x) {}
+  vint(std::int32_t x) : i(_mm256_set1_epi32(x)) {}
+  friend vint operator+(vint a, vint c) { return _mm256_add_epi32(a.i, c.i); }
+  friend vint operator-(vint a, vint c) { return _mm256_sub_epi32(a.i, c.i); }
+  friend vint operator*(vint a, vint c) { return _mm256_mullo_epi32(a.i, c.i); }
+  friend vbool<8> operator<(vint a, vint c) {
+    return {_mm256_castsi256_ps(_mm256_cmpgt_epi32(c.i, a.i))};
+  }
+  friend vint min(vint a, vint c) { return _mm256_min_epi32(a.i, c.i); }
+  friend vint max(vint a, vint c) { return _mm256_max_epi32(a.i, c.i); }
+  friend vint select(vbool<8> m, vint a, vint c) {
+    return _mm256_castps_si256(
+        _mm256_blendv_ps(_mm256_castsi256_ps(c.i), _mm256_castsi256_ps(a.i), m.m));
+  }
+  void store(std::int32_t* p) const { _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), i); }
+};
+
+template <> struct vfloat<8> {
+  __m256 f;
+  static constexpr int width = 8;
+  vfloat() = default;
+  vfloat(__m256 x) : f(x) {}
+  vfloat(float x) : f(_mm256_set1_ps(x)) {}
+  static vfloat load(const float* p) { return _mm256_loadu_ps(p); }
+  void store(float* p) const { _mm256_storeu_ps(p, f); }
+  friend vfloat operator+(vfloat a, vfloat c) { return _mm256_add_ps(a.f, c.f); }
+  friend vfloat operator-(vfloat a, vfloat c) { return _mm256_sub_ps(a.f, c.f); }
+  friend vfloat operator*(vfloat a, vfloat c) { return _mm256_mul_ps(a.f, c.f); }
+  friend vfloat operator/(vfloat a, vfloat c) { return _mm256_div_ps(a.f, c.f); }
+  friend vbool<8> operator<(vfloat a, vfloat c) { return {_mm256_cmp_ps(a.f, c.f, _CMP_LT_OQ)}; }
+  friend vbool<8> operator>(vfloat a, vfloat c) { return {_mm256_cmp_ps(a.f, c.f, _CMP_GT_OQ)}; }
+  friend vbool<8> operator>=(vfloat a, vfloat c) { return {_mm256_cmp_ps(a.f, c.f, _CMP_GE_OQ)}; }
+  friend vbool<8> operator!=(vfloat a, vfloat c) { return {_mm256_cmp_ps(a.f, c.f, _CMP_NEQ_UQ)}; }
+  friend vfloat min(vfloat a, vfloat c) { return _mm256_min_ps(a.f, c.f); }
+  friend vfloat max(vfloat a, vfloat c) { return _mm256_max_ps(a.f, c.f); }
+  friend vfloat abs(vfloat a) { return _mm256_andnot_ps(_mm256_set1_ps(-0.0f), a.f); }
+  friend vfloat floor(vfloat a) { return _mm256_floor_ps(a.f); }
+  friend vfloat ceil(vfloat a) { return _mm256_ceil_ps(a.f); }
+  friend vfloat select(vbool<8> m, vfloat a, vfloat c) { return _mm256_blendv_ps(c.f, a.f, m.m); }
+  friend vint<8> to_int(vfloat a) { return _mm256_cvttps_epi32(a.f); }
+  friend vfloat to_float(vint<8> a) { return _mm256_cvtepi32_ps(a.i); }
+};
+
+// Masked hardware gather: lanes whose mask is off load nothing and read 0.
+inline vfloat<8> gather(const float* base, vint<8> index, vbool<8> mask) {
+  return _mm256_mask_i32gather_ps(_mm256_setzero_ps(), base, index.i, mask.m, 4);
+}
+
+}  // namespace heightmarch::HEIGHTMARCH_ISA_NS

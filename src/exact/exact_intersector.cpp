@@ -1,0 +1,223 @@
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <limits>
+
+#include "heightmarch/exact.hpp"
+
+namespace heightmarch {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+long long floor_to_cell(double x, double direction) {
+  const double f = std::floor(x);
+  // On a cell boundary, a path moving towards -x is in the cell on the left.
+  return (long long)f - (f == x && direction < 0.0 ? 1 : 0);
+}
+
+long long wrap_index(long long i, long long n) {
+  const long long r = i % n;
+  return r < 0 ? r + n : r;
+}
+
+}  // namespace
+
+ExactIntersector::ExactIntersector(const DepthMap& map, Wrap wrap) : map_(&map), wrap_(wrap) {
+  // Level 0: one entry per cell (the 2 x 2 texels it blends); then 2 x 2 blocks per level.
+  // REPEAT: cells 0..W-1 wrap, used only while 2^L divides both sides so blocks tile the period.
+  // CLAMP: the interior cells 0..W-2; the half-infinite edge cells are solved directly.
+  const bool repeat = wrap == Wrap::repeat;
+  const int cells_x = repeat ? map.width : map.width - 1;
+  const int cells_y = repeat ? map.height : map.height - 1;
+  if (cells_x < 1 || cells_y < 1) return;
+  Level level0{cells_x, cells_y, std::vector<float>(std::size_t(cells_x) * std::size_t(cells_y))};
+  for (int j = 0; j < cells_y; ++j)
+    for (int i = 0; i < cells_x; ++i)
+      level0.min_depth[std::size_t(j) * cells_x + i] =
+          float(std::min({texel(i, j), texel(i + 1, j), texel(i, j + 1), texel(i + 1, j + 1)}));
+  levels_.push_back(std::move(level0));
+  while (true) {
+    const Level& fine = levels_.back();
+    if (fine.blocks_x == 1 && fine.blocks_y == 1) break;
+    if (repeat && (fine.blocks_x % 2 != 0 || fine.blocks_y % 2 != 0)) break;
+    Level coarse{(fine.blocks_x + 1) / 2, (fine.blocks_y + 1) / 2, {}};
+    coarse.min_depth.assign(std::size_t(coarse.blocks_x) * std::size_t(coarse.blocks_y), 1.0f);
+    for (int j = 0; j < fine.blocks_y; ++j)
+      for (int i = 0; i < fine.blocks_x; ++i) {
+        float& m = coarse.min_depth[std::size_t(j / 2) * coarse.blocks_x + i / 2];
+        m = std::min(m, fine.min_depth[std::size_t(j) * fine.blocks_x + i]);
+      }
+    levels_.push_back(std::move(coarse));
+  }
+}
+
+double ExactIntersector::texel(long long i, long long j) const {
+  const long long w = map_->width, h = map_->height;
+  if (wrap_ == Wrap::repeat) {
+    i = wrap_index(i, w);
+    j = wrap_index(j, h);
+  } else {
+    i = std::clamp(i, 0LL, w - 1);
+    j = std::clamp(j, 0LL, h - 1);
+  }
+  return map_->at(int(i), int(j));
+}
+
+double ExactIntersector::depth_at(double x, double y) const {
+  const double x0 = std::floor(x), y0 = std::floor(y);
+  const double fx = x - x0, fy = y - y0;
+  const long long i = (long long)x0, j = (long long)y0;
+  const double top = texel(i, j) + fx * (texel(i + 1, j) - texel(i, j));
+  const double bottom = texel(i, j + 1) + fx * (texel(i + 1, j + 1) - texel(i, j + 1));
+  return top + fy * (bottom - top);
+}
+
+// Depth minus surface depth along the path inside cell (ci, cj) is a quadratic in t;
+// finds its first zero crossing into >= 0 within [t0, t1].
+bool ExactIntersector::cell_first_root(long long ci, long long cj, const HeightfieldPath& p,
+                                       double t0, double t1, double& t_hit) const {
+  const double t00 = texel(ci, cj), t10 = texel(ci + 1, cj);
+  const double t01 = texel(ci, cj + 1), t11 = texel(ci + 1, cj + 1);
+  const double e = t10 - t00, f = t01 - t00, g = t11 - t10 - t01 + t00;
+  // Blend weights at t0, and their rates; parametrised by s = t - t0 for precision.
+  const double fx = (p.x0 - double(ci)) + p.dx * t0;
+  const double fy = (p.y0 - double(cj)) + p.dy * t0;
+  const double surface0 = t00 + e * fx + f * fy + g * fx * fy;
+  const double c0 = (p.depth0 + p.ddepth * t0) - surface0;
+  const double c1 = p.ddepth - (e * p.dx + f * p.dy + g * (fx * p.dy + fy * p.dx));
+  const double c2 = -g * p.dx * p.dy;
+  const double span = t1 - t0;
+  if (c0 >= 0.0) {
+    t_hit = t0;
+    return true;
+  }
+  auto h = [&](double s) { return c0 + s * (c1 + s * c2); };
+  // Roots of c2 s^2 + c1 s + c0, smallest first; c0 < 0 so the first root in range is the crossing.
+  double roots[2];
+  int count = 0;
+  if (std::fabs(c2) * span <= 1e-14 * (std::fabs(c1) + std::fabs(c0) / std::max(span, 1e-300))) {
+    if (c1 > 0.0) roots[count++] = -c0 / c1;
+  } else {
+    const double disc = c1 * c1 - 4.0 * c2 * c0;
+    if (disc >= 0.0) {
+      const double q = -0.5 * (c1 + std::copysign(std::sqrt(disc), c1));
+      roots[count++] = q / c2;
+      if (q != 0.0) roots[count++] = c0 / q;
+      if (count == 2 && roots[1] < roots[0]) std::swap(roots[0], roots[1]);
+    }
+  }
+  for (int r = 0; r < count; ++r)
+    if (roots[r] >= 0.0 && roots[r] <= span) {
+      t_hit = t0 + roots[r];
+      return true;
+    }
+  if (h(span) >= 0.0) {  // rounding hid the root: bisect the sign change
+    double lo = 0.0, hi = span;
+    for (int it = 0; it < 200 && hi - lo > 0.0; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      if (mid <= lo || mid >= hi) break;
+      (h(mid) >= 0.0 ? hi : lo) = mid;
+    }
+    t_hit = t0 + hi;
+    return true;
+  }
+  return false;
+}
+
+PathHit ExactIntersector::first_hit(const HeightfieldPath& p) const {
+  PathHit result;
+  const bool repeat = wrap_ == Wrap::repeat;
+  const long long w = map_->width, h = map_->height;
+  auto clamp_cell = [&](long long c, long long n) { return repeat ? c : std::clamp(c, -1LL, n - 1); };
+  long long cx = clamp_cell(floor_to_cell(p.x0, p.dx), w);
+  long long cy = clamp_cell(floor_to_cell(p.y0, p.dy), h);
+  // t at which the path leaves the cell range [lo, hi) along one axis (hi exclusive).
+  auto exit_t = [](double origin, double rate, long long lo, long long hi) {
+    if (rate > 0.0) return (double(hi) - origin) / rate;
+    if (rate < 0.0) return (double(lo) - origin) / rate;
+    return kInf;
+  };
+  // A clamp edge cell reaches to infinity on its outer side.
+  auto cell_hi = [&](long long c, long long n) { return !repeat && c == n - 1 ? LLONG_MAX / 4 : c + 1; };
+  auto cell_lo = [&](long long c) { return !repeat && c == -1 ? -(LLONG_MAX / 4) : c; };
+  auto depth = [&](double t) { return p.depth0 + p.ddepth * t; };
+  auto interior = [&](long long c, long long n) { return repeat || (c >= 0 && c < n - 1); };
+
+  // Each pass advances t to a cell or block exit; the count of cells on the path bounds it.
+  const double path_cells = (std::fabs(p.dx) + std::fabs(p.dy)) * p.t_max;
+  const double bound = std::min(4.0 * path_cells + 64.0, 1e12);
+  double t = 0.0;
+  for (double pass = 0; pass < bound; ++pass) {
+    // Skip the largest block whose shallowest texel lies deeper than the path across it.
+    bool skipped = false;
+    if (!levels_.empty() && interior(cx, w) && interior(cy, h)) {
+      const long long wx = repeat ? wrap_index(cx, w) : cx, wy = repeat ? wrap_index(cy, h) : cy;
+      for (int level = int(levels_.size()) - 1; level >= 0 && !skipped; --level) {
+        const Level& L = levels_[std::size_t(level)];
+        const long long size = 1LL << level;
+        const long long bx = wx >> level, by = wy >> level;
+        const long long x_lo = cx - (wx - (bx << level)), y_lo = cy - (wy - (by << level));
+        const long long x_hi = repeat ? x_lo + size : std::min(x_lo + size, w - 1);
+        const long long y_hi = repeat ? y_lo + size : std::min(y_lo + size, h - 1);
+        const double tx = exit_t(p.x0, p.dx, x_lo, x_hi), ty = exit_t(p.y0, p.dy, y_lo, y_hi);
+        const double te = std::min(tx, ty);
+        const double t_end = std::min(te, p.t_max);
+        const double deepest = std::max(depth(t), depth(t_end));
+        if (!(deepest < double(L.min_depth[std::size_t(by) * L.blocks_x + bx]))) continue;
+        if (te >= p.t_max) return result;
+        skipped = true;
+        t = te;
+        // Step across the exited side(s); the other axis' cell comes from the position.
+        const long long nx = p.dx > 0 ? x_hi : x_lo - 1, ny = p.dy > 0 ? y_hi : y_lo - 1;
+        cx = tx <= ty ? nx : std::clamp(floor_to_cell(p.x0 + p.dx * t, p.dx), x_lo, x_hi - 1);
+        cy = ty <= tx ? ny : std::clamp(floor_to_cell(p.y0 + p.dy * t, p.dy), y_lo, y_hi - 1);
+        cx = clamp_cell(cx, w);
+        cy = clamp_cell(cy, h);
+      }
+    }
+    if (skipped) continue;
+    const double tx = exit_t(p.x0, p.dx, cell_lo(cx), cell_hi(cx, w));
+    const double ty = exit_t(p.y0, p.dy, cell_lo(cy), cell_hi(cy, h));
+    const double te = std::max(t, std::min(tx, ty));
+    ++result.cells;
+    double t_hit;
+    if (cell_first_root(cx, cy, p, t, std::min(te, p.t_max), t_hit)) {
+      result.found = true;
+      result.t = t_hit;
+      return result;
+    }
+    if (te >= p.t_max) return result;
+    t = te;
+    if (tx <= ty) cx = clamp_cell(cx + (p.dx > 0 ? 1 : -1), w);
+    if (ty <= tx) cy = clamp_cell(cy + (p.dy > 0 ? 1 : -1), h);
+  }
+  return result;
+}
+
+PathHit ExactIntersector::intersect(double tx, double ty, double vx, double vy, double vz,
+                                    double scale) const {
+  const double w = map_->width, h = map_->height;
+  const HeightfieldPath path{tx * w - 0.5, ty * h - 0.5, -scale * vx / vz * w, -scale * vy / vz * h,
+                             0.0, 1.0, 1.0};
+  PathHit hit = first_hit(path);
+  if (!hit.found) {  // only rounding can get here: D <= 1 guarantees a hit by depth 1
+    hit.found = true;
+    hit.t = 1.0;
+  }
+  return hit;
+}
+
+bool ExactIntersector::visible(double u, double v, double depth, const float light[3],
+                               double scale) const {
+  // From just above the hit towards the light, until the path reaches the top plane.
+  constexpr double kLift = 1e-6;
+  const double start = depth - kLift;
+  if (start <= 0.0) return true;
+  const double w = map_->width, h = map_->height;
+  const HeightfieldPath path{u * w - 0.5, v * h - 0.5, scale * light[0] / light[2] * w,
+                             scale * light[1] / light[2] * h, start, -1.0, start * (1.0 - 1e-9)};
+  return !first_hit(path).found;
+}
+
+}  // namespace heightmarch

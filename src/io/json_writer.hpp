@@ -1,0 +1,94 @@
+#pragma once
+// A small JSON writer for metrics and reports: objects and arrays of numbers and strings.
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace heightmarch {
+
+class JsonWriter {
+ public:
+  JsonWriter& begin_object(const std::string& key = "") { return open(key, '{'); }
+  JsonWriter& end_object() { return close('}'); }
+  JsonWriter& begin_array(const std::string& key = "") { return open(key, '['); }
+  JsonWriter& end_array() { return close(']'); }
+
+  JsonWriter& value(const std::string& key, const std::string& text) {
+    prefix(key);
+    out_ += quote(text);
+    return *this;
+  }
+  JsonWriter& value(const std::string& key, const char* text) { return value(key, std::string(text)); }
+  JsonWriter& value(const std::string& key, bool b) {
+    prefix(key);
+    out_ += b ? "true" : "false";
+    return *this;
+  }
+  // Full float precision; NaN and infinities, which JSON lacks, as null.
+  JsonWriter& value(const std::string& key, double number) {
+    prefix(key);
+    if (!std::isfinite(number)) {
+      out_ += "null";
+    } else {
+      char buf[32];
+      std::snprintf(buf, sizeof buf, "%.9g", number);
+      out_ += buf;
+    }
+    return *this;
+  }
+  JsonWriter& value(const std::string& key, long long number) {
+    prefix(key);
+    out_ += std::to_string(number);
+    return *this;
+  }
+  JsonWriter& value(const std::string& key, int number) { return value(key, (long long)number); }
+  JsonWriter& value(const std::string& key, std::size_t number) { return value(key, (long long)number); }
+
+  const std::string& str() const { return out_; }
+
+  static std::string quote(const std::string& text) {
+    std::string q = "\"";
+    for (char c : text) {
+      if (c == '"' || c == '\\') {
+        q += '\\';
+        q += c;
+      } else if ((unsigned char)c < 0x20) {
+        char buf[8];
+        std::snprintf(buf, sizeof buf, "\\u%04x", c);
+        q += buf;
+      } else {
+        q += c;
+      }
+    }
+    return q + "\"";
+  }
+
+ private:
+  JsonWriter& open(const std::string& key, char bracket) {
+    prefix(key);
+    out_ += bracket;
+    first_ = true;
+    ++depth_;
+    return *this;
+  }
+  JsonWriter& close(char bracket) {
+    --depth_;
+    out_ += '\n' + std::string(2 * depth_, ' ') + bracket;
+    first_ = false;
+    return *this;
+  }
+  void prefix(const std::string& key) {
+    if (depth_ > 0) {
+      out_ += first_ ? "\n" : ",\n";
+      out_ += std::string(2 * depth_, ' ');
+    }
+    first_ = false;
+    if (!key.empty()) out_ += quote(key) + ": ";
+  }
+
+  std::string out_;
+  int depth_ = 0;
+  bool first_ = true;
+};
+
+}  // namespace heightmarch

@@ -1,0 +1,17 @@
+#pragma once
+// Where a result came from: commit, machine, compiler, date.
+#include <string>
+
+namespace heightmarch {
+
+struct Provenance {
+  std::string commit;    // short hash, "+dirty" when built from a modified tree
+  std::string cpu;       // model name from /proc/cpuinfo
+  int cores = 0;
+  std::string compiler;
+  std::string date;      // UTC, ISO 8601
+};
+
+Provenance provenance();
+
+}  // namespace heightmarch

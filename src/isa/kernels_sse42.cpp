@@ -1,0 +1,14 @@
+// The packet kernels at width 4, compiled with this ISA's flags (CMakeLists.txt).
+#define HEIGHTMARCH_ISA_NS isa_sse42
+#include "heightmarch/simd/vfloat4_sse.hpp"
+#include "kernels/trace_range.hpp"
+
+namespace heightmarch::isa_sse42 {
+
+void trace_range(const KernelTexture& texture, const KernelParams& params, const KernelRays& rays,
+                 const KernelHits& hits, std::size_t begin, std::size_t end,
+                 KernelCounters& counters) {
+  trace_range_packets<4>(texture, params, rays, hits, begin, end, counters);
+}
+
+}  // namespace heightmarch::isa_sse42

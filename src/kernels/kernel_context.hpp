@@ -1,0 +1,57 @@
+#pragma once
+// What every technique kernel works with: one packet of rays, the sampler that counts the
+// samples it takes, and the layer count of SPEC section 4.
+#include "kernels/packet_sampler.hpp"
+
+namespace heightmarch::HEIGHTMARCH_ISA_NS {
+
+template <int W>
+struct RayPacket {
+  vfloat<W> tx, ty, vx, vy, vz;
+};
+
+// The result of a technique for one packet.
+template <int W>
+struct HitPacket {
+  vfloat<W> u, v, depth;
+  vfloat<W> shadow = vfloat<W>(1.0f);
+  vint<W> samples = vint<W>(0);
+};
+
+template <int W, Wrap WRAP>
+class KernelContext {
+ public:
+  using F = vfloat<W>;
+  using I = vint<W>;
+  using B = vbool<W>;
+
+  KernelContext(const KernelTexture& texture, const KernelParams& params, KernelCounters& counters)
+      : params(params), sampler_(texture), counters_(counters) {}
+
+  // One height sample for the active lanes, counted per lane in `samples`.
+  F sample(F u, F v, B active, I& samples) {
+    samples = select(active, samples + I(1), samples);
+    counters_.lane_samples += std::uint64_t(popcount(active));
+    counters_.packet_samples += W;
+    return sampler_(u, v, active);
+  }
+
+  // The tutorial's layer count: N, or mix(max, min, |cos|) for a dynamic spec. Not rounded.
+  F layer_count(F cos_theta) const {
+    if (params.min_layers == params.max_layers) return F(params.min_layers);
+    const F a = abs(cos_theta);
+    return F(params.max_layers) * (F(1.0f) - a) + F(params.min_layers) * a;
+  }
+
+  // Loop bound of SPEC section 4: at most ceil(N) + 1 layer steps.
+  static I step_bound(F layers) { return to_int(ceil(layers)) + I(1); }
+  int max_step_bound() const { return int(params.max_layers) + 2; }
+
+  const KernelParams& params;
+
+ private:
+  PacketSampler<W, WRAP> sampler_;
+  KernelCounters& counters_;
+};
+
+}  // namespace heightmarch::HEIGHTMARCH_ISA_NS

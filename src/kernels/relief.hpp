@@ -1,0 +1,31 @@
+#pragma once
+// Relief mapping: steep parallax, then a binary search between the last two layers
+// (seed 003's loop: the step halves before each sample, the last sample only moves the point).
+#include "kernels/steep.hpp"
+
+namespace heightmarch::HEIGHTMARCH_ISA_NS {
+
+template <int W, Wrap WRAP>
+HitPacket<W> relief(KernelContext<W, WRAP>& k, const RayPacket<W>& ray) {
+  using F = vfloat<W>;
+  LayerMarch<W> m = march_layers<false>(k, ray);
+  F delta_u = m.delta_u / F(2.0f);
+  F delta_v = m.delta_v / F(2.0f);
+  F delta_depth = m.layer_depth / F(2.0f);
+  F u = m.u + delta_u;
+  F v = m.v + delta_v;
+  F depth = m.current_layer_depth - delta_depth;
+  for (int i = 0; i < k.params.refine_steps; ++i) {
+    delta_u = delta_u / F(2.0f);
+    delta_v = delta_v / F(2.0f);
+    delta_depth = delta_depth / F(2.0f);
+    const F depth_map_value = k.sample(u, v, vbool<W>::all_true(), m.samples);
+    const vbool<W> below = depth_map_value > depth;
+    u = select(below, u - delta_u, u + delta_u);
+    v = select(below, v - delta_v, v + delta_v);
+    depth = select(below, depth + delta_depth, depth - delta_depth);
+  }
+  return {u, v, depth, F(1.0f), m.samples};
+}
+
+}  // namespace heightmarch::HEIGHTMARCH_ISA_NS

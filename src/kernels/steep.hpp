@@ -1,0 +1,57 @@
+#pragma once
+// Steep parallax: march layers of depth 1/N along the ray until the first layer below the
+// surface (LearnOpenGL's loop). Relief, POM and the shadow start from its state.
+#include "kernels/kernel_context.hpp"
+
+namespace heightmarch::HEIGHTMARCH_ISA_NS {
+
+template <int W>
+struct LayerMarch {
+  vfloat<W> u, v;            // current texture coordinates
+  vfloat<W> delta_u, delta_v;  // texture step per layer
+  vfloat<W> layer_depth;     // 1 / N
+  vfloat<W> current_layer_depth;
+  vfloat<W> depth_map_value;  // D at (u, v)
+  vint<W> samples;
+};
+
+// LIMITED: the step is s V.xy / N (seed 004), else s V.xy / V.z / N.
+template <bool LIMITED, int W, Wrap WRAP>
+LayerMarch<W> march_layers(KernelContext<W, WRAP>& k, const RayPacket<W>& ray) {
+  using F = vfloat<W>;
+  using I = vint<W>;
+  using B = vbool<W>;
+  LayerMarch<W> m;
+  const F num_layers = k.layer_count(ray.vz);
+  m.layer_depth = F(1.0f) / num_layers;
+  m.current_layer_depth = F(0.0f);
+  const F p_x = (LIMITED ? ray.vx : ray.vx / ray.vz) * F(k.params.scale);
+  const F p_y = (LIMITED ? ray.vy : ray.vy / ray.vz) * F(k.params.scale);
+  m.delta_u = p_x / num_layers;
+  m.delta_v = p_y / num_layers;
+  m.u = ray.tx;
+  m.v = ray.ty;
+  m.samples = I(0);
+  m.depth_map_value = k.sample(m.u, m.v, B::all_true(), m.samples);
+
+  const I bound = k.step_bound(num_layers);
+  I steps(0);
+  B active = m.current_layer_depth < m.depth_map_value;
+  for (int step = 0; step < k.max_step_bound() && any(active); ++step) {
+    m.u = select(active, m.u - m.delta_u, m.u);
+    m.v = select(active, m.v - m.delta_v, m.v);
+    m.depth_map_value = select(active, k.sample(m.u, m.v, active, m.samples), m.depth_map_value);
+    m.current_layer_depth = select(active, m.current_layer_depth + m.layer_depth, m.current_layer_depth);
+    steps = select(active, steps + I(1), steps);
+    active = active & (m.current_layer_depth < m.depth_map_value) & (steps < bound);
+  }
+  return m;
+}
+
+template <bool LIMITED, int W, Wrap WRAP>
+HitPacket<W> steep(KernelContext<W, WRAP>& k, const RayPacket<W>& ray) {
+  const LayerMarch<W> m = march_layers<LIMITED>(k, ray);
+  return {m.u, m.v, m.current_layer_depth, vfloat<W>(1.0f), m.samples};
+}
+
+}  // namespace heightmarch::HEIGHTMARCH_ISA_NS

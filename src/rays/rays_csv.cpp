@@ -1,0 +1,70 @@
+#include <charconv>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "heightmarch/error.hpp"
+#include "heightmarch/rays.hpp"
+
+namespace heightmarch {
+namespace {
+
+constexpr std::size_t kMaxCsvRays = 64u << 20;  // 67 M rays, about 2.4 GB of batch and hits
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r");
+  if (b == std::string::npos) return "";
+  return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
+}
+
+std::vector<std::string> split_fields(const std::string& line) {
+  std::vector<std::string> fields;
+  std::size_t start = 0;
+  while (true) {
+    const auto comma = line.find(',', start);
+    fields.push_back(trim(line.substr(start, comma - start)));
+    if (comma == std::string::npos) return fields;
+    start = comma + 1;
+  }
+}
+
+}  // namespace
+
+RayBatch load_rays_csv(const std::string& path, int tile_size) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open rays file");
+  std::string line;
+  if (!std::getline(in, line)) throw InputError(path + ": empty rays file (expected header tx,ty,vx,vy,vz)");
+  const std::vector<std::string> expected = {"tx", "ty", "vx", "vy", "vz"};
+  if (split_fields(line) != expected)
+    throw InputError(path + ":1: header must be tx,ty,vx,vy,vz");
+  std::vector<float> columns[5];
+  std::size_t line_number = 1;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (trim(line).empty()) continue;
+    const std::vector<std::string> fields = split_fields(line);
+    const std::string where = path + ":" + std::to_string(line_number) + ": ";
+    if (fields.size() != 5)
+      throw InputError(where + "expected 5 columns, found " + std::to_string(fields.size()));
+    for (int c = 0; c < 5; ++c) {
+      float value = 0.0f;
+      const char* end = fields[c].data() + fields[c].size();
+      const auto [ptr, ec] = std::from_chars(fields[c].data(), end, value);
+      if (fields[c].empty() || ec != std::errc() || ptr != end)
+        throw InputError(where + expected[c] + " '" + fields[c] + "' is not a number");
+      columns[c].push_back(value);
+    }
+    if (columns[0].size() > kMaxCsvRays)
+      throw InputError(path + ": more than " + std::to_string(kMaxCsvRays) + " rays");
+  }
+  if (columns[0].empty()) throw InputError(path + ": no rays after the header");
+  try {
+    return make_ray_list(columns[0], columns[1], columns[2], columns[3], columns[4], tile_size);
+  } catch (const InputError& e) {
+    // make_ray_list counts rays from 0; the file's line is that + 2.
+    throw InputError(path + ": " + e.what());
+  }
+}
+
+}  // namespace heightmarch

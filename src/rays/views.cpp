@@ -1,0 +1,181 @@
+#include <cmath>
+#include <string>
+
+#include "heightmarch/error.hpp"
+#include "heightmarch/rays.hpp"
+
+namespace heightmarch {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kMinViewZ = 1e-6;  // V.z below this is a grazing ray: rejected
+
+// The default camera: the near edge of the plane (v = 0) seen at 30 degrees from the normal,
+// the far edge (v = 1) at 80 degrees, on the centre line; eye height h and distance a before the
+// near edge follow from tan 30 = a / h and tan 80 = (1 + a) / h.
+struct DefaultCamera {
+  double near_angle = 30.0 * kPi / 180.0, far_angle = 80.0 * kPi / 180.0;
+  double height = 1.0 / (std::tan(far_angle) - std::tan(near_angle));
+  double back = std::tan(near_angle) * height;
+  double eye[3] = {0.5, -back, height};
+  double half_fov = 0.5 * (far_angle - near_angle);
+  double pitch = 0.5 * (far_angle + near_angle);  // forward, from straight down
+};
+
+struct Ray {
+  bool hit;
+  float tx, ty, vx, vy, vz;
+};
+
+Ray perspective_ray(const DefaultCamera& cam, int px, int py, int width, int height) {
+  const double tan_half = std::tan(cam.half_fov);
+  const double sx = (2.0 * (px + 0.5) / width - 1.0) * tan_half * double(width) / double(height);
+  const double sy = (1.0 - 2.0 * (py + 0.5) / height) * tan_half;  // row 0 = far edge
+  // forward = (0, sin pitch, -cos pitch), up = (0, cos pitch, sin pitch), right = +x.
+  const double dx = sx;
+  const double dy = std::sin(cam.pitch) + sy * std::cos(cam.pitch);
+  const double dz = -std::cos(cam.pitch) + sy * std::sin(cam.pitch);
+  if (dz >= 0.0) return {false, 0, 0, 0, 0, 0};
+  const double t = -cam.eye[2] / dz;
+  const double x = cam.eye[0] + t * dx, y = cam.eye[1] + t * dy;
+  if (x < 0.0 || x > 1.0 || y < 0.0 || y > 1.0) return {false, 0, 0, 0, 0, 0};
+  const double ex = cam.eye[0] - x, ey = cam.eye[1] - y, ez = cam.eye[2];
+  const double len = std::sqrt(ex * ex + ey * ey + ez * ez);
+  return {true, float(x), float(y), float(ex / len), float(ey / len), float(ez / len)};
+}
+
+// Appends one tile's rays, padded with copies of its last ray to a multiple of kRayAlignment.
+class BatchBuilder {
+ public:
+  explicit BatchBuilder(RayBatch& batch) : batch_(batch) {}
+  void add(const Ray& r, std::uint32_t origin) {
+    batch_.tx.push_back(r.tx);
+    batch_.ty.push_back(r.ty);
+    batch_.vx.push_back(r.vx);
+    batch_.vy.push_back(r.vy);
+    batch_.vz.push_back(r.vz);
+    batch_.origin.push_back(origin);
+    ++batch_.ray_count;
+  }
+  void end_tile() {
+    const std::size_t begin = batch_.tile_offsets.back();
+    if (batch_.size() == begin) return;  // no ray in this tile
+    while (batch_.size() % kRayAlignment != 0) {
+      const std::size_t last = batch_.size() - 1;
+      add({true, batch_.tx[last], batch_.ty[last], batch_.vx[last], batch_.vy[last], batch_.vz[last]},
+          kPaddingRay);
+      --batch_.ray_count;
+    }
+    batch_.tile_offsets.push_back(batch_.size());
+  }
+
+ private:
+  RayBatch& batch_;
+};
+
+void check_tile_size(int tile_size) {
+  if (tile_size < 1 || tile_size > 4096)
+    throw InputError("tile size " + std::to_string(tile_size) + " outside [1, 4096]");
+}
+
+}  // namespace
+
+ViewSpec parse_view(const std::string& text, int width, int height) {
+  if (width < 1 || height < 1 || width > kMaxViewSide || height > kMaxViewSide)
+    throw InputError("view size " + std::to_string(width) + "x" + std::to_string(height) +
+                     " outside [1, " + std::to_string(kMaxViewSide) + "]");
+  ViewSpec view;
+  view.width = width;
+  view.height = height;
+  if (text == "default") return view;
+  const std::string prefix = "sweep:";
+  if (text.rfind(prefix, 0) != 0)
+    throw InputError("unknown view '" + text + "' (default or sweep:THETA[,PHI])");
+  view.kind = ViewSpec::Kind::sweep;
+  const std::string args = text.substr(prefix.size());
+  const auto comma = args.find(',');
+  try {
+    std::size_t used = 0;
+    const std::string theta = args.substr(0, comma);
+    view.theta_degrees = std::stof(theta, &used);
+    if (used != theta.size()) throw std::invalid_argument("trailing");
+    if (comma != std::string::npos) {
+      const std::string phi = args.substr(comma + 1);
+      view.phi_degrees = std::stof(phi, &used);
+      if (used != phi.size()) throw std::invalid_argument("trailing");
+    }
+  } catch (const std::logic_error&) {
+    throw InputError("view '" + text + "': THETA and PHI must be numbers in degrees");
+  }
+  if (!(view.theta_degrees >= 0.0f && view.theta_degrees <= 89.0f) || !std::isfinite(view.phi_degrees))
+    throw InputError("view '" + text + "': THETA must be in [0, 89] degrees");
+  return view;
+}
+
+std::string describe(const ViewSpec& view) {
+  const std::string size = std::to_string(view.width) + "x" + std::to_string(view.height);
+  if (view.kind == ViewSpec::Kind::perspective) return "default " + size;
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "sweep:%g,%g ", view.theta_degrees, view.phi_degrees);
+  return buf + size;
+}
+
+RayBatch make_view_rays(const ViewSpec& view, int tile_size) {
+  check_tile_size(tile_size);
+  RayBatch batch;
+  batch.image_width = view.width;
+  batch.image_height = view.height;
+  const DefaultCamera camera;
+  const double theta = view.theta_degrees * kPi / 180.0, phi = view.phi_degrees * kPi / 180.0;
+  const float sweep_v[3] = {float(std::sin(theta) * std::cos(phi)), float(std::sin(theta) * std::sin(phi)),
+                            float(std::cos(theta))};
+  BatchBuilder builder(batch);
+  // Tiles in row-major order; inside a tile, 4 x 4 pixel blocks, so packets are compact.
+  for (int ty0 = 0; ty0 < view.height; ty0 += tile_size)
+    for (int tx0 = 0; tx0 < view.width; tx0 += tile_size) {
+      const int ty1 = std::min(ty0 + tile_size, view.height), tx1 = std::min(tx0 + tile_size, view.width);
+      for (int by = ty0; by < ty1; by += 4)
+        for (int bx = tx0; bx < tx1; bx += 4)
+          for (int py = by; py < std::min(by + 4, ty1); ++py)
+            for (int px = bx; px < std::min(bx + 4, tx1); ++px) {
+              const std::uint32_t pixel = std::uint32_t(py) * std::uint32_t(view.width) + std::uint32_t(px);
+              if (view.kind == ViewSpec::Kind::sweep) {
+                builder.add({true, float((px + 0.5) / view.width), float((py + 0.5) / view.height),
+                             sweep_v[0], sweep_v[1], sweep_v[2]},
+                            pixel);
+              } else if (const Ray r = perspective_ray(camera, px, py, view.width, view.height); r.hit) {
+                builder.add(r, pixel);
+              }
+            }
+      builder.end_tile();
+    }
+  return batch;
+}
+
+RayBatch make_ray_list(const std::vector<float>& tx, const std::vector<float>& ty,
+                       const std::vector<float>& vx, const std::vector<float>& vy,
+                       const std::vector<float>& vz, int tile_size) {
+  check_tile_size(tile_size);
+  RayBatch batch;
+  batch.image_width = int(tx.size());
+  batch.image_height = 1;
+  BatchBuilder builder(batch);
+  const std::size_t per_tile = std::size_t(tile_size) * std::size_t(tile_size);
+  for (std::size_t i = 0; i < tx.size(); ++i) {
+    const double len = std::sqrt(double(vx[i]) * vx[i] + double(vy[i]) * vy[i] + double(vz[i]) * vz[i]);
+    const double z = vz[i] / len;
+    if (!std::isfinite(len) || !std::isfinite(tx[i]) || !std::isfinite(ty[i]) || len == 0.0)
+      throw InputError("ray " + std::to_string(i) + ": not finite");
+    if (!(z >= kMinViewZ))
+      throw InputError("ray " + std::to_string(i) + ": V.z = " + std::to_string(z) +
+                       " after normalisation, must be >= 1e-6 (a ray from below or grazing the plane)");
+    if (std::fabs(tx[i]) > 1e6f || std::fabs(ty[i]) > 1e6f)
+      throw InputError("ray " + std::to_string(i) + ": |T| beyond 1e6");
+    builder.add({true, tx[i], ty[i], float(vx[i] / len), float(vy[i] / len), float(z)}, std::uint32_t(i));
+    if ((i + 1) % per_tile == 0) builder.end_tile();
+  }
+  builder.end_tile();
+  return batch;
+}
+
+}  // namespace heightmarch
