@@ -12,7 +12,9 @@ struct HitBuffers {
   std::vector<float> shadow;           // shadow technique: soft shadow factor; exact: visibility 0/1
   std::vector<std::uint8_t> discarded; // --discard: final uv outside [0,1]^2
 
+  // Sized for n rays; the kernels write every element, so same-size reuse does not refill.
   void resize(std::size_t n) {
+    if (size() == n) return;
     u.assign(n, 0.0f);
     v.assign(n, 0.0f);
     depth.assign(n, 0.0f);

@@ -32,10 +32,16 @@ class Tracer {
   // current TBB arena. The output does not depend on the thread count or the tile order.
   TraceStats run(const RayBatch& rays, HitBuffers& hits) const;
 
+  // Benchmarks only: the sampler alone at the positions of a march of max_layers steps,
+  // all lanes active, no control flow (the samples/s ceiling). hits.depth gets sums.
+  TraceStats run_sampler_roofline(const RayBatch& rays, HitBuffers& hits) const;
+
   const TechniqueParams& params() const { return params_; }
   Isa isa() const { return isa_; }
 
  private:
+  TraceStats run_kernels(const RayBatch& rays, HitBuffers& hits, bool roofline) const;
+
   const DepthMap* map_;
   TechniqueParams params_;
   Isa isa_;

@@ -12,6 +12,7 @@ namespace {
 constexpr const char* kUsage =
     "usage: heightmarch COMMAND [options]\n"
     "  trace   run one technique with the CPU packet kernels and measure it against the exact hits\n"
+    "  glsl    run the same technique as GLSL in OSMesa (llvmpipe); --compare sets it beside the CPU\n"
     "run 'heightmarch COMMAND --help' for its options\n";
 
 }  // namespace
@@ -26,6 +27,7 @@ int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 2, argv + argc);
   try {
     if (command == "trace") return cli::trace_command(args);
+    if (command == "glsl") return cli::glsl_command(args);
     if (command == "--help" || command == "help") {
       std::fputs(kUsage, stdout);
       return 0;

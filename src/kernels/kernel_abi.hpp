@@ -23,6 +23,7 @@ struct KernelParams {
   float scale;
   bool discard;
   float light[3];
+  bool sampler_roofline;  // benchmarks only: the sampler alone instead of the technique
 };
 
 struct KernelRays {

@@ -18,7 +18,7 @@ struct HitPacket {
   vint<W> samples = vint<W>(0);
 };
 
-template <int W, Wrap WRAP>
+template <int W, Addressing ADDRESSING>
 class KernelContext {
  public:
   using F = vfloat<W>;
@@ -50,7 +50,7 @@ class KernelContext {
   const KernelParams& params;
 
  private:
-  PacketSampler<W, WRAP> sampler_;
+  PacketSampler<W, ADDRESSING> sampler_;
   KernelCounters& counters_;
 };
 

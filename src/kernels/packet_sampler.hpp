@@ -1,13 +1,23 @@
 #pragma once
 // The bilinear sampler of SPEC section 1 on packets, written once for every width.
-// Bit-identical to sample_depth() for texel coordinates below 2^23: the wrap is done in float
-// (x - W floor(x / W), then one correction each way) before conversion, so coordinates of any
-// size stay finite and every index stays inside the texture, masked lane or not.
+// Bit-identical to sample_depth() for texel coordinates below 2^23. Wrapping happens before
+// integer conversion or with a mask, so coordinates of any size stay finite and every index
+// stays inside the texture, masked lane or not.
 #include "kernels/kernel_abi.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
-template <int W, Wrap WRAP>
+// How texel indices are found: REPEAT on power-of-two sides is a mask of the integer index,
+// other REPEAT sizes wrap in float, CLAMP clamps the coordinate.
+enum class Addressing { repeat_pow2, repeat, clamp };
+
+inline Addressing addressing_of(const KernelTexture& t) {
+  if (t.wrap == Wrap::clamp) return Addressing::clamp;
+  const bool pow2 = (t.width & (t.width - 1)) == 0 && (t.height & (t.height - 1)) == 0;
+  return pow2 ? Addressing::repeat_pow2 : Addressing::repeat;
+}
+
+template <int W, Addressing ADDRESSING>
 class PacketSampler {
  public:
   using F = vfloat<W>;
@@ -24,10 +34,9 @@ class PacketSampler {
     const I ix = texel_coordinate(u, width_, inv_width_, last_x_, fx);
     const I iy = texel_coordinate(v, height_, inv_height_, last_y_, fy);
     const I index = iy * I(stride_) + ix;
-    const F t00 = gather(texels_, index, active);
-    const F t10 = gather(texels_, index + I(1), active);
-    const F t01 = gather(texels_, index + I(stride_), active);
-    const F t11 = gather(texels_, index + I(stride_ + 1), active);
+    F t00, t10, t01, t11;
+    gather_pairs(texels_, index, active, t00, t10);
+    gather_pairs(texels_ + stride_, index, active, t01, t11);
     const F top = t00 + fx * (t10 - t00);
     const F bottom = t01 + fx * (t11 - t01);
     return top + fy * (bottom - top);
@@ -36,18 +45,26 @@ class PacketSampler {
  private:
   // Left tap index along one axis, and the blend weight of the right tap.
   static I texel_coordinate(F uv, F size, F inv_size, std::int32_t last, F& weight) {
-    F x = uv * size - F(0.5f);
-    if constexpr (WRAP == Wrap::repeat) {
-      x = x - size * floor(x * inv_size);
-      x = select(x < F(0.0f), x + size, x);
-      x = select(x >= size, x - size, x);
-    } else {
+    const F x = uv * size - F(0.5f);
+    if constexpr (ADDRESSING == Addressing::clamp) {
       // Clamping x itself gives the clamped taps' blend exactly: a + 0 (b - a) = a.
-      x = min(max(x, F(0.0f)), size - F(1.0f));
+      const F clamped = min(max(x, F(0.0f)), size - F(1.0f));
+      const F x0 = floor(clamped);
+      weight = clamped - x0;
+      return to_int(x0);
+    } else {
+      const F x0 = floor(x);
+      weight = x - x0;
+      if constexpr (ADDRESSING == Addressing::repeat_pow2) {
+        return to_int(x0) & I(last);  // out of int range converts to INT32_MIN: index 0
+      } else {
+        // floor(x) wrapped into [0, size) in float: integer-valued, exact below 2^24.
+        F i = x0 - size * floor(x0 * inv_size);
+        i = select(i < F(0.0f), i + size, i);
+        i = select(i >= size, i - size, i);
+        return min(max(to_int(i), I(0)), I(last));
+      }
     }
-    const F x0 = floor(x);
-    weight = x - x0;
-    return min(max(to_int(x0), I(0)), I(last));
   }
 
   const float* texels_;

@@ -7,8 +7,8 @@
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
-template <int W, Wrap WRAP>
-HitPacket<W> shadow(KernelContext<W, WRAP>& k, const RayPacket<W>& ray) {
+template <int W, Addressing ADDRESSING>
+HitPacket<W> shadow(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   using F = vfloat<W>;
   using B = vbool<W>;
   HitPacket<W> hit = pom(k, ray);

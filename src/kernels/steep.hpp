@@ -16,8 +16,8 @@ struct LayerMarch {
 };
 
 // LIMITED: the step is s V.xy / N (seed 004), else s V.xy / V.z / N.
-template <bool LIMITED, int W, Wrap WRAP>
-LayerMarch<W> march_layers(KernelContext<W, WRAP>& k, const RayPacket<W>& ray) {
+template <bool LIMITED, int W, Addressing ADDRESSING>
+LayerMarch<W> march_layers(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   using F = vfloat<W>;
   using I = vint<W>;
   using B = vbool<W>;
@@ -48,8 +48,8 @@ LayerMarch<W> march_layers(KernelContext<W, WRAP>& k, const RayPacket<W>& ray) {
   return m;
 }
 
-template <bool LIMITED, int W, Wrap WRAP>
-HitPacket<W> steep(KernelContext<W, WRAP>& k, const RayPacket<W>& ray) {
+template <bool LIMITED, int W, Addressing ADDRESSING>
+HitPacket<W> steep(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   const LayerMarch<W> m = march_layers<LIMITED>(k, ray);
   return {m.u, m.v, m.current_layer_depth, vfloat<W>(1.0f), m.samples};
 }

@@ -4,18 +4,19 @@
 #include "kernels/parallax.hpp"
 #include "kernels/pom.hpp"
 #include "kernels/relief.hpp"
+#include "kernels/roofline.hpp"
 #include "kernels/shadow.hpp"
 #include "kernels/steep.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
-template <int W, Wrap WRAP, class Technique>
+template <int W, Addressing ADDRESSING, class Technique>
 void trace_packets(const KernelTexture& texture, const KernelParams& params, const KernelRays& rays,
                    const KernelHits& hits, std::size_t begin, std::size_t end,
                    KernelCounters& counters, Technique technique) {
   using F = vfloat<W>;
   KernelCounters local;  // in registers, not behind the output pointers (char aliases all)
-  KernelContext<W, WRAP> context(texture, params, local);
+  KernelContext<W, ADDRESSING> context(texture, params, local);
   for (std::size_t i = begin; i < end; i += W) {
     const RayPacket<W> ray{F::load(rays.tx + i), F::load(rays.ty + i), F::load(rays.vx + i),
                            F::load(rays.vy + i), F::load(rays.vz + i)};
@@ -25,27 +26,26 @@ void trace_packets(const KernelTexture& texture, const KernelParams& params, con
     hit.depth.store(hits.depth + i);
     hit.shadow.store(hits.shadow + i);
     hit.samples.store(reinterpret_cast<std::int32_t*>(hits.samples + i));
-    if (params.discard) {
-      const auto outside = (hit.u < F(0.0f)) | (hit.u > F(1.0f)) | (hit.v < F(0.0f)) | (hit.v > F(1.0f));
-      const vint<W> flags = select(outside, vint<W>(1), vint<W>(0));
-      alignas(64) std::int32_t lanes[W];
-      flags.store(lanes);
-      for (int lane = 0; lane < W; ++lane) hits.discarded[i + lane] = std::uint8_t(lanes[lane]);
-    }
+    const auto outside = (hit.u < F(0.0f)) | (hit.u > F(1.0f)) | (hit.v < F(0.0f)) | (hit.v > F(1.0f));
+    const vint<W> flags = select(outside, vint<W>(params.discard ? 1 : 0), vint<W>(0));
+    alignas(64) std::int32_t lanes[W];
+    flags.store(lanes);
+    for (int lane = 0; lane < W; ++lane) hits.discarded[i + lane] = std::uint8_t(lanes[lane]);
   }
   counters.lane_samples += local.lane_samples;
   counters.packet_samples += local.packet_samples;
 }
 
-template <int W, Wrap WRAP>
-void trace_range_wrap(const KernelTexture& texture, const KernelParams& params,
+template <int W, Addressing ADDRESSING>
+void trace_range_addressing(const KernelTexture& texture, const KernelParams& params,
                       const KernelRays& rays, const KernelHits& hits, std::size_t begin,
                       std::size_t end, KernelCounters& counters) {
   auto run = [&](auto technique) {
-    trace_packets<W, WRAP>(texture, params, rays, hits, begin, end, counters, technique);
+    trace_packets<W, ADDRESSING>(texture, params, rays, hits, begin, end, counters, technique);
   };
-  using K = KernelContext<W, WRAP>;
+  using K = KernelContext<W, ADDRESSING>;
   using R = RayPacket<W>;
+  if (params.sampler_roofline) return run([](K& k, const R& r) { return sampler_roofline(k, r); });
   switch (params.technique) {
     case Technique::parallax: run([](K& k, const R& r) { return parallax<false>(k, r); }); break;
     case Technique::parallax_limited: run([](K& k, const R& r) { return parallax<true>(k, r); }); break;
@@ -62,10 +62,14 @@ template <int W>
 void trace_range_packets(const KernelTexture& texture, const KernelParams& params,
                          const KernelRays& rays, const KernelHits& hits, std::size_t begin,
                          std::size_t end, KernelCounters& counters) {
-  if (texture.wrap == Wrap::repeat)
-    trace_range_wrap<W, Wrap::repeat>(texture, params, rays, hits, begin, end, counters);
-  else
-    trace_range_wrap<W, Wrap::clamp>(texture, params, rays, hits, begin, end, counters);
+  switch (addressing_of(texture)) {
+    case Addressing::repeat_pow2:
+      return trace_range_addressing<W, Addressing::repeat_pow2>(texture, params, rays, hits, begin, end, counters);
+    case Addressing::repeat:
+      return trace_range_addressing<W, Addressing::repeat>(texture, params, rays, hits, begin, end, counters);
+    case Addressing::clamp:
+      return trace_range_addressing<W, Addressing::clamp>(texture, params, rays, hits, begin, end, counters);
+  }
 }
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

@@ -8,7 +8,7 @@ namespace heightmarch {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kMinViewZ = 1e-6;  // V.z below this is a grazing ray: rejected
+constexpr double kMinViewZ = 5e-7;  // V.z below this is a grazing ray: rejected
 
 // The default camera: the near edge of the plane (v = 0) seen at 30 degrees from the normal,
 // the far edge (v = 1) at 80 degrees, on the centre line; eye height h and distance a before the
@@ -168,7 +168,7 @@ RayBatch make_ray_list(const std::vector<float>& tx, const std::vector<float>& t
       throw InputError("ray " + std::to_string(i) + ": not finite");
     if (!(z >= kMinViewZ))
       throw InputError("ray " + std::to_string(i) + ": V.z = " + std::to_string(z) +
-                       " after normalisation, must be >= 1e-6 (a ray from below or grazing the plane)");
+                       " after normalisation, must be >= 5e-7 (a ray from below or grazing the plane)");
     if (std::fabs(tx[i]) > 1e6f || std::fabs(ty[i]) > 1e6f)
       throw InputError("ray " + std::to_string(i) + ": |T| beyond 1e6");
     builder.add({true, tx[i], ty[i], float(vx[i] / len), float(vy[i] / len), float(z)}, std::uint32_t(i));

@@ -48,14 +48,20 @@ Tracer::Tracer(const DepthMap& map, const TechniqueParams& params, Isa isa)
     texture_ = SamplerTexture(map, params.wrap);
 }
 
-TraceStats Tracer::run(const RayBatch& rays, HitBuffers& hits) const {
+TraceStats Tracer::run(const RayBatch& rays, HitBuffers& hits) const { return run_kernels(rays, hits, false); }
+
+TraceStats Tracer::run_sampler_roofline(const RayBatch& rays, HitBuffers& hits) const {
+  return run_kernels(rays, hits, true);
+}
+
+TraceStats Tracer::run_kernels(const RayBatch& rays, HitBuffers& hits, bool roofline) const {
   hits.resize(rays.size());
   tbb::combinable<KernelCounters> counters;
   const KernelTexture texture{texture_.texels.data(), texture_.width, texture_.height,
                               texture_.stride, texture_.wrap};
   const KernelParams params{params_.technique, params_.layers.min_layers, params_.layers.max_layers,
                             params_.refine_steps, params_.scale, params_.discard,
-                            {params_.light[0], params_.light[1], params_.light[2]}};
+                            {params_.light[0], params_.light[1], params_.light[2]}, roofline};
   const KernelRays kernel_rays{rays.tx.data(), rays.ty.data(), rays.vx.data(), rays.vy.data(),
                                rays.vz.data()};
   const KernelHits kernel_hits{hits.u.data(), hits.v.data(), hits.depth.data(), hits.shadow.data(),

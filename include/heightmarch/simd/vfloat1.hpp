@@ -26,6 +26,7 @@ template <> struct vint<1> {
   friend vint operator+(vint a, vint c) { return {a.i + c.i}; }
   friend vint operator-(vint a, vint c) { return {a.i - c.i}; }
   friend vint operator*(vint a, vint c) { return {a.i * c.i}; }
+  friend vint operator&(vint a, vint c) { return {a.i & c.i}; }
   friend vbool<1> operator<(vint a, vint c) { return {a.i < c.i}; }
   friend vint min(vint a, vint c) { return {a.i < c.i ? a.i : c.i}; }
   friend vint max(vint a, vint c) { return {a.i > c.i ? a.i : c.i}; }
@@ -66,6 +67,12 @@ template <> struct vfloat<1> {
 // The lane's value at base[index], or 0 where the mask is off.
 inline vfloat<1> gather(const float* base, vint<1> index, vbool<1> mask) {
   return {mask.b ? base[index.i] : 0.0f};
+}
+
+// base[index] and base[index + 1] of each lane (two horizontally adjacent texels).
+inline void gather_pairs(const float* base, vint<1> index, vbool<1> mask, vfloat<1>& first, vfloat<1>& second) {
+  first = gather(base, index, mask);
+  second = gather(base, index + vint<1>(1), mask);
 }
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

@@ -26,6 +26,7 @@ template <> struct vint<4> {
   friend vint operator+(vint a, vint c) { return _mm_add_epi32(a.i, c.i); }
   friend vint operator-(vint a, vint c) { return _mm_sub_epi32(a.i, c.i); }
   friend vint operator*(vint a, vint c) { return _mm_mullo_epi32(a.i, c.i); }
+  friend vint operator&(vint a, vint c) { return _mm_and_si128(a.i, c.i); }
   friend vbool<4> operator<(vint a, vint c) { return {_mm_castsi128_ps(_mm_cmplt_epi32(a.i, c.i))}; }
   friend vint min(vint a, vint c) { return _mm_min_epi32(a.i, c.i); }
   friend vint max(vint a, vint c) { return _mm_max_epi32(a.i, c.i); }
@@ -68,6 +69,18 @@ inline vfloat<4> gather(const float* base, vint<4> index, vbool<4>) {
   const long long hi = _mm_extract_epi64(index.i, 1);
   return _mm_setr_ps(base[std::int32_t(lo)], base[std::int32_t(lo >> 32)], base[std::int32_t(hi)],
                      base[std::int32_t(hi >> 32)]);
+}
+
+// base[index] and base[index + 1] of each lane: one 64-bit load per lane, then deinterleaved,
+// half the loads of four separate gathers.
+inline void gather_pairs(const float* base, vint<4> index, vbool<4>, vfloat<4>& first, vfloat<4>& second) {
+  const long long lo = _mm_cvtsi128_si64(index.i);
+  const long long hi = _mm_extract_epi64(index.i, 1);
+  auto pair = [&](std::int32_t i) { return _mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(base + i))); };
+  const __m128 p01 = _mm_movelh_ps(pair(std::int32_t(lo)), pair(std::int32_t(lo >> 32)));  // a0 b0 a1 b1
+  const __m128 p23 = _mm_movelh_ps(pair(std::int32_t(hi)), pair(std::int32_t(hi >> 32)));  // a2 b2 a3 b3
+  first = _mm_shuffle_ps(p01, p23, _MM_SHUFFLE(2, 0, 2, 0));
+  second = _mm_shuffle_ps(p01, p23, _MM_SHUFFLE(3, 1, 3, 1));
 }
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

@@ -1,0 +1,209 @@
+#include "bench_registry.hpp"
+
+#include <benchmark/benchmark.h>
+#include <tbb/info.h>
+
+#include <map>
+#include <memory>
+#include <mutex>
+
+#include "heightmarch/experiment.hpp"
+#include "naive_port.hpp"
+
+namespace heightmarch::bench {
+namespace {
+
+// A heightfield's depth map, default view and exact hits, built on first use.
+struct BenchScene {
+  Scene scene;
+  HitBuffers exact;
+};
+
+class SceneCache {
+ public:
+  explicit SceneCache(const BenchConfig& config) : config_(config) {}
+
+  const BenchScene& get(const std::string& heightfield) {
+    std::lock_guard lock(mutex_);
+    auto& slot = scenes_[heightfield];
+    if (!slot) {
+      slot = std::make_unique<BenchScene>();
+      slot->scene.heightfield = "builtin:" + heightfield;
+      slot->scene.map = make_builtin_heightfield(heightfield, config_.resolution, 1);
+      const ViewSpec view = parse_view("default", config_.view_size, config_.view_size);
+      slot->scene.rays = make_view_rays(view);
+      slot->scene.view = describe(view);
+      slot->exact = exact_hits(slot->scene, TechniqueParams{});
+    }
+    return *slot;
+  }
+
+  // The scalar reference's hits for a configuration, computed once.
+  const HitBuffers& reference(const std::string& heightfield, const TechniqueParams& params) {
+    const BenchScene& s = get(heightfield);
+    const std::string key = heightfield + "/" + to_string(params.technique) + "/" + to_string(params.layers);
+    std::lock_guard lock(mutex_);
+    auto& slot = references_[key];
+    if (!slot) {
+      slot = std::make_unique<HitBuffers>();
+      Tracer(s.scene.map, params, Isa::scalar).run(s.scene.rays, *slot);
+    }
+    return *slot;
+  }
+
+ private:
+  const BenchConfig& config_;
+  std::mutex mutex_;
+  std::map<std::string, std::unique_ptr<BenchScene>> scenes_;
+  std::map<std::string, std::unique_ptr<HitBuffers>> references_;
+};
+
+std::unique_ptr<SceneCache> cache;
+
+// The first ray whose hit differs from the reference, or -1.
+long long first_difference(const RayBatch& rays, const HitBuffers& a, const HitBuffers& b) {
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    if (a.samples[i] != b.samples[i] || a.u[i] != b.u[i] || a.v[i] != b.v[i] || a.depth[i] != b.depth[i] ||
+        a.shadow[i] != b.shadow[i])
+      return (long long)i;
+  return -1;
+}
+
+void set_speed_counters(benchmark::State& state, std::size_t rays, std::uint64_t samples) {
+  const double iterations = double(state.iterations());
+  state.SetItemsProcessed(std::int64_t(rays) * state.iterations());
+  state.counters["rays_per_second"] = benchmark::Counter(double(rays) * iterations, benchmark::Counter::kIsRate);
+  state.counters["samples_per_second"] = benchmark::Counter(double(samples) * iterations, benchmark::Counter::kIsRate);
+}
+
+void set_error_counters(benchmark::State& state, const ErrorSummary& e) {
+  state.counters["samples_per_ray"] = e.samples_per_ray;
+  state.counters["uv_error_mean"] = e.mean;
+  state.counters["uv_error_rms"] = e.rms;
+  state.counters["uv_error_p50"] = e.p50;
+  state.counters["uv_error_p95"] = e.p95;
+  state.counters["uv_error_p99"] = e.p99;
+  state.counters["uv_error_max"] = e.max;
+  state.counters["wrong_surface_rate"] = e.wrong_surface_rate;
+  state.counters["depth_error_mean"] = e.depth_error_mean;
+  if (e.has_shadow) {
+    state.counters["shadow_error_mean"] = e.shadow_error_mean;
+    state.counters["shadow_mismatch_rate"] = e.shadow_mismatch_rate;
+  }
+}
+
+void bm_trace(benchmark::State& state, std::string heightfield, TechniqueParams params, Isa isa, int threads) {
+  const BenchScene& s = cache->get(heightfield);
+  const HitBuffers& reference = cache->reference(heightfield, params);
+  const ThreadLimit limit(threads);
+  const Tracer tracer(s.scene.map, params, isa);
+  RunResult run;
+  run.stats = tracer.run(s.scene.rays, run.hits);
+  if (const long long i = first_difference(s.scene.rays, run.hits, reference); i >= 0) {
+    state.SkipWithError(("output differs from the scalar reference at ray " + std::to_string(i)).c_str());
+    return;
+  }
+  measure(s.scene, s.exact, params, run);
+  for (auto _ : state) tracer.run(s.scene.rays, run.hits);
+  set_speed_counters(state, s.scene.rays.ray_count, run.stats.samples);
+  set_error_counters(state, run.errors);
+  state.counters["simd_utilization"] = run.stats.simd_utilization();
+}
+
+void bm_sampler_roofline(benchmark::State& state, std::string heightfield, int steps, Isa isa, int threads) {
+  const BenchScene& s = cache->get(heightfield);
+  TechniqueParams params;
+  params.layers = {float(steps), float(steps)};
+  const ThreadLimit limit(threads);
+  const Tracer tracer(s.scene.map, params, isa);
+  HitBuffers hits;
+  TraceStats stats = tracer.run_sampler_roofline(s.scene.rays, hits);
+  // Checked like a kernel: its last position must be the scalar roofline's.
+  HitBuffers reference;
+  Tracer(s.scene.map, params, Isa::scalar).run_sampler_roofline(s.scene.rays, reference);
+  if (first_difference(s.scene.rays, hits, reference) >= 0) {
+    state.SkipWithError("roofline output differs from the scalar reference");
+    return;
+  }
+  for (auto _ : state) tracer.run_sampler_roofline(s.scene.rays, hits);
+  set_speed_counters(state, s.scene.rays.ray_count, stats.samples);
+}
+
+void bm_naive_port(benchmark::State& state, std::string heightfield, TechniqueParams params, int threads) {
+  const BenchScene& s = cache->get(heightfield);
+  const HitBuffers& reference = cache->reference(heightfield, params);
+  const ThreadLimit limit(threads);
+  RunResult run;
+  bench::naive_pom(s.scene.map, s.scene.rays, params.layers.min_layers, params.layers.max_layers, params.scale,
+                   run.hits);
+  // Its own texture() blends as glm::mix does and rounds differently: within 0.01 texel.
+  for (std::size_t i = 0; i < s.scene.rays.size(); ++i) {
+    const float d = uv_error_texels(run.hits.u[i], run.hits.v[i], reference.u[i], reference.v[i], s.scene.map.width,
+                                    s.scene.map.height);
+    if (!(d <= 1e-2f) && run.hits.samples[i] == reference.samples[i]) {
+      state.SkipWithError(("naive port differs from the reference by " + std::to_string(d) + " texel").c_str());
+      return;
+    }
+  }
+  std::uint64_t samples = 0;
+  for (std::size_t i = 0; i < s.scene.rays.size(); ++i)
+    if (!s.scene.rays.is_padding(i)) samples += run.hits.samples[i];
+  run.hits.depth = reference.depth;  // the port returns uv only
+  measure(s.scene, s.exact, params, run);
+  for (auto _ : state)
+    bench::naive_pom(s.scene.map, s.scene.rays, params.layers.min_layers, params.layers.max_layers, params.scale,
+                     run.hits);
+  set_speed_counters(state, s.scene.rays.ray_count, samples);
+  set_error_counters(state, run.errors);
+}
+
+}  // namespace
+
+void register_benchmarks(const BenchConfig& input) {
+  static BenchConfig config;
+  config = input;
+  if (config.threads.empty()) {
+    config.threads = {1};
+    if (tbb::info::default_concurrency() > 1) config.threads.push_back(tbb::info::default_concurrency());
+  }
+  if (config.isas.empty()) config.isas = supported_isas();
+  cache = std::make_unique<SceneCache>(config);
+  const std::vector<std::string> layer_specs = {"4", "8", "16", "32", "64", "8-32"};
+  auto add = [](const std::string& name, auto&& fn) {
+    benchmark::RegisterBenchmark(name.c_str(), fn)->UseRealTime()->Unit(benchmark::kMillisecond)->MinTime(0.2);
+  };
+  for (const std::string& heightfield : config.heightfields)
+    for (Technique technique : all_techniques()) {
+      if (technique == Technique::exact) continue;
+      const bool layered = technique != Technique::parallax && technique != Technique::parallax_limited;
+      for (const std::string& layers : layered ? layer_specs : std::vector<std::string>{"1"})
+        for (Isa isa : config.isas)
+          for (int threads : config.threads) {
+            TechniqueParams params;
+            params.technique = technique;
+            params.layers = parse_layer_spec(layers);
+            const std::string name = "BM_Trace/heightfield:" + heightfield + "/technique:" + to_string(technique) +
+                                     "/layers:" + layers + "/isa:" + to_string(isa) +
+                                     "/threads:" + std::to_string(threads);
+            add(name, [=](benchmark::State& st) { bm_trace(st, heightfield, params, isa, threads); });
+          }
+    }
+  for (const std::string& heightfield : config.heightfields)
+    for (Isa isa : config.isas)
+      for (int threads : config.threads)
+        add("BM_SamplerRoofline/heightfield:" + heightfield + "/layers:32/isa:" + to_string(isa) +
+                "/threads:" + std::to_string(threads),
+            [=](benchmark::State& st) { bm_sampler_roofline(st, heightfield, 32, isa, threads); });
+  for (const std::string& heightfield : config.heightfields)
+    for (const char* layers : {"32", "8-32"})
+      for (int threads : config.threads) {
+        TechniqueParams params;
+        params.technique = Technique::pom;
+        params.layers = parse_layer_spec(layers);
+        add("BM_NaivePort/heightfield:" + heightfield + "/technique:pom/layers:" + std::string(layers) +
+                "/isa:scalar-naive/threads:" + std::to_string(threads),
+            [=](benchmark::State& st) { bm_naive_port(st, heightfield, params, threads); });
+      }
+}
+
+}  // namespace heightmarch::bench

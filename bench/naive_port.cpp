@@ -1,0 +1,76 @@
+#include "naive_port.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <glm/glm.hpp>
+
+namespace heightmarch::bench {
+namespace {
+
+struct Texture {
+  const DepthMap& map;
+
+  float fetch(int i, int j) const {
+    i %= map.width;
+    j %= map.height;
+    return map.at(i < 0 ? i + map.width : i, j < 0 ? j + map.height : j);
+  }
+
+  // texture(depthMap, uv).r with GL_LINEAR and GL_REPEAT.
+  float operator()(glm::vec2 uv) const {
+    const glm::vec2 x = uv * glm::vec2(map.width, map.height) - 0.5f;
+    const glm::vec2 x0 = glm::floor(x);
+    const glm::vec2 f = x - x0;
+    const int i = int(x0.x), j = int(x0.y);
+    return glm::mix(glm::mix(fetch(i, j), fetch(i + 1, j), f.x), glm::mix(fetch(i, j + 1), fetch(i + 1, j + 1), f.x),
+                    f.y);
+  }
+};
+
+// LearnOpenGL's ParallaxMapping() for POM, as the tutorial writes it, with its sample count.
+glm::vec2 parallax_mapping(const Texture& depthMap, glm::vec2 texCoords, glm::vec3 viewDir, float minLayers,
+                           float maxLayers, float height_scale, unsigned& samples) {
+  const float numLayers = glm::mix(maxLayers, minLayers, glm::abs(glm::dot(glm::vec3(0.0, 0.0, 1.0), viewDir)));
+  float layerDepth = 1.0f / numLayers;
+  float currentLayerDepth = 0.0f;
+  glm::vec2 P = glm::vec2(viewDir.x, viewDir.y) / viewDir.z * height_scale;
+  glm::vec2 deltaTexCoords = P / numLayers;
+  glm::vec2 currentTexCoords = texCoords;
+  float currentDepthMapValue = depthMap(currentTexCoords);
+  samples = 1;
+  // The tutorial's loop is unbounded; its bound here is the SPEC's ceil(N) + 1 steps.
+  const int bound = int(std::ceil(numLayers)) + 1;
+  for (int step = 0; currentLayerDepth < currentDepthMapValue && step < bound; ++step) {
+    currentTexCoords -= deltaTexCoords;
+    currentDepthMapValue = depthMap(currentTexCoords);
+    currentLayerDepth += layerDepth;
+    ++samples;
+  }
+  glm::vec2 prevTexCoords = currentTexCoords + deltaTexCoords;
+  float afterDepth = currentDepthMapValue - currentLayerDepth;
+  float beforeDepth = depthMap(prevTexCoords) - currentLayerDepth + layerDepth;
+  ++samples;
+  float weight = afterDepth / (afterDepth - beforeDepth);
+  return prevTexCoords * weight + currentTexCoords * (1.0f - weight);
+}
+
+}  // namespace
+
+void naive_pom(const DepthMap& map, const RayBatch& rays, float min_layers, float max_layers, float scale,
+               HitBuffers& hits) {
+  hits.resize(rays.size());
+  const Texture texture{map};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.tile_count(), 1), [&](const auto& tiles) {
+    for (std::size_t t = tiles.begin(); t != tiles.end(); ++t)
+      for (std::size_t i = rays.tile_offsets[t]; i < rays.tile_offsets[t + 1]; ++i) {
+        const glm::vec2 uv = parallax_mapping(texture, {rays.tx[i], rays.ty[i]}, {rays.vx[i], rays.vy[i], rays.vz[i]},
+                                              min_layers, max_layers, scale, hits.samples[i]);
+        hits.u[i] = uv.x;
+        hits.v[i] = uv.y;
+      }
+  });
+}
+
+}  // namespace heightmarch::bench

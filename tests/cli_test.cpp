@@ -1,0 +1,138 @@
+// The CLI end to end: outputs written, and bad input answered with one clear line and a
+// non-zero exit, never a crash.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "test_support.hpp"
+
+namespace heightmarch {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct BadInput {
+  std::string name;
+  std::string arguments;
+  std::string message;  // expected in the one-line error
+};
+
+std::string write_text(const std::string& dir, const std::string& name, const std::string& text) {
+  const std::string path = dir + "/" + name;
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+TEST(Cli, TraceWritesItsFourFiles) {
+  const std::string out = test::temp_dir("trace-out");
+  const auto r = test::run_cli("trace --heightmap builtin:bricks --res 128 --size 96x64 --technique pom --layers 32 --out " + out);
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* file : {"hits.exr", "error.png", "render.png", "metrics.json"})
+    EXPECT_GT(fs::file_size(out + "/" + file), 100u) << file;
+  std::ifstream json(out + "/metrics.json");
+  const std::string text((std::istreambuf_iterator<char>(json)), {});
+  for (const char* key : {"\"technique\": \"pom\"", "\"layers\": \"32\"", "\"rays_per_second\"", "\"uv_error_texels\"",
+                          "\"p99\"", "\"wrong_surface_rate\"", "\"commit\""})
+    EXPECT_NE(text.find(key), std::string::npos) << key;
+}
+
+TEST(Cli, RaysFromCsvKeepTheirOrder) {
+  const std::string dir = test::temp_dir("rays-csv");
+  const std::string csv = write_text(dir, "rays.csv", "tx,ty,vx,vy,vz\n0.5,0.5,0,0,1\n0.25,0.75,0.6,0,0.8\n0.1,0.2,0,-0.6,0.8\n");
+  const auto r = test::run_cli("trace --heightmap builtin:flat --res 16 --technique steep --layers 10 --rays " + csv +
+                               " --out " + dir + "/out");
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream in(dir + "/out/rays.csv");
+  std::string header, first, second;
+  std::getline(in, header);
+  std::getline(in, first);
+  std::getline(in, second);
+  EXPECT_EQ(header, "tx,ty,vx,vy,vz,u,v,depth,samples,exact_u,exact_v,exact_depth,uv_error_texels");
+  EXPECT_EQ(first.rfind("0.5,0.5,0,0,1,", 0), 0u) << first;
+  EXPECT_EQ(second.rfind("0.25,0.75,0.6", 0), 0u) << second;
+}
+
+TEST(Cli, JsonHasTheSpecKeys) {
+  const auto r = test::run_cli("trace --res 64 --size 32x32 --technique relief --layers 8-32 --json --threads 1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* key : {"technique", "layers", "isa", "threads", "width", "height", "rays", "rays_per_second",
+                          "samples_per_second", "samples_per_ray", "uv_error_texels", "mean", "rms", "p50", "p95",
+                          "p99", "max", "wrong_surface_rate", "depth_error_mean", "discarded"})
+    EXPECT_NE(r.output.find("\"" + std::string(key) + "\""), std::string::npos) << key;
+}
+
+class CliBadInput : public ::testing::TestWithParam<BadInput> {};
+
+TEST_P(CliBadInput, OneClearLineAndNonZeroExit) {
+  const BadInput& c = GetParam();
+  const auto r = test::run_cli(c.arguments);
+  EXPECT_NE(r.status, 0) << r.output;
+  EXPECT_LT(r.status, 128) << "crashed: " << r.output;
+  EXPECT_NE(r.output.find(c.message), std::string::npos) << "output was: " << r.output;
+  EXPECT_EQ(r.output.rfind("heightmarch: ", 0), 0u) << r.output;
+  EXPECT_LE(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+}
+
+std::string fixture_dir() {
+  static const std::string dir = [] {
+    const std::string d = test::temp_dir("bad-input");
+    write_text(d, "empty.png", "");
+    write_text(d, "notanimage.png", "this is not a png at all, just text\n");
+    // A PNG signature and a truncated IHDR.
+    write_text(d, "truncated.png", std::string("\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR\0\0", 18));
+    write_text(d, "empty.csv", "");
+    write_text(d, "header_only.csv", "tx,ty,vx,vy,vz\n");
+    write_text(d, "missing_column.csv", "tx,ty,vx,vy,vz\n0.5,0.5,0,1\n");
+    write_text(d, "text.csv", "tx,ty,vx,vy,vz\n0.5,abc,0,0,1\n");
+    write_text(d, "below.csv", "tx,ty,vx,vy,vz\n0.5,0.5,0,0.6,-0.8\n");
+    write_text(d, "nan.csv", "tx,ty,vx,vy,vz\n0.5,nan,0,0,1\n");
+    write_text(d, "bad_header.csv", "x,y,z\n1,2,3\n");
+    return d;
+  }();
+  return dir;
+}
+
+std::vector<BadInput> bad_inputs() {
+  const std::string d = fixture_dir();
+  return {
+      {"MissingFile", "trace --heightmap /nonexistent/depth.png", "/nonexistent/depth.png"},
+      {"EmptyImage", "trace --heightmap " + d + "/empty.png", "empty.png"},
+      {"NotAnImage", "trace --heightmap " + d + "/notanimage.png", "notanimage.png"},
+      {"TruncatedImage", "trace --heightmap " + d + "/truncated.png", "truncated.png"},
+      {"UnknownBuiltin", "trace --heightmap builtin:nope", "nope"},
+      {"UnknownTechnique", "trace --technique nope", "unknown technique 'nope'"},
+      {"ZeroLayers", "trace --layers 0", "layer spec '0'"},
+      {"NegativeLayers", "trace --layers -3", "layer spec '-3'"},
+      {"ReversedRange", "trace --layers 32-8", "exceeds maximum"},
+      {"OpenRange", "trace --layers 8-", "layer spec '8-'"},
+      {"HugeLayers", "trace --layers 100000000", "layer spec '100000000'"},
+      {"TextLayers", "trace --layers many", "layer spec 'many'"},
+      {"NegativeScale", "trace --scale -1", "scale"},
+      {"NanScale", "trace --scale nan", "--scale"},
+      {"BadSize", "trace --size 0x10", "--size"},
+      {"HugeSize", "trace --size 100000x100000", "--size"},
+      {"BadRes", "trace --res 0", "--res"},
+      {"UnknownOption", "trace --frobnicate", "unknown option --frobnicate"},
+      {"MissingValue", "trace --layers", "needs a value"},
+      {"BadWrap", "trace --wrap mirror", "--wrap"},
+      {"BadView", "trace --view sweep:95", "THETA"},
+      {"BadLight", "trace --technique shadow --light 1,1,-1", "light"},
+      {"BadIsa", "trace --isa neon", "unknown ISA 'neon'"},
+      {"UnknownCommand", "frobnicate", "unknown command"},
+      {"EmptyCsv", "trace --rays " + d + "/empty.csv", "empty rays file"},
+      {"HeaderOnlyCsv", "trace --rays " + d + "/header_only.csv", "no rays"},
+      {"MissingColumnCsv", "trace --rays " + d + "/missing_column.csv", "expected 5 columns"},
+      {"TextInCsv", "trace --rays " + d + "/text.csv", "'abc' is not a number"},
+      {"RayFromBelowCsv", "trace --rays " + d + "/below.csv", "V.z"},
+      {"NanInCsv", "trace --rays " + d + "/nan.csv", "not finite"},
+      {"BadHeaderCsv", "trace --rays " + d + "/bad_header.csv", "header must be tx,ty,vx,vy,vz"},
+      {"MissingCsv", "trace --rays /nonexistent/rays.csv", "cannot open"},
+  };
+}
+
+INSTANTIATE_TEST_SUITE_P(Trace, CliBadInput, ::testing::ValuesIn(bad_inputs()),
+                         [](const auto& info) { return info.param.name; });
+
+}  // namespace
+}  // namespace heightmarch

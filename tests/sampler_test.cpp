@@ -1,0 +1,79 @@
+// The sampler: the SPEC formula against hand-computed values, and the packet sampler of every
+// ISA against the SPEC formula, bit for bit.
+#include <gtest/gtest.h>
+
+#include "heightmarch/sampler.hpp"
+#include "heightmarch/trace.hpp"
+#include "test_support.hpp"
+
+namespace heightmarch {
+namespace {
+
+// 3 x 2 texels: row 0 = 0.0 0.2 0.4, row 1 = 0.6 0.8 1.0.
+DepthMap small_map() { return DepthMap{3, 2, {0.0f, 0.2f, 0.4f, 0.6f, 0.8f, 1.0f}}; }
+
+TEST(Sampler, TexelCentresReturnTexels) {
+  const DepthMap map = small_map();
+  for (Wrap wrap : {Wrap::repeat, Wrap::clamp})
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 3; ++i)
+        EXPECT_EQ(sample_depth(map, wrap, (i + 0.5f) / 3.0f, (j + 0.5f) / 2.0f), map.at(i, j));
+}
+
+TEST(Sampler, HandComputedBlends) {
+  const DepthMap map = small_map();
+  // Halfway between texel (0,0) and (1,0) horizontally, on row 0's centre: (0 + 0.2) / 2.
+  EXPECT_NEAR(sample_depth(map, Wrap::repeat, 1.0f / 3.0f, 0.25f), 0.1f, 1e-6f);
+  // The centre of the 2 x 2 block (0,0)-(1,1): (0 + 0.2 + 0.6 + 0.8) / 4.
+  EXPECT_NEAR(sample_depth(map, Wrap::repeat, 1.0f / 3.0f, 0.5f), 0.4f, 1e-6f);
+  // u = 0: halfway between the last and the first column under REPEAT ...
+  EXPECT_NEAR(sample_depth(map, Wrap::repeat, 0.0f, 0.25f), 0.2f, 1e-6f);
+  // ... and the first column under CLAMP.
+  EXPECT_NEAR(sample_depth(map, Wrap::clamp, 0.0f, 0.25f), 0.0f, 1e-6f);
+  // v = 1: halfway between rows 1 and 0 under REPEAT, row 1 under CLAMP (column 2's centre).
+  EXPECT_NEAR(sample_depth(map, Wrap::repeat, 2.5f / 3.0f, 1.0f), 0.7f, 1e-6f);
+  EXPECT_NEAR(sample_depth(map, Wrap::clamp, 2.5f / 3.0f, 1.0f), 1.0f, 1e-6f);
+  // Far outside: REPEAT wraps whole periods, CLAMP holds the edge.
+  EXPECT_NEAR(sample_depth(map, Wrap::repeat, 5.0f + 1.0f / 3.0f, 7.25f), 0.1f, 1e-5f);
+  EXPECT_EQ(sample_depth(map, Wrap::clamp, -4.0f, -3.0f), 0.0f);
+  EXPECT_EQ(sample_depth(map, Wrap::clamp, 9.0f, 9.0f), 1.0f);
+}
+
+// The packet sampler is reached through the parallax kernel: its depth output is one sample at T.
+class PacketSamplerTest : public ::testing::TestWithParam<Isa> {};
+
+TEST_P(PacketSamplerTest, BitIdenticalToSpecFormula) {
+  const Isa isa = GetParam();
+  if (!cpu_supports(isa)) GTEST_SKIP() << "this CPU lacks " << to_string(isa) << ": not tested here";
+  for (const auto& [w, h] : {std::pair{3, 2}, {17, 5}, {64, 64}, {1, 1}, {256, 7}}) {
+    DepthMap map{w, h, {}};
+    test::Random rng(w * 1000 + h);
+    for (int k = 0; k < w * h; ++k) map.texels.push_back(float(rng.uniform()));
+    std::vector<float> tx, ty, vx, vy, vz;
+    for (int k = 0; k < 4000; ++k) {
+      tx.push_back(float(rng.uniform(-20.0, 20.0)));
+      ty.push_back(float(rng.uniform(-20.0, 20.0)));
+      vx.push_back(0.0f);
+      vy.push_back(0.0f);
+      vz.push_back(1.0f);
+    }
+    const RayBatch rays = make_ray_list(tx, ty, vx, vy, vz);
+    for (Wrap wrap : {Wrap::repeat, Wrap::clamp}) {
+      TechniqueParams params;
+      params.technique = Technique::parallax;
+      params.wrap = wrap;
+      HitBuffers hits;
+      Tracer(map, params, isa).run(rays, hits);
+      for (std::size_t i = 0; i < rays.size(); ++i)
+        ASSERT_EQ(hits.depth[i], sample_depth(map, wrap, rays.tx[i], rays.ty[i]))
+            << to_string(isa) << " " << w << "x" << h << " at (" << rays.tx[i] << ", " << rays.ty[i] << ")";
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllIsas, PacketSamplerTest,
+                         ::testing::Values(Isa::scalar, Isa::sse42, Isa::avx2, Isa::avx512),
+                         [](const auto& info) { return to_string(info.param) == "sse4.2" ? std::string("sse42") : to_string(info.param); });
+
+}  // namespace
+}  // namespace heightmarch

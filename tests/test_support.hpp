@@ -1,0 +1,79 @@
+#pragma once
+// Helpers shared by the tests: deterministic random rays, small scenes, running the CLI.
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "heightmarch/experiment.hpp"
+#include "heightmarch/rays.hpp"
+
+namespace heightmarch::test {
+
+// splitmix64: the tests' own generator, so sequences never depend on the standard library.
+class Random {
+ public:
+  explicit Random(std::uint64_t seed) : state_(seed) {}
+  std::uint64_t next() {
+    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+  }
+  double uniform(double lo = 0.0, double hi = 1.0) { return lo + (hi - lo) * double(next() >> 11) * 0x1.0p-53; }
+
+ private:
+  std::uint64_t state_;
+};
+
+// n rays with T in [0,1]^2 and view angles up to max_theta degrees, any azimuth.
+inline RayBatch random_rays(std::size_t n, double max_theta_degrees, std::uint64_t seed) {
+  Random rng(seed);
+  std::vector<float> tx, ty, vx, vy, vz;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double theta = rng.uniform(0.0, max_theta_degrees) * M_PI / 180.0;
+    const double phi = rng.uniform(0.0, 2.0 * M_PI);
+    tx.push_back(float(rng.uniform()));
+    ty.push_back(float(rng.uniform()));
+    vx.push_back(float(std::sin(theta) * std::cos(phi)));
+    vy.push_back(float(std::sin(theta) * std::sin(phi)));
+    vz.push_back(float(std::cos(theta)));
+  }
+  return make_ray_list(tx, ty, vx, vy, vz);
+}
+
+struct CliResult {
+  int status = -1;
+  std::string output;  // stdout and stderr together
+};
+
+// Runs build/heightmarch with the arguments (a shell string), capturing its output.
+inline CliResult run_cli(const std::string& arguments) {
+  CliResult result;
+  const std::string command = std::string(HEIGHTMARCH_CLI) + " " + arguments + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return result;
+  std::array<char, 4096> buffer;
+  std::size_t n;
+  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+  const int status = pclose(pipe);
+  result.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return result;
+}
+
+// A fresh empty directory under the system temp directory, unique to this process.
+inline std::string temp_dir(const std::string& name) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("heightmarch-test-" + std::to_string(::getpid())) / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
+}  // namespace heightmarch::test
