@@ -28,12 +28,13 @@ class KernelContext {
   KernelContext(const KernelTexture& texture, const KernelParams& params, KernelCounters& counters)
       : params(params), sampler_(texture), counters_(counters) {}
 
-  // One height sample for the active lanes, counted per lane in `samples`.
+  // One height sample, counted for the active lanes in `samples`. Every lane is gathered (all
+  // indices are valid): a gather masked by the last comparison would wait for it.
   F sample(F u, F v, B active, I& samples) {
     samples = select(active, samples + I(1), samples);
     counters_.lane_samples += std::uint64_t(popcount(active));
     counters_.packet_samples += W;
-    return sampler_(u, v, active);
+    return sampler_(u, v);
   }
 
   // The tutorial's layer count: N, or mix(max, min, |cos|) for a dynamic spec. Not rounded.

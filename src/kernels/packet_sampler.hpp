@@ -29,14 +29,14 @@ class PacketSampler {
         inv_width_(1.0f / float(t.width)), inv_height_(1.0f / float(t.height)),
         last_x_(t.width - 1), last_y_(t.height - 1) {}
 
-  F operator()(F u, F v, B active) const {
+  F operator()(F u, F v) const {
     F fx, fy;
     const I ix = texel_coordinate(u, width_, inv_width_, last_x_, fx);
     const I iy = texel_coordinate(v, height_, inv_height_, last_y_, fy);
     const I index = iy * I(stride_) + ix;
     F t00, t10, t01, t11;
-    gather_pairs(texels_, index, active, t00, t10);
-    gather_pairs(texels_ + stride_, index, active, t01, t11);
+    gather_pairs(texels_, index, t00, t10);
+    gather_pairs(texels_ + stride_, index, t01, t11);
     const F top = t00 + fx * (t10 - t00);
     const F bottom = t01 + fx * (t11 - t01);
     return top + fy * (bottom - top);

@@ -32,10 +32,11 @@ HitPacket<W> shadow(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
                              (F(1.0f) - F(float(step_index)) / num_layers);
     shadow_multiplier = select(below, max(shadow_multiplier, new_multiplier), shadow_multiplier);
     under_surface = under_surface | below;
-    current_layer_height = select(active, current_layer_height - layer_height, current_layer_height);
-    u = select(active, u + tex_step_u, u);
-    v = select(active, v + tex_step_v, v);
-    height_from_texture = select(active, k.sample(u, v, active, hit.samples), height_from_texture);
+    // Every lane moves on (see march_layers); only active lanes record what they find.
+    current_layer_height = current_layer_height - layer_height;
+    u = u + tex_step_u;
+    v = v + tex_step_v;
+    height_from_texture = k.sample(u, v, active, hit.samples);
     active = active & (current_layer_height > F(0.0f)) & (vint<W>(step_index) < bound);
   }
   hit.shadow = select(under_surface, F(1.0f) - shadow_multiplier, F(1.0f));

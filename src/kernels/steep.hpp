@@ -34,16 +34,21 @@ LayerMarch<W> march_layers(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& 
   m.samples = I(0);
   m.depth_map_value = k.sample(m.u, m.v, B::all_true(), m.samples);
 
+  // The march itself advances every lane unconditionally, so the sample positions (and the
+  // gathers) never wait for the previous comparison; lanes still above the surface record it.
   const I bound = k.step_bound(num_layers);
-  I steps(0);
+  F u = m.u, v = m.v, current_layer_depth = m.current_layer_depth;
   B active = m.current_layer_depth < m.depth_map_value;
-  for (int step = 0; step < k.max_step_bound() && any(active); ++step) {
-    m.u = select(active, m.u - m.delta_u, m.u);
-    m.v = select(active, m.v - m.delta_v, m.v);
-    m.depth_map_value = select(active, k.sample(m.u, m.v, active, m.samples), m.depth_map_value);
-    m.current_layer_depth = select(active, m.current_layer_depth + m.layer_depth, m.current_layer_depth);
-    steps = select(active, steps + I(1), steps);
-    active = active & (m.current_layer_depth < m.depth_map_value) & (steps < bound);
+  for (int step = 1; step <= k.max_step_bound() && any(active); ++step) {
+    u = u - m.delta_u;
+    v = v - m.delta_v;
+    const F depth_map_value = k.sample(u, v, active, m.samples);
+    current_layer_depth = current_layer_depth + m.layer_depth;
+    m.u = select(active, u, m.u);
+    m.v = select(active, v, m.v);
+    m.depth_map_value = select(active, depth_map_value, m.depth_map_value);
+    m.current_layer_depth = select(active, current_layer_depth, m.current_layer_depth);
+    active = active & (current_layer_depth < depth_map_value) & (I(step) < bound);
   }
   return m;
 }

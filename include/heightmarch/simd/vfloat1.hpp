@@ -64,15 +64,11 @@ template <> struct vfloat<1> {
   friend vfloat to_float(vint<1> a) { return {static_cast<float>(a.i)}; }
 };
 
-// The lane's value at base[index], or 0 where the mask is off.
-inline vfloat<1> gather(const float* base, vint<1> index, vbool<1> mask) {
-  return {mask.b ? base[index.i] : 0.0f};
-}
-
-// base[index] and base[index + 1] of each lane (two horizontally adjacent texels).
-inline void gather_pairs(const float* base, vint<1> index, vbool<1> mask, vfloat<1>& first, vfloat<1>& second) {
-  first = gather(base, index, mask);
-  second = gather(base, index + vint<1>(1), mask);
+// base[index] and base[index + 1] of each lane: two horizontally adjacent texels. All lanes load
+// (the sampler keeps every index inside the texture).
+inline void gather_pairs(const float* base, vint<1> index, vfloat<1>& first, vfloat<1>& second) {
+  first = base[index.i];
+  second = base[index.i + 1];
 }
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

@@ -60,18 +60,12 @@ template <> struct vfloat<16> {
   friend vfloat to_float(vint<16> a) { return _mm512_cvtepi32_ps(a.i); }
 };
 
-// Masked hardware gather: lanes whose mask is off load nothing and read 0.
-inline vfloat<16> gather(const float* base, vint<16> index, vbool<16> mask) {
-  return _mm512_mask_i32gather_ps(_mm512_setzero_ps(), mask.m, index.i, base, 4);
-}
-
 // base[index] and base[index + 1] of each lane: two 64-bit gathers of texel pairs instead of two
-// 32-bit gathers of single texels (half the gathered elements), then deinterleaved.
-inline void gather_pairs(const float* base, vint<16> index, vbool<16> mask, vfloat<16>& first, vfloat<16>& second) {
-  const __m512 lo = _mm512_castsi512_ps(_mm512_mask_i32gather_epi64(
-      _mm512_setzero_si512(), __mmask8(mask.m), _mm512_castsi512_si256(index.i), base, 4));
-  const __m512 hi = _mm512_castsi512_ps(_mm512_mask_i32gather_epi64(
-      _mm512_setzero_si512(), __mmask8(mask.m >> 8), _mm512_extracti64x4_epi64(index.i, 1), base, 4));
+// 32-bit gathers of single texels (half the gathered elements), then deinterleaved. Unmasked:
+// the sampler keeps every index inside the texture.
+inline void gather_pairs(const float* base, vint<16> index, vfloat<16>& first, vfloat<16>& second) {
+  const __m512 lo = _mm512_castsi512_ps(_mm512_i32gather_epi64(_mm512_castsi512_si256(index.i), base, 4));
+  const __m512 hi = _mm512_castsi512_ps(_mm512_i32gather_epi64(_mm512_extracti64x4_epi64(index.i, 1), base, 4));
   const __m512i even = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
   const __m512i odd = _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31);
   first = _mm512_permutex2var_ps(lo, even, hi);

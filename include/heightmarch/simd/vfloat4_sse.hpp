@@ -1,5 +1,5 @@
 #pragma once
-// Width 4: SSE4.2. SSE has no gather; gather() loads the four lanes one by one (see gather).
+// Width 4: SSE4.2. SSE has no gather: see gather_pairs.
 #include <nmmintrin.h>
 
 #include "heightmarch/simd/packet.hpp"
@@ -62,18 +62,10 @@ template <> struct vfloat<4> {
   friend vfloat to_float(vint<4> a) { return _mm_cvtepi32_ps(a.i); }
 };
 
-// Four scalar loads; every lane loads, since the sampler keeps all indices in range and a
-// branch per lane would cost more than the load.
-inline vfloat<4> gather(const float* base, vint<4> index, vbool<4>) {
-  const long long lo = _mm_cvtsi128_si64(index.i);
-  const long long hi = _mm_extract_epi64(index.i, 1);
-  return _mm_setr_ps(base[std::int32_t(lo)], base[std::int32_t(lo >> 32)], base[std::int32_t(hi)],
-                     base[std::int32_t(hi >> 32)]);
-}
-
-// base[index] and base[index + 1] of each lane: one 64-bit load per lane, then deinterleaved,
-// half the loads of four separate gathers.
-inline void gather_pairs(const float* base, vint<4> index, vbool<4>, vfloat<4>& first, vfloat<4>& second) {
+// base[index] and base[index + 1] of each lane. SSE has no gather: one 64-bit load per lane
+// fetches both texels, then two shuffles deinterleave them (half the loads of four scalar
+// gathers).
+inline void gather_pairs(const float* base, vint<4> index, vfloat<4>& first, vfloat<4>& second) {
   const long long lo = _mm_cvtsi128_si64(index.i);
   const long long hi = _mm_extract_epi64(index.i, 1);
   auto pair = [&](std::int32_t i) { return _mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(base + i))); };

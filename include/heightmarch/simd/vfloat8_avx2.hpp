@@ -67,22 +67,13 @@ template <> struct vfloat<8> {
   friend vfloat to_float(vint<8> a) { return _mm256_cvtepi32_ps(a.i); }
 };
 
-// Masked hardware gather: lanes whose mask is off load nothing and read 0.
-inline vfloat<8> gather(const float* base, vint<8> index, vbool<8> mask) {
-  return _mm256_mask_i32gather_ps(_mm256_setzero_ps(), base, index.i, mask.m, 4);
-}
-
 // base[index] and base[index + 1] of each lane: two 64-bit gathers of texel pairs instead of two
-// 32-bit gathers of single texels (half the gathered elements), then deinterleaved.
-inline void gather_pairs(const float* base, vint<8> index, vbool<8> mask, vfloat<8>& first, vfloat<8>& second) {
-  const __m256i lane_mask = _mm256_castps_si256(mask.m);
-  const __m256i mask_lo = _mm256_cvtepi32_epi64(_mm256_castsi256_si128(lane_mask));
-  const __m256i mask_hi = _mm256_cvtepi32_epi64(_mm256_extracti128_si256(lane_mask, 1));
+// 32-bit gathers of single texels (half the gathered elements), then deinterleaved. Unmasked:
+// the sampler keeps every index inside the texture.
+inline void gather_pairs(const float* base, vint<8> index, vfloat<8>& first, vfloat<8>& second) {
   const long long* pairs = reinterpret_cast<const long long*>(base);
-  const __m256 lo = _mm256_castsi256_ps(_mm256_mask_i32gather_epi64(
-      _mm256_setzero_si256(), pairs, _mm256_castsi256_si128(index.i), mask_lo, 4));  // a0 b0 .. a3 b3
-  const __m256 hi = _mm256_castsi256_ps(_mm256_mask_i32gather_epi64(
-      _mm256_setzero_si256(), pairs, _mm256_extracti128_si256(index.i, 1), mask_hi, 4));  // a4 b4 .. a7 b7
+  const __m256 lo = _mm256_castsi256_ps(_mm256_i32gather_epi64(pairs, _mm256_castsi256_si128(index.i), 4));
+  const __m256 hi = _mm256_castsi256_ps(_mm256_i32gather_epi64(pairs, _mm256_extracti128_si256(index.i, 1), 4));
   // shuffle_ps works within 128-bit halves: a0 a1 a4 a5 | a2 a3 a6 a7, then fix the order.
   const __m256i order = _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7);
   first = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0)), order);
