@@ -5,7 +5,9 @@
 //
 // Own flags, after Google Benchmark's: --hm_size=N (view side, default 1024),
 // --hm_res=N (depth map side, default 512), --hm_heightfields=bricks,terrain,
-// --hm_threads=1,2 (default 1 and all cores), --hm_isas=scalar,avx2 (default all the CPU runs).
+// --hm_threads=1,2 (default 1 and all cores), --hm_isas=scalar,avx2 (default all the CPU runs),
+// --hm_layers=4,8,32,8-32 (layer specs of BM_Trace), --hm_min_time=0.2 (seconds per benchmark).
+// A heightfield is a builtin name or a depth map file.
 #include <benchmark/benchmark.h>
 
 #include <cstring>
@@ -18,6 +20,7 @@
 #include "heightmarch/error.hpp"
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/rays.hpp"
+#include "heightmarch/technique.hpp"
 #include "io/provenance.hpp"
 
 namespace {
@@ -46,6 +49,8 @@ int main(int argc, char** argv) {
       if (const char* v = value("hm_size")) config.view_size = std::stoi(v);
       else if (const char* v = value("hm_res")) config.resolution = std::stoi(v);
       else if (const char* v = value("hm_heightfields")) config.heightfields = split(v);
+      else if (const char* v = value("hm_layers")) config.layer_specs = split(v);
+      else if (const char* v = value("hm_min_time")) config.min_time = std::stod(v);
       else if (const char* v = value("hm_threads")) {
         config.threads.clear();
         for (const auto& t : split(v)) config.threads.push_back(std::stoi(t));
@@ -57,6 +62,7 @@ int main(int argc, char** argv) {
         return 2;
       }
     }
+    for (const auto& layers : config.layer_specs) parse_layer_spec(layers);
     if (config.view_size < 1 || config.view_size > kMaxViewSide || config.resolution < 1 ||
         config.resolution > kMaxDepthMapSide)
       throw InputError("--hm_size and --hm_res must be in [1, 16384]");

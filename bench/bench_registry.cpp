@@ -7,6 +7,7 @@
 #include <memory>
 #include <mutex>
 
+#include "heightmarch/claims_measurement.hpp"
 #include "heightmarch/experiment.hpp"
 #include "naive_port.hpp"
 
@@ -28,8 +29,8 @@ class SceneCache {
     auto& slot = scenes_[heightfield];
     if (!slot) {
       slot = std::make_unique<BenchScene>();
-      slot->scene.heightfield = "builtin:" + heightfield;
-      slot->scene.map = make_builtin_heightfield(heightfield, config_.resolution, 1);
+      slot->scene.heightfield = heightfield;
+      slot->scene.map = load_heightfield(slot->scene.heightfield, config_.resolution, 1, Convention::depth);
       const ViewSpec view = parse_view("default", config_.view_size, config_.view_size);
       slot->scene.rays = make_view_rays(view);
       slot->scene.view = describe(view);
@@ -167,10 +168,13 @@ void register_benchmarks(const BenchConfig& input) {
     if (tbb::info::default_concurrency() > 1) config.threads.push_back(tbb::info::default_concurrency());
   }
   if (config.isas.empty()) config.isas = supported_isas();
+  // Builtin names become "builtin:NAME"; anything else is a depth map file.
+  for (std::string& heightfield : config.heightfields)
+    if (heightfield.find_first_of("/.") == std::string::npos) heightfield = "builtin:" + heightfield;
   cache = std::make_unique<SceneCache>(config);
-  const std::vector<std::string> layer_specs = {"4", "8", "16", "32", "64", "8-32"};
+  const std::vector<std::string>& layer_specs = config.layer_specs;
   auto add = [](const std::string& name, auto&& fn) {
-    benchmark::RegisterBenchmark(name.c_str(), fn)->UseRealTime()->Unit(benchmark::kMillisecond)->MinTime(0.2);
+    benchmark::RegisterBenchmark(name.c_str(), fn)->UseRealTime()->Unit(benchmark::kMillisecond)->MinTime(config.min_time);
   };
   for (const std::string& heightfield : config.heightfields)
     for (Technique technique : all_techniques()) {
@@ -182,7 +186,7 @@ void register_benchmarks(const BenchConfig& input) {
             TechniqueParams params;
             params.technique = technique;
             params.layers = parse_layer_spec(layers);
-            const std::string name = "BM_Trace/heightfield:" + heightfield + "/technique:" + to_string(technique) +
+            const std::string name = "BM_Trace/heightfield:" + heightfield_label(heightfield) + "/technique:" + to_string(technique) +
                                      "/layers:" + layers + "/isa:" + to_string(isa) +
                                      "/threads:" + std::to_string(threads);
             add(name, [=](benchmark::State& st) { bm_trace(st, heightfield, params, isa, threads); });
@@ -191,7 +195,7 @@ void register_benchmarks(const BenchConfig& input) {
   for (const std::string& heightfield : config.heightfields)
     for (Isa isa : config.isas)
       for (int threads : config.threads)
-        add("BM_SamplerRoofline/heightfield:" + heightfield + "/layers:32/isa:" + to_string(isa) +
+        add("BM_SamplerRoofline/heightfield:" + heightfield_label(heightfield) + "/layers:32/isa:" + to_string(isa) +
                 "/threads:" + std::to_string(threads),
             [=](benchmark::State& st) { bm_sampler_roofline(st, heightfield, 32, isa, threads); });
   for (const std::string& heightfield : config.heightfields)
@@ -200,7 +204,7 @@ void register_benchmarks(const BenchConfig& input) {
         TechniqueParams params;
         params.technique = Technique::pom;
         params.layers = parse_layer_spec(layers);
-        add("BM_NaivePort/heightfield:" + heightfield + "/technique:pom/layers:" + std::string(layers) +
+        add("BM_NaivePort/heightfield:" + heightfield_label(heightfield) + "/technique:pom/layers:" + std::string(layers) +
                 "/isa:scalar-naive/threads:" + std::to_string(threads),
             [=](benchmark::State& st) { bm_naive_port(st, heightfield, params, threads); });
       }

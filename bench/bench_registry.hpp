@@ -10,7 +10,9 @@ namespace heightmarch::bench {
 struct BenchConfig {
   int view_size = 1024;
   int resolution = 512;
-  std::vector<std::string> heightfields = {"bricks", "terrain"};
+  std::vector<std::string> heightfields = {"bricks", "terrain"};  // builtin names or depth map files
+  std::vector<std::string> layer_specs = {"4", "8", "16", "32", "64", "8-32"};
+  double min_time = 0.2;  // seconds per benchmark
   std::vector<int> threads;  // empty: 1 and all cores
   std::vector<Isa> isas;     // empty: every ISA the CPU runs
 };

@@ -12,6 +12,8 @@ namespace {
 constexpr const char* kUsage =
     "usage: heightmarch COMMAND [options]\n"
     "  trace   run one technique with the CPU packet kernels and measure it against the exact hits\n"
+    "  suite   the main job: benchmark matrix, error sweeps, gallery, claims and report into results/\n"
+    "  claims  measure the tutorials' claims C1-C10 and write claims.md\n"
     "  glsl    run the same technique as GLSL in OSMesa (llvmpipe); --compare sets it beside the CPU\n"
     "run 'heightmarch COMMAND --help' for its options\n";
 
@@ -28,6 +30,8 @@ int main(int argc, char** argv) {
   try {
     if (command == "trace") return cli::trace_command(args);
     if (command == "glsl") return cli::glsl_command(args);
+    if (command == "suite") return cli::suite_command(args);
+    if (command == "claims") return cli::claims_command(args);
     if (command == "--help" || command == "help") {
       std::fputs(kUsage, stdout);
       return 0;

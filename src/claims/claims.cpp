@@ -1,0 +1,321 @@
+#include "heightmarch/claims.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+
+#include "io/json_writer.hpp"
+
+namespace heightmarch {
+
+const ClaimFigure* ClaimsData::find(const std::string& heightfield, const std::string& technique,
+                                    const std::string& layers, double theta) const {
+  for (const ClaimFigure& f : figures)
+    if (f.heightfield == heightfield && f.technique == technique && f.layers == layers &&
+        std::fabs(f.theta - theta) < 1e-9)
+      return &f;
+  return nullptr;
+}
+
+std::vector<std::string> ClaimsData::heightfields() const {
+  std::vector<std::string> names;
+  for (const ClaimFigure& f : figures)
+    if (std::find(names.begin(), names.end(), f.heightfield) == names.end()) names.push_back(f.heightfield);
+  return names;
+}
+
+std::string to_string(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::holds: return "holds";
+    case Verdict::holds_partly: return "holds partly";
+    case Verdict::refuted: return "refuted";
+    case Verdict::not_measured: return "not measured";
+  }
+  return "?";
+}
+
+const std::vector<std::string>& claim_layer_specs() {
+  static const std::vector<std::string> specs = {"1", "4", "8", "10", "16", "32", "64", "8-32"};
+  return specs;
+}
+
+const std::vector<double>& claim_sweep_angles() {
+  static const std::vector<double> angles = {20.0, 30.0, 70.0, 80.0};
+  return angles;
+}
+
+namespace {
+
+// Heightfields with sharp depth changes and thin features; the smooth ones are their contrast.
+bool is_sharp(const std::string& heightfield) {
+  for (const char* name : {"bricks", "toybox", "spikes"})
+    if (heightfield.find(name) != std::string::npos) return true;
+  return false;
+}
+bool is_smooth(const std::string& heightfield) {
+  return heightfield.find("waves") != std::string::npos || heightfield.find("terrain") != std::string::npos;
+}
+
+std::string fmt(const char* format, double a, double b = 0.0, double c = 0.0) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, format, a, b, c);
+  return buf;
+}
+
+class ClaimBuilder {
+ public:
+  ClaimBuilder(const ClaimsData& data, std::string id, std::string claim, std::string source, std::string rule)
+      : data_(data) {
+    result_.id = std::move(id);
+    result_.claim = std::move(claim);
+    result_.source = std::move(source);
+    result_.rule = std::move(rule);
+  }
+  const ClaimFigure* get(const std::string& hf, const std::string& technique, const std::string& layers,
+                         double theta = -1.0) const {
+    return data_.find(hf, technique, layers, theta);
+  }
+  void check(std::string where, std::string figures, bool passed) {
+    result_.checks.push_back({std::move(where), std::move(figures), passed});
+  }
+  ClaimResult finish() {
+    const auto passed = std::count_if(result_.checks.begin(), result_.checks.end(), [](auto& c) { return c.passed; });
+    if (result_.checks.empty())
+      result_.verdict = Verdict::not_measured;
+    else if (passed == long(result_.checks.size()))
+      result_.verdict = Verdict::holds;
+    else
+      result_.verdict = passed > 0 ? Verdict::holds_partly : Verdict::refuted;
+    return result_;
+  }
+
+ private:
+  const ClaimsData& data_;
+  ClaimResult result_;
+};
+
+ClaimResult claim_c1(const ClaimsData& d) {
+  ClaimBuilder c(d, "C1", "plain parallax is a rough approximation that breaks at steep view angles and sharp depth changes",
+                 "000-002",
+                 "Per heightfield: parallax's mean uv error at 70 and 80 degrees is at least 3x its mean error at 20 and "
+                 "30 degrees (breaks at steep angles). Per sharp heightfield (bricks, toybox, spikes): its wrong-surface "
+                 "rate at the default view is at least 2x the lowest rate among the smooth ones (waves, terrain).");
+  for (const std::string& hf : d.heightfields()) {
+    const ClaimFigure *a20 = c.get(hf, "parallax", "1", 20), *a30 = c.get(hf, "parallax", "1", 30);
+    const ClaimFigure *a70 = c.get(hf, "parallax", "1", 70), *a80 = c.get(hf, "parallax", "1", 80);
+    if (a20 && a30 && a70 && a80) {
+      const double low = std::max(a20->uv_error_mean, a30->uv_error_mean);
+      const double high = std::min(a70->uv_error_mean, a80->uv_error_mean);
+      c.check(hf + ", view angle", fmt("error %.3f texels at 70-80 deg vs %.3f at 20-30 deg", high, low), high >= 3 * low);
+    }
+  }
+  double smooth_rate = -1;
+  for (const std::string& hf : d.heightfields())
+    if (const ClaimFigure* f = c.get(hf, "parallax", "1"); f && is_smooth(hf))
+      smooth_rate = smooth_rate < 0 ? f->wrong_surface_rate : std::min(smooth_rate, f->wrong_surface_rate);
+  if (smooth_rate >= 0)
+    for (const std::string& hf : d.heightfields())
+      if (const ClaimFigure* f = c.get(hf, "parallax", "1"); f && is_sharp(hf))
+        c.check(hf + ", default view", fmt("wrong surface %.1f%% vs %.1f%% on the smoothest", 100 * f->wrong_surface_rate, 100 * smooth_rate),
+                f->wrong_surface_rate >= 2 * smooth_rate);
+  return c.finish();
+}
+
+ClaimResult claim_c2(const ClaimsData& d) {
+  ClaimBuilder c(d, "C2", "offset limiting gives better results than plain parallax at grazing angles", "000-002, 003",
+                 "Per heightfield and grazing angle (70, 80 degrees): parallax-limited's mean uv error is below plain "
+                 "parallax's.");
+  for (const std::string& hf : d.heightfields())
+    for (double theta : {70.0, 80.0}) {
+      const ClaimFigure *plain = c.get(hf, "parallax", "1", theta), *limited = c.get(hf, "parallax-limited", "1", theta);
+      if (plain && limited)
+        c.check(hf + fmt(", %.0f deg", theta), fmt("limited %.3f vs plain %.3f texels", limited->uv_error_mean, plain->uv_error_mean),
+                limited->uv_error_mean < plain->uv_error_mean);
+    }
+  return c.finish();
+}
+
+ClaimResult claim_c3(const ClaimsData& d) {
+  ClaimBuilder c(d, "C3", "steep parallax's accuracy grows with the number of layers", "000-002, 004",
+                 "Per heightfield and each doubling 4 -> 8 -> 16 -> 32 -> 64: steep's mean uv error decreases.");
+  const std::vector<std::string> counts = {"4", "8", "16", "32", "64"};
+  for (const std::string& hf : d.heightfields())
+    for (std::size_t i = 0; i + 1 < counts.size(); ++i) {
+      const ClaimFigure *fewer = c.get(hf, "steep", counts[i]), *more = c.get(hf, "steep", counts[i + 1]);
+      if (fewer && more)
+        c.check(hf + ", " + counts[i] + " -> " + counts[i + 1] + " layers",
+                fmt("%.3f -> %.3f texels", fewer->uv_error_mean, more->uv_error_mean),
+                more->uv_error_mean < fewer->uv_error_mean);
+    }
+  return c.finish();
+}
+
+ClaimResult claim_c4(const ClaimsData& d) {
+  ClaimBuilder c(d, "C4", "about 10 layers already make steep parallax look far more correct than plain parallax",
+                 "000-002",
+                 "Per heightfield at the default view: steep with 10 layers has at most half of plain parallax's mean uv "
+                 "error and at most half of its wrong-surface rate.");
+  for (const std::string& hf : d.heightfields()) {
+    const ClaimFigure *plain = c.get(hf, "parallax", "1"), *steep = c.get(hf, "steep", "10");
+    if (plain && steep)
+      c.check(hf, fmt("mean %.3f vs %.3f texels, ", steep->uv_error_mean, plain->uv_error_mean) +
+                      fmt("wrong surface %.1f%% vs %.1f%%", 100 * steep->wrong_surface_rate, 100 * plain->wrong_surface_rate),
+              steep->uv_error_mean <= 0.5 * plain->uv_error_mean &&
+                  steep->wrong_surface_rate <= 0.5 * plain->wrong_surface_rate);
+  }
+  return c.finish();
+}
+
+ClaimResult claim_c5(const ClaimsData& d) {
+  ClaimBuilder c(d, "C5", "view-dependent layer counts (8-32) save samples where few are needed, at little cost in accuracy",
+                 "000-002, 004",
+                 "Per heightfield and layered technique (steep, relief, POM): 8-32 takes at most 80% of the samples per "
+                 "ray of a fixed 32 and its mean uv error is at most 1.25x that of 32.");
+  for (const std::string& hf : d.heightfields())
+    for (const char* technique : {"steep", "relief", "pom"}) {
+      const ClaimFigure *dynamic = c.get(hf, technique, "8-32"), *fixed = c.get(hf, technique, "32");
+      if (dynamic && fixed)
+        c.check(hf + ", " + technique,
+                fmt("%.1f vs %.1f samples/ray, ", dynamic->samples_per_ray, fixed->samples_per_ray) +
+                    fmt("error %.3f vs %.3f texels", dynamic->uv_error_mean, fixed->uv_error_mean),
+                dynamic->samples_per_ray <= 0.8 * fixed->samples_per_ray &&
+                    dynamic->uv_error_mean <= 1.25 * fixed->uv_error_mean);
+    }
+  return c.finish();
+}
+
+ClaimResult claim_c6(const ClaimsData& d) {
+  ClaimBuilder c(d, "C6", "steep parallax shows stair-stepping: its error is bounded by about one layer", "000-002, 004",
+                 "Per heightfield and layer count (8, 16, 32): at least 99% of steep's rays have a uv error no larger "
+                 "than the texture step of one layer along their own ray.");
+  for (const std::string& hf : d.heightfields())
+    for (const char* layers : {"8", "16", "32"})
+      if (const ClaimFigure* f = c.get(hf, "steep", layers))
+        c.check(hf + ", " + layers + " layers", fmt("%.2f%% of rays within one layer", 100 * f->within_one_layer),
+                f->within_one_layer >= 0.99);
+  return c.finish();
+}
+
+ClaimResult claim_c7(const ClaimsData& d) {
+  ClaimBuilder c(d, "C7", "POM is much more accurate than steep parallax at the same layer count", "000-002, 003",
+                 "Per heightfield and layer count (8, 16, 32): POM's mean uv error is at most half of steep's.");
+  for (const std::string& hf : d.heightfields())
+    for (const char* layers : {"8", "16", "32"}) {
+      const ClaimFigure *pom = c.get(hf, "pom", layers), *steep = c.get(hf, "steep", layers);
+      if (pom && steep)
+        c.check(hf + ", " + layers + " layers", fmt("POM %.3f vs steep %.3f texels", pom->uv_error_mean, steep->uv_error_mean),
+                pom->uv_error_mean <= 0.5 * steep->uv_error_mean);
+    }
+  return c.finish();
+}
+
+ClaimResult claim_c8(const ClaimsData& d) {
+  ClaimBuilder c(d, "C8", "relief mapping gives the most accurate results of the layered methods, at a somewhat higher cost than POM",
+                 "000-002, 003, 004",
+                 "Per heightfield and layer count (8, 16, 32): relief's mean uv error is the lowest of steep, POM and "
+                 "relief, and relief's rays/s is below POM's but at least half of it.");
+  for (const std::string& hf : d.heightfields())
+    for (const char* layers : {"8", "16", "32"}) {
+      const ClaimFigure *relief = c.get(hf, "relief", layers), *pom = c.get(hf, "pom", layers),
+                        *steep = c.get(hf, "steep", layers);
+      if (!relief || !pom || !steep) continue;
+      c.check(hf + ", " + layers + " layers, accuracy",
+              fmt("relief %.3f, POM %.3f, steep %.3f texels", relief->uv_error_mean, pom->uv_error_mean, steep->uv_error_mean),
+              relief->uv_error_mean <= std::min(pom->uv_error_mean, steep->uv_error_mean));
+      c.check(hf + ", " + layers + " layers, cost",
+              fmt("relief %.1f vs POM %.1f Mrays/s", relief->rays_per_second / 1e6, pom->rays_per_second / 1e6),
+              relief->rays_per_second < pom->rays_per_second && relief->rays_per_second >= 0.5 * pom->rays_per_second);
+    }
+  return c.finish();
+}
+
+ClaimResult claim_c9(const ClaimsData& d) {
+  ClaimBuilder c(d, "C9", "POM is close to relief mapping in quality and faster, hence the more common choice", "000-002, 004",
+                 "Per heightfield and layer count (8, 16, 32): POM's mean uv error is at most 1.5x relief's and POM's "
+                 "rays/s is above relief's.");
+  for (const std::string& hf : d.heightfields())
+    for (const char* layers : {"8", "16", "32"}) {
+      const ClaimFigure *relief = c.get(hf, "relief", layers), *pom = c.get(hf, "pom", layers);
+      if (relief && pom)
+        c.check(hf + ", " + layers + " layers",
+                fmt("error POM %.3f vs relief %.3f texels, ", pom->uv_error_mean, relief->uv_error_mean) +
+                    fmt("%.1f vs %.1f Mrays/s", pom->rays_per_second / 1e6, relief->rays_per_second / 1e6),
+                pom->uv_error_mean <= 1.5 * relief->uv_error_mean && pom->rays_per_second > relief->rays_per_second);
+    }
+  return c.finish();
+}
+
+ClaimResult claim_c10(const ClaimsData& d) {
+  ClaimBuilder c(d, "C10", "too few layers miss thin features and steep height changes", "000-002, 003",
+                 "Per sharp heightfield (bricks, toybox, spikes), for steep and POM with 4 and 8 layers: the wrong-surface "
+                 "rate is at least 3x that with 64 layers and at least 0.1 percentage points above it.");
+  for (const std::string& hf : d.heightfields()) {
+    if (!is_sharp(hf)) continue;
+    for (const char* technique : {"steep", "pom"})
+      for (const char* layers : {"4", "8"}) {
+        const ClaimFigure *few = c.get(hf, technique, layers), *many = c.get(hf, technique, "64");
+        if (few && many)
+          c.check(hf + ", " + technique + " " + layers + " vs 64 layers",
+                  fmt("wrong surface %.2f%% vs %.2f%%", 100 * few->wrong_surface_rate, 100 * many->wrong_surface_rate),
+                  few->wrong_surface_rate >= 3 * many->wrong_surface_rate &&
+                      few->wrong_surface_rate >= many->wrong_surface_rate + 0.001);
+      }
+  }
+  return c.finish();
+}
+
+}  // namespace
+
+std::vector<ClaimResult> evaluate_claims(const ClaimsData& data) {
+  std::vector<ClaimResult> results;
+  for (auto rule : {claim_c1, claim_c2, claim_c3, claim_c4, claim_c5, claim_c6, claim_c7, claim_c8, claim_c9, claim_c10})
+    results.push_back(rule(data));
+  return results;
+}
+
+std::string claims_markdown(const std::vector<ClaimResult>& results, const std::string& provenance_line,
+                            const std::string& configurations) {
+  std::string md = "# The tutorials' claims, measured\n\n" + provenance_line + "\n\n" + configurations +
+                   "\n\nEach rule was fixed in the source (src/claims/claims.cpp) before any figure was measured; the "
+                   "verdict is *holds* when every check passes, *holds partly* when some do, *refuted* when none do.\n\n"
+                   "| claim | verdict | checks passed |\n|---|---|---|\n";
+  for (const ClaimResult& r : results) {
+    const auto passed = std::count_if(r.checks.begin(), r.checks.end(), [](auto& c) { return c.passed; });
+    md += "| [" + r.id + "](#" + r.id + ") " + r.claim + " | **" + to_string(r.verdict) + "** | " +
+          std::to_string(passed) + " / " + std::to_string(r.checks.size()) + " |\n";
+  }
+  for (const ClaimResult& r : results) {
+    md += "\n<a id=\"" + r.id + "\"></a>\n## " + r.id + ": " + r.claim + "\n\n";
+    md += "Source: seeds " + r.source + ".\n\nRule: " + r.rule + "\n\n";
+    if (!r.checks.empty()) {
+      md += "| where | figures | passes |\n|---|---|---|\n";
+      for (const ClaimCheck& c : r.checks) md += "| " + c.where + " | " + c.figures + " | " + (c.passed ? "yes" : "**no**") + " |\n";
+    }
+    md += "\nVerdict: **" + to_string(r.verdict) + "**";
+    if (r.verdict == Verdict::holds_partly) {
+      std::string failed;
+      for (const ClaimCheck& c : r.checks)
+        if (!c.passed) failed += (failed.empty() ? "" : "; ") + c.where;
+      md += " (not where: " + failed + ")";
+    }
+    md += ".\n";
+  }
+  return md;
+}
+
+std::string claims_json(const std::vector<ClaimResult>& results) {
+  JsonWriter json;
+  json.begin_array();
+  for (const ClaimResult& r : results) {
+    json.begin_object().value("id", r.id).value("claim", r.claim).value("source", r.source).value("rule", r.rule);
+    json.value("verdict", to_string(r.verdict)).begin_array("checks");
+    for (const ClaimCheck& c : r.checks)
+      json.begin_object().value("where", c.where).value("figures", c.figures).value("passed", c.passed).end_object();
+    json.end_array().end_object();
+  }
+  json.end_array();
+  return json.str() + "\n";
+}
+
+}  // namespace heightmarch
