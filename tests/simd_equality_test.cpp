@@ -100,7 +100,9 @@ TEST(Dispatch, EnvironmentOverrideIsHonoured) {
   unsetenv("HEIGHTMARCH_ISA");
   EXPECT_EQ(select_isa(""), best_isa());
   for (Isa isa : {Isa::sse42, Isa::avx2, Isa::avx512})
-    if (!cpu_supports(isa)) EXPECT_THROW(parse_isa(to_string(isa)), InputError);
+    if (!cpu_supports(isa)) {
+      EXPECT_THROW(parse_isa(to_string(isa)), InputError);
+    }
 }
 
 }  // namespace

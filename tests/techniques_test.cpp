@@ -78,9 +78,10 @@ TEST(Steep, ErrorBelowOneLayer) {
         // the last layer is at or below the surface there, the one before it was above.
         const float delta = rays.vx[i] * 0.1f / 16.0f;
         ASSERT_GE(hits.depth[i] + 1e-6f, sample_depth(map, Wrap::clamp, hits.u[i], hits.v[i]));
-        if (hits.samples[i] > 1)
+        if (hits.samples[i] > 1) {
           ASSERT_LT(hits.depth[i] - 1.0f / 16.0f,
                     sample_depth(map, Wrap::clamp, hits.u[i] + delta, hits.v[i] + rays.vy[i] * 0.1f / 16.0f) + 1e-6f);
+        }
         continue;
       }
       const double d = exact.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], 0.1).t;
@@ -158,8 +159,9 @@ TEST(Bounds, ExtremeParametersStayFiniteAndBounded) {
           ASSERT_TRUE(std::isfinite(hits.u[i]) && std::isfinite(hits.v[i]) && std::isfinite(hits.depth[i]) &&
                       std::isfinite(hits.shadow[i]))
               << to_string(technique) << " " << layers << " scale " << scale;
-          if (technique != Technique::exact)  // steps + first read + refinement + POM/shadow extras
+          if (technique != Technique::exact) {  // steps + first read + refinement + POM/shadow extras
             ASSERT_LE(hits.samples[i], 2 * (std::ceil(spec.max_layers) + 3) + 5);
+          }
         }
       }
 }

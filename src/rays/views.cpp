@@ -2,6 +2,7 @@
 #include <string>
 
 #include "heightmarch/error.hpp"
+#include "heightmarch/memory_budget.hpp"
 #include "heightmarch/rays.hpp"
 
 namespace heightmarch {
@@ -120,8 +121,14 @@ std::string describe(const ViewSpec& view) {
   return buf + size;
 }
 
+// A ray costs its batch entry (T, V, origin) and its hits (u, v, depth, samples, shadow, flag)
+// and the per-pixel images of an --out run: about 64 bytes.
+constexpr double kBytesPerRay = 64.0;
+
 RayBatch make_view_rays(const ViewSpec& view, int tile_size) {
   check_tile_size(tile_size);
+  check_memory_budget(kBytesPerRay * view.width * view.height,
+                      "a " + std::to_string(view.width) + "x" + std::to_string(view.height) + " view");
   RayBatch batch;
   batch.image_width = view.width;
   batch.image_height = view.height;
@@ -156,6 +163,7 @@ RayBatch make_ray_list(const std::vector<float>& tx, const std::vector<float>& t
                        const std::vector<float>& vx, const std::vector<float>& vy,
                        const std::vector<float>& vz, int tile_size) {
   check_tile_size(tile_size);
+  check_memory_budget(kBytesPerRay * double(tx.size()), std::to_string(tx.size()) + " rays");
   RayBatch batch;
   batch.image_width = int(tx.size());
   batch.image_height = 1;

@@ -1,0 +1,35 @@
+#pragma once
+// Images for people and data files: PNG and EXR through OpenImageIO, the uv error heat map and
+// the shaded render of a technique's hits.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "heightmarch/heightfield.hpp"
+#include "heightmarch/sampler.hpp"
+
+namespace heightmarch {
+
+// Both write to a temporary file beside path and rename it into place; throw std::runtime_error.
+void write_png_rgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb);
+void write_exr(const std::string& path, int width, int height, const std::vector<std::string>& channel_names,
+               const std::vector<float>& interleaved);
+
+// The heat map's fixed scale: log10 of the uv error in texels, from 0.01 to 10 texels.
+inline constexpr double kHeatMapMinTexels = 0.01;
+inline constexpr double kHeatMapMaxTexels = 10.0;
+
+// Per-pixel uv error (texels) as RGB (inferno colours on the fixed scale; grey where a pixel has
+// no ray), with a legend strip below: the colour bar and its ticks. out_height includes it.
+std::vector<std::uint8_t> error_heat_map(const std::vector<float>& error_texels, const std::vector<std::uint8_t>& has_ray,
+                                         int width, int height, int& out_height);
+
+// The surface at each pixel's uv, lit by diffuse light along `light` (normals from the depth map's
+// slopes at that uv), on a gridded albedo that makes the parallax shift visible, times the soft
+// shadow factor to the 4th power as seed 003 does. Dark where a pixel has no ray.
+std::vector<std::uint8_t> shade_render(const DepthMap& map, Wrap wrap, float scale, const std::vector<float>& u,
+                                       const std::vector<float>& v, const std::vector<float>& shadow,
+                                       const std::vector<std::uint8_t>& has_ray, int width, int height,
+                                       const float light[3]);
+
+}  // namespace heightmarch
