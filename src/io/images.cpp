@@ -118,7 +118,7 @@ std::vector<std::uint8_t> error_heat_map(const std::vector<float>& error_texels,
     draw_text(rgb, width, out_height, std::clamp(x - text_width / 2, 0, width - text_width), bar_y + bar_h + 2 * scale,
               scale, labels[k]);
   }
-  draw_text(rgb, width, out_height, bar_x1 + 3 * scale, bar_y + 2 * scale, scale, "texels");
+  draw_text(rgb, width, out_height, bar_x1 + 8 * scale, bar_y + 2 * scale, scale, "texels");
   return rgb;
 }
 
