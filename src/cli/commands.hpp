@@ -6,6 +6,7 @@
 namespace heightmarch::cli {
 
 int trace_command(const std::vector<std::string>& args);
+int glsl_command(const std::vector<std::string>& args);
 int suite_command(const std::vector<std::string>& args);
 int claims_command(const std::vector<std::string>& args);
 

@@ -14,6 +14,7 @@ constexpr const char* kUsage =
     "  trace   run one technique with the CPU packet kernels and measure it against the exact hits\n"
     "  suite   the main job: benchmark matrix, error sweeps, gallery, claims and report into results/\n"
     "  claims  measure the tutorials' claims C1-C10 and write claims.md\n"
+    "  glsl    run the same technique as GLSL in OSMesa (llvmpipe); --compare sets it beside the CPU\n"
     "run 'heightmarch COMMAND --help' for its options\n";
 
 }  // namespace
@@ -28,6 +29,7 @@ int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 2, argv + argc);
   try {
     if (command == "trace") return cli::trace_command(args);
+    if (command == "glsl") return cli::glsl_command(args);
     if (command == "suite") return cli::suite_command(args);
     if (command == "claims") return cli::claims_command(args);
     if (command == "--help" || command == "help") {

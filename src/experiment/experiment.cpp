@@ -103,17 +103,20 @@ std::string metrics_json(const Scene& scene, const TechniqueParams& params, cons
 
 std::string summary_text(const Scene& scene, const TechniqueParams& params, const RunResult& run) {
   const ErrorSummary& e = run.errors;
+  const std::string simd_use = run.stats.packet_samples
+                                   ? ", SIMD use " + std::to_string(int(100.0 * run.stats.simd_utilization() + 0.5)) + "%"
+                                   : "";
   char buf[1024];
   int n = std::snprintf(
       buf, sizeof buf,
       "%s layers %s on %s (%dx%d depth map), %s: %zu rays\n"
-      "  %s, %d thread%s: %.2f Mrays/s, %.1f Msamples/s, %.2f samples/ray, SIMD use %.0f%%\n"
+      "  %s, %d thread%s: %.2f Mrays/s, %.1f Msamples/s, %.2f samples/ray%s\n"
       "  uv error (texels): mean %.4f  rms %.4f  p50 %.4f  p95 %.4f  p99 %.4f  max %.4f\n"
       "  wrong surface %.2f%%, depth error mean %.5f, discarded %zu\n",
       to_string(params.technique).c_str(), to_string(params.layers).c_str(), scene.heightfield.c_str(),
       scene.map.width, scene.map.height, scene.view.c_str(), e.rays + e.discarded, run.backend.c_str(),
       run.threads, run.threads == 1 ? "" : "s", run.rays_per_second() / 1e6, run.samples_per_second() / 1e6,
-      e.samples_per_ray, 100.0 * run.stats.simd_utilization(), e.mean, e.rms, e.p50, e.p95, e.p99, e.max,
+      e.samples_per_ray, simd_use.c_str(), e.mean, e.rms, e.p50, e.p95, e.p99, e.max,
       100.0 * e.wrong_surface_rate, e.depth_error_mean, e.discarded);
   std::string text(buf, std::size_t(std::min(n, int(sizeof buf) - 1)));
   if (e.has_shadow) {

@@ -1,0 +1,275 @@
+#include <tbb/info.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#define GL_GLEXT_PROTOTYPES
+#include <GL/osmesa.h>
+#include <GL/glext.h>
+
+#include "glsl_sources.hpp"
+#include "heightmarch/error.hpp"
+#include "heightmarch/glsl_runner.hpp"
+
+// GL entry points come from libOSMesa itself; linking libGL or libOpenGL as well would route
+// every call to a dispatch table no context of theirs fills, making each one a no-op.
+
+namespace heightmarch {
+namespace {
+
+constexpr int kRowWidth = 1024;  // rays per framebuffer row
+
+const std::string& glsl(const std::string& name) {
+  const auto& sources = embedded_glsl();
+  const auto it = sources.find(name);
+  if (it == sources.end()) throw std::logic_error("missing embedded shader " + name);
+  return it->second;
+}
+
+std::string info_log(GLuint object, bool program) {
+  GLint length = 0;
+  program ? glGetProgramiv(object, GL_INFO_LOG_LENGTH, &length) : glGetShaderiv(object, GL_INFO_LOG_LENGTH, &length);
+  std::string log(std::size_t(std::max(length, 1)), '\0');
+  program ? glGetProgramInfoLog(object, length, nullptr, log.data()) : glGetShaderInfoLog(object, length, nullptr, log.data());
+  while (!log.empty() && (log.back() == '\0' || log.back() == '\n')) log.pop_back();
+  return log;
+}
+
+// A brought-in shader: its own #version and declarations of the harness's uniforms go.
+std::string user_source(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open shader file");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw InputError(path + ": empty shader file");
+  if (text.find("ParallaxMapping") == std::string::npos)
+    throw InputError(path + ": does not define vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)");
+  static const std::regex dropped(
+      R"(^\s*(#version\b.*|uniform\s+\w+\s+(depthMap|heightScale|height_scale|numLayers|minLayers|maxLayers)\s*;.*)$)");
+  std::string out, line;
+  std::stringstream lines(text);
+  while (std::getline(lines, line)) out += (std::regex_match(line, dropped) ? "" : line) + "\n";
+  return out;
+}
+
+// "1:12(5): error: ..." from the brought-in file (source string 1) becomes "FILE:12:5: error: ...".
+std::string user_log(const std::string& log, const std::string& path) {
+  static const std::regex location(R"(\b1:(\d+)\((\d+)\))");
+  std::string joined;
+  std::stringstream lines(log);
+  for (std::string line; std::getline(lines, line);)
+    if (!line.empty()) joined += (joined.empty() ? "" : "; ") + std::regex_replace(line, location, path + ":$1:$2");
+  return joined;
+}
+
+GLuint compile(GLenum type, const std::string& source, const std::string& user_path) {
+  const GLuint shader = glCreateShader(type);
+  const char* text = source.c_str();
+  glShaderSource(shader, 1, &text, nullptr);
+  glCompileShader(shader);
+  GLint ok = 0;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    const std::string log = info_log(shader, false);
+    glDeleteShader(shader);
+    if (!user_path.empty()) throw InputError(user_path + ": shader does not compile: " + user_log(log, user_path));
+    throw std::logic_error("built-in shader does not compile: " + log);
+  }
+  return shader;
+}
+
+std::string technique_call(Technique technique) {
+  switch (technique) {
+    case Technique::parallax: return "parallax(T, V, false)";
+    case Technique::parallax_limited: return "parallax(T, V, true)";
+    case Technique::steep: return "steep(T, V, false)";
+    case Technique::steep_limited: return "steep(T, V, true)";
+    case Technique::relief: return "relief(T, V)";
+    case Technique::pom: return "pom(T, V)";
+    case Technique::shadow: return "shadow(T, V)";
+    case Technique::exact: break;
+  }
+  throw InputError("the exact technique has no GLSL version");
+}
+
+}  // namespace
+
+struct GlslRunner::State {
+  OSMesaContext context = nullptr;
+  std::vector<unsigned char> buffer = std::vector<unsigned char>(4 * 4 * 4);  // OSMesa wants a buffer bound
+  GLuint vao = 0, framebuffer = 0, program = 0;
+  GLuint depth_texture = 0, origin_texture = 0, direction_texture = 0, hit_texture = 0, shadow_texture = 0;
+  int width = 0, height = 0;
+  std::size_t rays = 0;
+  bool discard = false;  // the tutorial's discard of a uv outside [0,1]^2, applied on read-back
+};
+
+GlslRunner& GlslRunner::instance(int threads) {
+  const int wanted = threads > 0 ? threads : tbb::info::default_concurrency();
+  static GlslRunner runner(wanted);
+  if (runner.threads() != wanted)
+    throw InputError("the GL context runs " + std::to_string(runner.threads()) + " llvmpipe threads; " +
+                     std::to_string(wanted) + " needs a new process (LP_NUM_THREADS is read once)");
+  return runner;
+}
+
+GlslRunner::GlslRunner(int threads) : state_(std::make_unique<State>()), threads_(threads) {
+  // llvmpipe reads LP_NUM_THREADS when the first context is created; 0 would mean "render on the
+  // calling thread", which is one thread too.
+  setenv("LP_NUM_THREADS", std::to_string(threads).c_str(), 1);
+  const int attributes[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0, OSMESA_STENCIL_BITS, 0,
+                            OSMESA_PROFILE, OSMESA_CORE_PROFILE, OSMESA_CONTEXT_MAJOR_VERSION, 3,
+                            OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
+  state_->context = OSMesaCreateContextAttribs(attributes, nullptr);
+  if (!state_->context || !OSMesaMakeCurrent(state_->context, state_->buffer.data(), GL_UNSIGNED_BYTE, 4, 4))
+    throw std::runtime_error("OSMesa: could not create a GL 3.3 core context");
+  const GLubyte* renderer = glGetString(GL_RENDERER);
+  const GLubyte* version = glGetString(GL_VERSION);
+  if (!renderer || !version) throw std::runtime_error("OSMesa: the context answers no glGetString");
+  renderer_ = reinterpret_cast<const char*>(renderer);
+  version_ = reinterpret_cast<const char*>(version);
+  glGenVertexArrays(1, &state_->vao);  // the core profile draws nothing without a bound VAO
+  glBindVertexArray(state_->vao);
+  glGenFramebuffers(1, &state_->framebuffer);
+}
+
+GlslRunner::~GlslRunner() {
+  if (state_->context) OSMesaDestroyContext(state_->context);
+}
+
+namespace {
+
+GLuint float_texture(GLuint texture, GLenum internal, GLenum format, int width, int height, const float* data,
+                     GLint filter, GLint wrap) {
+  if (!texture) glGenTextures(1, &texture);
+  glBindTexture(GL_TEXTURE_2D, texture);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+  glTexImage2D(GL_TEXTURE_2D, 0, GLint(internal), width, height, 0, format, GL_FLOAT, data);
+  return texture;
+}
+
+}  // namespace
+
+void GlslRunner::prepare(const DepthMap& map, const TechniqueParams& params, const RayBatch& rays,
+                         const std::string& shader_path) {
+  State& s = *state_;
+  GLint max_size = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+  s.rays = rays.size();
+  s.discard = params.discard;
+  s.width = kRowWidth;
+  s.height = int((rays.size() + kRowWidth - 1) / kRowWidth);
+  if (map.width > max_size || map.height > max_size || s.height > max_size)
+    throw InputError("the GL context's textures are limited to " + std::to_string(max_size) + " texels a side");
+  // The program: the harness, then the technique (or the brought-in function), then main.
+  std::string fragment = "#version 330 core\n" + glsl("prelude.glsl");
+  if (shader_path.empty()) {
+    fragment += glsl("steep.glsl") + glsl("techniques.glsl") + "#define TECHNIQUE(T, V) " +
+                technique_call(params.technique) + "\n";
+  } else {
+    fragment += "#define height_scale heightScale\nfloat numLayers = maxLayers;\n#line 1 1\n" + user_source(shader_path) +
+                "#line 1 0\n" + glsl("user_shader.glsl") + "#define TECHNIQUE(T, V) userShader(T, V)\n";
+  }
+  fragment += glsl("main.glsl");
+  const char* vertex =
+      "#version 330 core\n"
+      "void main() {\n"
+      "  vec2 corner = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));\n"
+      "  gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);\n"
+      "}\n";
+  const GLuint vs = compile(GL_VERTEX_SHADER, vertex, "");
+  const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment, shader_path);
+  if (s.program) glDeleteProgram(s.program);
+  s.program = glCreateProgram();
+  glAttachShader(s.program, vs);
+  glAttachShader(s.program, fs);
+  glLinkProgram(s.program);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  GLint linked = 0;
+  glGetProgramiv(s.program, GL_LINK_STATUS, &linked);
+  if (!linked) {
+    const std::string log = info_log(s.program, true);
+    if (!shader_path.empty()) throw InputError(shader_path + ": shader does not link: " + user_log(log, shader_path));
+    throw std::logic_error("built-in shader does not link: " + log);
+  }
+  // The depth map: R32F, GL_LINEAR on level 0, the run's wrap mode.
+  const GLint wrap = params.wrap == Wrap::repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE;
+  s.depth_texture = float_texture(s.depth_texture, GL_R32F, GL_RED, map.width, map.height, map.texels.data(), GL_LINEAR, wrap);
+  // The rays, one texel each in batch order; the last row's tail repeats a harmless straight-down ray.
+  std::vector<float> origins(std::size_t(s.width) * s.height * 4, 0.5f), directions(origins.size(), 0.0f);
+  for (std::size_t i = 0; i < origins.size() / 4; ++i) directions[4 * i + 2] = 1.0f;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    origins[4 * i] = rays.tx[i];
+    origins[4 * i + 1] = rays.ty[i];
+    directions[4 * i] = rays.vx[i];
+    directions[4 * i + 1] = rays.vy[i];
+    directions[4 * i + 2] = rays.vz[i];
+  }
+  s.origin_texture = float_texture(s.origin_texture, GL_RGBA32F, GL_RGBA, s.width, s.height, origins.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
+  s.direction_texture = float_texture(s.direction_texture, GL_RGBA32F, GL_RGBA, s.width, s.height, directions.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
+  s.hit_texture = float_texture(s.hit_texture, GL_RGBA32F, GL_RGBA, s.width, s.height, nullptr, GL_NEAREST, GL_CLAMP_TO_EDGE);
+  s.shadow_texture = float_texture(s.shadow_texture, GL_RGBA32F, GL_RGBA, s.width, s.height, nullptr, GL_NEAREST, GL_CLAMP_TO_EDGE);
+  glBindFramebuffer(GL_FRAMEBUFFER, s.framebuffer);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, s.hit_texture, 0);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, s.shadow_texture, 0);
+  const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+  glDrawBuffers(2, buffers);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw std::runtime_error("OSMesa: the RGBA32F framebuffer is incomplete");
+  // Uniforms.
+  glUseProgram(s.program);
+  auto uniform = [&](const char* name) { return glGetUniformLocation(s.program, name); };
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, s.depth_texture);
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_2D, s.origin_texture);
+  glActiveTexture(GL_TEXTURE2);
+  glBindTexture(GL_TEXTURE_2D, s.direction_texture);
+  glUniform1i(uniform("depthMap"), 0);
+  glUniform1i(uniform("rayOrigins"), 1);
+  glUniform1i(uniform("rayDirections"), 2);
+  glUniform1f(uniform("heightScale"), params.scale);
+  glUniform1f(uniform("minLayers"), params.layers.min_layers);
+  glUniform1f(uniform("maxLayers"), params.layers.max_layers);
+  glUniform1i(uniform("refineSteps"), params.refine_steps);
+  glUniform3f(uniform("lightDirection"), params.light[0], params.light[1], params.light[2]);
+  glViewport(0, 0, s.width, s.height);
+  if (glGetError() != GL_NO_ERROR) throw std::runtime_error("OSMesa: GL error while preparing the draw");
+}
+
+void GlslRunner::draw() {
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glFinish();
+}
+
+void GlslRunner::read(HitBuffers& hits, bool& samples_known) const {
+  const State& s = *state_;
+  std::vector<float> hit(std::size_t(s.width) * s.height * 4), shadow(hit.size());
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glReadPixels(0, 0, s.width, s.height, GL_RGBA, GL_FLOAT, hit.data());
+  glReadBuffer(GL_COLOR_ATTACHMENT1);
+  glReadPixels(0, 0, s.width, s.height, GL_RGBA, GL_FLOAT, shadow.data());
+  hits.resize(s.rays);
+  samples_known = true;
+  for (std::size_t i = 0; i < s.rays; ++i) {
+    hits.u[i] = hit[4 * i];
+    hits.v[i] = hit[4 * i + 1];
+    hits.depth[i] = hit[4 * i + 2];
+    samples_known = samples_known && hit[4 * i + 3] >= 0.0f;
+    hits.samples[i] = hit[4 * i + 3] >= 0.0f ? std::uint32_t(hit[4 * i + 3]) : 0;
+    hits.shadow[i] = shadow[4 * i];
+    hits.discarded[i] = s.discard && (hits.u[i] < 0.0f || hits.u[i] > 1.0f || hits.v[i] < 0.0f || hits.v[i] > 1.0f);
+  }
+}
+
+}  // namespace heightmarch
