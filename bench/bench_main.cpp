@@ -6,7 +6,8 @@
 // Own flags, after Google Benchmark's: --hm_size=N (view side, default 1024),
 // --hm_res=N (depth map side, default 512), --hm_heightfields=bricks,terrain,
 // --hm_threads=1,2 (default 1 and all cores), --hm_isas=scalar,avx2 (default all the CPU runs),
-// --hm_layers=4,8,32,8-32 (layer specs of BM_Trace), --hm_min_time=0.2 (seconds per benchmark).
+// --hm_layers=4,8,32,8-32 (layer specs of BM_Trace and BM_GLSL), --hm_min_time=0.2 (seconds per
+// benchmark), --hm_glsl_threads=N (llvmpipe threads, fixed per process; default the most of --hm_threads).
 // A heightfield is a builtin name or a depth map file.
 #include <benchmark/benchmark.h>
 
@@ -51,6 +52,7 @@ int main(int argc, char** argv) {
       else if (const char* v = value("hm_heightfields")) config.heightfields = split(v);
       else if (const char* v = value("hm_layers")) config.layer_specs = split(v);
       else if (const char* v = value("hm_min_time")) config.min_time = std::stod(v);
+      else if (const char* v = value("hm_glsl_threads")) config.glsl_threads = std::stoi(v);
       else if (const char* v = value("hm_threads")) {
         config.threads.clear();
         for (const auto& t : split(v)) config.threads.push_back(std::stoi(t));

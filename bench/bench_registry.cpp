@@ -9,6 +9,7 @@
 
 #include "heightmarch/claims_measurement.hpp"
 #include "heightmarch/experiment.hpp"
+#include "heightmarch/glsl_runner.hpp"
 #include "naive_port.hpp"
 
 namespace heightmarch::bench {
@@ -158,6 +159,23 @@ void bm_naive_port(benchmark::State& state, std::string heightfield, TechniquePa
   set_error_counters(state, run.errors);
 }
 
+// The GLSL run: draw + glFinish timed, the JIT-compiling first draw excluded, read-back outside.
+void bm_glsl(benchmark::State& state, std::string heightfield, TechniqueParams params, int threads) {
+  const BenchScene& s = cache->get(heightfield);
+  GlslRunner& runner = GlslRunner::instance(threads);
+  runner.prepare(s.scene.map, params, s.scene.rays);
+  runner.draw();
+  RunResult run;
+  runner.read(run.hits, run.samples_known);
+  std::uint64_t samples = 0;
+  for (std::size_t i = 0; i < s.scene.rays.size(); ++i)
+    if (!s.scene.rays.is_padding(i)) samples += run.hits.samples[i];
+  measure(s.scene, s.exact, params, run);
+  for (auto _ : state) runner.draw();
+  set_speed_counters(state, s.scene.rays.ray_count, samples);
+  set_error_counters(state, run.errors);
+}
+
 }  // namespace
 
 void register_benchmarks(const BenchConfig& input) {
@@ -168,6 +186,7 @@ void register_benchmarks(const BenchConfig& input) {
     if (tbb::info::default_concurrency() > 1) config.threads.push_back(tbb::info::default_concurrency());
   }
   if (config.isas.empty()) config.isas = supported_isas();
+  if (config.glsl_threads <= 0) config.glsl_threads = config.threads.back();
   // Builtin names become "builtin:NAME"; anything else is a depth map file.
   for (std::string& heightfield : config.heightfields)
     if (heightfield.find_first_of("/.") == std::string::npos) heightfield = "builtin:" + heightfield;
@@ -191,6 +210,21 @@ void register_benchmarks(const BenchConfig& input) {
                                      "/threads:" + std::to_string(threads);
             add(name, [=](benchmark::State& st) { bm_trace(st, heightfield, params, isa, threads); });
           }
+    }
+  // llvmpipe's thread count is fixed per process (LP_NUM_THREADS is read once): one count here.
+  for (const std::string& heightfield : config.heightfields)
+    for (Technique technique : all_techniques()) {
+      if (technique == Technique::exact) continue;
+      const bool layered = technique != Technique::parallax && technique != Technique::parallax_limited;
+      for (const std::string& layers : layered ? layer_specs : std::vector<std::string>{"1"}) {
+        TechniqueParams params;
+        params.technique = technique;
+        params.layers = parse_layer_spec(layers);
+        const int threads = config.glsl_threads;
+        add("BM_GLSL/heightfield:" + heightfield_label(heightfield) + "/technique:" + to_string(technique) +
+                "/layers:" + layers + "/isa:glsl/threads:" + std::to_string(threads),
+            [=](benchmark::State& st) { bm_glsl(st, heightfield, params, threads); });
+      }
     }
   for (const std::string& heightfield : config.heightfields)
     for (Isa isa : config.isas)

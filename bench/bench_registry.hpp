@@ -15,6 +15,7 @@ struct BenchConfig {
   double min_time = 0.2;  // seconds per benchmark
   std::vector<int> threads;  // empty: 1 and all cores
   std::vector<Isa> isas;     // empty: every ISA the CPU runs
+  int glsl_threads = 0;      // llvmpipe threads of BM_GLSL (one count per process); 0: the most of `threads`
 };
 
 // BM_Trace, BM_SamplerRoofline and BM_NaivePort for every configuration.
