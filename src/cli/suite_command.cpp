@@ -107,25 +107,11 @@ std::string join(const std::vector<std::string>& parts, const std::string& separ
   return out;
 }
 
-// The benchmark matrix: every technique x layer spec at the best ISA and all threads, POM-32 at
-// every ISA and thread count, GLSL, the sampler roofline and the naive port.
-void run_benchmarks(const SuitePlan& plan, const std::string& out, Isa isa, int threads, bool glsl,
-                    Progress& progress) {
-  std::string layers_alternation;
-  for (const auto& l : plan.layer_specs) layers_alternation += (layers_alternation.empty() ? "" : "|") + l;
-  std::string filter = "BM_Trace/.*/layers:(" + layers_alternation + ")/isa:" + to_string(isa) + "/threads:" +
-                       std::to_string(threads) + "/|BM_Trace/.*/technique:pom/layers:32/|BM_SamplerRoofline/|BM_NaivePort/";
-  if (glsl) filter += "|BM_GLSL/.*/layers:(" + layers_alternation + ")/";
-  std::vector<std::string> heightfields;
-  for (const auto& hf : plan.heightfields) heightfields.push_back(hf.rfind("builtin:", 0) == 0 ? hf.substr(8) : hf);
+// Runs heightmarch-bench with the filter into out/<name>, showing progress.
+void run_bench_process(const std::string& arguments, const std::string& filter, const std::string& out,
+                       const std::string& name, Progress& progress) {
   const std::string bench = executable_dir() + "/heightmarch-bench";
-  const std::string common = shell_quote(bench) + " --benchmark_filter=" + shell_quote(filter) +
-                             " --hm_heightfields=" + shell_quote(join(heightfields, ",")) +
-                             " --hm_layers=" + shell_quote(join(plan.layer_specs, ",")) +
-                             " --hm_size=" + std::to_string(plan.bench_view_size) +
-                             " --hm_res=" + std::to_string(plan.resolution) +
-                             " --hm_threads=1," + std::to_string(threads) +
-                             " --hm_min_time=" + std::to_string(plan.bench_min_time);
+  const std::string common = shell_quote(bench) + " --benchmark_filter=" + shell_quote(filter) + arguments;
   // Count first, so progress can say how far it is.
   std::size_t total = 0;
   if (FILE* list = popen((common + " --benchmark_list_tests=true").c_str(), "r")) {
@@ -133,7 +119,7 @@ void run_benchmarks(const SuitePlan& plan, const std::string& out, Isa isa, int 
     while (std::fgets(line, sizeof line, list)) total += std::strncmp(line, "BM_", 3) == 0;
     pclose(list);
   }
-  const std::string part = out + "/bench.json.part";
+  const std::string part = out + "/" + name + ".part";
   FILE* run = popen((common + " --benchmark_out=" + shell_quote(part) + " --benchmark_out_format=json 2>&1").c_str(), "r");
   if (!run) throw std::runtime_error("cannot start " + bench);
   std::size_t done = 0;
@@ -142,14 +128,36 @@ void run_benchmarks(const SuitePlan& plan, const std::string& out, Isa isa, int 
   while (std::fgets(line, sizeof line, run)) {
     log += line;
     if (std::strncmp(line, "BM_", 3) != 0) continue;
-    const std::string name(line, std::strcspn(line, " "));
-    progress.step(++done, total, name);
+    progress.step(++done, total, std::string(line, std::strcspn(line, " ")));
   }
   const int status = pclose(run);
   progress.finish_line();
   if (status != 0) throw std::runtime_error("heightmarch-bench failed:\n" + log.substr(log.size() > 2000 ? log.size() - 2000 : 0));
-  fs::rename(part, out + "/bench.json");
-  write_file_atomically(out + "/bench.log", log);
+  fs::rename(part, out + "/" + name);
+  write_file_atomically(out + "/" + name + ".log", log);
+}
+
+// The benchmark matrix: every technique x layer spec at the best ISA and all threads, POM-32 at
+// every ISA and thread count, GLSL, the sampler roofline and the naive port. llvmpipe's thread
+// count is fixed per process, so GLSL at one thread runs in a second process.
+void run_benchmarks(const SuitePlan& plan, const std::string& out, Isa isa, int threads, bool glsl,
+                    Progress& progress) {
+  const std::string layers = "(1|" + join(plan.layer_specs, "|") + ")";  // 1: the parallax techniques
+  std::vector<std::string> heightfields;
+  for (const auto& hf : plan.heightfields) heightfields.push_back(hf.rfind("builtin:", 0) == 0 ? hf.substr(8) : hf);
+  const std::string arguments = " --hm_heightfields=" + shell_quote(join(heightfields, ",")) +
+                                " --hm_layers=" + shell_quote(join(plan.layer_specs, ",")) +
+                                " --hm_size=" + std::to_string(plan.bench_view_size) +
+                                " --hm_res=" + std::to_string(plan.resolution) +
+                                " --hm_threads=1," + std::to_string(threads) +
+                                " --hm_min_time=" + std::to_string(plan.bench_min_time);
+  std::string filter = "BM_Trace/.*/layers:" + layers + "/isa:" + to_string(isa) + "/threads:" + std::to_string(threads) +
+                       "/|BM_Trace/.*/technique:pom/layers:32/|BM_SamplerRoofline/|BM_NaivePort/";
+  if (glsl) filter += "|BM_GLSL/.*/layers:" + layers + "/";
+  run_bench_process(arguments + " --hm_glsl_threads=" + std::to_string(threads), filter, out, "bench.json", progress);
+  if (glsl && threads > 1)
+    run_bench_process(arguments + " --hm_glsl_threads=1", "BM_GLSL/.*/layers:(8|32|8-32)/", out,
+                      "bench-glsl-1thread.json", progress);
 }
 
 // Error against view angle: sweep views from 0 to 85 degrees, every technique at a few layer specs.
