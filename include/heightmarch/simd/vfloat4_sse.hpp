@@ -2,6 +2,8 @@
 // Width 4: SSE4.2. SSE has no gather: see gather_pairs.
 #include <nmmintrin.h>
 
+#include <cstring>
+
 #include "heightmarch/simd/packet.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
@@ -68,7 +70,12 @@ template <> struct vfloat<4> {
 inline void gather_pairs(const float* base, vint<4> index, vfloat<4>& first, vfloat<4>& second) {
   const long long lo = _mm_cvtsi128_si64(index.i);
   const long long hi = _mm_extract_epi64(index.i, 1);
-  auto pair = [&](std::int32_t i) { return _mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(base + i))); };
+  // memcpy: texel pairs are only 4-byte aligned (a compiled-out copy, one movq).
+  auto pair = [&](std::int32_t i) {
+    long long bits;
+    std::memcpy(&bits, base + i, sizeof bits);
+    return _mm_castsi128_ps(_mm_cvtsi64_si128(bits));
+  };
   const __m128 p01 = _mm_movelh_ps(pair(std::int32_t(lo)), pair(std::int32_t(lo >> 32)));  // a0 b0 a1 b1
   const __m128 p23 = _mm_movelh_ps(pair(std::int32_t(hi)), pair(std::int32_t(hi >> 32)));  // a2 b2 a3 b3
   first = _mm_shuffle_ps(p01, p23, _MM_SHUFFLE(2, 0, 2, 0));
