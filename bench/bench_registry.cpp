@@ -3,6 +3,7 @@
 #include <benchmark/benchmark.h>
 #include <tbb/info.h>
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -94,86 +95,130 @@ void set_error_counters(benchmark::State& state, const ErrorSummary& e) {
   }
 }
 
-void bm_trace(benchmark::State& state, std::string heightfield, TechniqueParams params, Isa isa, int threads) {
-  const BenchScene& s = cache->get(heightfield);
-  const HitBuffers& reference = cache->reference(heightfield, params);
-  const ThreadLimit limit(threads);
-  const Tracer tracer(s.scene.map, params, isa);
-  RunResult run;
-  run.stats = tracer.run(s.scene.rays, run.hits);
-  if (const long long i = first_difference(s.scene.rays, run.hits, reference); i >= 0) {
-    state.SkipWithError(("output differs from the scalar reference at ray " + std::to_string(i)).c_str());
-    return;
-  }
-  measure(s.scene, s.exact, params, run);
-  for (auto _ : state) tracer.run(s.scene.rays, run.hits);
-  set_speed_counters(state, s.scene.rays.ray_count, run.stats.samples);
-  set_error_counters(state, run.errors);
-  state.counters["simd_utilization"] = run.stats.simd_utilization();
+// What a benchmark checks and measures before it times anything. Google Benchmark calls a
+// benchmark function again for each iteration-count estimate: this runs once per benchmark.
+struct Checked {
+  std::string error;  // non-empty: the output differs from the reference, never timed
+  ErrorSummary errors;
+  std::uint64_t samples = 0;
+  double simd_utilization = 1.0;
+};
+
+const Checked& checked_once(const std::string& key, const std::function<Checked()>& check) {
+  static std::map<std::string, Checked> done;
+  auto it = done.find(key);
+  if (it == done.end()) it = done.emplace(key, check()).first;
+  return it->second;
 }
 
-void bm_sampler_roofline(benchmark::State& state, std::string heightfield, int steps, Isa isa, int threads) {
+// Hits of the timed runs; benchmarks run one after another, so one buffer serves all.
+HitBuffers& scratch_hits() {
+  static HitBuffers hits;
+  return hits;
+}
+
+std::uint64_t real_samples(const RayBatch& rays, const HitBuffers& hits) {
+  std::uint64_t samples = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    if (!rays.is_padding(i)) samples += hits.samples[i];
+  return samples;
+}
+
+void bm_trace(benchmark::State& state, const std::string& name, std::string heightfield, TechniqueParams params, Isa isa, int threads) {
+  const BenchScene& s = cache->get(heightfield);
+  const ThreadLimit limit(threads);
+  const Tracer tracer(s.scene.map, params, isa);
+  const Checked& c = checked_once(name, [&] {
+    Checked checked;
+    RunResult run;
+    const TraceStats stats = tracer.run(s.scene.rays, run.hits);
+    if (const long long i = first_difference(s.scene.rays, run.hits, cache->reference(heightfield, params)); i >= 0) {
+      checked.error = "output differs from the scalar reference at ray " + std::to_string(i);
+      return checked;
+    }
+    measure(s.scene, s.exact, params, run);
+    checked.errors = run.errors;
+    checked.samples = stats.samples;
+    checked.simd_utilization = stats.simd_utilization();
+    return checked;
+  });
+  if (!c.error.empty()) return state.SkipWithError(c.error.c_str());
+  for (auto _ : state) tracer.run(s.scene.rays, scratch_hits());
+  set_speed_counters(state, s.scene.rays.ray_count, c.samples);
+  set_error_counters(state, c.errors);
+  state.counters["simd_utilization"] = c.simd_utilization;
+}
+
+void bm_sampler_roofline(benchmark::State& state, const std::string& name, std::string heightfield, int steps, Isa isa, int threads) {
   const BenchScene& s = cache->get(heightfield);
   TechniqueParams params;
   params.layers = {float(steps), float(steps)};
   const ThreadLimit limit(threads);
   const Tracer tracer(s.scene.map, params, isa);
-  HitBuffers hits;
-  TraceStats stats = tracer.run_sampler_roofline(s.scene.rays, hits);
-  // Checked like a kernel: its last position must be the scalar roofline's.
-  HitBuffers reference;
-  Tracer(s.scene.map, params, Isa::scalar).run_sampler_roofline(s.scene.rays, reference);
-  if (first_difference(s.scene.rays, hits, reference) >= 0) {
-    state.SkipWithError("roofline output differs from the scalar reference");
-    return;
-  }
-  for (auto _ : state) tracer.run_sampler_roofline(s.scene.rays, hits);
-  set_speed_counters(state, s.scene.rays.ray_count, stats.samples);
+  const Checked& c = checked_once(name, [&] {
+    // Checked like a kernel: its sums and last positions must be the scalar roofline's.
+    Checked checked;
+    HitBuffers hits, reference;
+    checked.samples = tracer.run_sampler_roofline(s.scene.rays, hits).samples;
+    Tracer(s.scene.map, params, Isa::scalar).run_sampler_roofline(s.scene.rays, reference);
+    if (first_difference(s.scene.rays, hits, reference) >= 0) checked.error = "roofline output differs from the scalar reference";
+    return checked;
+  });
+  if (!c.error.empty()) return state.SkipWithError(c.error.c_str());
+  for (auto _ : state) tracer.run_sampler_roofline(s.scene.rays, scratch_hits());
+  set_speed_counters(state, s.scene.rays.ray_count, c.samples);
 }
 
-void bm_naive_port(benchmark::State& state, std::string heightfield, TechniqueParams params, int threads) {
+void bm_naive_port(benchmark::State& state, const std::string& name, std::string heightfield, TechniqueParams params, int threads) {
   const BenchScene& s = cache->get(heightfield);
-  const HitBuffers& reference = cache->reference(heightfield, params);
   const ThreadLimit limit(threads);
-  RunResult run;
-  bench::naive_pom(s.scene.map, s.scene.rays, params.layers.min_layers, params.layers.max_layers, params.scale,
-                   run.hits);
-  // Its own texture() blends as glm::mix does and rounds differently: within 0.01 texel.
-  for (std::size_t i = 0; i < s.scene.rays.size(); ++i) {
-    const float d = uv_error_texels(run.hits.u[i], run.hits.v[i], reference.u[i], reference.v[i], s.scene.map.width,
-                                    s.scene.map.height);
-    if (!(d <= 1e-2f) && run.hits.samples[i] == reference.samples[i]) {
-      state.SkipWithError(("naive port differs from the reference by " + std::to_string(d) + " texel").c_str());
-      return;
+  auto trace = [&](HitBuffers& hits) {
+    bench::naive_pom(s.scene.map, s.scene.rays, params.layers.min_layers, params.layers.max_layers, params.scale, hits);
+  };
+  const Checked& c = checked_once(name, [&] {
+    Checked checked;
+    const HitBuffers& reference = cache->reference(heightfield, params);
+    RunResult run;
+    trace(run.hits);
+    // Its own texture() blends as glm::mix does and rounds differently: within 0.01 texel.
+    for (std::size_t i = 0; i < s.scene.rays.size(); ++i) {
+      const float d = uv_error_texels(run.hits.u[i], run.hits.v[i], reference.u[i], reference.v[i], s.scene.map.width,
+                                      s.scene.map.height);
+      if (!(d <= 1e-2f) && run.hits.samples[i] == reference.samples[i]) {
+        checked.error = "naive port differs from the reference by " + std::to_string(d) + " texel";
+        return checked;
+      }
     }
-  }
-  std::uint64_t samples = 0;
-  for (std::size_t i = 0; i < s.scene.rays.size(); ++i)
-    if (!s.scene.rays.is_padding(i)) samples += run.hits.samples[i];
-  run.hits.depth = reference.depth;  // the port returns uv only
-  measure(s.scene, s.exact, params, run);
-  for (auto _ : state)
-    bench::naive_pom(s.scene.map, s.scene.rays, params.layers.min_layers, params.layers.max_layers, params.scale,
-                     run.hits);
-  set_speed_counters(state, s.scene.rays.ray_count, samples);
-  set_error_counters(state, run.errors);
+    checked.samples = real_samples(s.scene.rays, run.hits);
+    run.hits.depth = reference.depth;  // the port returns uv only
+    measure(s.scene, s.exact, params, run);
+    checked.errors = run.errors;
+    return checked;
+  });
+  if (!c.error.empty()) return state.SkipWithError(c.error.c_str());
+  for (auto _ : state) trace(scratch_hits());
+  set_speed_counters(state, s.scene.rays.ray_count, c.samples);
+  set_error_counters(state, c.errors);
 }
 
 // The GLSL run: draw + glFinish timed, the JIT-compiling first draw excluded, read-back outside.
-void bm_glsl(benchmark::State& state, std::string heightfield, TechniqueParams params, int threads) {
+void bm_glsl(benchmark::State& state, const std::string& name, std::string heightfield, TechniqueParams params, int threads) {
   const BenchScene& s = cache->get(heightfield);
   GlslRunner& runner = GlslRunner::instance(threads);
   runner.prepare(s.scene.map, params, s.scene.rays);
   runner.draw();
-  RunResult run;
-  runner.read(run.hits, run.samples_known);
-  std::uint64_t samples = 0;
-  for (std::size_t i = 0; i < s.scene.rays.size(); ++i)
-    if (!s.scene.rays.is_padding(i)) samples += run.hits.samples[i];
-  measure(s.scene, s.exact, params, run);
+  const Checked& c = checked_once(name, [&] {
+    Checked checked;
+    RunResult run;
+    runner.read(run.hits, run.samples_known);
+    checked.samples = real_samples(s.scene.rays, run.hits);
+    measure(s.scene, s.exact, params, run);
+    checked.errors = run.errors;
+    return checked;
+  });
   for (auto _ : state) runner.draw();
-  set_speed_counters(state, s.scene.rays.ray_count, samples);
-  set_error_counters(state, run.errors);
+  set_speed_counters(state, s.scene.rays.ray_count, c.samples);
+  set_error_counters(state, c.errors);
 }
 
 }  // namespace
@@ -192,8 +237,9 @@ void register_benchmarks(const BenchConfig& input) {
     if (heightfield.find_first_of("/.") == std::string::npos) heightfield = "builtin:" + heightfield;
   cache = std::make_unique<SceneCache>(config);
   const std::vector<std::string>& layer_specs = config.layer_specs;
-  auto add = [](const std::string& name, auto&& fn) {
-    benchmark::RegisterBenchmark(name.c_str(), fn)->UseRealTime()->Unit(benchmark::kMillisecond)->MinTime(config.min_time);
+  auto add = [](const std::string& name, auto fn) {
+    benchmark::RegisterBenchmark(name.c_str(), [name, fn](benchmark::State& st) { fn(st, name); })
+        ->UseRealTime()->Unit(benchmark::kMillisecond)->MinTime(config.min_time);
   };
   for (const std::string& heightfield : config.heightfields)
     for (Technique technique : all_techniques()) {
@@ -208,7 +254,7 @@ void register_benchmarks(const BenchConfig& input) {
             const std::string name = "BM_Trace/heightfield:" + heightfield_label(heightfield) + "/technique:" + to_string(technique) +
                                      "/layers:" + layers + "/isa:" + to_string(isa) +
                                      "/threads:" + std::to_string(threads);
-            add(name, [=](benchmark::State& st) { bm_trace(st, heightfield, params, isa, threads); });
+            add(name, [=](benchmark::State& st, const std::string& name) { bm_trace(st, name, heightfield, params, isa, threads); });
           }
     }
   // llvmpipe's thread count is fixed per process (LP_NUM_THREADS is read once): one count here.
@@ -223,7 +269,7 @@ void register_benchmarks(const BenchConfig& input) {
         const int threads = config.glsl_threads;
         add("BM_GLSL/heightfield:" + heightfield_label(heightfield) + "/technique:" + to_string(technique) +
                 "/layers:" + layers + "/isa:glsl/threads:" + std::to_string(threads),
-            [=](benchmark::State& st) { bm_glsl(st, heightfield, params, threads); });
+            [=](benchmark::State& st, const std::string& name) { bm_glsl(st, name, heightfield, params, threads); });
       }
     }
   for (const std::string& heightfield : config.heightfields)
@@ -231,7 +277,7 @@ void register_benchmarks(const BenchConfig& input) {
       for (int threads : config.threads)
         add("BM_SamplerRoofline/heightfield:" + heightfield_label(heightfield) + "/layers:32/isa:" + to_string(isa) +
                 "/threads:" + std::to_string(threads),
-            [=](benchmark::State& st) { bm_sampler_roofline(st, heightfield, 32, isa, threads); });
+            [=](benchmark::State& st, const std::string& name) { bm_sampler_roofline(st, name, heightfield, 32, isa, threads); });
   for (const std::string& heightfield : config.heightfields)
     for (const char* layers : {"32", "8-32"})
       for (int threads : config.threads) {
@@ -240,7 +286,7 @@ void register_benchmarks(const BenchConfig& input) {
         params.layers = parse_layer_spec(layers);
         add("BM_NaivePort/heightfield:" + heightfield_label(heightfield) + "/technique:pom/layers:" + std::string(layers) +
                 "/isa:scalar-naive/threads:" + std::to_string(threads),
-            [=](benchmark::State& st) { bm_naive_port(st, heightfield, params, threads); });
+            [=](benchmark::State& st, const std::string& name) { bm_naive_port(st, name, heightfield, params, threads); });
       }
 }
 

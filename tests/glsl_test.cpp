@@ -118,6 +118,16 @@ TEST(GlslShaderFile, SyntaxErrorNamesTheLine) {
   EXPECT_EQ(r.output.rfind("heightmarch: ", 0), 0u) << r.output;
 }
 
+TEST(GlslShaderFile, EndlessLoopIsReportedNotMeasured) {
+  const std::string dir = test::temp_dir("glsl-forever");
+  std::ofstream(dir + "/forever.glsl") << "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)\n{\n  vec2 uv = texCoords;\n"
+                                          "  while (true) { uv += vec2(1e-7, 0.0); }\n  return uv;\n}\n";
+  const auto r = test::run_cli("glsl --res 16 --size 16x16 --threads 1 --shader " + dir + "/forever.glsl");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("non-finite uv"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("nan"), std::string::npos) << r.output;
+}
+
 TEST(GlslShaderFile, MissingAndEmptyFiles) {
   const std::string dir = test::temp_dir("glsl-missing");
   std::ofstream(dir + "/empty.glsl") << "\n";

@@ -2,10 +2,12 @@
 // --compare runs the CPU kernels beside it and reports conformance and the speed ratio.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
+#include "heightmarch/error.hpp"
 #include "heightmarch/glsl_runner.hpp"
 #include "heightmarch/metrics.hpp"
 
@@ -32,8 +34,20 @@ RunResult run_glsl(const Scene& scene, const HitBuffers& exact, const TechniqueP
   run.seconds = times[times.size() / 2];
   run.repetitions = int(times.size());
   runner.read(run.hits, run.samples_known);
-  for (std::size_t i = 0; i < scene.rays.size(); ++i)
-    if (!scene.rays.is_padding(i)) run.stats.samples += run.hits.samples[i];
+  std::size_t not_finite = 0, first = 0;
+  for (std::size_t i = 0; i < scene.rays.size(); ++i) {
+    if (scene.rays.is_padding(i)) continue;
+    run.stats.samples += run.hits.samples[i];
+    if (!std::isfinite(run.hits.u[i]) || !std::isfinite(run.hits.v[i]) || !std::isfinite(run.hits.depth[i]))
+      if (not_finite++ == 0) first = i;
+  }
+  // A brought-in loop that never ends is cut off by llvmpipe (or optimised away) and leaves
+  // garbage: no figure is made from it.
+  if (not_finite)
+    throw InputError((shader_path.empty() ? std::string("GLSL ") + to_string(params.technique) : shader_path) +
+                     ": returned a non-finite uv or depth for " + std::to_string(not_finite) + " of " +
+                     std::to_string(scene.rays.ray_count) + " rays (first: T = " + std::to_string(scene.rays.tx[first]) +
+                     "," + std::to_string(scene.rays.ty[first]) + "); an endless loop ends this way in llvmpipe");
   measure(scene, exact, params, run);
   return run;
 }
