@@ -31,11 +31,8 @@ class SceneCache {
     auto& slot = scenes_[heightfield];
     if (!slot) {
       slot = std::make_unique<BenchScene>();
-      slot->scene.heightfield = heightfield;
-      slot->scene.map = load_heightfield(slot->scene.heightfield, config_.resolution, 1, Convention::depth);
-      const ViewSpec view = parse_view("default", config_.view_size, config_.view_size);
-      slot->scene.rays = make_view_rays(view);
-      slot->scene.view = describe(view);
+      slot->scene = make_scene(heightfield, config_.resolution, 1, Convention::depth,
+                               parse_view("default", config_.view_size, config_.view_size));
       slot->exact = exact_hits(slot->scene, TechniqueParams{});
     }
     return *slot;

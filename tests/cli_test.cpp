@@ -53,6 +53,18 @@ TEST(Cli, RaysFromCsvKeepTheirOrder) {
   EXPECT_EQ(second.rfind("0.25,0.75,0.6", 0), 0u) << second;
 }
 
+TEST(Cli, AMillionRaysFromCsv) {
+  const std::string dir = test::temp_dir("million");
+  {
+    std::ofstream csv(dir + "/rays.csv");
+    csv << "tx,ty,vx,vy,vz\n";
+    for (int i = 0; i < 1000000; ++i) csv << (i % 1000) / 1000.0 << "," << (i / 1000) / 1000.0 << ",0.6,0,0.8\n";
+  }
+  const auto r = test::run_cli("trace --res 64 --technique steep --layers 8 --json --rays " + dir + "/rays.csv");
+  ASSERT_EQ(r.status, 0) << r.output.substr(0, 500);
+  EXPECT_NE(r.output.find("\"rays\": 1000000"), std::string::npos) << r.output.substr(0, 500);
+}
+
 TEST(Cli, JsonHasTheSpecKeys) {
   const auto r = test::run_cli("trace --res 64 --size 32x32 --technique relief --layers 8-32 --json --threads 1");
   ASSERT_EQ(r.status, 0) << r.output;

@@ -36,6 +36,13 @@ struct RunResult {
   double samples_per_second() const;
 };
 
+// A scene: the heightfield ("builtin:NAME" or a path) seen from a view.
+Scene make_scene(const std::string& heightfield, int resolution, std::uint64_t seed, Convention convention,
+                 const ViewSpec& view, int tile_size = kDefaultTileSize);
+
+// The same depth map seen from another view.
+void set_view(Scene& scene, const ViewSpec& view, int tile_size = kDefaultTileSize);
+
 // The exact hits of a scene (and the light's exact visibility from them).
 HitBuffers exact_hits(const Scene& scene, const TechniqueParams& params);
 

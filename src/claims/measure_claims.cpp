@@ -51,12 +51,8 @@ ClaimsData measure_claims(const ClaimsSetup& setup) {
   for (const std::string& spec : setup.heightfields) {
     const std::string label = heightfield_label(spec);
     if (setup.progress) setup.progress(label);
-    Scene scene;
-    scene.heightfield = spec;
-    scene.map = load_heightfield(spec, setup.resolution, setup.seed, Convention::depth);
-    const ViewSpec view = parse_view("default", setup.view_size, setup.view_size);
-    scene.rays = make_view_rays(view);
-    scene.view = describe(view);
+    const Scene scene = make_scene(spec, setup.resolution, setup.seed, Convention::depth,
+                                   parse_view("default", setup.view_size, setup.view_size));
     const HitBuffers exact = exact_hits(scene, TechniqueParams{});
     for (const std::string& layers : claim_layer_specs()) {
       std::vector<Technique> techniques = layers == "1" ? std::vector<Technique>{Technique::parallax, Technique::parallax_limited} : layered;
@@ -72,9 +68,7 @@ ClaimsData measure_claims(const ClaimsSetup& setup) {
     }
     for (double theta : claim_sweep_angles()) {
       Scene sweep = scene;
-      const ViewSpec sweep_view = parse_view("sweep:" + std::to_string(theta), setup.sweep_size, setup.sweep_size);
-      sweep.rays = make_view_rays(sweep_view);
-      sweep.view = describe(sweep_view);
+      set_view(sweep, parse_view("sweep:" + std::to_string(theta), setup.sweep_size, setup.sweep_size));
       const HitBuffers sweep_exact = exact_hits(sweep, TechniqueParams{});
       for (Technique technique : {Technique::parallax, Technique::parallax_limited}) {
         TechniqueParams params;

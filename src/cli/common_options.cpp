@@ -61,18 +61,19 @@ void parse_size(const std::string& text, int& width, int& height) {
 }  // namespace
 
 Scene load_scene(const Options& options) {
-  Scene scene;
-  scene.heightfield = options.text("heightmap", "builtin:bricks");
+  const std::string heightfield = options.text("heightmap", "builtin:bricks");
   const std::string convention = options.text("convention", "depth");
   if (convention != "depth" && convention != "height")
     throw InputError("--convention '" + convention + "' must be depth or height");
   const int res = options.integer("res", 512, 1, kMaxDepthMapSide);
   const int seed = options.integer("seed", 1, 0, 1 << 30);
   const int tile = options.integer("tile", kDefaultTileSize, 1, 4096);
-  scene.map = load_heightfield(scene.heightfield, res, std::uint64_t(seed),
-                               convention == "height" ? Convention::height : Convention::depth);
+  const Convention depth_or_height = convention == "height" ? Convention::height : Convention::depth;
   if (const auto rays = options.get("rays")) {
     if (options.has("view") || options.has("size")) throw InputError("--rays replaces --view and --size");
+    Scene scene;
+    scene.heightfield = heightfield;
+    scene.map = load_heightfield(heightfield, res, std::uint64_t(seed), depth_or_height);
     scene.rays = load_rays_csv(*rays, tile);
     scene.rays_from_file = true;
     scene.view = "rays:" + *rays;
@@ -80,10 +81,8 @@ Scene load_scene(const Options& options) {
   }
   int width = 1024, height = 1024;
   if (const auto size = options.get("size")) parse_size(*size, width, height);
-  const ViewSpec view = parse_view(options.text("view", "default"), width, height);
-  scene.rays = make_view_rays(view, tile);
-  scene.view = describe(view);
-  return scene;
+  return make_scene(heightfield, res, std::uint64_t(seed), depth_or_height,
+                    parse_view(options.text("view", "default"), width, height), tile);
 }
 
 TechniqueParams technique_params(const Options& options) {

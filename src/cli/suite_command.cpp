@@ -168,14 +168,11 @@ void write_sweeps(const SuitePlan& plan, const std::string& out, Isa isa, Progre
   const std::size_t total = plan.sweep_heightfields.size() * angles;
   std::size_t done = 0;
   for (const std::string& spec : plan.sweep_heightfields) {
-    Scene scene;
-    scene.heightfield = spec;
-    scene.map = load_heightfield(spec, plan.resolution, 1, Convention::depth);
+    Scene scene = make_scene(spec, plan.resolution, 1, Convention::depth, parse_view("sweep:0", plan.sweep_size, plan.sweep_size));
     for (std::size_t a = 0; a < angles; ++a) {
       const double theta = 5.0 * double(a);
       const ViewSpec view = parse_view("sweep:" + std::to_string(theta), plan.sweep_size, plan.sweep_size);
-      scene.rays = make_view_rays(view);
-      scene.view = describe(view);
+      set_view(scene, view);
       const HitBuffers exact = exact_hits(scene, TechniqueParams{});
       for (Technique technique : all_techniques()) {
         if (technique == Technique::exact || technique == Technique::shadow) continue;
@@ -204,12 +201,8 @@ void write_sweeps(const SuitePlan& plan, const std::string& out, Isa isa, Progre
 void write_gallery(const SuitePlan& plan, const std::string& out, Isa isa, Progress& progress) {
   const std::string spec = plan.heightfields.front();
   const std::string label = heightfield_label(spec);
-  Scene scene;
-  scene.heightfield = spec;
-  scene.map = load_heightfield(spec, plan.resolution, 1, Convention::depth);
-  const ViewSpec view = parse_view("default", plan.gallery_width, plan.gallery_height);
-  scene.rays = make_view_rays(view);
-  scene.view = describe(view);
+  const Scene scene = make_scene(spec, plan.resolution, 1, Convention::depth,
+                                 parse_view("default", plan.gallery_width, plan.gallery_height));
   fs::create_directories(out + "/gallery");
   JsonWriter json;
   json.begin_object().value("view", scene.view).value("heightfield", label).begin_array("entries");

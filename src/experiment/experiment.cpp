@@ -16,6 +16,21 @@ namespace heightmarch {
 double RunResult::rays_per_second() const { return seconds > 0 ? double(errors.rays + errors.discarded) / seconds : 0.0; }
 double RunResult::samples_per_second() const { return seconds > 0 ? double(stats.samples) / seconds : 0.0; }
 
+Scene make_scene(const std::string& heightfield, int resolution, std::uint64_t seed, Convention convention,
+                 const ViewSpec& view, int tile_size) {
+  Scene scene;
+  scene.heightfield = heightfield;
+  scene.map = load_heightfield(heightfield, resolution, seed, convention);
+  set_view(scene, view, tile_size);
+  return scene;
+}
+
+void set_view(Scene& scene, const ViewSpec& view, int tile_size) {
+  scene.rays = make_view_rays(view, tile_size);
+  scene.view = describe(view);
+  scene.rays_from_file = false;
+}
+
 HitBuffers exact_hits(const Scene& scene, const TechniqueParams& params) {
   TechniqueParams exact_params = params;
   exact_params.technique = Technique::exact;
