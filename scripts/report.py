@@ -229,7 +229,7 @@ def plot_error_vs_layers(entries, isa, threads, path):
         return False
     fig, axes = plt.subplots(1, len(hfs), figsize=(4.2 * len(hfs), 4), squeeze=False)
     for ax, hf in zip(axes[0], hfs):
-        for technique in ["steep", "steep-limited", "relief", "pom", "shadow"]:
+        for technique in ["steep", "steep-limited", "relief", "pom"]:  # shadow shares POM's hit
             rows = [e for e in select(entries, "BM_Trace", heightfield=hf, technique=technique, isa=isa, threads=threads)
                     if not failed(e) and e["fields"]["layers"].isdigit()]
             rows.sort(key=lambda e: int(e["fields"]["layers"]))
