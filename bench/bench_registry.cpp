@@ -114,13 +114,6 @@ HitBuffers& scratch_hits() {
   return hits;
 }
 
-std::uint64_t real_samples(const RayBatch& rays, const HitBuffers& hits) {
-  std::uint64_t samples = 0;
-  for (std::size_t i = 0; i < rays.size(); ++i)
-    if (!rays.is_padding(i)) samples += hits.samples[i];
-  return samples;
-}
-
 void bm_trace(benchmark::State& state, const std::string& name, std::string heightfield, TechniqueParams params, Isa isa, int threads) {
   const BenchScene& s = cache->get(heightfield);
   const ThreadLimit limit(threads);
@@ -186,7 +179,7 @@ void bm_naive_port(benchmark::State& state, const std::string& name, std::string
         return checked;
       }
     }
-    checked.samples = real_samples(s.scene.rays, run.hits);
+    checked.samples = total_samples(s.scene.rays, run.hits);
     run.hits.depth = reference.depth;  // the port returns uv only
     measure(s.scene, s.exact, params, run);
     checked.errors = run.errors;
@@ -208,7 +201,7 @@ void bm_glsl(benchmark::State& state, const std::string& name, std::string heigh
     Checked checked;
     RunResult run;
     runner.read(run.hits, run.samples_known);
-    checked.samples = real_samples(s.scene.rays, run.hits);
+    checked.samples = total_samples(s.scene.rays, run.hits);
     measure(s.scene, s.exact, params, run);
     checked.errors = run.errors;
     return checked;

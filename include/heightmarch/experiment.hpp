@@ -1,6 +1,7 @@
 #pragma once
 // One measured run: a scene (depth map + rays), a technique on one backend, its hits timed
 // and compared with the exact ones. Shared by the CLI's trace, glsl, suite and claims commands.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,10 @@ void set_view(Scene& scene, const ViewSpec& view, int tile_size = kDefaultTileSi
 
 // The exact hits of a scene (and the light's exact visibility from them).
 HitBuffers exact_hits(const Scene& scene, const TechniqueParams& params);
+
+// Runs `once` at least once, then again until min_seconds have passed (at most 50 times);
+// returns the median time of one run and sets repetitions.
+double median_seconds(const std::function<void()>& once, double min_seconds, int& repetitions);
 
 // Traces with the packet kernels of one ISA under the current thread limit, timed over
 // repetitions (at least one, until min_seconds have passed, at most 50), then measured.

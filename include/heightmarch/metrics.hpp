@@ -1,6 +1,7 @@
 #pragma once
 // Error and speed measures (SPEC section 5) of a technique's hits against the exact ones.
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "heightmarch/heightfield.hpp"
@@ -11,6 +12,9 @@ namespace heightmarch {
 
 // Per ray: |(uv - T*) * (W, H)| in texels, unwrapped coordinates.
 float uv_error_texels(float u, float v, float exact_u, float exact_v, int width, int height);
+
+// Height samples of the batch's real rays (padding excluded).
+std::uint64_t total_samples(const RayBatch& rays, const HitBuffers& hits);
 
 struct ErrorSummary {
   std::size_t rays = 0;        // real rays measured (not discarded)

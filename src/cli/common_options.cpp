@@ -39,6 +39,12 @@ std::vector<OptionSpec> run_option_specs() {
   };
 }
 
+std::vector<OptionSpec> trace_option_specs() {
+  std::vector<OptionSpec> specs = scene_option_specs();
+  for (const auto& list : {technique_option_specs(), run_option_specs()}) specs.insert(specs.end(), list.begin(), list.end());
+  return specs;
+}
+
 namespace {
 
 // "WxH"

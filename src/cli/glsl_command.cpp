@@ -19,25 +19,15 @@ RunResult run_glsl(const Scene& scene, const HitBuffers& exact, const TechniqueP
   runner_out = &runner;
   runner.prepare(scene.map, params, scene.rays, shader_path);
   runner.draw();  // the first draw JIT-compiles the shader: not timed
-  std::vector<double> times;
-  double total = 0.0;
-  while (times.empty() || (total < min_seconds && times.size() < 50)) {
-    const auto start = std::chrono::steady_clock::now();
-    runner.draw();
-    times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-    total += times.back();
-  }
-  std::sort(times.begin(), times.end());
   RunResult run;
   run.backend = "glsl";
   run.threads = runner.threads();
-  run.seconds = times[times.size() / 2];
-  run.repetitions = int(times.size());
+  run.seconds = median_seconds([&] { runner.draw(); }, min_seconds, run.repetitions);
   runner.read(run.hits, run.samples_known);
+  run.stats.samples = total_samples(scene.rays, run.hits);
   std::size_t not_finite = 0, first = 0;
   for (std::size_t i = 0; i < scene.rays.size(); ++i) {
     if (scene.rays.is_padding(i)) continue;
-    run.stats.samples += run.hits.samples[i];
     if (!std::isfinite(run.hits.u[i]) || !std::isfinite(run.hits.v[i]) || !std::isfinite(run.hits.depth[i]))
       if (not_finite++ == 0) first = i;
   }
@@ -53,8 +43,7 @@ RunResult run_glsl(const Scene& scene, const HitBuffers& exact, const TechniqueP
 }
 
 int glsl_command(const std::vector<std::string>& args) {
-  std::vector<OptionSpec> specs = scene_option_specs();
-  for (auto list : {technique_option_specs(), run_option_specs()}) specs.insert(specs.end(), list.begin(), list.end());
+  std::vector<OptionSpec> specs = trace_option_specs();
   specs.push_back({"shader", true, "GLSL file defining vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)"});
   specs.push_back({"compare", false, "also run the CPU kernels (best ISA) and report conformance and speed"});
   specs.push_back({"help", false, "this text"});

@@ -7,8 +7,7 @@
 namespace heightmarch::cli {
 
 int trace_command(const std::vector<std::string>& args) {
-  std::vector<OptionSpec> specs = scene_option_specs();
-  for (auto list : {technique_option_specs(), run_option_specs()}) specs.insert(specs.end(), list.begin(), list.end());
+  std::vector<OptionSpec> specs = trace_option_specs();
   specs.push_back({"isa", true, "scalar, sse4.2, avx2, avx512 or auto (default; or $HEIGHTMARCH_ISA)"});
   specs.push_back({"help", false, "this text"});
   const Options options(args, specs);

@@ -31,6 +31,20 @@ void set_view(Scene& scene, const ViewSpec& view, int tile_size) {
   scene.rays_from_file = false;
 }
 
+double median_seconds(const std::function<void()>& once, double min_seconds, int& repetitions) {
+  std::vector<double> times;
+  double total = 0.0;
+  while (times.empty() || (total < min_seconds && times.size() < 50)) {
+    const auto start = std::chrono::steady_clock::now();
+    once();
+    times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    total += times.back();
+  }
+  std::sort(times.begin(), times.end());
+  repetitions = int(times.size());
+  return times[times.size() / 2];
+}
+
 HitBuffers exact_hits(const Scene& scene, const TechniqueParams& params) {
   TechniqueParams exact_params = params;
   exact_params.technique = Technique::exact;
@@ -50,18 +64,7 @@ RunResult run_cpu(const Scene& scene, const HitBuffers& exact, const TechniquePa
   run.backend = params.technique == Technique::exact ? "scalar-double" : to_string(isa);
   run.threads = threads;
   const Tracer tracer(scene.map, params, isa);
-  std::vector<double> times;
-  double total = 0.0;
-  while (times.empty() || (total < min_seconds && times.size() < 50)) {
-    const auto start = std::chrono::steady_clock::now();
-    run.stats = tracer.run(scene.rays, run.hits);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    times.push_back(seconds);
-    total += seconds;
-  }
-  std::sort(times.begin(), times.end());
-  run.seconds = times[times.size() / 2];
-  run.repetitions = int(times.size());
+  run.seconds = median_seconds([&] { run.stats = tracer.run(scene.rays, run.hits); }, min_seconds, run.repetitions);
   measure(scene, exact, params, run);
   return run;
 }

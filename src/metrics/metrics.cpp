@@ -11,6 +11,13 @@ float uv_error_texels(float u, float v, float exact_u, float exact_v, int width,
   return float(std::sqrt(ex * ex + ey * ey));
 }
 
+std::uint64_t total_samples(const RayBatch& rays, const HitBuffers& hits) {
+  std::uint64_t samples = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    if (!rays.is_padding(i)) samples += hits.samples[i];
+  return samples;
+}
+
 namespace {
 
 // Nearest-rank percentile of sorted values.

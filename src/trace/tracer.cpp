@@ -4,6 +4,7 @@
 #include <tbb/info.h>
 #include <tbb/parallel_for.h>
 
+#include "heightmarch/metrics.hpp"
 #include "heightmarch/trace.hpp"
 #include "kernels/kernel_abi.hpp"
 
@@ -82,8 +83,7 @@ TraceStats Tracer::run_kernels(const RayBatch& rays, HitBuffers& hits, bool roof
     stats.lane_samples += c.lane_samples;
     stats.packet_samples += c.packet_samples;
   });
-  for (std::size_t i = 0; i < rays.size(); ++i)
-    if (!rays.is_padding(i)) stats.samples += hits.samples[i];
+  stats.samples = total_samples(rays, hits);
   if (exact_) stats.lane_samples = stats.packet_samples = stats.samples;
   return stats;
 }

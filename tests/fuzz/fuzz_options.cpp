@@ -18,9 +18,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   using namespace heightmarch;
   try {
-    std::vector<cli::OptionSpec> specs = cli::scene_option_specs();
-    for (auto list : {cli::technique_option_specs(), cli::run_option_specs()}) specs.insert(specs.end(), list.begin(), list.end());
-    const cli::Options options(args, specs);
+    const cli::Options options(args, cli::trace_option_specs());
     const TechniqueParams params = cli::technique_params(options);
     if (!(params.scale >= 0.0f && params.scale <= 1.0f) || !(params.light[2] > 0.0f)) __builtin_trap();
     const ViewSpec view = parse_view(options.text("view", "default"), 8, 8);
