@@ -7,7 +7,6 @@ namespace heightmarch {
 
 enum class Isa { scalar, sse42, avx2, avx512 };
 
-int packet_width(Isa isa);                // 1, 4, 8, 16
 std::string to_string(Isa isa);           // scalar, sse4.2, avx2, avx512
 bool cpu_supports(Isa isa);
 Isa best_isa();                           // the widest the CPU runs

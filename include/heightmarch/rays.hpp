@@ -10,8 +10,8 @@
 namespace heightmarch {
 
 // Every tile's ray range starts at a multiple of this and is padded to it, so packet kernels
-// of any width never need a partial load.
-inline constexpr std::size_t kRayAlignment = 16;
+// of any width (up to two AVX-512 packets) never need a partial load.
+inline constexpr std::size_t kRayAlignment = 32;
 inline constexpr std::uint32_t kPaddingRay = 0xffffffffu;
 
 struct RayBatch {

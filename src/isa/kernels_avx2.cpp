@@ -1,4 +1,5 @@
-// The packet kernels at width 8, compiled with this ISA's flags (CMakeLists.txt).
+// The packet kernels at width 8, compiled with this ISA's flags (CMakeLists.txt). Unlike SSE and
+// AVX-512, two packets in flight (simd/packet_pair.hpp) measured no faster here.
 #define HEIGHTMARCH_ISA_NS isa_avx2
 #include "heightmarch/simd/vfloat8_avx2.hpp"
 #include "kernels/trace_range.hpp"

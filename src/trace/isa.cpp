@@ -6,16 +6,6 @@
 
 namespace heightmarch {
 
-int packet_width(Isa isa) {
-  switch (isa) {
-    case Isa::scalar: return 1;
-    case Isa::sse42: return 4;
-    case Isa::avx2: return 8;
-    case Isa::avx512: return 16;
-  }
-  return 1;
-}
-
 std::string to_string(Isa isa) {
   switch (isa) {
     case Isa::scalar: return "scalar";

@@ -1,0 +1,79 @@
+#pragma once
+// Two packets of the ISA's native width marched together as one of twice the width, so each
+// loop iteration issues two independent sets of gathers (more in flight to hide their latency).
+// Every operation applies to both halves; each lane's result is that of the native width.
+// The including translation unit names the native width in HEIGHTMARCH_PAIR_OF after including
+// its ISA's header (measured: two in flight beat one by 17-36% on AVX-512; four lost to register
+// pressure).
+#ifndef HEIGHTMARCH_PAIR_OF
+#error "define HEIGHTMARCH_PAIR_OF (the native packet width) before including packet_pair.hpp"
+#endif
+#include "heightmarch/simd/packet.hpp"
+
+namespace heightmarch::HEIGHTMARCH_ISA_NS {
+
+template <> struct vbool<2 * HEIGHTMARCH_PAIR_OF> {
+  vbool<HEIGHTMARCH_PAIR_OF> lo, hi;
+  friend vbool operator&(vbool a, vbool c) { return {a.lo & c.lo, a.hi & c.hi}; }
+  friend vbool operator|(vbool a, vbool c) { return {a.lo | c.lo, a.hi | c.hi}; }
+  friend vbool operator!(vbool a) { return {!a.lo, !a.hi}; }
+  friend bool any(vbool a) { return any(a.lo | a.hi); }
+  friend bool all(vbool a) { return all(a.lo & a.hi); }
+  friend bool none(vbool a) { return none(a.lo | a.hi); }
+  friend int popcount(vbool a) { return popcount(a.lo) + popcount(a.hi); }
+  static vbool all_true() { return {vbool<HEIGHTMARCH_PAIR_OF>::all_true(), vbool<HEIGHTMARCH_PAIR_OF>::all_true()}; }
+};
+
+template <> struct vint<2 * HEIGHTMARCH_PAIR_OF> {
+  vint<HEIGHTMARCH_PAIR_OF> lo, hi;
+  vint() = default;
+  vint(vint<HEIGHTMARCH_PAIR_OF> l, vint<HEIGHTMARCH_PAIR_OF> h) : lo(l), hi(h) {}
+  vint(std::int32_t x) : lo(x), hi(x) {}
+  friend vint operator+(vint a, vint c) { return {a.lo + c.lo, a.hi + c.hi}; }
+  friend vint operator-(vint a, vint c) { return {a.lo - c.lo, a.hi - c.hi}; }
+  friend vint operator*(vint a, vint c) { return {a.lo * c.lo, a.hi * c.hi}; }
+  friend vint operator&(vint a, vint c) { return {a.lo & c.lo, a.hi & c.hi}; }
+  friend vbool<2 * HEIGHTMARCH_PAIR_OF> operator<(vint a, vint c) { return {a.lo < c.lo, a.hi < c.hi}; }
+  friend vint min(vint a, vint c) { return {min(a.lo, c.lo), min(a.hi, c.hi)}; }
+  friend vint max(vint a, vint c) { return {max(a.lo, c.lo), max(a.hi, c.hi)}; }
+  friend vint select(vbool<2 * HEIGHTMARCH_PAIR_OF> m, vint a, vint c) { return {select(m.lo, a.lo, c.lo), select(m.hi, a.hi, c.hi)}; }
+  void store(std::int32_t* p) const {
+    lo.store(p);
+    hi.store(p + HEIGHTMARCH_PAIR_OF);
+  }
+};
+
+template <> struct vfloat<2 * HEIGHTMARCH_PAIR_OF> {
+  vfloat<HEIGHTMARCH_PAIR_OF> lo, hi;
+  static constexpr int width = 2 * HEIGHTMARCH_PAIR_OF;
+  vfloat() = default;
+  vfloat(vfloat<HEIGHTMARCH_PAIR_OF> l, vfloat<HEIGHTMARCH_PAIR_OF> h) : lo(l), hi(h) {}
+  vfloat(float x) : lo(x), hi(x) {}
+  static vfloat load(const float* p) { return {vfloat<HEIGHTMARCH_PAIR_OF>::load(p), vfloat<HEIGHTMARCH_PAIR_OF>::load(p + HEIGHTMARCH_PAIR_OF)}; }
+  void store(float* p) const {
+    lo.store(p);
+    hi.store(p + HEIGHTMARCH_PAIR_OF);
+  }
+  friend vfloat operator+(vfloat a, vfloat c) { return {a.lo + c.lo, a.hi + c.hi}; }
+  friend vfloat operator-(vfloat a, vfloat c) { return {a.lo - c.lo, a.hi - c.hi}; }
+  friend vfloat operator*(vfloat a, vfloat c) { return {a.lo * c.lo, a.hi * c.hi}; }
+  friend vfloat operator/(vfloat a, vfloat c) { return {a.lo / c.lo, a.hi / c.hi}; }
+  friend vbool<2 * HEIGHTMARCH_PAIR_OF> operator<(vfloat a, vfloat c) { return {a.lo < c.lo, a.hi < c.hi}; }
+  friend vbool<2 * HEIGHTMARCH_PAIR_OF> operator>(vfloat a, vfloat c) { return {a.lo > c.lo, a.hi > c.hi}; }
+  friend vbool<2 * HEIGHTMARCH_PAIR_OF> operator>=(vfloat a, vfloat c) { return {a.lo >= c.lo, a.hi >= c.hi}; }
+  friend vbool<2 * HEIGHTMARCH_PAIR_OF> operator!=(vfloat a, vfloat c) { return {a.lo != c.lo, a.hi != c.hi}; }
+  friend vfloat min(vfloat a, vfloat c) { return {min(a.lo, c.lo), min(a.hi, c.hi)}; }
+  friend vfloat max(vfloat a, vfloat c) { return {max(a.lo, c.lo), max(a.hi, c.hi)}; }
+  friend vfloat abs(vfloat a) { return {abs(a.lo), abs(a.hi)}; }
+  friend vfloat floor(vfloat a) { return {floor(a.lo), floor(a.hi)}; }
+  friend vfloat ceil(vfloat a) { return {ceil(a.lo), ceil(a.hi)}; }
+  friend vfloat select(vbool<2 * HEIGHTMARCH_PAIR_OF> m, vfloat a, vfloat c) { return {select(m.lo, a.lo, c.lo), select(m.hi, a.hi, c.hi)}; }
+  friend vint<2 * HEIGHTMARCH_PAIR_OF> to_int(vfloat a) { return {to_int(a.lo), to_int(a.hi)}; }
+};
+
+inline void gather_pairs(const float* base, vint<2 * HEIGHTMARCH_PAIR_OF> index, vfloat<2 * HEIGHTMARCH_PAIR_OF>& first, vfloat<2 * HEIGHTMARCH_PAIR_OF>& second) {
+  gather_pairs(base, index.lo, first.lo, second.lo);
+  gather_pairs(base, index.hi, first.hi, second.hi);
+}
+
+}  // namespace heightmarch::HEIGHTMARCH_ISA_NS
