@@ -1,87 +1,202 @@
-// build/heightmarch-bench: Google Benchmark over techniques x layers x ISA x threads on the
-// default view of each heightfield. Each entry's name encodes its configuration; its counters
-// carry speed and accuracy (SPEC section 6). A kernel is checked against the scalar reference
-// before it is timed: a wrong kernel never produces a number.
-//
-// Own flags, after Google Benchmark's: --hm_size=N (view side, default 1024),
-// --hm_res=N (depth map side, default 512), --hm_heightfields=bricks,terrain,
-// --hm_threads=1,2 (default 1 and all cores), --hm_isas=scalar,avx2 (default all the CPU runs),
-// --hm_layers=4,8,32,8-32 (layer specs of BM_Trace and BM_GLSL), --hm_min_time=0.2 (seconds per
-// benchmark), --hm_glsl_threads=N (llvmpipe threads, fixed per process; default the most of --hm_threads).
-// A heightfield is a builtin name or a depth map file.
+// build/heightmarch-bench: Google Benchmark over the registries (techniques x layer specs x ISA
+// x threads, the same as GLSL, the sampler roofline and the naive port) on the default view of
+// each heightfield. Names come from benchmark_name(), as in a suite's bench.json; counters carry
+// speed and accuracy. A configuration is checked against the scalar reference before it is
+// timed: a wrong kernel never produces a number.
 #include <benchmark/benchmark.h>
+#include <tbb/info.h>
 
-#include <cstring>
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <deque>
 #include <map>
-#include <memory>
-#include <mutex>
-#include <sstream>
 
-#include "bench_registry.hpp"
 #include "heightmarch/error.hpp"
-#include "heightmarch/heightfield.hpp"
-#include "heightmarch/rays.hpp"
-#include "heightmarch/technique.hpp"
+#include "heightmarch/measurement.hpp"
+#include "heightmarch/trace.hpp"
 #include "io/provenance.hpp"
 
 namespace {
 
-std::vector<std::string> split(const std::string& text) {
-  std::vector<std::string> parts;
-  std::stringstream in(text);
-  for (std::string part; std::getline(in, part, ',');)
-    if (!part.empty()) parts.push_back(part);
-  return parts;
+using namespace heightmarch;
+
+struct BenchOptions {
+  int size = 1024;
+  int res = 512;
+  std::vector<std::string> heightfields = {"bricks", "terrain"};
+  std::vector<std::string> layers = {"4", "8", "16", "32", "64", "8-32"};
+  std::vector<int> threads;  // empty: 1 and all cores
+  std::vector<std::string> isas;  // empty: every ISA the CPU runs
+  double min_time = 0.2;
+};
+
+MeasurementSession& session() {
+  static MeasurementSession s;
+  return s;
 }
+
+void set_counters(benchmark::State& state, const Measurement& m) {
+  const double iterations = double(state.iterations());
+  state.SetItemsProcessed(std::int64_t(m.rays) * state.iterations());
+  state.counters["rays_per_second"] = benchmark::Counter(double(m.rays) * iterations, benchmark::Counter::kIsRate);
+  if (!m.samples_known) return;
+  state.counters["samples_per_second"] = benchmark::Counter(double(m.samples) * iterations, benchmark::Counter::kIsRate);
+  state.counters["samples_per_ray"] = m.rays ? double(m.samples) / double(m.rays) : 0.0;
+  if (m.config.kind == RunKind::trace) state.counters["simd_utilization"] = m.simd_utilization;
+  if (!m.errors) return;
+  const ErrorSummary& e = *m.errors;
+  state.counters["uv_error_mean"] = e.mean;
+  state.counters["uv_error_rms"] = e.rms;
+  state.counters["uv_error_p50"] = e.p50;
+  state.counters["uv_error_p95"] = e.p95;
+  state.counters["uv_error_p99"] = e.p99;
+  state.counters["uv_error_max"] = e.max;
+  state.counters["wrong_surface_rate"] = e.wrong_surface_rate;
+  state.counters["depth_error_mean"] = e.depth_error_mean;
+  if (e.has_shadow) {
+    state.counters["shadow_error_mean"] = e.shadow_error_mean;
+    state.counters["shadow_mismatch_rate"] = e.shadow_mismatch_rate;
+  }
+}
+
+// Google Benchmark calls a benchmark again for each iteration-count estimate: the accuracy is
+// measured (and checked) once per configuration.
+void run_benchmark(benchmark::State& state, const Configuration& config) {
+  static std::map<const Configuration*, Measurement> measured;
+  auto it = measured.find(&config);
+  if (it == measured.end()) it = measured.emplace(&config, session().measure(config)).first;
+  const Measurement& m = it->second;
+  if (!m.failure.empty()) return state.SkipWithError(m.failure.c_str());
+  const ThreadLimit limit(config.threads);
+  const std::function<void()> once = session().trace_once(config);
+  once();  // warm-up: llvmpipe compiles the shader on its first draw
+  for (auto _ : state) once();
+  set_counters(state, m);
+}
+
+std::vector<Configuration> bench_plan(const BenchOptions& o) {
+  std::vector<int> threads = o.threads;
+  if (threads.empty()) {
+    threads = {1};
+    if (tbb::info::default_concurrency() > 1) threads.push_back(tbb::info::default_concurrency());
+  }
+  std::vector<Isa> isas;
+  for (const std::string& name : o.isas) isas.push_back(parse_isa(name));
+  if (isas.empty()) isas = supported_isas();
+  std::vector<LayerSpec> layer_specs;
+  for (const std::string& text : o.layers) layer_specs.push_back(parse_layer_spec(text));
+  std::vector<Configuration> plan;
+  for (const std::string& name : o.heightfields) {
+    Configuration base;
+    base.heightfield = parse_heightfield(name, o.res);
+    base.view = parse_view("default", o.size, o.size);
+    auto add = [&](RunKind kind, Technique technique, const LayerSpec& layers, Isa isa, int t) {
+      Configuration c = base;
+      c.kind = kind;
+      c.params.technique = technique;
+      c.params.layers = layers_for(technique, layers);
+      c.isa = isa;
+      c.threads = t;
+      add_to_plan(plan, c);
+    };
+    for (const TechniqueInfo& t : techniques())
+      for (const LayerSpec& layers : layer_specs)
+        for (int n : threads) {
+          for (Isa isa : isas) add(RunKind::trace, t.id, layers, isa, n);
+          add(RunKind::glsl, t.id, layers, Isa::scalar, n);
+        }
+    for (int n : threads) {
+      for (Isa isa : isas) add(RunKind::roofline, Technique::pom, parse_layer_spec("32"), isa, n);
+      for (const char* layers : {"32", "8-32"}) add(RunKind::naive, Technique::pom, parse_layer_spec(layers), Isa::scalar, n);
+    }
+  }
+  return plan;
+}
+
+int depth_map_side(const HeightfieldSource& source) { return source.builtin.empty() ? -1 : source.resolution; }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  using namespace heightmarch;
-  benchmark::Initialize(&argc, argv);
-  bench::BenchConfig config;
+  BenchOptions o;
+  CLI::App app("heightmarch-bench: Google Benchmark over heightmarch's techniques, ISAs and GLSL. Google Benchmark's own "
+               "--benchmark_* flags are accepted too (--benchmark_filter, --benchmark_repetitions, --benchmark_out, ...).",
+               "heightmarch-bench");
+  app.allow_extras();
+  app.set_help_flag("-h,--help", "this text, then Google Benchmark's flags");
+  app.add_option("--hm_size", o.size, "view side in pixels")->check(CLI::Range(1, kMaxViewSide))->capture_default_str();
+  app.add_option("--hm_res", o.res, "builtin depth map side")->check(CLI::Range(1, kMaxDepthMapSide))->capture_default_str();
+  app.add_option("--hm_heightfields", o.heightfields, "builtin names or depth map files")->delimiter(',')->capture_default_str();
+  app.add_option("--hm_layers", o.layers, "layer specs (N or A-B)")->delimiter(',')->capture_default_str();
+  app.add_option("--hm_threads", o.threads, "thread counts (default: 1 and all cores)")->delimiter(',')->check(CLI::Range(1, 1024));
+  app.add_option("--hm_isas", o.isas, isa_names() + " (default: every ISA the CPU runs)")->delimiter(',');
+  app.add_option("--hm_min_time", o.min_time, "seconds per benchmark (Google Benchmark's --benchmark_min_time)")
+      ->check(CLI::Range(0.0, 60.0))->capture_default_str();
   try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string arg = argv[i];
-      auto value = [&](const char* name) -> const char* {
-        const std::string prefix = std::string("--") + name + "=";
-        return arg.rfind(prefix, 0) == 0 ? argv[i] + prefix.size() : nullptr;
-      };
-      if (const char* v = value("hm_size")) config.view_size = std::stoi(v);
-      else if (const char* v = value("hm_res")) config.resolution = std::stoi(v);
-      else if (const char* v = value("hm_heightfields")) config.heightfields = split(v);
-      else if (const char* v = value("hm_layers")) config.layer_specs = split(v);
-      else if (const char* v = value("hm_min_time")) config.min_time = std::stod(v);
-      else if (const char* v = value("hm_glsl_threads")) config.glsl_threads = std::stoi(v);
-      else if (const char* v = value("hm_threads")) {
-        config.threads.clear();
-        for (const auto& t : split(v)) config.threads.push_back(std::stoi(t));
-      } else if (const char* v = value("hm_isas")) {
-        config.isas.clear();
-        for (const auto& name : split(v)) config.isas.push_back(parse_isa(name));
-      } else {
-        std::fprintf(stderr, "heightmarch-bench: unknown option %s\n", argv[i]);
-        return 2;
-      }
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::fputs(app.help().c_str(), stdout);
+    std::fputs("\nGoogle Benchmark's flags:\n", stdout);
+    char help[] = "--help";
+    char* gbench_argv[] = {argv[0], help, nullptr};
+    int gbench_argc = 2;
+    benchmark::Initialize(&gbench_argc, gbench_argv);  // prints its usage and exits
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "heightmarch-bench: %s\n", e.what());
+    return 2;
+  }
+  if (!std::isfinite(o.min_time)) {  // CLI11's range check lets NaN through
+    std::fprintf(stderr, "heightmarch-bench: --hm_min_time: %g is not a finite number of seconds\n", o.min_time);
+    return 2;
+  }
+  // Our flags are ours; whatever remains must be Google Benchmark's.
+  std::vector<std::string> rest = app.remaining();
+  bool has_min_time = false;
+  for (const std::string& arg : rest) {
+    if (arg.rfind("--benchmark_", 0) != 0) {
+      std::fprintf(stderr, "heightmarch-bench: unknown option %s (see --help)\n", arg.c_str());
+      return 2;
     }
-    for (const auto& layers : config.layer_specs) parse_layer_spec(layers);
-    if (config.view_size < 1 || config.view_size > kMaxViewSide || config.resolution < 1 ||
-        config.resolution > kMaxDepthMapSide)
-      throw InputError("--hm_size and --hm_res must be in [1, 16384]");
+    has_min_time = has_min_time || arg.rfind("--benchmark_min_time", 0) == 0;
+  }
+  // The minimum time goes through Google Benchmark's global flag, so names carry no min_time.
+  if (!has_min_time) rest.push_back("--benchmark_min_time=" + std::to_string(o.min_time));
+  std::vector<char*> gbench_argv = {argv[0]};
+  for (std::string& arg : rest) gbench_argv.push_back(arg.data());
+  int gbench_argc = int(gbench_argv.size());
+  gbench_argv.push_back(nullptr);
+  std::vector<Configuration>* plan = nullptr;
+  try {
+    static std::vector<Configuration> configurations = bench_plan(o);
+    plan = &configurations;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "heightmarch-bench: %s\n", e.what());
     return 2;
   }
+  benchmark::Initialize(&gbench_argc, gbench_argv.data());
+  if (benchmark::ReportUnrecognizedArguments(gbench_argc, gbench_argv.data())) return 2;
   const Provenance prov = provenance();
   benchmark::AddCustomContext("heightmarch_commit", prov.commit);
   benchmark::AddCustomContext("heightmarch_cpu", prov.cpu);
   benchmark::AddCustomContext("heightmarch_compiler", prov.compiler);
+  benchmark::AddCustomContext("heightmarch_build_type", prov.build_type);
   benchmark::AddCustomContext("heightmarch_best_isa", to_string(best_isa()));
-  benchmark::AddCustomContext("heightmarch_view", "default " + std::to_string(config.view_size) + "x" +
-                                                      std::to_string(config.view_size));
-  benchmark::AddCustomContext("heightmarch_depth_map", std::to_string(config.resolution) + "x" +
-                                                           std::to_string(config.resolution));
-  bench::register_benchmarks(config);
+  benchmark::AddCustomContext("heightmarch_view", std::to_string(o.size) + "x" + std::to_string(o.size));
+  benchmark::AddCustomContext("heightmarch_depth_map", std::to_string(o.res) + "x" + std::to_string(o.res));
+  for (const Configuration& c : *plan) {
+    int side = depth_map_side(c.heightfield);
+    int width = side, height = side;
+    if (side < 0) {  // a file: its size names the benchmark
+      const DepthMap map = load_heightfield(c.heightfield);
+      width = map.width;
+      height = map.height;
+    }
+    benchmark::RegisterBenchmark(benchmark_name(c, width, height).c_str(),
+                                 [&c](benchmark::State& state) { run_benchmark(state, c); })
+        ->UseRealTime()
+        ->Unit(benchmark::kMillisecond);
+  }
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

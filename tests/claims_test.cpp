@@ -47,12 +47,14 @@ TEST(Claims, PomMuchMoreAccurateThanSteep) {
   EXPECT_EQ(claim(evaluate_claims(d), "C7").verdict, Verdict::refuted);
 }
 
-TEST(Claims, PomCloseToReliefAndFaster) {
+TEST(Claims, PomCloseToReliefAndCheaper) {
   ClaimsData d;
-  d.figures.push_back(figure("waves", "relief", "16", 0.10, 8e6));
-  d.figures.push_back(figure("waves", "pom", "16", 0.14, 10e6));
+  d.figures.push_back(figure("waves", "relief", "16", 0.10, 8e6, 0.0, 20.0));
+  d.figures.push_back(figure("waves", "pom", "16", 0.14, 10e6, 0.0, 16.0));
   EXPECT_EQ(claim(evaluate_claims(d), "C9").verdict, Verdict::holds);
-  d.figures[1].rays_per_second = 7e6;  // slower than relief
+  d.figures[1].rays_per_second = 7e6;  // a slower timing alone decides nothing: cost is samples per ray
+  EXPECT_EQ(claim(evaluate_claims(d), "C9").verdict, Verdict::holds);
+  d.figures[1].samples_per_ray = 21.0;  // more samples than relief
   EXPECT_EQ(claim(evaluate_claims(d), "C9").verdict, Verdict::refuted);
 }
 

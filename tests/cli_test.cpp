@@ -2,6 +2,11 @@
 // non-zero exit, never a crash.
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -32,8 +37,8 @@ TEST(Cli, TraceWritesItsFourFiles) {
     EXPECT_GT(fs::file_size(out + "/" + file), 100u) << file;
   std::ifstream json(out + "/metrics.json");
   const std::string text((std::istreambuf_iterator<char>(json)), {});
-  for (const char* key : {"\"technique\": \"pom\"", "\"layers\": \"32\"", "\"rays_per_second\"", "\"uv_error_texels\"",
-                          "\"p99\"", "\"wrong_surface_rate\"", "\"commit\""})
+  for (const char* key : {"\"technique\": \"pom\"", "\"layers\": \"32\"", "\"rays_per_second\"", "\"errors\"",
+                          "\"uv_p99\"", "\"wrong_surface_rate\"", "\"commit\"", "\"rounds\""})
     EXPECT_NE(text.find(key), std::string::npos) << key;
 }
 
@@ -68,10 +73,68 @@ TEST(Cli, AMillionRaysFromCsv) {
 TEST(Cli, JsonHasTheSpecKeys) {
   const auto r = test::run_cli("trace --res 64 --size 32x32 --technique relief --layers 8-32 --json --threads 1");
   ASSERT_EQ(r.status, 0) << r.output;
-  for (const char* key : {"technique", "layers", "isa", "threads", "width", "height", "rays", "rays_per_second",
-                          "samples_per_second", "samples_per_ray", "uv_error_texels", "mean", "rms", "p50", "p95",
-                          "p99", "max", "wrong_surface_rate", "depth_error_mean", "discarded"})
+  for (const char* key : {"technique", "layers", "backend", "threads", "width", "height", "rays", "rays_per_second",
+                          "samples_per_second", "samples_per_ray", "errors", "uv_mean", "uv_rms", "uv_p50", "uv_p95",
+                          "uv_p99", "uv_max", "wrong_surface_rate", "depth_error_mean", "discarded", "median", "min",
+                          "max", "rounds", "repetitions"})
     EXPECT_NE(r.output.find("\"" + std::string(key) + "\""), std::string::npos) << key;
+}
+
+TEST(Cli, HelpAndVersion) {
+  for (const char* args : {"-h", "--help"}) {
+    const auto r = test::run_cli(args);
+    EXPECT_EQ(r.status, 0) << r.output;
+    for (const char* command : {"trace", "glsl", "suite", "claims"}) EXPECT_NE(r.output.find(command), std::string::npos);
+  }
+  const auto version = test::run_cli("--version");
+  EXPECT_EQ(version.status, 0);
+  EXPECT_EQ(version.output.rfind("heightmarch ", 0), 0u) << version.output;
+  // The help lists every technique of the registry.
+  const auto trace_help = test::run_cli("trace --help");
+  for (const TechniqueInfo& t : techniques()) EXPECT_NE(trace_help.output.find(std::string(t.name)), std::string::npos) << t.name;
+}
+
+// A suite never writes into a directory that holds a run, nor into one another run holds.
+TEST(Cli, SuiteRefusesAnOccupiedRunDirectory) {
+  const std::string dir = test::temp_dir("occupied");
+  write_text(dir, "measurements.json", "{}");
+  auto r = test::run_cli("suite --quick --no-glsl --out " + dir);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("already holds a run"), std::string::npos) << r.output;
+  const std::string locked = test::temp_dir("locked");
+  const int fd = ::open((locked + "/.lock").c_str(), O_RDWR | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX), 0);
+  r = test::run_cli("suite --quick --no-glsl --out " + locked);
+  ::close(fd);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("another run is writing into this directory"), std::string::npos) << r.output;
+}
+
+// heightmarch-bench's own flags are checked like the CLI's: one line, exit 2.
+TEST(Cli, BenchFlagsAreChecked) {
+  const std::string bench = std::filesystem::path(HEIGHTMARCH_CLI).parent_path().string() + "/heightmarch-bench";
+  auto run = [&](const std::string& args) {
+    return test::run_command(bench + " " + args);
+  };
+  for (const char* args : {"--hm_size=12x", "--hm_size=abc", "--hm_heightfields=nope", "--hm_min_time=nan",
+                           "--hm_layers=0", "--hm_isas=neon", "--frobnicate"}) {
+    const auto r = run(args);
+    EXPECT_EQ(r.status, 2) << args << ": " << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": " << r.output;
+    EXPECT_EQ(r.output.rfind("heightmarch-bench: ", 0), 0u) << args << ": " << r.output;
+  }
+  const auto help = run("--help");
+  EXPECT_EQ(help.status, 0) << help.output;
+  for (const char* flag : {"--hm_size", "--hm_res", "--hm_heightfields", "--hm_layers", "--hm_threads", "--hm_isas",
+                           "--hm_min_time", "--benchmark_filter"})
+    EXPECT_NE(help.output.find(flag), std::string::npos) << flag;
+  // Names carry the view and depth-map sizes, never min_time.
+  const auto list = run("--hm_size=64 --hm_res=32 --hm_heightfields=bricks --hm_layers=8 --benchmark_list_tests=true");
+  EXPECT_EQ(list.status, 0) << list.output;
+  EXPECT_NE(list.output.find("BM_Trace/heightfield:bricks/technique:pom/layers:8/isa:scalar/threads:1/view:64x64/depth_map:32x32"),
+            std::string::npos) << list.output;
+  EXPECT_EQ(list.output.find("min_time"), std::string::npos);
 }
 
 class CliBadInput : public ::testing::TestWithParam<BadInput> {};
@@ -125,8 +188,8 @@ std::vector<BadInput> bad_inputs() {
       {"BadSize", "trace --size 0x10", "--size"},
       {"HugeSize", "trace --size 100000x100000", "--size"},
       {"BadRes", "trace --res 0", "--res"},
-      {"UnknownOption", "trace --frobnicate", "unknown option --frobnicate"},
-      {"MissingValue", "trace --layers", "needs a value"},
+      {"UnknownOption", "trace --frobnicate", "not expected: --frobnicate"},
+      {"MissingValue", "trace --layers", "--layers: 1 required"},
       {"BadWrap", "trace --wrap mirror", "--wrap"},
       {"BadView", "trace --view sweep:95", "THETA"},
       {"BadLight", "trace --technique shadow --light 1,1,-1", "light"},

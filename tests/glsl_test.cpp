@@ -57,8 +57,7 @@ TEST_P(GlslConformance, MatchesTheScalarReference) {
 
 INSTANTIATE_TEST_SUITE_P(
     AllTechniques, GlslConformance,
-    ::testing::Combine(::testing::Values(Technique::parallax, Technique::parallax_limited, Technique::steep,
-                                         Technique::steep_limited, Technique::relief, Technique::pom, Technique::shadow),
+    ::testing::Combine(::testing::ValuesIn(test::all_technique_ids()),
                        ::testing::Values(std::string("4"), std::string("10"), std::string("32"), std::string("8-32")),
                        ::testing::Values(Wrap::repeat, Wrap::clamp)),
     [](const auto& info) {

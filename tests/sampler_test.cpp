@@ -72,7 +72,7 @@ TEST_P(PacketSamplerTest, BitIdenticalToSpecFormula) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllIsas, PacketSamplerTest,
-                         ::testing::Values(Isa::scalar, Isa::sse42, Isa::avx2, Isa::avx512),
+                         ::testing::ValuesIn(all_isas()),
                          [](const auto& info) { return to_string(info.param) == "sse4.2" ? std::string("sse42") : to_string(info.param); });
 
 }  // namespace

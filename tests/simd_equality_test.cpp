@@ -26,7 +26,9 @@ TEST_P(PacketKernelTest, MatchesScalarReference) {
   params.discard = true;
   for (const char* name : {"bricks", "terrain", "spikes"}) {
     const DepthMap map = make_builtin_heightfield(name, 128, 4);
-    const RayBatch rays = make_view_rays(parse_view("default", 96, 80), 16);
+    ViewSpec view = parse_view("default", 96, 80);
+    view.tile_size = 16;
+    const RayBatch rays = make_view_rays(view);
     HitBuffers reference, packet;
     Tracer(map, params, Isa::scalar).run(rays, reference);
     const TraceStats stats = Tracer(map, params, isa).run(rays, packet);
@@ -54,10 +56,7 @@ std::string case_name(const ::testing::TestParamInfo<Case>& info) {
 
 INSTANTIATE_TEST_SUITE_P(
     AllIsasAllTechniques, PacketKernelTest,
-    ::testing::Combine(::testing::Values(Isa::sse42, Isa::avx2, Isa::avx512),
-                       ::testing::Values(Technique::parallax, Technique::parallax_limited, Technique::steep,
-                                         Technique::steep_limited, Technique::relief, Technique::pom,
-                                         Technique::shadow),
+    ::testing::Combine(::testing::ValuesIn(test::packet_isas()), ::testing::ValuesIn(test::all_technique_ids()),
                        ::testing::Values(std::string("4"), std::string("10"), std::string("32"), std::string("8-32")),
                        ::testing::Values(Wrap::repeat, Wrap::clamp)),
     case_name);
@@ -67,12 +66,13 @@ TEST(Determinism, SameHitsForAnyThreadCountAndTileSize) {
   TechniqueParams params;
   params.technique = Technique::shadow;
   params.layers = parse_layer_spec("8-32");
-  const ViewSpec view = parse_view("default", 200, 150);
+  ViewSpec view = parse_view("default", 200, 150);
   std::vector<float> first;
   for (int threads : {1, 2})
     for (int tile : {7, 16, 64}) {
       const ThreadLimit limit(threads);
-      const RayBatch rays = make_view_rays(view, tile);
+      view.tile_size = tile;
+      const RayBatch rays = make_view_rays(view);
       HitBuffers hits;
       Tracer(map, params, best_isa()).run(rays, hits);
       std::vector<float> by_pixel(std::size_t(view.width) * view.height * 4, -1.0f);

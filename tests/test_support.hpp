@@ -11,7 +11,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "heightmarch/experiment.hpp"
+#include "heightmarch/trace.hpp"
 #include "heightmarch/rays.hpp"
 
 namespace heightmarch::test {
@@ -31,6 +31,14 @@ class Random {
  private:
   std::uint64_t state_;
 };
+
+// The registries as test parameters: every technique, every ISA but the scalar reference.
+inline std::vector<Technique> all_technique_ids() {
+  std::vector<Technique> ids;
+  for (const TechniqueInfo& t : techniques()) ids.push_back(t.id);
+  return ids;
+}
+inline std::vector<Isa> packet_isas() { return {all_isas().begin() + 1, all_isas().end()}; }
 
 // n rays with T in [0,1]^2 and view angles up to max_theta degrees, any azimuth.
 inline RayBatch random_rays(std::size_t n, double max_theta_degrees, std::uint64_t seed) {
@@ -53,10 +61,10 @@ struct CliResult {
   std::string output;  // stdout and stderr together
 };
 
-// Runs build/heightmarch with the arguments (a shell string), capturing its output.
-inline CliResult run_cli(const std::string& arguments) {
+// Runs a shell command line, capturing its output.
+inline CliResult run_command(const std::string& command_line) {
   CliResult result;
-  const std::string command = std::string(HEIGHTMARCH_CLI) + " " + arguments + " 2>&1";
+  const std::string command = command_line + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return result;
   std::array<char, 4096> buffer;
@@ -66,6 +74,9 @@ inline CliResult run_cli(const std::string& arguments) {
   result.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return result;
 }
+
+// Runs build/heightmarch with the arguments (a shell string), capturing its output.
+inline CliResult run_cli(const std::string& arguments) { return run_command(std::string(HEIGHTMARCH_CLI) + " " + arguments); }
 
 // A fresh empty directory under the system temp directory, unique to this process.
 inline std::string temp_dir(const std::string& name) {

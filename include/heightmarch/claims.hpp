@@ -11,7 +11,8 @@ struct ClaimFigure {
   std::string heightfield, technique, layers;
   double theta = -1.0;
   double uv_error_mean = 0, uv_error_p95 = 0, wrong_surface_rate = 0;
-  double samples_per_ray = 0, rays_per_second = 0;
+  double samples_per_ray = 0;
+  double rays_per_second = 0, rays_per_second_min = 0, rays_per_second_max = 0;  // median and spread; 0: not timed
   double within_one_layer = 0;  // share of rays whose uv error is at most one layer's step
 };
 

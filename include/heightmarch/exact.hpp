@@ -7,6 +7,7 @@
 #include "heightmarch/hits.hpp"
 #include "heightmarch/rays.hpp"
 #include "heightmarch/sampler.hpp"
+#include "heightmarch/technique.hpp"
 
 namespace heightmarch {
 
@@ -56,5 +57,11 @@ class ExactIntersector {
   };
   std::vector<Level> levels_;
 };
+
+// The exact answer for every ray of a batch, in parallel over its tiles under the current thread
+// limit: uv and d* per ray, the texel cells solved in `samples`, the light's exact visibility
+// (0 or 1) from the exact hit in `shadow`, and the discard flag as a technique would set it.
+// Uses params' scale, wrap, light and discard; not its technique.
+HitBuffers exact_hits(const DepthMap& map, const RayBatch& rays, const TechniqueParams& params);
 
 }  // namespace heightmarch

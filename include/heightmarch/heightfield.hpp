@@ -29,8 +29,25 @@ DepthMap load_depth_map(const std::string& path, Convention convention);
 const std::vector<std::string>& builtin_heightfield_names();
 DepthMap make_builtin_heightfield(const std::string& name, int resolution, std::uint64_t seed);
 
-// "builtin:NAME" or a file path.
-DepthMap load_heightfield(const std::string& spec, int resolution, std::uint64_t seed,
-                          Convention convention);
+// Where a depth map comes from: a builtin (with its resolution and seed) or an image file (with
+// its convention). Parsed once at the edge (command line, plan) and passed on typed.
+struct HeightfieldSource {
+  std::string builtin;  // a builtin's name, or empty
+  std::string path;     // an image file, when builtin is empty
+  int resolution = 512;
+  std::uint64_t seed = 1;
+  Convention convention = Convention::depth;
+
+  std::string label() const;     // "bricks", or the file name without directories
+  std::string describe() const;  // "builtin:bricks", or the path
+  friend bool operator==(const HeightfieldSource&, const HeightfieldSource&) = default;
+};
+
+// "builtin:NAME", a builtin's bare name (when no such file exists), or a file path. Throws
+// InputError for an unknown builtin or a resolution outside [1, kMaxDepthMapSide].
+HeightfieldSource parse_heightfield(const std::string& text, int resolution = 512,
+                                    std::uint64_t seed = 1, Convention convention = Convention::depth);
+
+DepthMap load_heightfield(const HeightfieldSource& source);
 
 }  // namespace heightmarch

@@ -2,11 +2,13 @@
 // Error and speed measures (SPEC section 5) of a technique's hits against the exact ones.
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/hits.hpp"
 #include "heightmarch/rays.hpp"
+#include "heightmarch/technique.hpp"
 
 namespace heightmarch {
 
@@ -27,11 +29,19 @@ struct ErrorSummary {
   // thresholded at 0.5, disagrees with the exact visibility.
   bool has_shadow = false;
   double shadow_error_mean = 0, shadow_mismatch_rate = 0;
+  // Layered techniques: the share of rays within one layer's texture step of the exact hit.
+  std::optional<double> within_one_layer_step;
 };
 
 // Errors per ray (0 for padding and discarded rays) and their summary.
 ErrorSummary summarize_errors(const RayBatch& rays, const HitBuffers& hits, const HitBuffers& exact,
                               int map_width, int map_height, bool shadow,
                               std::vector<float>* per_ray_error = nullptr);
+
+// Share of measured rays whose uv error is at most the texture step of one layer along their own
+// ray (s V.xy / V.z / N in texels, N from the layer spec at that V.z): stair-stepping's bound.
+double share_within_one_layer_step(const RayBatch& rays, const HitBuffers& hits,
+                                   const std::vector<float>& uv_error, const TechniqueParams& params,
+                                   int map_width, int map_height);
 
 }  // namespace heightmarch

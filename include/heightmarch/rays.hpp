@@ -30,13 +30,18 @@ struct RayBatch {
   bool is_padding(std::size_t i) const { return origin[i] == kPaddingRay; }
 };
 
+// Where a batch's rays come from: the perspective benchmark view, a sweep of one V over a grid
+// of T, or a CSV file of rays (width x height is then rows x 1, known once loaded).
 struct ViewSpec {
-  enum class Kind { perspective, sweep };
+  enum class Kind { perspective, sweep, rays_file };
   Kind kind = Kind::perspective;
   int width = 1024;
   int height = 1024;
   float theta_degrees = 0.0f;   // sweep: angle of V from the normal
   float phi_degrees = 270.0f;   // sweep: azimuth of V (270: eye towards -v, as the default view)
+  std::string rays_path;        // rays_file: the CSV
+  int tile_size = 32;           // tile side in pixels (rays_file: tile_size^2 rays per tile)
+  friend bool operator==(const ViewSpec&, const ViewSpec&) = default;
 };
 
 inline constexpr int kMaxViewSide = 16384;
@@ -44,12 +49,15 @@ inline constexpr int kDefaultTileSize = 32;
 
 // "default" or "sweep:THETA[,PHI]" (degrees); throws InputError.
 ViewSpec parse_view(const std::string& text, int width, int height);
-std::string describe(const ViewSpec& view);
+ViewSpec sweep_view(double theta_degrees, int width, int height);  // at the default azimuth
+ViewSpec rays_file_view(const std::string& path);
+std::string describe(const ViewSpec& view);  // "default 1024x1024", "sweep:70,270 128x128", "rays:FILE"
 
 // The default view: a perspective camera at (0.5, -0.113, 0.196) looking at the plane so view
 // angles span 30 degrees (near edge) to 80 degrees (far edge). The sweep view: one fixed V over a
 // width x height grid of T at pixel centres of [0,1]^2.
-RayBatch make_view_rays(const ViewSpec& view, int tile_size = kDefaultTileSize);
+// A rays_file view loads its CSV (load_rays_csv).
+RayBatch make_view_rays(const ViewSpec& view);
 
 // A CSV file with header tx,ty,vx,vy,vz; rays keep their input order, cut into tiles of
 // tile_size^2 rays. V is normalised; vz <= 0, NaN and malformed rows are InputErrors.

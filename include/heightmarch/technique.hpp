@@ -1,27 +1,55 @@
 #pragma once
-// The techniques of SPEC section 4 and their parameters.
+// The techniques of SPEC section 4 (one registry, technique_list.hpp) and their parameters.
+#include <array>
+#include <optional>
 #include <string>
-#include <vector>
+#include <string_view>
 
 #include "heightmarch/sampler.hpp"
+#include "heightmarch/technique_list.hpp"
 
 namespace heightmarch {
 
-enum class Technique { parallax, parallax_limited, steep, steep_limited, relief, pom, shadow, exact };
+#define HEIGHTMARCH_TECHNIQUE_ENUM(id, ...) id,
+enum class Technique { HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_ENUM) };
+#undef HEIGHTMARCH_TECHNIQUE_ENUM
 
-const std::vector<Technique>& all_techniques();  // exact last
+#define HEIGHTMARCH_TECHNIQUE_COUNT(...) +1
+inline constexpr int kTechniqueCount = 0 HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_COUNT);
+#undef HEIGHTMARCH_TECHNIQUE_COUNT
+
+// One row of the registry.
+struct TechniqueInfo {
+  Technique id;
+  std::string_view name;         // on the command line and in results
+  bool layered;                  // takes a layer spec; otherwise one sample ("1")
+  std::string_view glsl_call;    // the GLSL expression the harness evaluates
+  std::string_view color, marker;
+  std::string_view description;  // one line, for --help and the report
+};
+
+const std::array<TechniqueInfo, kTechniqueCount>& techniques();
+const TechniqueInfo& info(Technique technique);
 std::string to_string(Technique technique);
-Technique parse_technique(const std::string& name);  // throws InputError
+
+// Throws InputError naming the known techniques. `extra` lists names the caller accepts beside
+// the registry's (e.g. "exact"), only for the message.
+Technique parse_technique(const std::string& name, const std::string& extra = "");
+// Every technique name, comma-separated, for help texts.
+std::string technique_names();
 
 // A fixed count N (min == max) or the tutorial's dynamic range A-B: N = mix(B, A, |V.z|).
 struct LayerSpec {
   float min_layers = 32.0f;
   float max_layers = 32.0f;
   bool dynamic() const { return min_layers != max_layers; }
+  friend bool operator==(const LayerSpec&, const LayerSpec&) = default;
 };
 inline constexpr int kMaxLayers = 4096;
 LayerSpec parse_layer_spec(const std::string& text);  // throws InputError
 std::string to_string(const LayerSpec& layers);
+// What a technique runs with: the spec for a layered one, "1" (one sample) otherwise.
+LayerSpec layers_for(Technique technique, const LayerSpec& spec);
 
 inline constexpr int kMaxRefineSteps = 64;
 

@@ -3,7 +3,6 @@
 #include <cstdint>
 #include <memory>
 
-#include "heightmarch/exact.hpp"
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/hits.hpp"
 #include "heightmarch/isa.hpp"
@@ -12,6 +11,13 @@
 #include "heightmarch/technique.hpp"
 
 namespace heightmarch {
+
+// The plain structs of the dispatch boundary (src/kernels/kernel_abi.hpp).
+struct KernelTexture;
+struct KernelParams;
+struct KernelRays;
+struct KernelHits;
+struct KernelCounters;
 
 struct TraceStats {
   std::uint64_t samples = 0;         // height samples of real rays (padding excluded)
@@ -22,10 +28,11 @@ struct TraceStats {
   }
 };
 
-// Holds what a technique needs besides the rays (the padded sampler texture, or the exact
-// intersector) so that repeated runs, e.g. in benchmarks, time only the tracing.
+// The packet kernel of one technique on one ISA, chosen once when built (from the ISA's kernel
+// table), with the padded sampler texture it reads, so that repeated runs time only the tracing.
 class Tracer {
  public:
+  // Throws InputError when the CPU lacks the ISA.
   Tracer(const DepthMap& map, const TechniqueParams& params, Isa isa);
 
   // Traces every ray of the batch (padding too) into hits, in parallel over tiles in the
@@ -40,13 +47,15 @@ class Tracer {
   Isa isa() const { return isa_; }
 
  private:
-  TraceStats run_kernels(const RayBatch& rays, HitBuffers& hits, bool roofline) const;
+  using KernelFn = void (*)(const KernelTexture&, const KernelParams&, const KernelRays&,
+                            const KernelHits&, std::size_t, std::size_t, KernelCounters&);
+  TraceStats run_kernel(KernelFn kernel, const RayBatch& rays, HitBuffers& hits) const;
 
-  const DepthMap* map_;
   TechniqueParams params_;
   Isa isa_;
   SamplerTexture texture_;
-  std::unique_ptr<ExactIntersector> exact_;
+  KernelFn technique_kernel_;
+  KernelFn roofline_kernel_;
 };
 
 // Limits TBB's worker threads while alive; threads <= 0 means all cores.

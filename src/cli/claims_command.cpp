@@ -1,68 +1,99 @@
-// heightmarch claims: measures the tutorials' claims C1-C10 and writes claims.md and claims.json.
+// heightmarch claims: measures the claims' rows of the plan (the same rows a suite measures for
+// them) and writes claims.md, claims.json and measurements.json.
 #include <cstdio>
-#include <filesystem>
+#include <memory>
 #include <sstream>
 
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
-#include "cli/suite_plan.hpp"
-#include "heightmarch/claims_measurement.hpp"
-#include "heightmarch/trace.hpp"
+#include "cli/progress.hpp"
+#include "cli/suite_command.hpp"
+#include "heightmarch/run_outputs.hpp"
 #include "io/atomic_file.hpp"
 #include "io/provenance.hpp"
 
 namespace heightmarch::cli {
 
-void write_claims(const std::string& dir, const SuitePlan& plan, Isa isa, int threads) {
-  ClaimsSetup setup;
-  setup.heightfields = plan.heightfields;
-  setup.resolution = plan.resolution;
-  setup.view_size = plan.claims_view_size;
-  setup.sweep_size = plan.claims_sweep_size;
-  setup.isa = isa;
-  setup.progress = [](const std::string& hf) { std::fprintf(stderr, "claims: measuring %s\n", hf.c_str()); };
-  const ClaimsData data = measure_claims(setup);
-  const std::vector<ClaimResult> results = evaluate_claims(data);
+std::vector<HeightfieldSource> extra_heightfields(const std::string& list) {
+  std::vector<HeightfieldSource> sources;
+  std::stringstream in(list);
+  for (std::string path; std::getline(in, path, ',');)
+    if (!path.empty()) sources.push_back(parse_heightfield(path));
+  return sources;
+}
+
+MeasuredPlan measure_with_progress(const std::vector<Configuration>& plan, const PlanSettings& settings,
+                                   Progress& progress, const std::function<void(const TracedRow&)>& on_traced) {
+  MeasureOptions measure;
+  measure.repetitions = settings.repetitions;
+  measure.min_seconds = settings.min_seconds;
+  measure.on_traced = on_traced;
+  measure.progress = [&](const std::string& what, std::size_t done, std::size_t total) { progress.step(what, done, total); };
+  MeasuredPlan run = measure_plan(plan, measure);
+  progress.finish_line();
+  return run;
+}
+
+void write_claims(const std::string& dir, const MeasuredPlan& run, const PlanSettings& settings) {
+  const std::vector<ClaimResult> results = evaluate_claims(claims_data(run.rows));
   const Provenance p = provenance();
   const std::string provenance_line = "Measured " + p.date + " on " + p.cpu + " (" + std::to_string(p.cores) +
-                                      " cores), ISA " + to_string(isa) + ", " + std::to_string(threads) +
-                                      " threads, commit " + p.commit + ", " + p.compiler + ".";
+                                      " cores), ISA " + to_string(settings.best_isa) + ", " +
+                                      std::to_string(settings.threads) + " threads, commit " + p.commit + ", " +
+                                      p.compiler + " (" + p.build_type + ").";
   std::string heightfields;
-  for (const auto& hf : plan.heightfields) heightfields += (heightfields.empty() ? "" : ", ") + heightfield_label(hf);
+  for (const auto& hf : settings.heightfields) heightfields += (heightfields.empty() ? "" : ", ") + hf.label();
+  std::string angles;
+  for (double a : claim_sweep_angles()) angles += (angles.empty() ? "" : ", ") + std::to_string(int(a));
   const std::string configurations =
-      "Configurations: heightfields " + heightfields + " (" + std::to_string(plan.resolution) + " x " +
-      std::to_string(plan.resolution) + " builtins), scale 0.1, REPEAT; the default view at " +
-      std::to_string(plan.claims_view_size) + " x " + std::to_string(plan.claims_view_size) +
-      " pixels for every technique at layers 4, 8, 10, 16, 32, 64 and 8-32; sweep views of " +
-      std::to_string(plan.claims_sweep_size) + " x " + std::to_string(plan.claims_sweep_size) +
-      " rays at 20, 30, 70 and 80 degrees for the parallax claims. Errors are uv errors in texels against the exact "
-      "intersection; speeds are rays/s of the CPU packet kernels.";
-  std::filesystem::create_directories(dir);
+      "Configurations: heightfields " + heightfields + " (builtins at " + std::to_string(settings.heightfields.front().resolution) +
+      " x " + std::to_string(settings.heightfields.front().resolution) +
+      "), scale 0.1, REPEAT; the default view at " + std::to_string(settings.view_size) + " x " +
+      std::to_string(settings.view_size) + " pixels (the same rows as the report's tables) for every claim technique at layers 4, 8, 10, "
+      "16, 32, 64 and 8-32; sweep views of " + std::to_string(settings.sweep_size) + " x " + std::to_string(settings.sweep_size) +
+      " rays at " + angles + " degrees for the parallax claims. Errors are uv errors in texels against the exact intersection; "
+      "costs are height samples per ray (deterministic); speeds are rays/s of the CPU packet kernels, the median (min-max) of " +
+      std::to_string(settings.repetitions) + " interleaved repetitions.";
   write_file_atomically(dir + "/claims.md", claims_markdown(results, provenance_line, configurations));
   write_file_atomically(dir + "/claims.json", claims_json(results));
   for (const ClaimResult& r : results)
     std::printf("%-4s %-13s %s\n", r.id.c_str(), to_string(r.verdict).c_str(), r.claim.c_str());
 }
 
-int claims_command(const std::vector<std::string>& args) {
-  const std::vector<OptionSpec> specs = {
-      {"heightmap", true, "extra depth map files, comma-separated, measured beside the builtins"},
-      {"quick", false, "fewer heightfields and smaller views (about a minute)"},
-      {"out", true, "directory for claims.md and claims.json (default: current directory)"},
-      {"threads", true, "worker threads (default: all cores)"},
-      {"isa", true, "scalar, sse4.2, avx2, avx512 or auto"},
-      {"help", false, "this text"},
-  };
-  const Options options(args, specs);
-  if (options.has("help")) {
-    std::printf("usage: heightmarch claims [options]\n%s", usage(specs).c_str());
+namespace {
+
+struct ClaimsOptions {
+  std::string heightmap;
+  bool quick = false;
+  std::string out = ".";
+  int threads = 0;
+  std::string isa;
+  int repetitions = 5;
+};
+
+}  // namespace
+
+Command add_claims_command(CLI::App& app) {
+  CLI::App* command = app.add_subcommand("claims", "measure the tutorials' claims C1-C10 and write claims.md");
+  auto o = std::make_shared<ClaimsOptions>();
+  command->add_option("--heightmap", o->heightmap, "extra depth map files, comma-separated, measured beside the builtins");
+  command->add_flag("--quick", o->quick, "the quick plan's heightfields and sizes");
+  command->add_option("--out", o->out, "directory for claims.md, claims.json and measurements.json")->capture_default_str();
+  command->add_option("--threads", o->threads, "worker threads (0: all cores)")->check(CLI::Range(0, 1024));
+  command->add_option("--isa", o->isa, isa_names() + " or auto");
+  command->add_option("--repetitions", o->repetitions, "timed repetitions per configuration")->check(CLI::Range(1, 1000))->capture_default_str();
+  return [o] {
+    PlanSettings settings = suite_settings(o->quick, extra_heightfields(o->heightmap), resolve_threads(o->threads), false);
+    settings.best_isa = select_isa(o->isa);
+    settings.repetitions = o->repetitions;
+    Progress progress("claims");
+    progress.stage("measuring " + std::to_string(settings.heightfields.size()) + " heightfields");
+    const MeasuredPlan run = measure_with_progress(claims_plan(settings), settings, progress, {});
+    std::filesystem::create_directories(o->out);
+    write_file_atomically(o->out + "/measurements.json", measurements_json(run, settings.name + " claims"));
+    write_claims(o->out, run, settings);
     return 0;
-  }
-  const SuitePlan plan = make_suite_plan(options.has("quick"), options.text("heightmap", ""));
-  const Isa isa = select_isa(options.text("isa", ""));
-  const ThreadLimit limit(thread_count(options));
-  write_claims(options.text("out", "."), plan, isa, limit.threads());
-  return 0;
+  };
 }
 
 }  // namespace heightmarch::cli

@@ -1,13 +1,16 @@
 #pragma once
-// The subcommands of build/heightmarch; each returns the process exit status.
-#include <string>
-#include <vector>
+// The subcommands of build/heightmarch. Each declares its options on its CLI11 subcommand and
+// returns what runs it (after parsing), which returns the process exit status.
+#include <CLI/CLI.hpp>
+#include <functional>
 
 namespace heightmarch::cli {
 
-int trace_command(const std::vector<std::string>& args);
-int glsl_command(const std::vector<std::string>& args);
-int suite_command(const std::vector<std::string>& args);
-int claims_command(const std::vector<std::string>& args);
+using Command = std::function<int()>;
+
+Command add_trace_command(CLI::App& app);
+Command add_glsl_command(CLI::App& app);
+Command add_suite_command(CLI::App& app);
+Command add_claims_command(CLI::App& app);
 
 }  // namespace heightmarch::cli

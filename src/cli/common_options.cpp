@@ -1,48 +1,41 @@
 #include "cli/common_options.hpp"
 
+#include <tbb/info.h>
+
 #include <sstream>
 
 #include "heightmarch/error.hpp"
 
 namespace heightmarch::cli {
 
-std::vector<OptionSpec> scene_option_specs() {
-  return {
-      {"heightmap", true, "PATH or builtin:NAME (default builtin:bricks)"},
-      {"res", true, "resolution of a builtin heightfield (default 512)"},
-      {"seed", true, "seed of a builtin heightfield (default 1)"},
-      {"convention", true, "depth (white = deep, default) or height (white = high)"},
-      {"view", true, "default or sweep:THETA[,PHI] in degrees"},
-      {"size", true, "view size WxH in pixels (default 1024x1024)"},
-      {"rays", true, "CSV file of rays (tx,ty,vx,vy,vz) instead of a view"},
-      {"tile", true, "tile side in pixels (default 32)"},
-  };
-}
-
-std::vector<OptionSpec> technique_option_specs() {
-  return {
-      {"technique", true, "parallax, parallax-limited, steep, steep-limited, relief, pom, shadow, exact"},
-      {"layers", true, "layer count N or dynamic range A-B (default 32)"},
-      {"refine", true, "relief's binary search steps (default 5)"},
-      {"scale", true, "height scale s (default 0.1)"},
-      {"wrap", true, "repeat (default) or clamp"},
-      {"discard", false, "discard rays whose final uv leaves [0,1]^2"},
-      {"light", true, "x,y,z direction towards the light (shadow; default 1,1,1)"},
-  };
-}
-
-std::vector<OptionSpec> run_option_specs() {
-  return {
-      {"threads", true, "worker threads (default: all cores)"},
-      {"out", true, "directory for hits.exr, error.png, render.png, metrics.json"},
-      {"json", false, "print the metrics as JSON"},
-  };
-}
-
-std::vector<OptionSpec> trace_option_specs() {
-  std::vector<OptionSpec> specs = scene_option_specs();
-  for (const auto& list : {technique_option_specs(), run_option_specs()}) specs.insert(specs.end(), list.begin(), list.end());
-  return specs;
+void add_trace_options(CLI::App& app, TraceOptions& o, bool exact_allowed) {
+  app.add_option("--heightmap", o.heightmap, "PATH, or builtin:NAME (" + [] {
+    std::string names;
+    for (const auto& n : builtin_heightfield_names()) names += (names.empty() ? "" : ", ") + n;
+    return names;
+  }() + ")")->capture_default_str();
+  app.add_option("--res", o.res, "resolution of a builtin heightfield")->check(CLI::Range(1, kMaxDepthMapSide))->capture_default_str();
+  app.add_option("--seed", o.seed, "seed of a builtin heightfield")->check(CLI::Range(0, 1 << 30))->capture_default_str();
+  app.add_option("--convention", o.convention, "depth (white = deep) or height (white = high)")
+      ->check(CLI::IsMember({"depth", "height"}))->capture_default_str();
+  app.add_option("--view", o.view, "default, or sweep:THETA[,PHI] in degrees")->capture_default_str();
+  app.add_option("--size", o.size, "view size WxH in pixels")->capture_default_str();
+  app.add_option("--rays", o.rays, "CSV file of rays (tx,ty,vx,vy,vz; V towards the eye) instead of a view")
+      ->excludes(app.get_option("--view"))->excludes(app.get_option("--size"));
+  app.add_option("--tile", o.tile, "tile side in pixels")->check(CLI::Range(1, 4096))->capture_default_str();
+  app.add_option("--technique", o.technique, technique_names() + (exact_allowed ? ", or exact (the reference itself)" : ""))
+      ->capture_default_str();
+  app.add_option("--layers", o.layers, "layer count N, or dynamic range A-B")->capture_default_str();
+  app.add_option("--refine", o.refine, "relief's binary search steps")->check(CLI::Range(0, kMaxRefineSteps))->capture_default_str();
+  app.add_option("--scale", o.scale, "height scale s, in [0, 1]")->capture_default_str();
+  app.add_option("--wrap", o.wrap, "repeat or clamp")->check(CLI::IsMember({"repeat", "clamp"}))->capture_default_str();
+  app.add_flag("--discard", o.discard, "discard rays whose final uv leaves [0,1]^2");
+  app.add_option("--light", o.light, "x,y,z direction towards the light (shadow)")->capture_default_str();
+  app.add_option("--threads", o.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
+  app.add_option("--repetitions", o.repetitions, "timed repetitions (speed: their median, min and max)")
+      ->check(CLI::Range(1, 1000))->capture_default_str();
+  app.add_option("--out", o.out, "directory for hits.exr, error.png, render.png, metrics.json (and rays.csv)");
+  app.add_flag("--json", o.json, "print the metrics as JSON");
 }
 
 namespace {
@@ -66,53 +59,43 @@ void parse_size(const std::string& text, int& width, int& height) {
 
 }  // namespace
 
-Scene load_scene(const Options& options) {
-  const std::string heightfield = options.text("heightmap", "builtin:bricks");
-  const std::string convention = options.text("convention", "depth");
-  if (convention != "depth" && convention != "height")
-    throw InputError("--convention '" + convention + "' must be depth or height");
-  const int res = options.integer("res", 512, 1, kMaxDepthMapSide);
-  const int seed = options.integer("seed", 1, 0, 1 << 30);
-  const int tile = options.integer("tile", kDefaultTileSize, 1, 4096);
-  const Convention depth_or_height = convention == "height" ? Convention::height : Convention::depth;
-  if (const auto rays = options.get("rays")) {
-    if (options.has("view") || options.has("size")) throw InputError("--rays replaces --view and --size");
-    Scene scene;
-    scene.heightfield = heightfield;
-    scene.map = load_heightfield(heightfield, res, std::uint64_t(seed), depth_or_height);
-    scene.rays = load_rays_csv(*rays, tile);
-    scene.rays_from_file = true;
-    scene.view = "rays:" + *rays;
-    return scene;
-  }
-  int width = 1024, height = 1024;
-  if (const auto size = options.get("size")) parse_size(*size, width, height);
-  return make_scene(heightfield, res, std::uint64_t(seed), depth_or_height,
-                    parse_view(options.text("view", "default"), width, height), tile);
-}
+int resolve_threads(int threads) { return threads > 0 ? threads : tbb::info::default_concurrency(); }
 
-TechniqueParams technique_params(const Options& options) {
-  TechniqueParams params;
-  params.technique = parse_technique(options.text("technique", "pom"));
-  params.layers = parse_layer_spec(options.text("layers", "32"));
-  params.refine_steps = options.integer("refine", 5, 0, kMaxRefineSteps);
-  params.scale = float(options.number("scale", 0.1));
-  const std::string wrap = options.text("wrap", "repeat");
-  if (wrap != "repeat" && wrap != "clamp") throw InputError("--wrap '" + wrap + "' must be repeat or clamp");
-  params.wrap = wrap == "repeat" ? Wrap::repeat : Wrap::clamp;
-  params.discard = options.has("discard");
-  if (const auto light = options.get("light")) {
-    std::stringstream in(*light);
-    char c1 = 0, c2 = 0;
-    float l[3];
-    if (!(in >> l[0] >> c1 >> l[1] >> c2 >> l[2]) || c1 != ',' || c2 != ',' || !(in >> std::ws).eof())
-      throw InputError("--light '" + *light + "' must be x,y,z");
-    for (int i = 0; i < 3; ++i) params.light[i] = l[i];
+Configuration trace_configuration(const TraceOptions& o, RunKind kind) {
+  Configuration c;
+  c.kind = kind;
+  c.purposes = kPurposeCommand;
+  c.heightfield = parse_heightfield(o.heightmap, o.res, std::uint64_t(o.seed),
+                                    o.convention == "height" ? Convention::height : Convention::depth);
+  if (!o.rays.empty()) {
+    c.view = rays_file_view(o.rays);
+  } else {
+    int width = 1024, height = 1024;
+    parse_size(o.size, width, height);
+    c.view = parse_view(o.view, width, height);
   }
-  validate(params);
-  return params;
+  c.view.tile_size = o.tile;
+  TechniqueParams& p = c.params;
+  if (kind == RunKind::exact) {
+    p.layers = LayerSpec{1.0f, 1.0f};
+  } else {
+    p.technique = parse_technique(o.technique, kind == RunKind::trace ? "exact" : "");
+    p.layers = layers_for(p.technique, parse_layer_spec(o.layers));
+  }
+  p.refine_steps = o.refine;
+  if (!std::isfinite(o.scale)) throw InputError("--scale " + std::to_string(o.scale) + " is not a finite number");
+  p.scale = float(o.scale);
+  p.wrap = o.wrap == "repeat" ? Wrap::repeat : Wrap::clamp;
+  p.discard = o.discard;
+  std::stringstream in(o.light);
+  char c1 = 0, c2 = 0;
+  float l[3];
+  if (!(in >> l[0] >> c1 >> l[1] >> c2 >> l[2]) || c1 != ',' || c2 != ',' || !(in >> std::ws).eof())
+    throw InputError("--light '" + o.light + "' must be x,y,z");
+  for (int i = 0; i < 3; ++i) p.light[i] = l[i];
+  validate(p);
+  c.threads = resolve_threads(o.threads);
+  return c;
 }
-
-int thread_count(const Options& options) { return options.integer("threads", 0, 0, 1024); }
 
 }  // namespace heightmarch::cli

@@ -1,20 +1,46 @@
 #pragma once
-// The options trace, glsl and the other commands share: what to trace, how, and where to.
+// The options trace and glsl share (what to trace, how, and where to), declared once on a CLI11
+// command and turned into one typed Configuration.
+#include <CLI/CLI.hpp>
 #include <string>
-#include <vector>
 
-#include "cli/options.hpp"
-#include "heightmarch/experiment.hpp"
+#include "heightmarch/configuration.hpp"
 
 namespace heightmarch::cli {
 
-std::vector<OptionSpec> scene_option_specs();      // heightmap, res, seed, convention, view, size, rays, tile
-std::vector<OptionSpec> technique_option_specs();  // technique, layers, refine, scale, wrap, discard, light
-std::vector<OptionSpec> run_option_specs();        // threads, out, json
-std::vector<OptionSpec> trace_option_specs();      // all three: what trace and glsl share
+struct TraceOptions {
+  // The scene
+  std::string heightmap = "builtin:bricks";
+  int res = 512;
+  int seed = 1;
+  std::string convention = "depth";
+  std::string view = "default";
+  std::string size = "1024x1024";
+  std::string rays;
+  int tile = kDefaultTileSize;
+  // The technique
+  std::string technique = "pom";
+  std::string layers = "32";
+  int refine = 5;
+  double scale = 0.1;
+  std::string wrap = "repeat";
+  bool discard = false;
+  std::string light = "1,1,1";
+  // The run
+  int threads = 0;
+  int repetitions = 5;
+  std::string out;
+  bool json = false;
+};
 
-Scene load_scene(const Options& options);
-TechniqueParams technique_params(const Options& options);
-int thread_count(const Options& options);  // --threads, 0 = all cores
+// Declares the options on a command; `exact_allowed`: --technique also takes "exact".
+void add_trace_options(CLI::App& command, TraceOptions& options, bool exact_allowed);
+
+// The configuration the options describe (kind exact for --technique exact when allowed).
+// Throws InputError naming the option for values CLI11 cannot check on its own.
+Configuration trace_configuration(const TraceOptions& options, RunKind kind);
+
+// --threads 0 (the default) means all cores.
+int resolve_threads(int threads);
 
 }  // namespace heightmarch::cli

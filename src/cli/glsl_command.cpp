@@ -1,96 +1,129 @@
 // heightmarch glsl: the technique as GLSL in OSMesa (llvmpipe) on the same rays as the CPU;
-// --compare runs the CPU kernels beside it and reports conformance and the speed ratio.
+// --compare measures the CPU kernels beside it, interleaved, and reports conformance and the
+// speed ratio with its spread.
 #include <algorithm>
-#include <chrono>
-#include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
-#include "heightmarch/error.hpp"
 #include "heightmarch/glsl_runner.hpp"
-#include "heightmarch/metrics.hpp"
+#include "heightmarch/run_outputs.hpp"
+#include "io/atomic_file.hpp"
+#include "io/json_writer.hpp"
 
 namespace heightmarch::cli {
+namespace {
 
-RunResult run_glsl(const Scene& scene, const HitBuffers& exact, const TechniqueParams& params, int threads,
-                   const std::string& shader_path, double min_seconds, GlslRunner*& runner_out) {
-  GlslRunner& runner = GlslRunner::instance(threads);
-  runner_out = &runner;
-  runner.prepare(scene.map, params, scene.rays, shader_path);
-  runner.draw();  // the first draw JIT-compiles the shader: not timed
-  RunResult run;
-  run.backend = "glsl";
-  run.threads = runner.threads();
-  run.seconds = median_seconds([&] { runner.draw(); }, min_seconds, run.repetitions);
-  runner.read(run.hits, run.samples_known);
-  run.stats.samples = total_samples(scene.rays, run.hits);
-  std::size_t not_finite = 0, first = 0;
-  for (std::size_t i = 0; i < scene.rays.size(); ++i) {
-    if (scene.rays.is_padding(i)) continue;
-    if (!std::isfinite(run.hits.u[i]) || !std::isfinite(run.hits.v[i]) || !std::isfinite(run.hits.depth[i]))
-      if (not_finite++ == 0) first = i;
+struct GlslOptions {
+  TraceOptions trace;
+  std::string shader;
+  bool compare = false;
+};
+
+struct Conformance {
+  double same_samples = 0;  // share of rays with identical sample counts
+  double p99 = 0, max = 0;  // uv difference, texels
+};
+
+Conformance conformance(const RayBatch& rays, const HitBuffers& glsl, const HitBuffers& cpu, int width, int height) {
+  std::size_t same = 0, measured = 0;
+  std::vector<float> differences;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    if (rays.is_padding(i)) continue;
+    ++measured;
+    same += glsl.samples[i] == cpu.samples[i];
+    differences.push_back(uv_error_texels(glsl.u[i], glsl.v[i], cpu.u[i], cpu.v[i], width, height));
   }
-  // A brought-in loop that never ends is cut off by llvmpipe (or optimised away) and leaves
-  // garbage: no figure is made from it.
-  if (not_finite)
-    throw InputError((shader_path.empty() ? std::string("GLSL ") + to_string(params.technique) : shader_path) +
-                     ": returned a non-finite uv or depth for " + std::to_string(not_finite) + " of " +
-                     std::to_string(scene.rays.ray_count) + " rays (first: T = " + std::to_string(scene.rays.tx[first]) +
-                     "," + std::to_string(scene.rays.ty[first]) + "); an endless loop ends this way in llvmpipe");
-  measure(scene, exact, params, run);
-  return run;
+  std::sort(differences.begin(), differences.end());
+  Conformance c;
+  if (differences.empty()) return c;
+  c.same_samples = double(same) / double(measured);
+  c.p99 = differences[std::min(differences.size() - 1, differences.size() * 99 / 100)];
+  c.max = differences.back();
+  return c;
 }
 
-int glsl_command(const std::vector<std::string>& args) {
-  std::vector<OptionSpec> specs = trace_option_specs();
-  specs.push_back({"shader", true, "GLSL file defining vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)"});
-  specs.push_back({"compare", false, "also run the CPU kernels (best ISA) and report conformance and speed"});
-  specs.push_back({"help", false, "this text"});
-  const Options options(args, specs);
-  if (options.has("help")) {
-    std::printf("usage: heightmarch glsl [options]\n%s", usage(specs).c_str());
-    return 0;
-  }
-  const TechniqueParams params = technique_params(options);
-  const std::string shader = options.text("shader", "");
-  const Scene scene = load_scene(options);
-  const ThreadLimit limit(thread_count(options));
-  const HitBuffers exact = exact_hits(scene, params);
-  GlslRunner* runner = nullptr;
-  const RunResult run = run_glsl(scene, exact, params, limit.threads(), shader, 0.3, runner);
-  if (options.has("json")) {
-    std::fputs(metrics_json(scene, params, run).c_str(), stdout);
-  } else {
-    std::printf("GLSL on %s, %s\n", runner->renderer().c_str(), runner->version().c_str());
-    if (!shader.empty()) std::printf("brought-in shader %s (samples unknown)\n", shader.c_str());
-    std::fputs(summary_text(scene, params, run).c_str(), stdout);
-  }
-  if (options.has("compare")) {
-    const Isa isa = select_isa("");
-    const RunResult cpu = run_cpu(scene, exact, params, isa, limit.threads(), 0.3);
-    std::size_t same_samples = 0, measured = 0;
-    std::vector<float> differences;
-    for (std::size_t i = 0; i < scene.rays.size(); ++i) {
-      if (scene.rays.is_padding(i)) continue;
-      ++measured;
-      same_samples += run.hits.samples[i] == cpu.hits.samples[i];
-      differences.push_back(uv_error_texels(run.hits.u[i], run.hits.v[i], cpu.hits.u[i], cpu.hits.v[i],
-                                            scene.map.width, scene.map.height));
+// CPU over GLSL rays/s, per round of the interleaved repetitions.
+Spread ratio_per_round(const Measurement& cpu, const Measurement& glsl) {
+  const std::vector<double> a = cpu.rays_per_second(), b = glsl.rays_per_second();
+  std::vector<double> ratios;
+  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) ratios.push_back(b[i] > 0 ? a[i] / b[i] : 0.0);
+  return spread_of(ratios);
+}
+
+}  // namespace
+
+Command add_glsl_command(CLI::App& app) {
+  CLI::App* command = app.add_subcommand("glsl", "run the same technique as GLSL in OSMesa (llvmpipe); --compare sets it beside the CPU");
+  auto o = std::make_shared<GlslOptions>();
+  add_trace_options(*command, o->trace, false);
+  command->add_option("--shader", o->shader, "GLSL file defining vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)");
+  command->add_flag("--compare", o->compare, "also run the CPU kernels (best ISA), interleaved, and report conformance and speed");
+  return [o] {
+    Configuration glsl = trace_configuration(o->trace, RunKind::glsl);
+    glsl.shader_path = o->shader;
+    std::vector<Configuration> plan = {glsl};
+    if (o->compare) {
+      Configuration cpu = glsl;
+      cpu.kind = RunKind::trace;
+      cpu.shader_path.clear();
+      cpu.isa = select_isa("");
+      plan.push_back(cpu);
     }
-    std::sort(differences.begin(), differences.end());
-    const double p99 = differences.empty() ? 0.0 : differences[std::min(differences.size() - 1, differences.size() * 99 / 100)];
+    HitBuffers glsl_hits;  // row 0's, for the conformance when row 1 (the CPU) is traced
+    Conformance conf;
+    MeasureOptions measure;
+    measure.repetitions = o->trace.repetitions;
+    measure.min_seconds = 0.05;
+    measure.on_traced = [&](const TracedRow& traced) {
+      if (traced.row.id == 0) {
+        if (o->compare) glsl_hits = traced.hits;
+        if (!o->trace.out.empty()) write_run_outputs(o->trace.out, traced);
+      } else {
+        conf = conformance(traced.rays, glsl_hits, traced.hits, traced.map.width, traced.map.height);
+      }
+    };
+    const MeasuredPlan run = measure_plan(plan, measure);
+    const Measurement& g = run.rows.front();
+    if (!o->trace.out.empty()) write_file_atomically(o->trace.out + "/metrics.json", metrics_json(g));
+    GlslRunner& runner = GlslRunner::instance(g.config.threads);
+    if (!o->compare) {
+      if (o->trace.json) {
+        std::fputs(metrics_json(g).c_str(), stdout);
+      } else {
+        std::printf("GLSL on %s, %s\n", runner.renderer().c_str(), runner.version().c_str());
+        std::fputs(summary_text(g).c_str(), stdout);
+      }
+      return 0;
+    }
+    const Measurement& c = run.rows.back();
+    const Spread ratio = ratio_per_round(c, g);
+    if (o->trace.json) {
+      // One document: both rows and what compares them.
+      JsonWriter json;
+      json.begin_object().value("renderer", runner.renderer()).value("version", runner.version());
+      json.begin_object("conformance").value("cpu_backend", c.config.backend());
+      g.samples_known ? json.value("identical_sample_counts", conf.same_samples) : json.null("identical_sample_counts");
+      json.value("uv_difference_p99", conf.p99).value("uv_difference_max", conf.max).end_object();
+      json.begin_object("cpu_over_glsl_rays_per_second")
+          .value("median", ratio.median).value("min", ratio.min).value("max", ratio.max).end_object().end_object();
+      std::printf("{\"glsl\": %s, \"cpu\": %s, \"comparison\": %s}\n", metrics_json(g).c_str(), metrics_json(c).c_str(),
+                  json.str().c_str());
+      return 0;
+    }
+    std::printf("GLSL on %s, %s\n", runner.renderer().c_str(), runner.version().c_str());
+    std::fputs(summary_text(g).c_str(), stdout);
+    std::fputs(summary_text(c).c_str(), stdout);
     std::printf("conformance with the CPU (%s): identical sample counts %s, uv difference p99 %.3g max %.3g texels\n",
-                isa == Isa::scalar ? "scalar" : to_string(isa).c_str(),
-                run.samples_known ? (std::to_string(100.0 * double(same_samples) / double(measured)).substr(0, 6) + "%").c_str()
-                                  : "unknown (brought-in shader)",
-                p99, differences.empty() ? 0.0 : double(differences.back()));
-    std::printf("speed at %d thread%s: CPU %.2f Mrays/s, GLSL %.2f Mrays/s, CPU/GLSL %.1fx\n", limit.threads(),
-                limit.threads() == 1 ? "" : "s", cpu.rays_per_second() / 1e6, run.rays_per_second() / 1e6,
-                cpu.rays_per_second() / run.rays_per_second());
-  }
-  if (const auto out = options.get("out")) write_run_outputs(*out, scene, params, run, exact);
-  return 0;
+                c.config.backend().c_str(),
+                g.samples_known ? (std::to_string(100.0 * conf.same_samples).substr(0, 6) + "%").c_str()
+                                : "unknown (brought-in shader)",
+                conf.p99, conf.max);
+    std::printf("speed at %d thread%s: CPU/GLSL %.2fx (%.2f-%.2f over %zu paired rounds)\n", g.config.threads,
+                g.config.threads == 1 ? "" : "s", ratio.median, ratio.min, ratio.max, g.seconds.size());
+    return 0;
+  };
 }
 
 }  // namespace heightmarch::cli

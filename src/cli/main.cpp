@@ -1,43 +1,51 @@
 // build/heightmarch: subcommand dispatch and the one place where errors become exit codes.
+#include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <map>
 #include <string>
-#include <vector>
 
 #include "cli/commands.hpp"
 #include "heightmarch/error.hpp"
-
-namespace {
-
-constexpr const char* kUsage =
-    "usage: heightmarch COMMAND [options]\n"
-    "  trace   run one technique with the CPU packet kernels and measure it against the exact hits\n"
-    "  suite   the main job: benchmark matrix, error sweeps, gallery, claims and report into results/\n"
-    "  claims  measure the tutorials' claims C1-C10 and write claims.md\n"
-    "  glsl    run the same technique as GLSL in OSMesa (llvmpipe); --compare sets it beside the CPU\n"
-    "run 'heightmarch COMMAND --help' for its options\n";
-
-}  // namespace
+#include "io/provenance.hpp"
 
 int main(int argc, char** argv) {
   using namespace heightmarch;
-  if (argc < 2) {
-    std::fputs(kUsage, stderr);
+  CLI::App app("heightmarch: parallax-mapping techniques as SIMD packet kernels and as GLSL, measured "
+               "against the exact ray/heightfield intersection",
+               "heightmarch");
+  app.set_version_flag("--version", "heightmarch " HEIGHTMARCH_VERSION " (commit " + provenance().commit + ", " +
+                                        provenance().build_type + ")");
+  app.require_subcommand(1);
+  std::map<const CLI::App*, cli::Command> commands;
+  for (auto add : {cli::add_trace_command, cli::add_suite_command, cli::add_claims_command, cli::add_glsl_command}) {
+    cli::Command run = add(app);
+    commands[app.get_subcommands({}).back()] = std::move(run);
+  }
+  const auto subcommands = app.get_subcommands({});
+  const bool known = argc >= 2 && std::any_of(subcommands.begin(), subcommands.end(),
+                                              [&](const CLI::App* c) { return c->get_name() == argv[1]; });
+  if (argc >= 2 && argv[1][0] != '-' && !known) {
+    std::fprintf(stderr, "heightmarch: unknown command '%s' (trace, glsl, suite, claims; see --help)\n", argv[1]);
     return 2;
   }
-  const std::string command = argv[1];
-  const std::vector<std::string> args(argv + 2, argv + argc);
   try {
-    if (command == "trace") return cli::trace_command(args);
-    if (command == "glsl") return cli::glsl_command(args);
-    if (command == "suite") return cli::suite_command(args);
-    if (command == "claims") return cli::claims_command(args);
-    if (command == "--help" || command == "help") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
-    std::fprintf(stderr, "heightmarch: unknown command '%s' (run 'heightmarch --help')\n", command.c_str());
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::string message = e.what();
+    if (message.empty() || argc < 2) message = "a command is required (trace, glsl, suite, claims; see --help)";
+    std::fprintf(stderr, "heightmarch: %s\n", message.c_str());
     return 2;
+  }
+  try {
+    return commands.at(app.get_subcommands().front())();
   } catch (const InputError& e) {
     std::fprintf(stderr, "heightmarch: %s\n", e.what());
     return 2;

@@ -1,32 +1,35 @@
-// heightmarch trace: one technique on one scene with the CPU packet kernels.
+// heightmarch trace: one technique (or the exact reference) on one scene with the CPU kernels.
 #include <cstdio>
+#include <memory>
 
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
+#include "heightmarch/run_outputs.hpp"
+#include "io/atomic_file.hpp"
 
 namespace heightmarch::cli {
 
-int trace_command(const std::vector<std::string>& args) {
-  std::vector<OptionSpec> specs = trace_option_specs();
-  specs.push_back({"isa", true, "scalar, sse4.2, avx2, avx512 or auto (default; or $HEIGHTMARCH_ISA)"});
-  specs.push_back({"help", false, "this text"});
-  const Options options(args, specs);
-  if (options.has("help")) {
-    std::printf("usage: heightmarch trace [options]\n%s", usage(specs).c_str());
-    return 0;
-  }
-  const Isa isa = select_isa(options.text("isa", ""));
-  const TechniqueParams params = technique_params(options);
-  const Scene scene = load_scene(options);
-  const ThreadLimit limit(thread_count(options));
-  const HitBuffers exact = exact_hits(scene, params);
-  const RunResult run = run_cpu(scene, exact, params, isa, limit.threads(), 0.3);
-  if (options.has("json"))
-    std::fputs(metrics_json(scene, params, run).c_str(), stdout);
-  else
-    std::fputs(summary_text(scene, params, run).c_str(), stdout);
-  if (const auto out = options.get("out")) write_run_outputs(*out, scene, params, run, exact);
-  return 0;
+Command add_trace_command(CLI::App& app) {
+  CLI::App* command = app.add_subcommand("trace", "run one technique with the CPU packet kernels and measure it against the exact hits");
+  auto options = std::make_shared<TraceOptions>();
+  auto isa = std::make_shared<std::string>();
+  add_trace_options(*command, *options, true);
+  command->add_option("--isa", *isa, isa_names() + " or auto (default: auto, or $HEIGHTMARCH_ISA)");
+  return [options, isa] {
+    Configuration config = trace_configuration(*options, options->technique == "exact" ? RunKind::exact : RunKind::trace);
+    config.isa = select_isa(*isa);
+    MeasureOptions measure;
+    measure.repetitions = options->repetitions;
+    measure.min_seconds = 0.05;
+    if (!options->out.empty())
+      measure.on_traced = [&](const TracedRow& traced) { write_run_outputs(options->out, traced); };
+    const MeasuredPlan run = measure_plan({config}, measure);
+    const Measurement& row = run.rows.front();
+    // metrics.json again, now with the timed repetitions.
+    if (!options->out.empty()) write_file_atomically(options->out + "/metrics.json", metrics_json(row));
+    std::fputs((options->json ? metrics_json(row) : summary_text(row)).c_str(), stdout);
+    return row.failure.empty() ? 0 : 1;
+  };
 }
 
 }  // namespace heightmarch::cli

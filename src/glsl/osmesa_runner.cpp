@@ -83,20 +83,6 @@ GLuint compile(GLenum type, const std::string& source, const std::string& user_p
   return shader;
 }
 
-std::string technique_call(Technique technique) {
-  switch (technique) {
-    case Technique::parallax: return "parallax(T, V, false)";
-    case Technique::parallax_limited: return "parallax(T, V, true)";
-    case Technique::steep: return "steep(T, V, false)";
-    case Technique::steep_limited: return "steep(T, V, true)";
-    case Technique::relief: return "relief(T, V)";
-    case Technique::pom: return "pom(T, V)";
-    case Technique::shadow: return "shadow(T, V)";
-    case Technique::exact: break;
-  }
-  throw InputError("the exact technique has no GLSL version");
-}
-
 }  // namespace
 
 struct GlslRunner::State {
@@ -174,7 +160,7 @@ void GlslRunner::prepare(const DepthMap& map, const TechniqueParams& params, con
   std::string fragment = "#version 330 core\n" + glsl("prelude.glsl");
   if (shader_path.empty()) {
     fragment += glsl("steep.glsl") + glsl("techniques.glsl") + "#define TECHNIQUE(T, V) " +
-                technique_call(params.technique) + "\n";
+                std::string(info(params.technique).glsl_call) + "\n";
   } else {
     fragment += "#define height_scale heightScale\nfloat numLayers = maxLayers;\n#line 1 1\n" + user_source(shader_path) +
                 "#line 1 0\n" + glsl("user_shader.glsl") + "#define TECHNIQUE(T, V) userShader(T, V)\n";

@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -92,10 +93,47 @@ DepthMap load_depth_map(const std::string& path, Convention convention) {
   return map;
 }
 
-DepthMap load_heightfield(const std::string& spec, int resolution, std::uint64_t seed, Convention convention) {
+std::string HeightfieldSource::label() const {
+  return builtin.empty() ? std::filesystem::path(path).filename().string() : builtin;
+}
+
+std::string HeightfieldSource::describe() const { return builtin.empty() ? path : "builtin:" + builtin; }
+
+HeightfieldSource parse_heightfield(const std::string& text, int resolution, std::uint64_t seed, Convention convention) {
+  if (resolution < 1 || resolution > kMaxDepthMapSide)
+    throw InputError("heightfield resolution " + std::to_string(resolution) + " outside [1, " +
+                     std::to_string(kMaxDepthMapSide) + "]");
+  HeightfieldSource source;
+  source.resolution = resolution;
+  source.seed = seed;
+  source.convention = convention;
   const std::string prefix = "builtin:";
-  if (spec.rfind(prefix, 0) == 0) return make_builtin_heightfield(spec.substr(prefix.size()), resolution, seed);
-  return load_depth_map(spec, convention);
+  const auto& names = builtin_heightfield_names();
+  const bool prefixed = text.rfind(prefix, 0) == 0;
+  const std::string name = prefixed ? text.substr(prefix.size()) : text;
+  const bool known = std::find(names.begin(), names.end(), name) != names.end();
+  if (prefixed || (known && !std::filesystem::exists(text))) {
+    if (!known) {
+      std::string list;
+      for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+      throw InputError("unknown builtin heightfield '" + name + "' (" + list + ")");
+    }
+    source.builtin = name;
+  } else {
+    if (text.empty()) throw InputError("empty heightfield name");
+    if (!std::filesystem::exists(text)) {
+      std::string list;
+      for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+      throw InputError(text + ": no such depth map file (builtins: " + list + ")");
+    }
+    source.path = text;
+  }
+  return source;
+}
+
+DepthMap load_heightfield(const HeightfieldSource& source) {
+  if (!source.builtin.empty()) return make_builtin_heightfield(source.builtin, source.resolution, source.seed);
+  return load_depth_map(source.path, source.convention);
 }
 
 }  // namespace heightmarch

@@ -19,6 +19,11 @@ class JsonWriter {
     return *this;
   }
   JsonWriter& value(const std::string& key, const char* text) { return value(key, std::string(text)); }
+  JsonWriter& null(const std::string& key) {
+    prefix(key);
+    out_ += "null";
+    return *this;
+  }
   JsonWriter& value(const std::string& key, bool b) {
     prefix(key);
     out_ += b ? "true" : "false";

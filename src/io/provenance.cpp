@@ -25,6 +25,7 @@ Provenance provenance() {
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
   p.date = buf;
+  p.build_type = HEIGHTMARCH_BUILD_TYPE;
   return p;
 }
 

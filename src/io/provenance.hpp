@@ -10,6 +10,7 @@ struct Provenance {
   int cores = 0;
   std::string compiler;
   std::string date;      // UTC, ISO 8601
+  std::string build_type;  // CMAKE_BUILD_TYPE of the binaries
 };
 
 Provenance provenance();

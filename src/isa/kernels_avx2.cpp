@@ -2,14 +2,14 @@
 // AVX-512, two packets in flight (simd/packet_pair.hpp) measured no faster here.
 #define HEIGHTMARCH_ISA_NS isa_avx2
 #include "heightmarch/simd/vfloat8_avx2.hpp"
-#include "kernels/trace_range.hpp"
+#include "kernels/kernel_table.hpp"
 
 namespace heightmarch::isa_avx2 {
 
-void trace_range(const KernelTexture& texture, const KernelParams& params, const KernelRays& rays,
-                 const KernelHits& hits, std::size_t begin, std::size_t end,
-                 KernelCounters& counters) {
-  trace_range_packets<8>(texture, params, rays, hits, begin, end, counters);
+const KernelTable& kernel_table() {
+  // Constant-initialised: no code of this ISA runs before the CPU is known to support it.
+  static constexpr KernelTable table = make_kernel_table<8>();
+  return table;
 }
 
 }  // namespace heightmarch::isa_avx2

@@ -1,14 +1,14 @@
 // The packet kernels at width 1, compiled with this ISA's flags (CMakeLists.txt).
 #define HEIGHTMARCH_ISA_NS isa_scalar
 #include "heightmarch/simd/vfloat1.hpp"
-#include "kernels/trace_range.hpp"
+#include "kernels/kernel_table.hpp"
 
 namespace heightmarch::isa_scalar {
 
-void trace_range(const KernelTexture& texture, const KernelParams& params, const KernelRays& rays,
-                 const KernelHits& hits, std::size_t begin, std::size_t end,
-                 KernelCounters& counters) {
-  trace_range_packets<1>(texture, params, rays, hits, begin, end, counters);
+const KernelTable& kernel_table() {
+  // Constant-initialised: no code of this ISA runs before the CPU is known to support it.
+  static constexpr KernelTable table = make_kernel_table<1>();
+  return table;
 }
 
 }  // namespace heightmarch::isa_scalar

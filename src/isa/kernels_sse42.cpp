@@ -4,14 +4,14 @@
 #include "heightmarch/simd/vfloat4_sse.hpp"
 #define HEIGHTMARCH_PAIR_OF 4
 #include "heightmarch/simd/packet_pair.hpp"
-#include "kernels/trace_range.hpp"
+#include "kernels/kernel_table.hpp"
 
 namespace heightmarch::isa_sse42 {
 
-void trace_range(const KernelTexture& texture, const KernelParams& params, const KernelRays& rays,
-                 const KernelHits& hits, std::size_t begin, std::size_t end,
-                 KernelCounters& counters) {
-  trace_range_packets<2 * 4>(texture, params, rays, hits, begin, end, counters);
+const KernelTable& kernel_table() {
+  // Constant-initialised: no code of this ISA runs before the CPU is known to support it.
+  static constexpr KernelTable table = make_kernel_table<2 * 4>();
+  return table;
 }
 
 }  // namespace heightmarch::isa_sse42

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "heightmarch/isa.hpp"
 #include "heightmarch/sampler.hpp"
 #include "heightmarch/technique.hpp"
 
@@ -17,13 +18,11 @@ struct KernelTexture {
 };
 
 struct KernelParams {
-  Technique technique;
   float min_layers, max_layers;
   int refine_steps;
   float scale;
   bool discard;
   float light[3];
-  bool sampler_roofline;  // benchmarks only: the sampler alone instead of the technique
 };
 
 struct KernelRays {
@@ -41,14 +40,38 @@ struct KernelCounters {
   std::uint64_t packet_samples = 0;  // packet samples x width
 };
 
-// Traces rays [begin, end) (end - begin a multiple of the packet width) with one ISA's kernels.
+// Traces rays [begin, end) (end - begin a multiple of the packet width) with one technique of one
+// ISA, for one addressing mode of the texture.
 using TraceRangeFn = void (*)(const KernelTexture&, const KernelParams&, const KernelRays&,
                               const KernelHits&, std::size_t begin, std::size_t end,
                               KernelCounters&);
 
-namespace isa_scalar { void trace_range(const KernelTexture&, const KernelParams&, const KernelRays&, const KernelHits&, std::size_t, std::size_t, KernelCounters&); }
-namespace isa_sse42 { void trace_range(const KernelTexture&, const KernelParams&, const KernelRays&, const KernelHits&, std::size_t, std::size_t, KernelCounters&); }
-namespace isa_avx2 { void trace_range(const KernelTexture&, const KernelParams&, const KernelRays&, const KernelHits&, std::size_t, std::size_t, KernelCounters&); }
-namespace isa_avx512 { void trace_range(const KernelTexture&, const KernelParams&, const KernelRays&, const KernelHits&, std::size_t, std::size_t, KernelCounters&); }
+// How the sampler finds texel indices: REPEAT on power-of-two sides is a mask of the integer
+// index, other REPEAT sizes wrap in float, CLAMP clamps the coordinate.
+enum class Addressing { repeat_pow2, repeat, clamp };
+inline constexpr int kAddressingCount = 3;
+
+inline Addressing addressing_of(int width, int height, Wrap wrap) {
+  if (wrap == Wrap::clamp) return Addressing::clamp;
+  const bool pow2 = (width & (width - 1)) == 0 && (height & (height - 1)) == 0;
+  return pow2 ? Addressing::repeat_pow2 : Addressing::repeat;
+}
+
+// What each ISA exports: its kernels, chosen once by a Tracer, never per tile.
+struct KernelTable {
+  int packet_width;  // rays per loop iteration
+  TraceRangeFn technique[kTechniqueCount][kAddressingCount];
+  TraceRangeFn sampler_roofline[kAddressingCount];  // the sampler alone (benchmarks)
+};
+
+#define HEIGHTMARCH_ISA_KERNEL_TABLE(id, ...) \
+  namespace isa_##id {                        \
+  const KernelTable& kernel_table();          \
+  }
+HEIGHTMARCH_ISAS(HEIGHTMARCH_ISA_KERNEL_TABLE)
+#undef HEIGHTMARCH_ISA_KERNEL_TABLE
+
+// The table of a given ISA.
+const KernelTable& kernel_table(Isa isa);
 
 }  // namespace heightmarch

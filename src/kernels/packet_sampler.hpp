@@ -7,16 +7,6 @@
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
-// How texel indices are found: REPEAT on power-of-two sides is a mask of the integer index,
-// other REPEAT sizes wrap in float, CLAMP clamps the coordinate.
-enum class Addressing { repeat_pow2, repeat, clamp };
-
-inline Addressing addressing_of(const KernelTexture& t) {
-  if (t.wrap == Wrap::clamp) return Addressing::clamp;
-  const bool pow2 = (t.width & (t.width - 1)) == 0 && (t.height & (t.height - 1)) == 0;
-  return pow2 ? Addressing::repeat_pow2 : Addressing::repeat;
-}
-
 template <int W, Addressing ADDRESSING>
 class PacketSampler {
  public:

@@ -77,4 +77,20 @@ ErrorSummary summarize_errors(const RayBatch& rays, const HitBuffers& hits, cons
   return s;
 }
 
+double share_within_one_layer_step(const RayBatch& rays, const HitBuffers& hits,
+                                   const std::vector<float>& uv_error, const TechniqueParams& params,
+                                   int map_width, int map_height) {
+  std::size_t within = 0, measured = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    if (rays.is_padding(i) || hits.discarded[i]) continue;
+    const double a = std::fabs(rays.vz[i]);
+    const double layers = params.layers.max_layers * (1 - a) + params.layers.min_layers * a;
+    const double sx = params.scale * rays.vx[i] / rays.vz[i] / layers * map_width;
+    const double sy = params.scale * rays.vy[i] / rays.vz[i] / layers * map_height;
+    within += uv_error[i] <= std::hypot(sx, sy) * (1.0 + 1e-4) + 1e-6;
+    ++measured;
+  }
+  return measured ? double(within) / double(measured) : 0.0;
+}
+
 }  // namespace heightmarch

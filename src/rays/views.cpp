@@ -113,7 +113,24 @@ ViewSpec parse_view(const std::string& text, int width, int height) {
   return view;
 }
 
+ViewSpec sweep_view(double theta_degrees, int width, int height) {
+  ViewSpec view;
+  view.kind = ViewSpec::Kind::sweep;
+  view.theta_degrees = float(theta_degrees);
+  view.width = width;
+  view.height = height;
+  return view;
+}
+
+ViewSpec rays_file_view(const std::string& path) {
+  ViewSpec view;
+  view.kind = ViewSpec::Kind::rays_file;
+  view.rays_path = path;
+  return view;
+}
+
 std::string describe(const ViewSpec& view) {
+  if (view.kind == ViewSpec::Kind::rays_file) return "rays:" + view.rays_path;
   const std::string size = std::to_string(view.width) + "x" + std::to_string(view.height);
   if (view.kind == ViewSpec::Kind::perspective) return "default " + size;
   char buf[64];
@@ -125,7 +142,9 @@ std::string describe(const ViewSpec& view) {
 // and the per-pixel images of an --out run: about 64 bytes.
 constexpr double kBytesPerRay = 64.0;
 
-RayBatch make_view_rays(const ViewSpec& view, int tile_size) {
+RayBatch make_view_rays(const ViewSpec& view) {
+  if (view.kind == ViewSpec::Kind::rays_file) return load_rays_csv(view.rays_path, view.tile_size);
+  const int tile_size = view.tile_size;
   check_tile_size(tile_size);
   check_memory_budget(kBytesPerRay * view.width * view.height,
                       "a " + std::to_string(view.width) + "x" + std::to_string(view.height) + " view");

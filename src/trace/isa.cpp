@@ -6,49 +6,53 @@
 
 namespace heightmarch {
 
+const std::array<Isa, kIsaCount>& all_isas() {
+#define HEIGHTMARCH_ISA_ID(id, ...) Isa::id,
+  static const std::array<Isa, kIsaCount> isas = {HEIGHTMARCH_ISAS(HEIGHTMARCH_ISA_ID)};
+#undef HEIGHTMARCH_ISA_ID
+  return isas;
+}
+
 std::string to_string(Isa isa) {
-  switch (isa) {
-    case Isa::scalar: return "scalar";
-    case Isa::sse42: return "sse4.2";
-    case Isa::avx2: return "avx2";
-    case Isa::avx512: return "avx512";
-  }
+#define HEIGHTMARCH_ISA_NAME(id, name, ...) \
+  if (isa == Isa::id) return name;
+  HEIGHTMARCH_ISAS(HEIGHTMARCH_ISA_NAME)
+#undef HEIGHTMARCH_ISA_NAME
   return "?";
 }
 
 bool cpu_supports(Isa isa) {
   __builtin_cpu_init();
-  switch (isa) {
-    case Isa::scalar: return true;
-    case Isa::sse42: return __builtin_cpu_supports("sse4.2");
-    case Isa::avx2:
-      return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
-             __builtin_cpu_supports("bmi2");
-    case Isa::avx512:
-      return cpu_supports(Isa::avx2) && __builtin_cpu_supports("avx512f") &&
-             __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq") &&
-             __builtin_cpu_supports("avx512vl");
-  }
+#define HEIGHTMARCH_ISA_CHECK(id, name, check) \
+  if (isa == Isa::id) return check;
+  HEIGHTMARCH_ISAS(HEIGHTMARCH_ISA_CHECK)
+#undef HEIGHTMARCH_ISA_CHECK
   return false;
 }
 
 std::vector<Isa> supported_isas() {
   std::vector<Isa> isas;
-  for (Isa isa : {Isa::scalar, Isa::sse42, Isa::avx2, Isa::avx512})
+  for (Isa isa : all_isas())
     if (cpu_supports(isa)) isas.push_back(isa);
   return isas;
 }
 
 Isa best_isa() { return supported_isas().back(); }
 
+std::string isa_names() {
+  std::string names;
+  for (Isa isa : all_isas()) names += (names.empty() ? "" : ", ") + to_string(isa);
+  return names;
+}
+
 Isa parse_isa(const std::string& name) {
   if (name.empty() || name == "auto") return best_isa();
-  for (Isa isa : {Isa::scalar, Isa::sse42, Isa::avx2, Isa::avx512}) {
+  for (Isa isa : all_isas()) {
     if (name != to_string(isa)) continue;
     if (!cpu_supports(isa)) throw InputError("ISA " + name + " is not supported by this CPU");
     return isa;
   }
-  throw InputError("unknown ISA '" + name + "' (scalar, sse4.2, avx2, avx512 or auto)");
+  throw InputError("unknown ISA '" + name + "' (" + isa_names() + " or auto)");
 }
 
 Isa select_isa(const std::string& option) {

@@ -7,34 +7,29 @@
 
 namespace heightmarch {
 
-const std::vector<Technique>& all_techniques() {
-  static const std::vector<Technique> techniques = {
-      Technique::parallax, Technique::parallax_limited, Technique::steep, Technique::steep_limited,
-      Technique::relief,   Technique::pom,              Technique::shadow, Technique::exact};
-  return techniques;
+const std::array<TechniqueInfo, kTechniqueCount>& techniques() {
+#define HEIGHTMARCH_TECHNIQUE_INFO(id, name, layered, cpu_call, glsl_call, color, marker, description) \
+  TechniqueInfo{Technique::id, name, layered, glsl_call, color, marker, description},
+  static const std::array<TechniqueInfo, kTechniqueCount> rows = {
+      HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_INFO)};
+#undef HEIGHTMARCH_TECHNIQUE_INFO
+  return rows;
 }
 
-std::string to_string(Technique technique) {
-  switch (technique) {
-    case Technique::parallax: return "parallax";
-    case Technique::parallax_limited: return "parallax-limited";
-    case Technique::steep: return "steep";
-    case Technique::steep_limited: return "steep-limited";
-    case Technique::relief: return "relief";
-    case Technique::pom: return "pom";
-    case Technique::shadow: return "shadow";
-    case Technique::exact: return "exact";
-  }
-  return "?";
-}
+const TechniqueInfo& info(Technique technique) { return techniques()[std::size_t(technique)]; }
 
-Technique parse_technique(const std::string& name) {
+std::string to_string(Technique technique) { return std::string(info(technique).name); }
+
+std::string technique_names() {
   std::string names;
-  for (Technique t : all_techniques()) {
-    if (to_string(t) == name) return t;
-    names += (names.empty() ? "" : ", ") + to_string(t);
-  }
-  throw InputError("unknown technique '" + name + "' (" + names + ")");
+  for (const TechniqueInfo& t : techniques()) names += (names.empty() ? "" : ", ") + std::string(t.name);
+  return names;
+}
+
+Technique parse_technique(const std::string& name, const std::string& extra) {
+  for (const TechniqueInfo& t : techniques())
+    if (t.name == name) return t.id;
+  throw InputError("unknown technique '" + name + "' (" + technique_names() + (extra.empty() ? "" : ", " + extra) + ")");
 }
 
 namespace {
@@ -68,6 +63,10 @@ LayerSpec parse_layer_spec(const std::string& text) {
 std::string to_string(const LayerSpec& layers) {
   if (!layers.dynamic()) return std::to_string(int(layers.min_layers));
   return std::to_string(int(layers.min_layers)) + "-" + std::to_string(int(layers.max_layers));
+}
+
+LayerSpec layers_for(Technique technique, const LayerSpec& spec) {
+  return info(technique).layered ? spec : LayerSpec{1.0f, 1.0f};
 }
 
 void validate(TechniqueParams& params) {

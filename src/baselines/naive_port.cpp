@@ -1,4 +1,4 @@
-#include "naive_port.hpp"
+#include "baselines/naive_port.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <glm/glm.hpp>
 
-namespace heightmarch::bench {
+namespace heightmarch {
 namespace {
 
 struct Texture {
@@ -73,4 +73,4 @@ void naive_pom(const DepthMap& map, const RayBatch& rays, float min_layers, floa
   });
 }
 
-}  // namespace heightmarch::bench
+}  // namespace heightmarch

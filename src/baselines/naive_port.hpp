@@ -6,10 +6,10 @@
 #include "heightmarch/hits.hpp"
 #include "heightmarch/rays.hpp"
 
-namespace heightmarch::bench {
+namespace heightmarch {
 
 // Traces every ray of the batch with the tutorial's POM loop (fixed or dynamic layer count).
 void naive_pom(const DepthMap& map, const RayBatch& rays, float min_layers, float max_layers, float scale,
                HitBuffers& hits);
 
-}  // namespace heightmarch::bench
+}  // namespace heightmarch

@@ -1,0 +1,56 @@
+#pragma once
+// One measured configuration, as typed values from the plan to every result file: what traces
+// (a technique on a CPU backend, the same as GLSL, the sampler roofline, the naive port or the
+// exact reference), on which heightfield and view, with which parameters and threads.
+#include <string>
+
+#include "heightmarch/heightfield.hpp"
+#include "heightmarch/isa.hpp"
+#include "heightmarch/rays.hpp"
+#include "heightmarch/technique.hpp"
+
+namespace heightmarch {
+
+enum class RunKind { trace, glsl, roofline, naive, exact };
+std::string to_string(RunKind kind);
+
+// Which consumers of a run asked for a configuration; one configuration serves all of them.
+enum Purpose : unsigned {
+  kPurposeMatrix = 1u << 0,    // technique x layers per heightfield
+  kPurposeIsa = 1u << 1,       // POM-32 at every ISA and thread count
+  kPurposeGlsl = 1u << 2,      // the same techniques as GLSL
+  kPurposeRoofline = 1u << 3,  // the sampler alone
+  kPurposeNaive = 1u << 4,     // the naive port of the tutorial's shader
+  kPurposeSweep = 1u << 5,     // error against view angle
+  kPurposeGallery = 1u << 6,   // renders and error maps
+  kPurposeClaims = 1u << 7,    // the tutorials' claims
+  kPurposeCommand = 1u << 8,   // asked for on the command line (trace, glsl)
+};
+inline constexpr unsigned kPurposeCount = 9;
+std::string purpose_name(unsigned single_purpose_bit);
+
+struct Configuration {
+  RunKind kind = RunKind::trace;
+  HeightfieldSource heightfield;
+  ViewSpec view;
+  TechniqueParams params;    // the technique is ignored by roofline and exact runs
+  Isa isa = Isa::scalar;     // trace and roofline runs
+  int threads = 1;           // worker threads (never 0: resolved by the plan)
+  std::string shader_path;   // glsl runs: a brought-in shader instead of the technique's
+  bool timed = true;         // false: accuracy only (sweeps, gallery)
+  unsigned purposes = 0;
+
+  // "avx512", "glsl", "naive", "exact"
+  std::string backend() const;
+  // Whether the technique is part of the configuration (not for roofline and exact runs).
+  bool has_technique() const { return kind == RunKind::trace || kind == RunKind::glsl || kind == RunKind::naive; }
+  // The same measurement: equal in everything but timed and purposes.
+  bool same_measurement(const Configuration& other) const;
+};
+
+// The Google Benchmark name of a configuration, the same in heightmarch-bench and in a suite's
+// bench.json: BM_Trace/heightfield:bricks/technique:pom/layers:32/isa:avx512/threads:2/
+// view:1024x1024/depth_map:512x512 (Google Benchmark appends /real_time).
+std::string benchmark_name(const Configuration& config, int depth_map_width, int depth_map_height);
+
+}  // namespace heightmarch

@@ -1,0 +1,29 @@
+#pragma once
+// What a measured run writes for people and tools: the summary and metrics JSON of one row, the
+// per-ray files of a traced row, the run's measurements.json and its Google Benchmark JSON.
+#include <string>
+
+#include "heightmarch/measurement.hpp"
+
+namespace heightmarch {
+
+struct Provenance;
+
+// A short human summary of one row, a few lines; speeds as median (min-max).
+std::string summary_text(const Measurement& row);
+
+// One row as a JSON object (SPEC section 5's measures, its configuration and provenance):
+// what `trace --json` prints and `--out` writes as metrics.json.
+std::string metrics_json(const Measurement& row);
+
+// hits.exr, error.png, render.png, metrics.json (and rays.csv for rays from a file) in dir.
+void write_run_outputs(const std::string& dir, const TracedRow& traced);
+
+// The run's one table (docs/measurements.md).
+std::string measurements_json(const MeasuredPlan& run, const std::string& plan_name);
+
+// The timed rows as Google Benchmark JSON (one iteration entry per repetition, named by
+// benchmark_name), for scripts/compare and Google Benchmark's compare.py.
+std::string benchmark_json(const MeasuredPlan& run);
+
+}  // namespace heightmarch

@@ -1,0 +1,34 @@
+#pragma once
+// The techniques: one row each, and the only list of them. The enum, CLI names and help, each
+// ISA's kernel table, the GLSL entry point, benchmarks, the suite plan, test parameters and the
+// report's palette all derive from these rows.
+//
+// Adding a technique: its kernel header (src/kernels/, included below for the kernel
+// translation units), its GLSL function (src/glsl/techniques.glsl), and one row here.
+//
+// X(id, CLI name, layered, CPU kernel call, GLSL call, plot colour, plot marker, description)
+// The CPU call is evaluated with `k` (the KernelContext) and `ray` (the RayPacket) in scope; the
+// GLSL call with `T` and `V`. Colours and markers are the report's, one per technique everywhere.
+#define HEIGHTMARCH_TECHNIQUES(X)                                                                 \
+  X(parallax, "parallax", false, parallax<false>(k, ray), "parallax(T, V, false)", "#7f7f7f", "v", \
+    "plain parallax: one sample, uv = T - V.xy / V.z * D(T) s")                                  \
+  X(parallax_limited, "parallax-limited", false, parallax<true>(k, ray), "parallax(T, V, true)",  \
+    "#bcbd22", "^", "offset limiting: one sample, uv = T - V.xy * D(T) s")                       \
+  X(steep, "steep", true, steep<false>(k, ray), "steep(T, V, false)", "#1f77b4", "o",             \
+    "steep parallax: layers of depth 1/N, stop at the first below the surface")                 \
+  X(steep_limited, "steep-limited", true, steep<true>(k, ray), "steep(T, V, true)", "#17becf", "D", \
+    "steep parallax stepping s V.xy / N (no division by V.z)")                                  \
+  X(relief, "relief", true, relief(k, ray), "relief(T, V)", "#2ca02c", "P",                       \
+    "relief mapping: steep, then binary search between the last two layers")                    \
+  X(pom, "pom", true, pom(k, ray), "pom(T, V)", "#d62728", "s",                                   \
+    "parallax occlusion mapping: steep, then linear interpolation between the last two layers") \
+  X(shadow, "shadow", true, shadow(k, ray), "shadow(T, V)", "#9467bd", "*",                       \
+    "POM's hit, then the tutorial's soft self-shadow factor towards the light")
+
+#ifdef HEIGHTMARCH_ISA_NS  // a kernel translation unit (src/isa/): every technique's kernel
+#include "kernels/parallax.hpp"
+#include "kernels/pom.hpp"
+#include "kernels/relief.hpp"
+#include "kernels/shadow.hpp"
+#include "kernels/steep.hpp"
+#endif

@@ -1,0 +1,60 @@
+#include "heightmarch/configuration.hpp"
+
+#include <cstring>
+
+namespace heightmarch {
+
+std::string to_string(RunKind kind) {
+  switch (kind) {
+    case RunKind::trace: return "trace";
+    case RunKind::glsl: return "glsl";
+    case RunKind::roofline: return "roofline";
+    case RunKind::naive: return "naive";
+    case RunKind::exact: return "exact";
+  }
+  return "?";
+}
+
+std::string purpose_name(unsigned bit) {
+  static const char* const names[kPurposeCount] = {"matrix", "isa",     "glsl",   "roofline", "naive",
+                                                   "sweep",  "gallery", "claims", "command"};
+  for (unsigned i = 0; i < kPurposeCount; ++i)
+    if (bit == (1u << i)) return names[i];
+  return "?";
+}
+
+std::string Configuration::backend() const {
+  switch (kind) {
+    case RunKind::trace:
+    case RunKind::roofline: return to_string(isa);
+    case RunKind::glsl: return "glsl";
+    case RunKind::naive: return "naive";
+    case RunKind::exact: return "exact";
+  }
+  return "?";
+}
+
+bool Configuration::same_measurement(const Configuration& o) const {
+  const TechniqueParams &a = params, &b = o.params;
+  const bool same_params = (!has_technique() || a.technique == b.technique) && a.layers == b.layers &&
+                           a.refine_steps == b.refine_steps && a.scale == b.scale && a.wrap == b.wrap &&
+                           a.discard == b.discard && std::memcmp(a.light, b.light, sizeof a.light) == 0;
+  const bool same_isa = (kind != RunKind::trace && kind != RunKind::roofline) || isa == o.isa;
+  return kind == o.kind && heightfield == o.heightfield && view == o.view && same_params && same_isa &&
+         threads == o.threads && shader_path == o.shader_path;
+}
+
+std::string benchmark_name(const Configuration& c, int map_width, int map_height) {
+  static const char* const prefixes[] = {"BM_Trace", "BM_GLSL", "BM_SamplerRoofline", "BM_NaivePort", "BM_Exact"};
+  std::string name = std::string(prefixes[int(c.kind)]) + "/heightfield:" + c.heightfield.label();
+  if (c.has_technique()) name += "/technique:" + to_string(c.params.technique);
+  if (c.kind != RunKind::exact) name += "/layers:" + to_string(c.params.layers);
+  name += "/isa:" + (c.kind == RunKind::naive ? std::string("scalar-naive") : c.backend()) +
+          "/threads:" + std::to_string(c.threads);
+  name += c.view.kind == ViewSpec::Kind::perspective
+              ? "/view:" + std::to_string(c.view.width) + "x" + std::to_string(c.view.height)
+              : "/view:" + describe(c.view);
+  return name + "/depth_map:" + std::to_string(map_width) + "x" + std::to_string(map_height);
+}
+
+}  // namespace heightmarch

@@ -1,0 +1,343 @@
+#include "heightmarch/run_outputs.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+#include "io/atomic_file.hpp"
+#include "io/images.hpp"
+#include "io/json_writer.hpp"
+#include "io/provenance.hpp"
+
+namespace heightmarch {
+namespace {
+
+void write_spread(JsonWriter& json, const std::string& key, const std::vector<double>& values, bool with_rounds) {
+  const Spread s = spread_of(values);
+  json.begin_object(key).value("median", s.median).value("min", s.min).value("max", s.max);
+  if (with_rounds) {
+    json.begin_array("rounds");
+    for (double v : values) json.value("", v);
+    json.end_array();
+  }
+  json.end_object();
+}
+
+void write_errors(JsonWriter& json, const std::optional<ErrorSummary>& errors) {
+  if (!errors) {
+    json.null("errors");
+    return;
+  }
+  const ErrorSummary& e = *errors;
+  json.begin_object("errors")
+      .value("uv_mean", e.mean)
+      .value("uv_rms", e.rms)
+      .value("uv_p50", e.p50)
+      .value("uv_p95", e.p95)
+      .value("uv_p99", e.p99)
+      .value("uv_max", e.max)
+      .value("wrong_surface_rate", e.wrong_surface_rate)
+      .value("depth_error_mean", e.depth_error_mean)
+      .value("discarded", e.discarded);
+  e.within_one_layer_step ? json.value("within_one_layer_step", *e.within_one_layer_step)
+                          : json.null("within_one_layer_step");
+  if (e.has_shadow)
+    json.value("shadow_error_mean", e.shadow_error_mean).value("shadow_mismatch_rate", e.shadow_mismatch_rate);
+  else
+    json.null("shadow_error_mean").null("shadow_mismatch_rate");
+  json.end_object();
+}
+
+// The fields of one row, shared by measurements.json and metrics.json.
+void write_row(JsonWriter& json, const Measurement& m) {
+  const Configuration& c = m.config;
+  json.value("id", m.id).value("kind", to_string(c.kind)).begin_array("purposes");
+  for (unsigned i = 0; i < kPurposeCount; ++i)
+    if (c.purposes & (1u << i)) json.value("", purpose_name(1u << i));
+  json.end_array();
+  json.begin_object("heightfield")
+      .value("label", c.heightfield.label())
+      .value("source", c.heightfield.describe())
+      .value("width", m.depth_map_width)
+      .value("height", m.depth_map_height)
+      .end_object();
+  if (c.has_technique())
+    json.value("technique", c.shader_path.empty() ? to_string(c.params.technique) : "shader");
+  else
+    json.null("technique");
+  if (!c.shader_path.empty()) json.value("shader", c.shader_path);
+  if (c.kind == RunKind::exact)
+    json.null("layers").null("min_layers").null("max_layers");
+  else
+    json.value("layers", to_string(c.params.layers))
+        .value("min_layers", double(c.params.layers.min_layers))
+        .value("max_layers", double(c.params.layers.max_layers));
+  json.value("refine", c.params.refine_steps).value("backend", c.backend()).value("threads", c.threads);
+  json.begin_object("view").value("kind", c.view.kind == ViewSpec::Kind::perspective ? "default"
+                                          : c.view.kind == ViewSpec::Kind::sweep     ? "sweep"
+                                                                                      : "rays");
+  if (c.view.kind == ViewSpec::Kind::rays_file)
+    json.value("width", std::size_t(m.rays)).value("height", 1).value("file", c.view.rays_path);
+  else
+    json.value("width", c.view.width).value("height", c.view.height);
+  if (c.view.kind == ViewSpec::Kind::sweep)
+    json.value("theta", double(c.view.theta_degrees)).value("phi", double(c.view.phi_degrees));
+  else
+    json.null("theta").null("phi");
+  json.value("description", describe(c.view)).end_object();
+  json.value("scale", double(c.params.scale))
+      .value("wrap", c.params.wrap == Wrap::repeat ? "repeat" : "clamp")
+      .value("discard", c.params.discard)
+      .value("rays", m.rays);
+  if (m.samples_known)
+    json.value("samples", (long long)m.samples).value("samples_known", true).value("samples_per_ray", m.rays ? double(m.samples) / double(m.rays) : 0.0);
+  else
+    json.null("samples").value("samples_known", false).null("samples_per_ray");
+  c.kind == RunKind::trace ? json.value("simd_utilization", m.simd_utilization) : json.null("simd_utilization");
+  write_errors(json, m.errors);
+  if (m.seconds.empty()) {
+    json.null("speed");
+  } else {
+    json.begin_object("speed").value("repetitions", m.seconds.size()).begin_array("seconds");
+    for (double s : m.seconds) json.value("", s);
+    json.end_array();
+    write_spread(json, "rays_per_second", m.rays_per_second(), true);
+    if (m.samples_known) write_spread(json, "samples_per_second", m.samples_per_second(), false);
+    json.end_object();
+  }
+  if (m.render_image.empty())
+    json.null("images");
+  else
+    json.begin_object("images").value("render", m.render_image).value("error", m.error_image).end_object();
+  m.failure.empty() ? json.null("failure") : json.value("failure", m.failure);
+}
+
+void write_provenance(JsonWriter& json, const Provenance& p) {
+  json.begin_object("provenance")
+      .value("commit", p.commit)
+      .value("cpu", p.cpu)
+      .value("cores", p.cores)
+      .value("compiler", p.compiler)
+      .value("build_type", p.build_type)
+      .value("date", p.date)
+      .value("best_isa", to_string(best_isa()))
+      .end_object();
+}
+
+std::string mrays(const Measurement& m) {
+  const Spread s = spread_of(m.rays_per_second());
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%.2f (%.2f-%.2f) Mrays/s", s.median / 1e6, s.min / 1e6, s.max / 1e6);
+  return buf;
+}
+
+}  // namespace
+
+std::string metrics_json(const Measurement& row) {
+  JsonWriter json;
+  json.begin_object();
+  write_row(json, row);
+  write_provenance(json, provenance());
+  json.end_object();
+  return json.str() + "\n";
+}
+
+std::string summary_text(const Measurement& m) {
+  const Configuration& c = m.config;
+  std::string text;
+  char buf[512];
+  const std::string what = c.kind == RunKind::exact ? std::string("exact")
+                           : !c.shader_path.empty() ? "brought-in shader " + c.shader_path
+                                                    : to_string(c.params.technique) + " layers " + to_string(c.params.layers);
+  std::snprintf(buf, sizeof buf, "%s on %s (%dx%d depth map), %s: %zu rays\n", what.c_str(),
+                c.heightfield.describe().c_str(), m.depth_map_width, m.depth_map_height, describe(c.view).c_str(), m.rays);
+  text += buf;
+  const std::string per_ray = m.samples_known ? [&] {
+    char b[64];
+    std::snprintf(b, sizeof b, "%.2f %s/ray", m.rays ? double(m.samples) / double(m.rays) : 0.0,
+                  c.kind == RunKind::exact ? "cells" : "samples");
+    return std::string(b);
+  }() : std::string("samples unknown");
+  std::string speed = "not timed";
+  if (!m.seconds.empty()) {
+    speed = mrays(m) + " over " + std::to_string(m.seconds.size()) + " repetitions";
+    if (m.samples_known) {
+      std::snprintf(buf, sizeof buf, ", %.1f Msamples/s", spread_of(m.samples_per_second()).median / 1e6);
+      speed += buf;
+    }
+  }
+  const std::string simd = c.kind == RunKind::trace ? ", SIMD use " + std::to_string(int(100.0 * m.simd_utilization + 0.5)) + "%" : "";
+  std::snprintf(buf, sizeof buf, "  %s, %d thread%s: %s, %s%s\n", c.backend().c_str(), c.threads, c.threads == 1 ? "" : "s",
+                speed.c_str(), per_ray.c_str(), simd.c_str());
+  text += buf;
+  if (!m.failure.empty()) return text + "  FAILED: " + m.failure + "\n";
+  if (!m.errors) return text;
+  const ErrorSummary& e = *m.errors;
+  std::snprintf(buf, sizeof buf,
+                "  uv error (texels): mean %.4f  rms %.4f  p50 %.4f  p95 %.4f  p99 %.4f  max %.4f\n"
+                "  wrong surface %.2f%%, depth error mean %.5f, discarded %zu\n",
+                e.mean, e.rms, e.p50, e.p95, e.p99, e.max, 100.0 * e.wrong_surface_rate, e.depth_error_mean, e.discarded);
+  text += buf;
+  if (e.has_shadow) {
+    std::snprintf(buf, sizeof buf, "  shadow: factor vs exact visibility mean |diff| %.4f, mismatch %.2f%%\n",
+                  e.shadow_error_mean, 100.0 * e.shadow_mismatch_rate);
+    text += buf;
+  }
+  return text;
+}
+
+void write_run_outputs(const std::string& dir, const TracedRow& traced) {
+  std::filesystem::create_directories(dir);
+  const RayBatch& rays = traced.rays;
+  const HitBuffers& hits = traced.hits;
+  const HitBuffers& exact = traced.exact;
+  const Configuration& c = traced.row.config;
+  const int w = rays.image_width, h = rays.image_height;
+  const std::size_t pixels = std::size_t(w) * std::size_t(h);
+  // Scatter the batch (tile order) back to pixels; pixels without a ray stay -1 in hits.exr.
+  std::vector<float> exr(pixels * 4, -1.0f), error(pixels, 0.0f), u(pixels, 0.0f), v(pixels, 0.0f),
+      shadow(pixels, 1.0f);
+  std::vector<std::uint8_t> has_ray(pixels, 0);
+  const bool is_shadow = c.has_technique() && c.params.technique == Technique::shadow;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    if (rays.is_padding(i)) continue;
+    const std::size_t p = rays.origin[i];
+    exr[4 * p + 0] = hits.u[i];
+    exr[4 * p + 1] = hits.v[i];
+    exr[4 * p + 2] = hits.depth[i];
+    exr[4 * p + 3] = float(hits.samples[i]);
+    error[p] = traced.uv_error[i];
+    u[p] = hits.u[i];
+    v[p] = hits.v[i];
+    shadow[p] = is_shadow ? hits.shadow[i] : 1.0f;
+    has_ray[p] = !hits.discarded[i];
+  }
+  write_exr(dir + "/hits.exr", w, h, {"u", "v", "depth", "samples"}, exr);
+  int heat_height = 0;
+  const std::vector<std::uint8_t> heat = error_heat_map(error, has_ray, w, h, heat_height);
+  write_png_rgb8(dir + "/error.png", w, heat_height, heat);
+  write_png_rgb8(dir + "/render.png", w, h,
+                 shade_render(traced.map, c.params.wrap, c.params.scale, u, v, shadow, has_ray, w, h, c.params.light));
+  write_file_atomically(dir + "/metrics.json", metrics_json(traced.row));
+  if (c.view.kind != ViewSpec::Kind::rays_file) return;
+  std::string csv = "tx,ty,vx,vy,vz,u,v,depth,samples,exact_u,exact_v,exact_depth,uv_error_texels\n";
+  std::vector<std::size_t> by_row(rays.ray_count);
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    if (!rays.is_padding(i)) by_row[rays.origin[i]] = i;
+  char line[512];
+  for (std::size_t i : by_row) {
+    std::snprintf(line, sizeof line, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%s,%.9g,%.9g,%.9g,%.9g\n", rays.tx[i],
+                  rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], hits.u[i], hits.v[i], hits.depth[i],
+                  traced.row.samples_known ? std::to_string(hits.samples[i]).c_str() : "", exact.u[i], exact.v[i],
+                  exact.depth[i], traced.uv_error[i]);
+    csv += line;
+  }
+  write_file_atomically(dir + "/rays.csv", csv);
+}
+
+std::string measurements_json(const MeasuredPlan& run, const std::string& plan_name) {
+  JsonWriter json;
+  json.begin_object().value("schema", "heightmarch-measurements/1");
+  write_provenance(json, provenance());
+  int threads = 0;
+  for (const Measurement& m : run.rows) threads = std::max(threads, m.config.threads);
+  json.begin_object("plan")
+      .value("name", plan_name)
+      .value("repetitions", run.repetitions)
+      .value("min_seconds_per_repetition", run.min_seconds)
+      .value("threads", threads)
+      .end_object();
+  json.begin_object("load").begin_array("before");
+  for (double l : run.load.before) json.value("", l);
+  json.end_array().begin_array("after");
+  for (double l : run.load.after) json.value("", l);
+  json.end_array().value("other_cpu_share", run.load.other_cpu_share).value("busy", run.load.busy).begin_array("busy_reasons");
+  for (const std::string& r : run.load.busy_reasons) json.value("", r);
+  json.end_array().end_object();
+  json.begin_array("techniques");
+  for (const TechniqueInfo& t : techniques())
+    json.begin_object()
+        .value("name", std::string(t.name))
+        .value("layered", t.layered)
+        .value("color", std::string(t.color))
+        .value("marker", std::string(t.marker))
+        .value("description", std::string(t.description))
+        .end_object();
+  json.end_array().begin_array("backends");
+  for (Isa isa : all_isas()) json.value("", to_string(isa));
+  for (const char* b : {"glsl", "naive", "exact"}) json.value("", b);
+  json.end_array().begin_array("rows");
+  for (const Measurement& m : run.rows) {
+    json.begin_object();
+    write_row(json, m);
+    json.end_object();
+  }
+  json.end_array().end_object();
+  return json.str() + "\n";
+}
+
+std::string benchmark_json(const MeasuredPlan& run) {
+  const Provenance p = provenance();
+  JsonWriter json;
+  json.begin_object().begin_object("context")
+      .value("date", p.date)
+      .value("num_cpus", p.cores)
+      .value("library_build_type", p.build_type == "Release" ? "release" : "debug")
+      .value("heightmarch_commit", p.commit)
+      .value("heightmarch_cpu", p.cpu)
+      .value("heightmarch_compiler", p.compiler)
+      .value("heightmarch_build_type", p.build_type)
+      .value("heightmarch_best_isa", to_string(best_isa()));
+  // The sizes of the benchmark view and depth maps, when one size serves every timed row.
+  std::string view, map;
+  bool one_view = true, one_map = true;
+  for (const Measurement& m : run.rows) {
+    if (m.seconds.empty()) continue;
+    const std::string v = std::to_string(m.config.view.width) + "x" + std::to_string(m.config.view.height);
+    const std::string d = std::to_string(m.depth_map_width) + "x" + std::to_string(m.depth_map_height);
+    one_view = one_view && (view.empty() || view == v);
+    one_map = one_map && (map.empty() || map == d);
+    view = v;
+    map = d;
+  }
+  json.value("heightmarch_view", one_view ? view : "mixed").value("heightmarch_depth_map", one_map ? map : "mixed").end_object();
+  json.begin_array("benchmarks");
+  for (const Measurement& m : run.rows) {
+    if (m.seconds.empty()) continue;
+    const std::string name = benchmark_name(m.config, m.depth_map_width, m.depth_map_height) + "/real_time";
+    const std::vector<double> rays = m.rays_per_second(), samples = m.samples_per_second();
+    for (std::size_t r = 0; r < m.seconds.size(); ++r) {
+      json.begin_object()
+          .value("name", name)
+          .value("run_name", name)
+          .value("run_type", "iteration")
+          .value("repetitions", m.seconds.size())
+          .value("repetition_index", r)
+          .value("threads", 1)
+          .value("iterations", 1)
+          .value("real_time", m.seconds[r] * 1e3)
+          .value("cpu_time", m.seconds[r] * 1e3)
+          .value("time_unit", "ms")
+          .value("rays_per_second", rays[r]);
+      if (m.samples_known) json.value("samples_per_second", samples[r]).value("samples_per_ray", m.rays ? double(m.samples) / double(m.rays) : 0.0);
+      if (m.config.kind == RunKind::trace) json.value("simd_utilization", m.simd_utilization);
+      if (m.errors) {
+        const ErrorSummary& e = *m.errors;
+        json.value("uv_error_mean", e.mean)
+            .value("uv_error_rms", e.rms)
+            .value("uv_error_p50", e.p50)
+            .value("uv_error_p95", e.p95)
+            .value("uv_error_p99", e.p99)
+            .value("uv_error_max", e.max)
+            .value("wrong_surface_rate", e.wrong_surface_rate)
+            .value("depth_error_mean", e.depth_error_mean);
+        if (e.has_shadow) json.value("shadow_error_mean", e.shadow_error_mean).value("shadow_mismatch_rate", e.shadow_mismatch_rate);
+      }
+      json.end_object();
+    }
+  }
+  json.end_array().end_object();
+  return json.str() + "\n";
+}
+
+}  // namespace heightmarch
