@@ -3,7 +3,8 @@
 # 30% slow-down is a named REGRESSION, no shared benchmark is unusable input (exit 2), benchmarks
 # of one run only are listed, context differences are WARNINGs in the first lines, changed error
 # measures are a BEHAVIOUR CHANGE, runs without repetitions fall back to the median change, and
-# names with min_time: match the new release's names. Needs no build.
+# names with min_time: match the new release's names; the committed baseline passes against
+# itself. Needs no build.
 # Usage: test_compare.sh BUILD_DIR (unused)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -97,7 +98,12 @@ echo "ok: view size differs: WARNING, not judged; with sizes in the names exit 2
 write_run "$tmp/debug.json" '{"build_type": "Debug"}'
 run build_type "$tmp/old.json" "$tmp/debug.json"
 first_lines_have "WARNING: build type differs: OLD Release, NEW Debug" || fail "no build-type WARNING in the first lines"
-echo "ok: build type differs: WARNING in the first lines"
+/usr/bin/python3 -c 'import json, sys; d = json.load(open(sys.argv[1])); d["context"] = {"date": "x"}; json.dump(d, open(sys.argv[2], "w"))' \
+  "$tmp/old.json" "$tmp/bare.json"
+run unknown "$tmp/bare.json" "$tmp/old.json"
+[ "$rc" = 0 ] && first_lines_have "WARNING: CPU model: OLD unknown, NEW AMD EPYC: cannot tell whether they match" \
+  || fail "a context without the keys: exit $rc or no unknown WARNING"
+echo "ok: build type differs: WARNING in the first lines; a context without the keys says unknown"
 
 write_run "$tmp/changed.json" '{"counter_scale": {"uv_error_mean": 1.001}}'
 write_run "$tmp/rounded.json" '{"counter_scale": {"uv_error_mean": 1.0000000001}}'
@@ -128,3 +134,7 @@ run bad "$tmp/old.json" "$tmp/bad.json"
 run missing "$tmp/old.json" "$tmp/none.json"
 [ "$rc" = 2 ] && has "none.json: no such file" err || fail "a missing file exits $rc"
 echo "ok: invalid JSON and a missing file exit 2 naming the file"
+
+run baseline "$root/results/baseline/bench.json" "$root/results/baseline/bench.json"
+[ "$rc" = 0 ] || fail "the committed baseline against itself exits $rc"
+echo "ok: the committed baseline against itself passes"
