@@ -23,6 +23,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.ticker import FuncFormatter  # noqa: E402
 
 # The configuration that every backend runs (ISA sweep, naive port, roofline, thread scaling) and
 # that the history follows.
@@ -441,13 +442,28 @@ def finish(fig, path, title, axes):
         for h, label in zip(*ax.get_legend_handles_labels()):
             handles.setdefault(label, h)
     fig.suptitle(title, fontsize=10)
-    ncol = min(len(handles), 6) or 1
-    legend_rows = (len(handles) + ncol - 1) // ncol
+    legend_rows = (len(handles) + 7) // 8 or 1
+    ncol = (len(handles) + legend_rows - 1) // legend_rows or 1
     bottom = 0.02 + 0.035 * legend_rows * 4.0 / fig.get_figheight()
     fig.legend(handles.values(), handles.keys(), loc="lower center", ncol=ncol, fontsize=7, frameon=False)
     fig.tight_layout(rect=(0, bottom, 1, 0.95))
     fig.savefig(path, dpi=130)
     plt.close(fig)
+
+
+def log_axes(ax, x=True, y=True, xticks=None):
+    """Log scales labelled with plain numbers (0.1, 2, 50) at 1, 2 and 5 per decade instead of powers;
+    with xticks, x is labelled at those values alone (layer counts)."""
+    def label(v, _):
+        return "%g" % v if v > 0 and round(v / 10 ** math.floor(math.log10(v) + 1e-9)) in (1, 2, 5) else ""
+    for use, axis, scale in ((x, ax.xaxis, ax.set_xscale), (y, ax.yaxis, ax.set_yscale)):
+        if use:
+            scale("log")
+            axis.set_major_formatter(FuncFormatter(label))
+            axis.set_minor_formatter(FuncFormatter(label))
+    if xticks:
+        ax.set_xticks(xticks, ["%g" % t for t in xticks], minor=False)
+        ax.xaxis.set_minor_formatter(FuncFormatter(lambda v, _: ""))
 
 
 def technique_kw(run, technique):
@@ -476,8 +492,8 @@ def plot_error_vs_layers(run, path):
                 ax.plot([x for x, _ in errors], [y for _, y in errors], label=name, **technique_kw(run, technique))
             elif errors:
                 ax.axhline(errors[0][1], linestyle="--", color=run.style[technique]["color"], label=name)
-        ax.set_xscale("log", base=2)
-        ax.set_yscale("log")
+        log_axes(ax, xticks=sorted({x for name, errors in series.items() for x, _ in errors
+                                    if run.style[name.split(" = ")[0]]["layered"]}))
         ax.set_title("%s (%s)" % (hf, depth_map(rows[0])), fontsize=9)
         ax.set_xlabel("layers")
         ax.set_ylabel("mean uv error (texels)")
@@ -503,7 +519,7 @@ def plot_error_vs_angle(run, path):
                 errors = [max(statistics.mean(r["errors"]["uv_mean"] for r in by_theta[t]), 1e-4) for t in thetas]
                 ax.plot(thetas, errors, linestyle=styles[k % len(styles)], markersize=4,
                         label=run.label(l_rows[0]), **technique_kw(run, technique))
-        ax.set_yscale("log")
+        log_axes(ax, x=False)
         ax.set_title(hf, fontsize=9)
         ax.set_xlabel("view angle from the normal (degrees)")
         ax.set_ylabel("mean uv error (texels)")
@@ -546,8 +562,7 @@ def plot_error_vs_speed(run, path):
                     hf, limit, run.label(best), fmt_spread(s, 1, 1e-6), best["errors"]["uv_p95"]))
             else:
                 notes.append("%s: no configuration reaches p95 < %g texel" % (hf, limit))
-        ax.set_xscale("log")
-        ax.set_yscale("log")
+        log_axes(ax)
         ax.set_title(hf, fontsize=9)
         ax.set_xlabel("Mrays/s, median (bars: min-max)")
         ax.set_ylabel("p95 uv error (texels)")
@@ -567,13 +582,13 @@ def plot_isa_speedup(run, path):
         for r in group:
             for ref, changes in references:
                 other = run.partner(r, **changes)
-                if other:
+                if other and other is not r:  # the reference over itself is 1 by definition
                     bars[ref].append((g, r["backend"], per_round(rays_rounds(r), rays_rounds(other))))
     references = [(ref, c) for ref, c in references if bars[ref]]
     if not references:
         return False
     colors = run.backend_colors()
-    fig, axes = plt.subplots(len(references), 1, figsize=(max(7.0, 1.1 * len(by_group)), 3.4 * len(references) + 0.9),
+    fig, axes = plt.subplots(len(references), 1, figsize=(max(7.0, 1.1 * len(by_group)), 3.0 * len(references) + 0.9),
                              squeeze=False)
     axes = [a[0] for a in axes]
     width = 0.8 / max(len(run.isas), 1)
@@ -586,8 +601,8 @@ def plot_isa_speedup(run, path):
             ys = [s[0] for _, s in mine]
             ax.bar(xs, ys, width, color=colors[isa], label=isa,
                    yerr=[[s[0] - s[1] for _, s in mine], [s[2] - s[0] for _, s in mine]], capsize=2, error_kw={"linewidth": 0.8})
-            for x, y in zip(xs, ys):
-                ax.text(x, y, "%.1f" % y, ha="center", va="bottom", fontsize=6)
+            for x, (_, s) in zip(xs, mine):
+                ax.text(x, s[2], "%.1f" % s[0], ha="center", va="bottom", fontsize=6)
         ax.axhline(1.0, color="gray", linewidth=1)
         ax.set_xticks(range(len(by_group)))
         ax.set_xticklabels(list(by_group), fontsize=7)
@@ -654,7 +669,7 @@ def plot_history(run, rows, path):
                     marker="o", markersize=4, capsize=3, color=colors[backend], label=backend)
     ax.set_xticks(range(len(runs)))
     ax.set_xticklabels(["%s\n%s" % (d[:16].replace("T", " "), c) for d, c in runs], fontsize=7)
-    ax.set_yscale("log")
+    log_axes(ax, x=False)
     ax.set_ylabel("Mrays/s, median (bars: min-max)")
     ax.grid(True, which="both", alpha=0.3)
     finish(fig, path, "%s, %s layers, %s view, %s, 1 thread, over the recorded runs" % (
