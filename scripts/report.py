@@ -428,7 +428,7 @@ def panel_grid(n, width=4.2, height=3.4, columns=3):
     """A grid of n panels at most `columns` wide, sized for a page; unused panels hidden."""
     cols = min(n, columns)
     rows = (n + cols - 1) // cols
-    fig, axes = plt.subplots(rows, cols, figsize=(width * cols, height * rows + 0.9), squeeze=False)
+    fig, axes = plt.subplots(rows, cols, figsize=(max(width * cols, 7.0), height * rows + 0.9), squeeze=False)
     flat = [ax for line in axes for ax in line]
     for ax in flat[n:]:
         ax.set_visible(False)
@@ -442,7 +442,8 @@ def finish(fig, path, title, axes):
         for h, label in zip(*ax.get_legend_handles_labels()):
             handles.setdefault(label, h)
     fig.suptitle(title, fontsize=10)
-    legend_rows = (len(handles) + 7) // 8 or 1
+    per_row = max(1, int(fig.get_figwidth() / 1.4))  # legend entries are about 1.4 inches wide
+    legend_rows = (len(handles) + per_row - 1) // per_row or 1
     ncol = (len(handles) + legend_rows - 1) // legend_rows or 1
     bottom = 0.02 + 0.035 * legend_rows * 4.0 / fig.get_figheight()
     fig.legend(handles.values(), handles.keys(), loc="lower center", ncol=ncol, fontsize=7, frameon=False)
@@ -699,7 +700,12 @@ def section_plots(run, run_dir, history):
     body = []
 
     def add(drawn, name, alt, missing):
-        body.extend(["![%s](plots/%s)" % (alt, name), ""] if drawn else ["%s: %s" % (alt.capitalize(), missing), ""])
+        if drawn:
+            body.extend(["![%s](plots/%s)" % (alt, name), ""])
+            return
+        body.extend(["%s: %s" % (alt.capitalize(), missing), ""])
+        if os.path.exists(os.path.join(plots, name)):  # a plot of an earlier report of this directory
+            os.remove(os.path.join(plots, name))
 
     add(plot_error_vs_layers(run, os.path.join(plots, "error_vs_layers.png")), "error_vs_layers.png",
         "error against layers", "not measured in this run.")
