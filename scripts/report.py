@@ -134,6 +134,14 @@ def fmt(value, digits=3, scale=1.0, unit=""):
     return ("%%.%df%%s" % digits) % (value * scale, unit)
 
 
+def counted(n, word):
+    return "%d %s%s" % (n, word, "" if n == 1 else "s")
+
+
+def load_averages(values):
+    return "/".join("%.2f" % x for x in values or []) or "?"
+
+
 def relative_spread(s):
     return (s[2] - s[1]) / s[0]
 
@@ -142,19 +150,19 @@ def relative_spread(s):
 # Rows
 
 def rays_rounds(row):
-    return row["speed"]["rays_per_second"]["rounds"] if row.get("speed") else None
+    return row["speed"]["rays_per_second"]["rounds"] if row and row.get("speed") else None
 
 
 def samples_rounds(row):
     """Samples/s per repetition: the samples of one trace are the same in every repetition."""
-    if not row.get("speed") or not row.get("samples_known"):
+    if not row or not row.get("speed") or not row.get("samples_known"):
         return None
     return [row["samples"] / s for s in row["speed"]["seconds"]]
 
 
-def view_name(view):
+def view_name(view, angles=True):
     name = "%s %dx%d" % (view["kind"], view["width"], view["height"])
-    if view.get("theta") is not None:
+    if angles and view.get("theta") is not None:
         name += " theta %g phi %g" % (view["theta"], view.get("phi") or 0)
     return name
 
@@ -175,7 +183,6 @@ def config(row):
 
 class Run:
     def __init__(self, data):
-        self.data = data
         self.provenance, self.plan, self.load = data["provenance"], data["plan"], data["load"]
         self.rows = data["rows"]
         self.timed = [r for r in self.rows if r.get("speed")]
@@ -189,8 +196,8 @@ class Run:
         # the technique x layers matrix: technique rows only (an exact row may serve the matrix too)
         self.matrix = sorted((r for r in self.with_purpose("matrix") if r.get("technique")), key=self.order)
 
-    def with_purpose(self, purpose, rows=None):
-        return [r for r in (self.rows if rows is None else rows) if purpose in r.get("purposes", [])]
+    def with_purpose(self, purpose):
+        return [r for r in self.rows if purpose in r.get("purposes", [])]
 
     def partner(self, row, **changes):
         """The timed row measured like `row` except for `changes` (ANY: not compared)."""
@@ -225,17 +232,21 @@ class Run:
         return {b: cmap(i % 10) for i, b in enumerate(names)}
 
     def describe(self, row):
-        return "%s %s, %s, %d thread%s, %s" % (row["heightfield"]["label"], self.label(row), row["backend"],
-                                                row["threads"], "" if row["threads"] == 1 else "s",
-                                                view_name(row["view"]))
+        return "%s %s, %s, %s, %s" % (row["heightfield"]["label"], self.label(row), row["backend"],
+                                       counted(row["threads"], "thread"), view_name(row["view"]))
 
 
 def mrays(row):
-    return fmt_spread(spread(rays_rounds(row)), 1, 1e-6) if row and row.get("speed") else "-"
+    return fmt_spread(spread(rays_rounds(row)), 1, 1e-6)
 
 
 def msamples(row):
-    return fmt_spread(spread(samples_rounds(row)), 0, 1e-6) if row else "-"
+    return fmt_spread(spread(samples_rounds(row)), 0, 1e-6)
+
+
+def speedup(row, reference):
+    """row's rays/s over reference's, per round (None when either is missing)."""
+    return per_round(rays_rounds(row), rays_rounds(reference))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -262,7 +273,7 @@ def groups(rows, key):
 
 def section_machine(run):
     p, plan, load = run.provenance, run.plan, run.load
-    views = sorted({view_name(r["view"]).split(" theta")[0] for r in run.rows})
+    views = sorted({view_name(r["view"], angles=False) for r in run.rows})
     maps = list(dict.fromkeys("%s %s" % (r["heightfield"]["label"], depth_map(r)) for r in run.rows))
     rows = [("CPU", p.get("cpu", "?")), ("cores", p.get("cores", "?")), ("best ISA", run.best_isa or "?"),
             ("threads", p.get("threads", "?")), ("compiler", p.get("compiler", "?")),
@@ -271,14 +282,13 @@ def section_machine(run):
             ("plan", "%s, %s repetitions of at least %s s per timed row" % (
                 plan.get("name", "?"), plan.get("repetitions", "?"), plan.get("min_seconds_per_repetition", "?"))),
             ("views", ", ".join(views) or "-"), ("depth maps", ", ".join(maps) or "-"),
-            ("load averages (1/5/15 min)", "before %s, after %s" % (
-                "/".join("%.2f" % x for x in load.get("before", [])) or "?",
-                "/".join("%.2f" % x for x in load.get("after", [])) or "?")),
+            ("load averages (1/5/15 min)", "before %s, after %s" % (load_averages(load.get("before")),
+                                                                   load_averages(load.get("after")))),
             ("other processes' CPU share", fmt(load.get("other_cpu_share"), 1, 100, "%"))]
     return ["## Machine and provenance", ""] + md_table([("", False), ("", False)], rows)
 
 
-def warnings(run, faults):
+def section_warnings(run, faults):
     """The block under the machine table: a busy machine, disturbed timings, roofline faults."""
     lines = []
     load = run.load
@@ -286,8 +296,7 @@ def warnings(run, faults):
         lines.append("> **Warning: the machine was busy during this run** (%s). Load averages before %s, after %s; "
                      "other processes used %s of the CPU time while timing. Speeds and ratios may be disturbed." % (
                          "; ".join(load.get("busy_reasons") or ["no reason given"]),
-                         "/".join("%.2f" % x for x in load.get("before", [])),
-                         "/".join("%.2f" % x for x in load.get("after", [])),
+                         load_averages(load.get("before")), load_averages(load.get("after")),
                          fmt(load.get("other_cpu_share"), 1, 100, "%")))
     noisy = sorted(((relative_spread(spread(rays_rounds(r))), r) for r in run.timed), key=lambda x: -x[0])
     noisy = [(s, r) for s, r in noisy if s > SPREAD_LIMIT]
@@ -300,8 +309,8 @@ def warnings(run, faults):
     if faults:
         if lines:
             lines.append(">")
-        lines.append("> **Warning: %d roofline fraction%s above 100%%**: timing disturbed, see the measurement "
-                     "faults under POM-32." % (len(faults), "" if len(faults) == 1 else "s"))
+        lines.append("> **Warning: %s above 100%%**: timing disturbed, see the measurement faults under %s-%s." % (
+                         counted(len(faults), "roofline fraction"), HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS))
     return [""] + lines if lines else []
 
 
@@ -321,7 +330,7 @@ def section_matrix(run):
     for (hf, backend, threads, view), group in groups(rows, lambda r: (r["heightfield"]["label"], r["backend"], r["threads"],
                                                                           view_name(r["view"]))).items():
         body += ["", "### %s (%s)" % (hf, depth_map(group[0])), "",
-                 "%s, %d thread%s, %s view." % (backend, threads, "" if threads == 1 else "s", view), ""]
+                 "%s, %s, %s view." % (backend, counted(threads, "thread"), view), ""]
         body += md_table([("technique", False), ("layers", False), ("Mrays/s", True), ("samples/ray", True),
                           ("uv mean", True), ("p95", True), ("max", True), ("wrong surface", True)],
                          [[r["technique"], r["layers"], mrays(r), fmt(r.get("samples_per_ray"), 2)] + error_cells(r)
@@ -344,16 +353,8 @@ def section_glsl(run):
     body += md_table([("heightfield", False), ("technique", False), ("layers", False), ("threads", True),
                       ("CPU %s Mrays/s" % run.best_isa, True), ("GLSL Mrays/s", True), ("CPU/GLSL", True)],
                      [[g["heightfield"]["label"], g["technique"], g["layers"], g["threads"], mrays(c), mrays(g),
-                       fmt_ratio(per_round(rays_rounds(c), rays_rounds(g)) if c else None)] for c, g in pairs])
+                       fmt_ratio(speedup(c, g))] for c, g in pairs])
     return section("CPU against GLSL (OSMesa llvmpipe)", body)
-
-
-def roofline_fraction(run, row):
-    """The per-round share of the roofline's samples/s this row reaches, or None."""
-    if row["kind"] != "trace":
-        return None
-    roof = run.partner(row, kind="roofline", technique=None, layers=ANY)
-    return per_round(samples_rounds(row), samples_rounds(roof)) if roof else None
 
 
 def section_every_backend(run, faults):
@@ -367,17 +368,18 @@ def section_every_backend(run, faults):
             "technique's samples/s over it. Every ratio is the median (min-max) of the per-round ratios.", ""]
     cells = []
     for r in rows:
-        fraction = roofline_fraction(run, r)
+        # the roofline of a trace row: its backend's sampler alone, same scene and threads
+        roof = run.partner(r, kind="roofline", technique=None, layers=ANY) if r["kind"] == "trace" else None
+        fraction = per_round(samples_rounds(r), samples_rounds(roof))
         if fraction and fraction[0] > 1.0:
             faults.append("%s: %s" % (run.describe(r), fmt_spread(fraction, 0, 100, "%")))
             fraction_cell = "fault (>100%: timing disturbed)"
         else:
             fraction_cell = fmt_spread(fraction, 0, 100, "%")
-        roof = run.partner(r, kind="roofline", technique=None, layers=ANY) if r["kind"] == "trace" else None
         over = [run.partner(r, kind="trace", backend=base), run.partner(r, kind="naive", backend="naive")]
         cells.append([r["heightfield"]["label"], r["backend"], r["threads"], mrays(r), msamples(r),
                       msamples(roof), fraction_cell]
-                     + [fmt_ratio(per_round(rays_rounds(r), rays_rounds(o)) if o else None) for o in over])
+                     + [fmt_ratio(speedup(r, o)) for o in over])
     body += md_table([("heightfield", False), ("backend", False), ("threads", True), ("Mrays/s", True),
                       ("Msamples/s", True), ("roofline Msamples/s", True), ("roofline fraction", True),
                       ("x %s" % base, True), ("x naive", True)], cells)
@@ -401,7 +403,7 @@ def thread_pairs(run):
 
 def section_threads(run):
     cells = [[one["heightfield"]["label"], one["backend"], mrays(one), mrays(most), most["threads"],
-              fmt_ratio(per_round(rays_rounds(most), rays_rounds(one)))] for one, most in thread_pairs(run)]
+              fmt_ratio(speedup(most, one))] for one, most in thread_pairs(run)]
     title = "Thread scaling (%s-%s)" % (HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS)
     if not cells:
         return section(title, ["Only one thread count measured in this run."])
@@ -575,7 +577,7 @@ def plot_error_vs_speed(run, path):
 
 def plot_isa_speedup(run, path):
     rows = sorted((r for r in run.timed if run.is_headline(r) and r["kind"] == "trace"), key=run.order)
-    by_group = groups(rows, lambda r: "%s\n%d thread%s" % (r["heightfield"]["label"], r["threads"], "" if r["threads"] == 1 else "s"))
+    by_group = groups(rows, lambda r: "%s\n%s" % (r["heightfield"]["label"], counted(r["threads"], "thread")))
     base = run.isas[0] if run.isas else None
     references = [("naive", dict(kind="naive", backend="naive")), (base, dict(kind="trace", backend=base))]
     bars = {ref: [] for ref, _ in references}  # ref -> [(group index, isa, spread)]
@@ -584,7 +586,7 @@ def plot_isa_speedup(run, path):
             for ref, changes in references:
                 other = run.partner(r, **changes)
                 if other and other is not r:  # the reference over itself is 1 by definition
-                    bars[ref].append((g, r["backend"], per_round(rays_rounds(r), rays_rounds(other))))
+                    bars[ref].append((g, r["backend"], speedup(r, other)))
     references = [(ref, c) for ref, c in references if bars[ref]]
     if not references:
         return False
@@ -740,7 +742,7 @@ def main():
           "Parallax-mapping techniques on the CPU (packet kernels per ISA) and as GLSL (OSMesa llvmpipe), measured "
           "against the exact ray/heightfield intersection. Speeds: median (min-max) of the repetitions; ratios: median "
           "(min-max) of the per-round ratios. Reproduce with `scripts/main` (see README).", ""]
-    md += section_machine(run) + warnings(run, faults) + sections
+    md += section_machine(run) + section_warnings(run, faults) + sections
     atomic_write(os.path.join(args.run_dir, "report.md"), "\n".join(md) + "\n")
     print("report: %s" % os.path.join(args.run_dir, "report.md"))
     return 0
