@@ -506,7 +506,7 @@ def plot_error_vs_layers(run, path):
 
 
 def plot_error_vs_angle(run, path):
-    rows = [r for r in run.with_purpose("sweep") if r["view"]["kind"] == "sweep" and r.get("errors")]
+    rows = [r for r in run.with_purpose("sweep") if r["view"]["kind"] == "sweep" and r.get("errors") and r.get("technique")]
     by_hf = groups(sorted(rows, key=run.order), lambda r: r["heightfield"]["label"])
     if not by_hf:
         return False
