@@ -1,19 +1,21 @@
 #!/usr/bin/python3
-"""Writes RUN_DIR/report.md and RUN_DIR/plots/*.png from a suite run directory.
+"""Writes RUN_DIR/report.md and RUN_DIR/plots/*.png from RUN_DIR/measurements.json.
 
 Usage: scripts/report.py RUN_DIR [--history results/history.csv]
 
-Inputs (written by `heightmarch suite`): bench*.json (Google Benchmark), sweep.csv,
-gallery.json, claims.md/claims.json, machine.json. Sections whose inputs are missing say so.
-With --history, one row per benchmark of this run is appended to the history CSV, and the
-report plots rays/s over the recorded runs.
+Inputs: measurements.json (the run's typed rows, docs/measurements.md) and, optionally,
+claims.json. Every speed is the median of the repetitions with their min-max; every ratio of two
+rows is taken per round (rounds are interleaved, so round i of two rows forms a pair) and shown as
+the median of the per-round ratios with their min-max. With --history, one row per timed row is
+appended to the history CSV and the headline configuration is plotted over the recorded runs.
 """
 import argparse
 import csv
-import glob
+import io
 import json
 import math
 import os
+import statistics
 import sys
 import tempfile
 
@@ -21,462 +23,728 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.ticker import FuncFormatter  # noqa: E402
 
-TECHNIQUES = ["parallax", "parallax-limited", "steep", "steep-limited", "relief", "pom", "shadow"]
-ISAS = ["scalar", "sse4.2", "avx2", "avx512"]
-LAYER_ORDER = ["1", "4", "8", "10", "16", "32", "64", "8-32"]
-HISTORY_COLUMNS = ["date", "commit", "cpu", "isa", "threads", "benchmark", "rays_per_second_median"]
-
-
-def atomic_write(path, text, mode="w"):
-    directory = os.path.dirname(os.path.abspath(path))
-    fd, temporary = tempfile.mkstemp(dir=directory, prefix=".tmp-")
-    with os.fdopen(fd, mode) as f:
-        f.write(text)
-    os.replace(temporary, path)
-
-
-def parse_name(name):
-    """'BM_Trace/heightfield:bricks/technique:pom/...' -> ('BM_Trace', {'heightfield': 'bricks', ...})."""
-    parts = name.split("/")
-    fields = {}
-    for part in parts[1:]:
-        if ":" in part:
-            key, value = part.split(":", 1)
-            fields[key] = value
-    return parts[0], fields
+# The configuration that every backend runs (ISA sweep, naive port, roofline, thread scaling) and
+# that the history follows.
+HEADLINE_TECHNIQUE, HEADLINE_LAYERS = "pom", "32"
+NON_ISA_BACKENDS = ("glsl", "naive", "exact")
+KINDS = ("trace", "glsl", "roofline", "naive", "exact")
+SPREAD_LIMIT = 0.20  # (max - min) / median above this is flagged as a disturbed timing
+HISTORY_COLUMNS = ["date", "commit", "cpu", "backend", "threads", "heightfield", "technique", "layers",
+                   "view", "depth_map", "rays_per_second_median", "rays_per_second_min",
+                   "rays_per_second_max"]
+ANY = object()  # a field that `partner` does not compare
+NOT_MEASURED = "Not measured in this run."
 
 
-def load_benchmarks(run_dir):
-    """Entries keyed by name without Google Benchmark's suffixes; the median aggregate wins."""
-    entries, context = {}, {}
-    for path in sorted(glob.glob(os.path.join(run_dir, "bench*.json"))):
+class InputError(Exception):
+    pass
+
+
+# ---------------------------------------------------------------------------------------------
+# Input
+
+def read_json(path):
+    try:
         with open(path) as f:
-            data = json.load(f)
-        context = context or data.get("context", {})
-        for b in data.get("benchmarks", []):
-            if b.get("run_type") == "aggregate" and b.get("aggregate_name") != "median":
-                continue
-            kind, fields = parse_name(b.get("run_name", b["name"]))
-            key = (kind,) + tuple(sorted((k, v) for k, v in fields.items() if k not in ("min_time", "repeats")))
-            if key in entries and b.get("run_type") != "aggregate":
-                continue
-            entry = dict(b)
-            entry["kind"], entry["fields"] = kind, fields
-            entries[key] = entry
-    return list(entries.values()), context
+            return json.load(f)
+    except OSError as e:
+        raise InputError("%s: %s" % (path, e.strerror))
+    except ValueError as e:
+        raise InputError("%s: not JSON (%s)" % (path, e))
 
 
-def select(entries, kind, **fields):
-    return [e for e in entries if e["kind"] == kind and all(e["fields"].get(k) == v for k, v in fields.items())]
+def require(condition, what):
+    if not condition:
+        raise InputError(what)
 
 
-def one(entries, kind, **fields):
-    found = select(entries, kind, **fields)
-    return found[0] if found else None
+def validate(data):
+    """Checks the fields the report reads, so a malformed file fails with one line, not a trace."""
+    require(isinstance(data, dict) and str(data.get("schema", "")).startswith("heightmarch-measurements/"),
+            "schema is not heightmarch-measurements/*")
+    for key in ("provenance", "plan", "load"):
+        require(isinstance(data.get(key), dict), "%s is missing" % key)
+    require(isinstance(data.get("techniques"), list) and
+            all({"name", "layered", "color", "marker"} <= set(t) for t in data["techniques"]),
+            "techniques must list {name, layered, color, marker}")
+    require(isinstance(data.get("backends"), list) and data["backends"], "backends is missing")
+    require(isinstance(data.get("rows"), list), "rows is missing")
+    names = {t["name"] for t in data["techniques"]}
+    for row in data["rows"]:
+        where = "row %s" % row.get("id", "?")
+        require(row.get("kind") in KINDS, "%s: kind %r is none of %s" % (where, row.get("kind"), ", ".join(KINDS)))
+        require(row.get("backend") in data["backends"], "%s: backend %r is not in backends" % (where, row.get("backend")))
+        require(row.get("technique") is None or row["technique"] in names,
+                "%s: technique %r is not in techniques" % (where, row.get("technique")))
+        require(isinstance(row.get("threads"), int), "%s: threads is not an integer" % where)
+        hf, view = row.get("heightfield"), row.get("view")
+        require(isinstance(hf, dict) and {"label", "width", "height"} <= set(hf), "%s: heightfield needs label, width, height" % where)
+        require(isinstance(view, dict) and {"kind", "width", "height"} <= set(view), "%s: view needs kind, width, height" % where)
+        speed = row.get("speed")
+        if speed is not None:
+            seconds = speed.get("seconds") or []
+            rounds = (speed.get("rays_per_second") or {}).get("rounds") or []
+            require(seconds and len(rounds) == len(seconds) and all(s > 0 for s in seconds) and all(r > 0 for r in rounds),
+                    "%s: speed needs as many positive rays_per_second.rounds as seconds" % where)
 
 
-def failed(e):
-    return e is not None and e.get("error_occurred")
+def load_run(run_dir):
+    data = read_json(os.path.join(run_dir, "measurements.json"))
+    try:
+        validate(data)
+    except InputError as e:
+        raise InputError("%s: %s" % (os.path.join(run_dir, "measurements.json"), e))
+    claims_path = os.path.join(run_dir, "claims.json")
+    claims = read_json(claims_path) if os.path.exists(claims_path) else None
+    return Run(data), claims
 
 
-def mrays(e):
-    if e is None:
+# ---------------------------------------------------------------------------------------------
+# Figures with their spread
+
+def spread(values):
+    """(median, min, max) of values, or None when there is nothing to summarise."""
+    values = list(values or [])
+    return (statistics.median(values), min(values), max(values)) if values else None
+
+
+def per_round(a, b):
+    """The spread of the per-round ratios a[i] / b[i] (None when either side is missing)."""
+    if a is None or b is None:
+        return None
+    return spread(x / y for x, y in zip(a, b))
+
+
+def fmt_spread(s, digits=1, scale=1.0, unit=""):
+    if s is None:
         return "-"
-    if failed(e):
-        return "failed"
-    return "%.1f" % (e.get("rays_per_second", 0) / 1e6)
+    f = "%%.%df" % digits
+    return "%s%s (%s-%s)" % (f % (s[0] * scale), unit, f % (s[1] * scale), f % (s[2] * scale))
 
 
-def layer_key(layers):
-    return LAYER_ORDER.index(layers) if layers in LAYER_ORDER else len(LAYER_ORDER)
+def fmt_ratio(s):
+    return fmt_spread(s, 2, unit="x")
 
 
-def fmt(value, digits=3):
+def fmt(value, digits=3, scale=1.0, unit=""):
     if value is None or (isinstance(value, float) and math.isnan(value)):
         return "-"
-    return ("%." + str(digits) + "f") % value
+    return ("%%.%df%%s" % digits) % (value * scale, unit)
 
 
-def max_threads(entries):
-    threads = [int(e["fields"]["threads"]) for e in entries if "threads" in e["fields"]]
-    return str(max(threads)) if threads else "1"
+def counted(n, word):
+    return "%d %s%s" % (n, word, "" if n == 1 else "s")
 
 
-def best_isa(entries, machine):
-    if machine.get("best_isa"):
-        return machine["best_isa"]
-    present = {e["fields"].get("isa") for e in entries if e["kind"] == "BM_Trace"}
-    for isa in reversed(ISAS):
-        if isa in present:
-            return isa
-    return "scalar"
+def load_averages(values):
+    return "/".join("%.2f" % x for x in values or []) or "?"
 
 
-def heightfields_of(entries):
-    seen = []
-    for e in entries:
-        hf = e["fields"].get("heightfield")
-        if e["kind"] == "BM_Trace" and hf and hf not in seen:
-            seen.append(hf)
-    return seen
+def relative_spread(s):
+    return (s[2] - s[1]) / s[0]
 
 
-def section_machine(machine, context):
-    lines = ["## Machine", ""]
-    rows = [("CPU", machine.get("cpu") or context.get("heightmarch_cpu", "?")),
-            ("cores", machine.get("cores", context.get("num_cpus", "?"))),
-            ("best ISA", machine.get("best_isa") or context.get("heightmarch_best_isa", "?")),
-            ("threads", machine.get("threads", "?")),
-            ("compiler", machine.get("compiler") or context.get("heightmarch_compiler", "?")),
-            ("commit", machine.get("commit") or context.get("heightmarch_commit", "?")),
-            ("date", machine.get("date") or context.get("date", "?")),
-            ("benchmark view", context.get("heightmarch_view", "?")),
-            ("depth maps", context.get("heightmarch_depth_map", "?")),
-            ("run", "quick (smoke test)" if machine.get("quick") else "full")]
-    lines += ["| | |", "|---|---|"] + ["| %s | %s |" % r for r in rows]
-    return lines
+# ---------------------------------------------------------------------------------------------
+# Rows
+
+def rays_rounds(row):
+    return row["speed"]["rays_per_second"]["rounds"] if row and row.get("speed") else None
 
 
-def section_accuracy_speed(entries, isa, threads):
-    lines = ["## Techniques x layers, per heightfield",
-             "",
-             "CPU packet kernels at %s, %s threads, the default view. uv errors in texels against the exact "
-             "intersection; wrong surface = uv error above 1 texel." % (isa, threads)]
-    for hf in heightfields_of(entries):
-        rows = select(entries, "BM_Trace", heightfield=hf, isa=isa, threads=threads)
-        if not rows:
-            continue
-        rows.sort(key=lambda e: (TECHNIQUES.index(e["fields"]["technique"]) if e["fields"]["technique"] in TECHNIQUES else 99,
-                                 layer_key(e["fields"]["layers"])))
-        lines += ["", "### %s" % hf, "",
-                  "| technique | layers | Mrays/s | samples/ray | mean | p95 | max | wrong surface |",
-                  "|---|---|---:|---:|---:|---:|---:|---:|"]
-        for e in rows:
-            f = e["fields"]
-            if failed(e):
-                lines.append("| %s | %s | failed: %s | | | | | |" % (f["technique"], f["layers"], e.get("error_message", "")))
-                continue
-            lines.append("| %s | %s | %s | %s | %s | %s | %s | %s%% |" % (
-                f["technique"], f["layers"], mrays(e), fmt(e.get("samples_per_ray"), 2), fmt(e.get("uv_error_mean")),
-                fmt(e.get("uv_error_p95")), fmt(e.get("uv_error_max"), 2), fmt(100 * e.get("wrong_surface_rate", 0), 2)))
-    return lines
+def samples_rounds(row):
+    """Samples/s per repetition: the samples of one trace are the same in every repetition."""
+    if not row or not row.get("speed") or not row.get("samples_known"):
+        return None
+    return [row["samples"] / s for s in row["speed"]["seconds"]]
 
 
-def section_isa_vs_glsl(entries, isa, threads):
-    lines = ["## CPU per ISA against GLSL (OSMesa llvmpipe)", ""]
-    glsl = select(entries, "BM_GLSL")
-    if not glsl:
-        lines.append("GLSL not run.")
-    else:
-        lines += ["Rays/s (M) at the most threads, the same rays and parameters on both sides; ratio = CPU (%s) / GLSL." % isa, "",
-                  "| heightfield | technique | layers | CPU %s | GLSL | CPU/GLSL |" % isa, "|---|---|---|---:|---:|---:|"]
-        for g in sorted(glsl, key=lambda e: (e["fields"]["heightfield"], TECHNIQUES.index(e["fields"]["technique"]) if e["fields"]["technique"] in TECHNIQUES else 99, layer_key(e["fields"]["layers"]))):
-            f = g["fields"]
-            if f["threads"] != threads:
-                continue
-            c = one(entries, "BM_Trace", heightfield=f["heightfield"], technique=f["technique"], layers=f["layers"], isa=isa, threads=threads)
-            ratio = "-"
-            if c and not failed(c) and not failed(g) and g.get("rays_per_second"):
-                ratio = "%.1fx" % (c["rays_per_second"] / g["rays_per_second"])
-            lines.append("| %s | %s | %s | %s | %s | %s |" % (f["heightfield"], f["technique"], f["layers"], mrays(c), mrays(g), ratio))
-    lines += ["", "### POM, 32 layers, every backend", "",
-              "Roofline = the same ISA's bilinear sampler alone at the same positions; fraction = POM's samples/s over it.", "",
-              "| heightfield | backend | threads | Mrays/s | Msamples/s | roofline fraction | vs naive port |",
-              "|---|---|---:|---:|---:|---:|---:|"]
-    for hf in heightfields_of(entries):
-        for t in sorted({e["fields"]["threads"] for e in select(entries, "BM_Trace", heightfield=hf, technique="pom", layers="32")}, key=int):
-            naive = one(entries, "BM_NaivePort", heightfield=hf, layers="32", threads=t)
-            rows = [("naive port", naive, None)]
-            rows += [(i, one(entries, "BM_Trace", heightfield=hf, technique="pom", layers="32", isa=i, threads=t),
-                      one(entries, "BM_SamplerRoofline", heightfield=hf, isa=i, threads=t)) for i in ISAS]
-            rows.append(("glsl", one(entries, "BM_GLSL", heightfield=hf, technique="pom", layers="32", threads=t), None))
-            for name, e, roof in rows:
-                if e is None:
-                    continue
-                fraction = "-"
-                if roof and not failed(roof) and not failed(e) and roof.get("samples_per_second"):
-                    fraction = "%.0f%%" % (100 * e["samples_per_second"] / roof["samples_per_second"])
-                vs_naive = "-"
-                if naive and not failed(naive) and not failed(e) and naive.get("rays_per_second"):
-                    vs_naive = "%.1fx" % (e["rays_per_second"] / naive["rays_per_second"])
-                lines.append("| %s | %s | %s | %s | %s | %s | %s |" % (
-                    hf, name, t, mrays(e), "failed" if failed(e) else fmt(e.get("samples_per_second", 0) / 1e6, 0), fraction, vs_naive))
-    return lines
+def view_name(view, angles=True):
+    name = "%s %dx%d" % (view["kind"], view["width"], view["height"])
+    if angles and view.get("theta") is not None:
+        name += " theta %g phi %g" % (view["theta"], view.get("phi") or 0)
+    return name
 
 
-def section_threads(entries):
-    lines = ["## Thread scaling", "", "| heightfield | backend | 1 thread | N threads | N | speed-up |", "|---|---|---:|---:|---:|---:|"]
-    found = False
-    for hf in heightfields_of(entries):
-        for kind, isa in [("BM_Trace", i) for i in ISAS] + [("BM_GLSL", "glsl"), ("BM_NaivePort", "scalar-naive")]:
-            rows = select(entries, kind, heightfield=hf, layers="32", isa=isa)
-            rows = [e for e in rows if e["fields"].get("technique") == "pom" and not failed(e)]
-            by_threads = {int(e["fields"]["threads"]): e for e in rows}
-            if 1 in by_threads and len(by_threads) > 1:
-                n = max(by_threads)
-                found = True
-                lines.append("| %s | %s POM-32 | %s | %s | %d | %.2fx |" % (hf, isa, mrays(by_threads[1]), mrays(by_threads[n]), n,
-                                                                          by_threads[n]["rays_per_second"] / by_threads[1]["rays_per_second"]))
-    if not found:
-        lines.append("| (only one thread count measured) | | | | | |")
-    return lines
+def depth_map(row):
+    return "%dx%d" % (row["heightfield"]["width"], row["heightfield"]["height"])
 
 
-def plot_error_vs_layers(entries, isa, threads, path):
-    hfs = heightfields_of(entries)
-    if not hfs:
-        return False
-    fig, axes = plt.subplots(1, len(hfs), figsize=(4.2 * len(hfs), 4), squeeze=False)
-    for ax, hf in zip(axes[0], hfs):
-        for technique in ["steep", "steep-limited", "relief", "pom"]:  # shadow shares POM's hit
-            rows = [e for e in select(entries, "BM_Trace", heightfield=hf, technique=technique, isa=isa, threads=threads)
-                    if not failed(e) and e["fields"]["layers"].isdigit()]
-            rows.sort(key=lambda e: int(e["fields"]["layers"]))
-            if rows:
-                ax.plot([int(e["fields"]["layers"]) for e in rows], [max(e["uv_error_mean"], 1e-4) for e in rows], marker="o", label=technique)
-        for technique, style in [("parallax", "--"), ("parallax-limited", ":")]:
-            e = one(entries, "BM_Trace", heightfield=hf, technique=technique, isa=isa, threads=threads)
-            if e and not failed(e):
-                ax.axhline(max(e["uv_error_mean"], 1e-4), linestyle=style, color="gray", label=technique)
-        ax.set_xscale("log", base=2)
-        ax.set_yscale("log")
-        ax.set_title(hf)
-        ax.set_xlabel("layers")
-        ax.grid(True, which="both", alpha=0.3)
-    axes[0][0].set_ylabel("mean uv error (texels)")
-    axes[0][-1].legend(fontsize=7)
-    fig.suptitle("Error against layer count (default view)", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
-    return True
+def config(row):
+    """Every field that names a configuration; two rows with equal configs are the same measurement."""
+    view = row["view"]
+    return {"kind": row["kind"], "backend": row["backend"], "threads": row["threads"],
+            "technique": row.get("technique"), "layers": row.get("layers"),
+            "heightfield": row["heightfield"]["label"],
+            "view": (view["kind"], view["width"], view["height"], view.get("theta"), view.get("phi")),
+            "scene": (row.get("scale"), row.get("wrap"), row.get("discard"))}
 
 
-def plot_error_vs_angle(run_dir, path):
-    sweep = os.path.join(run_dir, "sweep.csv")
-    if not os.path.exists(sweep):
-        return False
-    with open(sweep) as f:
-        rows = list(csv.DictReader(f))
+class Run:
+    def __init__(self, data):
+        self.provenance, self.plan, self.load = data["provenance"], data["plan"], data["load"]
+        self.rows = data["rows"]
+        self.timed = [r for r in self.rows if r.get("speed")]
+        self.techniques = [t["name"] for t in data["techniques"]]
+        self.style = {t["name"]: t for t in data["techniques"]}
+        self.backends = data["backends"]
+        self.isas = [b for b in self.backends if b not in NON_ISA_BACKENDS]
+        self.best_isa = self.provenance.get("best_isa") or (self.isas[-1] if self.isas else None)
+        self.heightfields = list(dict.fromkeys(r["heightfield"]["label"] for r in self.rows))
+        self.configs = [(config(r), r) for r in self.timed]
+        # the technique x layers matrix: technique rows only (an exact row may serve the matrix too)
+        self.matrix = sorted((r for r in self.with_purpose("matrix") if r.get("technique")), key=self.order)
+
+    def with_purpose(self, purpose):
+        return [r for r in self.rows if purpose in r.get("purposes", [])]
+
+    def partner(self, row, **changes):
+        """The timed row measured like `row` except for `changes` (ANY: not compared)."""
+        want = dict(config(row), **changes)
+        for c, r in self.configs:
+            if all(v is ANY or c[k] == v for k, v in want.items()):
+                return r
+        return None
+
+    def order(self, row):
+        """Heightfield, technique (registry order; none first), layers (fixed counts, then ranges), threads."""
+        technique = row.get("technique")
+        lo, hi = row.get("min_layers") or 0, row.get("max_layers") or 0
+        return (self.heightfields.index(row["heightfield"]["label"]),
+                -1 if technique is None else self.techniques.index(technique),
+                lo != hi, hi, lo, self.backends.index(row["backend"]), row["threads"])
+
+    def label(self, row):
+        """'pom 32', 'parallax' (one-sample techniques need no layers), or the kind for rows without technique."""
+        technique = row.get("technique")
+        if technique is None:
+            return row["kind"]
+        return technique + (" " + row["layers"] if self.style[technique]["layered"] else "")
+
+    def is_headline(self, row):
+        return row.get("technique") == HEADLINE_TECHNIQUE and row.get("layers") == HEADLINE_LAYERS
+
+    def backend_colors(self, extra=()):
+        """The one backend palette: a fixed colour per position in `backends`, unknown ones after it."""
+        names = list(dict.fromkeys(list(self.backends) + list(extra)))
+        cmap = plt.get_cmap("tab10")
+        return {b: cmap(i % 10) for i, b in enumerate(names)}
+
+    def describe(self, row):
+        return "%s %s, %s, %s, %s" % (row["heightfield"]["label"], self.label(row), row["backend"],
+                                       counted(row["threads"], "thread"), view_name(row["view"]))
+
+
+def mrays(row):
+    return fmt_spread(spread(rays_rounds(row)), 1, 1e-6)
+
+
+def msamples(row):
+    return fmt_spread(spread(samples_rounds(row)), 0, 1e-6)
+
+
+def speedup(row, reference):
+    """row's rays/s over reference's, per round (None when either is missing)."""
+    return per_round(rays_rounds(row), rays_rounds(reference))
+
+
+# ---------------------------------------------------------------------------------------------
+# Markdown
+
+def md_table(columns, rows):
+    """columns: [(title, right-aligned)]; rows: lists of cells."""
+    lines = ["| " + " | ".join(t for t, _ in columns) + " |",
+             "|" + "|".join("---:" if right else "---" for _, right in columns) + "|"]
+    return lines + ["| " + " | ".join(str(c) for c in cells) + " |" for cells in rows]
+
+
+def section(title, body):
+    return ["", "## " + title, ""] + (body or [NOT_MEASURED])
+
+
+def groups(rows, key):
+    """Rows grouped by key(row), in first-seen order."""
+    out = {}
+    for r in rows:
+        out.setdefault(key(r), []).append(r)
+    return out
+
+
+def section_machine(run):
+    p, plan, load = run.provenance, run.plan, run.load
+    views = sorted({view_name(r["view"], angles=False) for r in run.rows})
+    maps = list(dict.fromkeys("%s %s" % (r["heightfield"]["label"], depth_map(r)) for r in run.rows))
+    rows = [("CPU", p.get("cpu", "?")), ("cores", p.get("cores", "?")), ("best ISA", run.best_isa or "?"),
+            ("threads", p.get("threads", "?")), ("compiler", p.get("compiler", "?")),
+            ("commit", "%s%s" % (p.get("commit", "?"), " (dirty worktree)" if p.get("dirty") else "")),
+            ("build type", p.get("build_type", "?")), ("date", p.get("date", "?")),
+            ("plan", "%s, %s repetitions of at least %s s per timed row" % (
+                plan.get("name", "?"), plan.get("repetitions", "?"), plan.get("min_seconds_per_repetition", "?"))),
+            ("views", ", ".join(views) or "-"), ("depth maps", ", ".join(maps) or "-"),
+            ("load averages (1/5/15 min)", "before %s, after %s" % (load_averages(load.get("before")),
+                                                                   load_averages(load.get("after")))),
+            ("other processes' CPU share", fmt(load.get("other_cpu_share"), 1, 100, "%"))]
+    return ["## Machine and provenance", ""] + md_table([("", False), ("", False)], rows)
+
+
+def section_warnings(run, faults):
+    """The block under the machine table: a busy machine, disturbed timings, roofline faults."""
+    lines = []
+    load = run.load
+    if load.get("busy"):
+        lines.append("> **Warning: the machine was busy during this run** (%s). Load averages before %s, after %s; "
+                     "other processes used %s of the CPU time while timing. Speeds and ratios may be disturbed." % (
+                         "; ".join(load.get("busy_reasons") or ["no reason given"]),
+                         load_averages(load.get("before")), load_averages(load.get("after")),
+                         fmt(load.get("other_cpu_share"), 1, 100, "%")))
+    noisy = sorted(((relative_spread(spread(rays_rounds(r))), r) for r in run.timed), key=lambda x: -x[0])
+    noisy = [(s, r) for s, r in noisy if s > SPREAD_LIMIT]
+    if noisy:
+        if lines:
+            lines.append(">")
+        lines.append("> **Warning: %d of %d timed rows spread by more than %d%%** ((max-min)/median of rays/s); "
+                     "the worst: %s." % (len(noisy), len(run.timed), 100 * SPREAD_LIMIT,
+                                         "; ".join("%s (%.0f%%)" % (run.describe(r), 100 * s) for s, r in noisy[:5])))
+    if faults:
+        if lines:
+            lines.append(">")
+        lines.append("> **Warning: %s above 100%%**: timing disturbed, see the measurement faults under %s-%s." % (
+                         counted(len(faults), "roofline fraction"), HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS))
+    return [""] + lines if lines else []
+
+
+def section_claims(claims):
+    if claims is None:
+        return section("The tutorials' claims", [])
+    return section("The tutorials' claims", ["Rules, figures and every check: [claims.md](claims.md).", ""] + md_table(
+        [("claim", False), ("verdict", False)], [["%s: %s" % (c["id"], c["claim"]), "**%s**" % c["verdict"]] for c in claims]))
+
+
+def section_matrix(run):
+    body = ["CPU packet kernels. Mrays/s: median (min-max) of %s repetitions. uv errors in texels against the exact "
+            "intersection; wrong surface = uv error above 1 texel." % run.plan.get("repetitions", "the")]
+    rows = run.matrix
     if not rows:
-        return False
-    hfs = list(dict.fromkeys(r["heightfield"] for r in rows))
-    fig, axes = plt.subplots(1, len(hfs), figsize=(4.5 * len(hfs), 4), squeeze=False)
-    for ax, hf in zip(axes[0], hfs):
-        configs = list(dict.fromkeys((r["technique"], r["layers"]) for r in rows if r["heightfield"] == hf))
-        for technique, layers in configs:
-            if layers not in ("1", "32"):
-                continue
-            pts = [(float(r["theta"]), max(float(r["uv_error_mean"]), 1e-4)) for r in rows
-                   if r["heightfield"] == hf and r["technique"] == technique and r["layers"] == layers]
-            label = technique if layers == "1" else "%s %s" % (technique, layers)
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker=".", label=label)
-        ax.set_yscale("log")
-        ax.set_title(hf)
-        ax.set_xlabel("view angle from the normal (degrees)")
-        ax.grid(True, which="both", alpha=0.3)
-    axes[0][0].set_ylabel("mean uv error (texels)")
-    axes[0][-1].legend(fontsize=7)
-    fig.suptitle("Error against view angle\n(sweep views; layered techniques at 32 layers)", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(path, dpi=150)
+        return section("Techniques x layers, per heightfield", [])
+    for (hf, backend, threads, view), group in groups(rows, lambda r: (r["heightfield"]["label"], r["backend"], r["threads"],
+                                                                          view_name(r["view"]))).items():
+        body += ["", "### %s (%s)" % (hf, depth_map(group[0])), "",
+                 "%s, %s, %s view." % (backend, counted(threads, "thread"), view), ""]
+        body += md_table([("technique", False), ("layers", False), ("Mrays/s", True), ("samples/ray", True),
+                          ("uv mean", True), ("p95", True), ("max", True), ("wrong surface", True)],
+                         [[r["technique"], r["layers"], mrays(r), fmt(r.get("samples_per_ray"), 2)] + error_cells(r)
+                          for r in group])
+    return section("Techniques x layers, per heightfield", body)
+
+
+def error_cells(row):
+    e = row.get("errors") or {}
+    return [fmt(e.get("uv_mean")), fmt(e.get("uv_p95")), fmt(e.get("uv_max"), 2), fmt(e.get("wrong_surface_rate"), 2, 100, "%")]
+
+
+def section_glsl(run):
+    pairs = [(run.partner(g, kind="trace", backend=run.best_isa), g) for g in sorted(
+        (r for r in run.timed if r["kind"] == "glsl"), key=run.order)]
+    if not pairs:
+        return section("CPU against GLSL (OSMesa llvmpipe)", [])
+    body = ["The same rays and parameters on both sides; CPU at the best ISA (%s). CPU/GLSL is the median "
+            "(min-max) of the per-round ratios." % run.best_isa, ""]
+    body += md_table([("heightfield", False), ("technique", False), ("layers", False), ("threads", True),
+                      ("CPU %s Mrays/s" % run.best_isa, True), ("GLSL Mrays/s", True), ("CPU/GLSL", True)],
+                     [[g["heightfield"]["label"], g["technique"], g["layers"], g["threads"], mrays(c), mrays(g),
+                       fmt_ratio(speedup(c, g))] for c, g in pairs])
+    return section("CPU against GLSL (OSMesa llvmpipe)", body)
+
+
+def section_every_backend(run, faults):
+    """POM-32 at every backend; appends roofline fractions above 100% to `faults`."""
+    title = "%s, %s layers, every backend" % (HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS)
+    rows = sorted((r for r in run.timed if run.is_headline(r) and r["kind"] in ("trace", "glsl", "naive")), key=run.order)
+    if not rows:
+        return section(title, [])
+    base = run.isas[0] if run.isas else None
+    body = ["Roofline = the backend's bilinear sampler alone at the positions of the same march; fraction = the "
+            "technique's samples/s over it. Every ratio is the median (min-max) of the per-round ratios.", ""]
+    cells = []
+    for r in rows:
+        # the roofline of a trace row: its backend's sampler alone, same scene and threads
+        roof = run.partner(r, kind="roofline", technique=None, layers=ANY) if r["kind"] == "trace" else None
+        fraction = per_round(samples_rounds(r), samples_rounds(roof))
+        if fraction and fraction[0] > 1.0:
+            faults.append("%s: %s" % (run.describe(r), fmt_spread(fraction, 0, 100, "%")))
+            fraction_cell = "fault (>100%: timing disturbed)"
+        else:
+            fraction_cell = fmt_spread(fraction, 0, 100, "%")
+        over = [run.partner(r, kind="trace", backend=base), run.partner(r, kind="naive", backend="naive")]
+        cells.append([r["heightfield"]["label"], r["backend"], r["threads"], mrays(r), msamples(r),
+                      msamples(roof), fraction_cell]
+                     + [fmt_ratio(speedup(r, o)) for o in over])
+    body += md_table([("heightfield", False), ("backend", False), ("threads", True), ("Mrays/s", True),
+                      ("Msamples/s", True), ("roofline Msamples/s", True), ("roofline fraction", True),
+                      ("x %s" % base, True), ("x naive", True)], cells)
+    if faults:
+        body += ["", "**Measurement faults** (a roofline fraction above 100% means the roofline or the kernel was "
+                 "timed while the machine was disturbed; not a result):", ""] + ["- " + f for f in faults]
+    return section(title, body)
+
+
+def thread_pairs(run):
+    """(1-thread row, most-threads row) of the headline configuration per heightfield and backend."""
+    pairs = []
+    for group in groups(sorted((r for r in run.timed if run.is_headline(r) and r["kind"] != "roofline"), key=run.order),
+                        lambda r: (r["heightfield"]["label"], r["backend"], view_name(r["view"]))).values():
+        one = [r for r in group if r["threads"] == 1]
+        most = max(group, key=lambda r: r["threads"])
+        if one and most["threads"] > 1:
+            pairs.append((one[0], most))
+    return pairs
+
+
+def section_threads(run):
+    cells = [[one["heightfield"]["label"], one["backend"], mrays(one), mrays(most), most["threads"],
+              fmt_ratio(speedup(most, one))] for one, most in thread_pairs(run)]
+    title = "Thread scaling (%s-%s)" % (HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS)
+    if not cells:
+        return section(title, ["Only one thread count measured in this run."])
+    return section(title, md_table([("heightfield", False), ("backend", False), ("1 thread Mrays/s", True),
+                                    ("N threads Mrays/s", True), ("N", True), ("speed-up", True)], cells))
+
+
+def section_gallery(run):
+    rows = sorted((r for r in run.with_purpose("gallery") if r.get("images")), key=run.order)
+    body = []
+    for (hf, view), group in groups(rows, lambda r: (r["heightfield"]["label"], view_name(r["view"]))).items():
+        body += ["%s, %s view. Left: shaded render at the technique's uv; right: uv error." % (hf, view), ""]
+        body += md_table([("technique", False), ("render", False), ("error", False), ("uv mean", True), ("p95", True),
+                          ("max", True), ("wrong surface", True)],
+                         [[run.label(r), "![](%s)" % r["images"]["render"], "![](%s)" % r["images"]["error"]] + error_cells(r)
+                          for r in group]) + [""]
+    return section("Gallery", body[:-1])
+
+
+# ---------------------------------------------------------------------------------------------
+# Plots
+
+def panel_grid(n, width=4.2, height=3.4, columns=3):
+    """A grid of n panels at most `columns` wide, sized for a page; unused panels hidden."""
+    cols = min(n, columns)
+    rows = (n + cols - 1) // cols
+    fig, axes = plt.subplots(rows, cols, figsize=(max(width * cols, 7.0), height * rows + 0.9), squeeze=False)
+    flat = [ax for line in axes for ax in line]
+    for ax in flat[n:]:
+        ax.set_visible(False)
+    return fig, flat[:n]
+
+
+def finish(fig, path, title, axes):
+    """Suptitle, one legend for the figure (handles of every panel, deduplicated) below the panels, save."""
+    handles = {}
+    for ax in axes:
+        for h, label in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(label, h)
+    fig.suptitle(title, fontsize=10)
+    per_row = max(1, int(fig.get_figwidth() / 1.4))  # legend entries are about 1.4 inches wide
+    legend_rows = (len(handles) + per_row - 1) // per_row or 1
+    ncol = (len(handles) + legend_rows - 1) // legend_rows or 1
+    bottom = 0.02 + 0.035 * legend_rows * 4.0 / fig.get_figheight()
+    fig.legend(handles.values(), handles.keys(), loc="lower center", ncol=ncol, fontsize=7, frameon=False)
+    fig.tight_layout(rect=(0, bottom, 1, 0.95))
+    fig.savefig(path, dpi=130)
     plt.close(fig)
+
+
+def log_axes(ax, x=True, y=True, xticks=None):
+    """Log scales labelled with plain numbers (0.1, 2, 50) at 1, 2 and 5 per decade instead of powers;
+    with xticks, x is labelled at those values alone (layer counts)."""
+    def label(v, _):
+        return "%g" % v if v > 0 and round(v / 10 ** math.floor(math.log10(v) + 1e-9)) in (1, 2, 5) else ""
+    for use, axis, scale in ((x, ax.xaxis, ax.set_xscale), (y, ax.yaxis, ax.set_yscale)):
+        if use:
+            scale("log")
+            axis.set_major_formatter(FuncFormatter(label))
+            axis.set_minor_formatter(FuncFormatter(label))
+    if xticks:
+        ax.set_xticks(xticks, ["%g" % t for t in xticks], minor=False)
+        ax.xaxis.set_minor_formatter(FuncFormatter(lambda v, _: ""))
+
+
+def technique_kw(run, technique):
+    t = run.style[technique]
+    return {"color": t["color"], "marker": t["marker"]}
+
+
+def plot_error_vs_layers(run, path):
+    by_hf = groups(run.matrix, lambda r: r["heightfield"]["label"])
+    if not by_hf:
+        return False
+    fig, axes = panel_grid(len(by_hf))
+    for ax, (hf, rows) in zip(axes, by_hf.items()):
+        series = {}  # a technique whose errors equal an earlier one's (shadow shares POM's hit) is named on its line
+        for technique, group in groups(rows, lambda r: r["technique"]).items():
+            errors = [(r["min_layers"], max(r["errors"]["uv_mean"], 1e-4)) for r in group
+                      if r.get("errors") and r.get("min_layers") == r.get("max_layers")]
+            same = [t for t, e in series.items() if e == errors]
+            if same:
+                series[same[0] + " = " + technique] = series.pop(same[0])
+            else:
+                series[technique] = errors
+        for name, errors in series.items():
+            technique = name.split(" = ")[0]
+            if run.style[technique]["layered"]:
+                ax.plot([x for x, _ in errors], [y for _, y in errors], label=name, **technique_kw(run, technique))
+            elif errors:
+                ax.axhline(errors[0][1], linestyle="--", color=run.style[technique]["color"], label=name)
+        log_axes(ax, xticks=sorted({x for name, errors in series.items() for x, _ in errors
+                                    if run.style[name.split(" = ")[0]]["layered"]}))
+        ax.set_title("%s (%s)" % (hf, depth_map(rows[0])), fontsize=9)
+        ax.set_xlabel("layers")
+        ax.set_ylabel("mean uv error (texels)")
+        ax.grid(True, which="both", alpha=0.3)
+    finish(fig, path, "Error against layer count (default view; dashed: one-sample techniques)", axes)
     return True
 
 
-def cheapest(points, limit):
-    ok = [p for p in points if p["p95"] < limit]
-    return max(ok, key=lambda p: p["speed"]) if ok else None
+def plot_error_vs_angle(run, path):
+    rows = [r for r in run.with_purpose("sweep") if r["view"]["kind"] == "sweep" and r.get("errors") and r.get("technique")]
+    by_hf = groups(sorted(rows, key=run.order), lambda r: r["heightfield"]["label"])
+    if not by_hf:
+        return False
+    phis = sorted({r["view"].get("phi") or 0 for r in rows})
+    fig, axes = panel_grid(len(by_hf))
+    styles = ["-", "--", ":", "-."]
+    for ax, (hf, hf_rows) in zip(axes, by_hf.items()):
+        for technique, t_rows in groups(hf_rows, lambda r: r["technique"]).items():
+            for k, (layers, l_rows) in enumerate(groups(t_rows, lambda r: r["layers"]).items()):
+                # mean over the azimuths measured at each angle
+                by_theta = groups(l_rows, lambda r: r["view"]["theta"])
+                thetas = sorted(by_theta)
+                errors = [max(statistics.mean(r["errors"]["uv_mean"] for r in by_theta[t]), 1e-4) for t in thetas]
+                ax.plot(thetas, errors, linestyle=styles[k % len(styles)], markersize=4,
+                        label=run.label(l_rows[0]), **technique_kw(run, technique))
+        log_axes(ax, x=False)
+        ax.set_title(hf, fontsize=9)
+        ax.set_xlabel("view angle from the normal (degrees)")
+        ax.set_ylabel("mean uv error (texels)")
+        ax.grid(True, which="both", alpha=0.3)
+    azimuth = "azimuth %g deg" % phis[0] if len(phis) == 1 else "mean over azimuths %s deg" % ", ".join("%g" % p for p in phis)
+    finish(fig, path, "Error against view angle (sweep views, %s)" % azimuth, axes)
+    return True
 
 
-def plot_error_vs_speed(entries, isa, threads, path):
-    hfs = heightfields_of(entries)
-    if not hfs:
+def cheapest(rows, limit):
+    ok = [r for r in rows if r["errors"]["uv_p95"] < limit]
+    return max(ok, key=lambda r: spread(rays_rounds(r))[0]) if ok else None
+
+
+def plot_error_vs_speed(run, path):
+    rows = [r for r in run.matrix if r.get("speed") and r.get("errors")]
+    by_hf = groups(sorted(rows, key=run.order), lambda r: r["heightfield"]["label"])
+    if not by_hf:
         return False, []
     notes = []
-    fig, axes = plt.subplots(1, len(hfs), figsize=(5 * len(hfs), 4.5), squeeze=False)
-    for ax, hf in zip(axes[0], hfs):
-        points = []
-        for e in select(entries, "BM_Trace", heightfield=hf, isa=isa, threads=threads):
-            if failed(e) or e["fields"]["technique"] == "shadow":
-                continue
-            points.append({"label": "%s %s" % (e["fields"]["technique"], e["fields"]["layers"]) if e["fields"]["layers"] != "1" else e["fields"]["technique"],
-                           "technique": e["fields"]["technique"], "speed": e["rays_per_second"] / 1e6,
-                           "p95": max(e["uv_error_p95"], 1e-4)})
-        for technique in TECHNIQUES:
-            pts = [p for p in points if p["technique"] == technique]
-            if pts:
-                ax.scatter([p["speed"] for p in pts], [p["p95"] for p in pts], label=technique, s=18)
-        for p in points:
-            ax.annotate(p["label"].split(" ")[-1] if " " in p["label"] else "", (p["speed"], p["p95"]), fontsize=5, alpha=0.7)
-        for limit, color in [(1.0, "tab:orange"), (0.25, "tab:red")]:
+    limits = [(1.0, "tab:orange"), (0.25, "tab:red")]
+    fig, axes = panel_grid(len(by_hf), 4.6, 3.8)
+    for ax, (hf, hf_rows) in zip(axes, by_hf.items()):
+        for technique, group in groups(hf_rows, lambda r: r["technique"]).items():
+            speeds = [spread(rays_rounds(r)) for r in group]
+            xs = [s[0] / 1e6 for s in speeds]
+            ys = [max(r["errors"]["uv_p95"], 1e-4) for r in group]
+            ax.errorbar(xs, ys, xerr=[[(s[0] - s[1]) / 1e6 for s in speeds], [(s[2] - s[0]) / 1e6 for s in speeds]],
+                        linestyle="none", markersize=4, elinewidth=0.8, label=technique, **technique_kw(run, technique))
+            if run.style[technique]["layered"]:
+                for r, x, y in zip(group, xs, ys):
+                    ax.annotate(r["layers"], (x, y), fontsize=5, alpha=0.7, xytext=(2, 2), textcoords="offset points")
+        for limit, color in limits:
             ax.axhline(limit, color=color, linestyle=":", linewidth=1)
-            best = cheapest(points, limit)
+            best = cheapest(hf_rows, limit)
             if best:
-                ax.scatter([best["speed"]], [best["p95"]], s=160, facecolors="none", edgecolors=color, linewidths=2)
-                notes.append("%s: cheapest configuration with p95 < %g texel: **%s** (%.1f Mrays/s, p95 %.3f)" % (hf, limit, best["label"], best["speed"], best["p95"]))
+                s = spread(rays_rounds(best))
+                ax.scatter([s[0] / 1e6], [best["errors"]["uv_p95"]], s=160, facecolors="none", edgecolors=color, linewidths=2)
+                notes.append("%s: fastest configuration with p95 < %g texel: **%s** (%s Mrays/s, p95 %.3f)" % (
+                    hf, limit, run.label(best), fmt_spread(s, 1, 1e-6), best["errors"]["uv_p95"]))
             else:
                 notes.append("%s: no configuration reaches p95 < %g texel" % (hf, limit))
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_title(hf)
-        ax.set_xlabel("Mrays/s (%s, %s threads)" % (isa, threads))
+        log_axes(ax)
+        ax.set_title(hf, fontsize=9)
+        ax.set_xlabel("Mrays/s, median (bars: min-max)")
+        ax.set_ylabel("p95 uv error (texels)")
         ax.grid(True, which="both", alpha=0.3)
-    axes[0][0].set_ylabel("p95 uv error (texels)")
-    axes[0][-1].legend(fontsize=7)
-    fig.suptitle("Error against speed\ncircles: cheapest with p95 < 1 texel (orange) and < 0.25 texel (red)", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
+    finish(fig, path, "Error against speed (matrix rows; labels: layers)\n"
+                      "circles: fastest with p95 < 1 texel (orange) and < 0.25 texel (red)", axes)
     return True, notes
 
 
-def plot_isa_speedup(entries, path):
-    hfs = heightfields_of(entries)
-    bars = []
-    for hf in hfs:
-        threads = sorted({e["fields"]["threads"] for e in select(entries, "BM_Trace", heightfield=hf, technique="pom", layers="32")}, key=int)
-        for t in threads:
-            naive = one(entries, "BM_NaivePort", heightfield=hf, layers="32", threads=t)
-            for isa in ISAS:
-                e = one(entries, "BM_Trace", heightfield=hf, technique="pom", layers="32", isa=isa, threads=t)
-                if e and not failed(e) and naive and not failed(naive):
-                    bars.append(("%s\n%st" % (hf, t), isa, e["rays_per_second"] / naive["rays_per_second"]))
-    if not bars:
+def plot_isa_speedup(run, path):
+    rows = sorted((r for r in run.timed if run.is_headline(r) and r["kind"] == "trace"), key=run.order)
+    by_group = groups(rows, lambda r: "%s\n%s" % (r["heightfield"]["label"], counted(r["threads"], "thread")))
+    base = run.isas[0] if run.isas else None
+    references = [("naive", dict(kind="naive", backend="naive")), (base, dict(kind="trace", backend=base))]
+    bars = {ref: [] for ref, _ in references}  # ref -> [(group index, isa, spread)]
+    for g, group in enumerate(by_group.values()):
+        for r in group:
+            for ref, changes in references:
+                other = run.partner(r, **changes)
+                if other and other is not r:  # the reference over itself is 1 by definition
+                    bars[ref].append((g, r["backend"], speedup(r, other)))
+    references = [(ref, c) for ref, c in references if bars[ref]]
+    if not references:
         return False
-    groups = list(dict.fromkeys(b[0] for b in bars))
-    fig, ax = plt.subplots(figsize=(max(6, 1.6 * len(groups)), 4))
-    width = 0.8 / len(ISAS)
-    for k, isa in enumerate(ISAS):
-        xs = [groups.index(b[0]) + (k - 1.5) * width for b in bars if b[1] == isa]
-        ys = [b[2] for b in bars if b[1] == isa]
-        ax.bar(xs, ys, width, label=isa)
-        for x, y in zip(xs, ys):
-            ax.text(x, y, "%.1f" % y, ha="center", va="bottom", fontsize=6)
-    ax.axhline(1.0, color="gray", linewidth=1)
-    ax.set_xticks(range(len(groups)))
-    ax.set_xticklabels(groups, fontsize=8)
-    ax.set_ylabel("rays/s relative to the naive scalar port")
-    ax.set_title("POM-32 speed-up per ISA")
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
+    colors = run.backend_colors()
+    fig, axes = plt.subplots(len(references), 1, figsize=(max(7.0, 1.1 * len(by_group)), 3.0 * len(references) + 0.9),
+                             squeeze=False)
+    axes = [a[0] for a in axes]
+    width = 0.8 / max(len(run.isas), 1)
+    for ax, (ref, _) in zip(axes, references):
+        for k, isa in enumerate(run.isas):
+            mine = [(g, s) for g, b, s in bars[ref] if b == isa]
+            if not mine:
+                continue
+            xs = [g + (k - (len(run.isas) - 1) / 2) * width for g, _ in mine]
+            ys = [s[0] for _, s in mine]
+            ax.bar(xs, ys, width, color=colors[isa], label=isa,
+                   yerr=[[s[0] - s[1] for _, s in mine], [s[2] - s[0] for _, s in mine]], capsize=2, error_kw={"linewidth": 0.8})
+            for x, (_, s) in zip(xs, mine):
+                ax.text(x, s[2], "%.1f" % s[0], ha="center", va="bottom", fontsize=6)
+        ax.axhline(1.0, color="gray", linewidth=1)
+        ax.set_xticks(range(len(by_group)))
+        ax.set_xticklabels(list(by_group), fontsize=7)
+        ax.set_ylabel("rays/s over %s" % ("the naive port" if ref == "naive" else ref))
+    finish(fig, path, "%s-%s speed-up per ISA: median of per-round ratios (bars: min-max)" % (
+        HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS), axes)
     return True
 
 
-def update_history(history_path, entries, machine):
-    rows = []
-    for e in entries:
-        if e["kind"] not in ("BM_Trace", "BM_GLSL") or failed(e):
-            continue
-        rows.append({"date": machine.get("date", ""), "commit": machine.get("commit", ""), "cpu": machine.get("cpu", ""),
-                     "isa": e["fields"].get("isa", ""), "threads": e["fields"].get("threads", ""),
-                     "benchmark": e.get("run_name", e["name"]), "rays_per_second_median": "%.6g" % e.get("rays_per_second", 0)})
+# ---------------------------------------------------------------------------------------------
+# History
+
+def history_rows(run):
+    p = run.provenance
+    out = []
+    for r in run.timed:
+        s = spread(rays_rounds(r))
+        out.append({"date": p.get("date", ""), "commit": p.get("commit", ""), "cpu": p.get("cpu", ""),
+                    "backend": r["backend"], "threads": str(r["threads"]), "heightfield": r["heightfield"]["label"],
+                    # rows without a technique (roofline, exact) are named by their kind
+                    "technique": r.get("technique") or r["kind"], "layers": r.get("layers") or "",
+                    "view": view_name(r["view"]), "depth_map": depth_map(r),
+                    "rays_per_second_median": "%.6g" % s[0], "rays_per_second_min": "%.6g" % s[1],
+                    "rays_per_second_max": "%.6g" % s[2]})
+    return out
+
+
+def update_history(path, run):
     existing = []
-    if os.path.exists(history_path):
-        with open(history_path) as f:
-            existing = list(csv.DictReader(f))
-    existing = [r for r in existing if not (r["commit"] == machine.get("commit") and r["date"] == machine.get("date"))]
-    all_rows = existing + rows
-    lines = [",".join(HISTORY_COLUMNS)]
-    for r in all_rows:
-        lines.append(",".join('"%s"' % r[c].replace('"', "'") if "," in r[c] else r[c] for c in HISTORY_COLUMNS))
-    atomic_write(history_path, "\n".join(lines) + "\n")
-    return all_rows
+    if os.path.exists(path):
+        with open(path, newline="") as f:
+            reader = csv.DictReader(f)
+            if reader.fieldnames != HISTORY_COLUMNS:
+                raise InputError("%s: columns are not %s" % (path, ",".join(HISTORY_COLUMNS)))
+            existing = list(reader)
+    date, commit = run.provenance.get("date", ""), run.provenance.get("commit", "")
+    rows = [r for r in existing if (r["date"], r["commit"]) != (date, commit)] + history_rows(run)
+    out = io.StringIO()
+    writer = csv.DictWriter(out, HISTORY_COLUMNS, lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    atomic_write(path, out.getvalue())
+    return rows
 
 
-def plot_history(rows, path):
-    runs = list(dict.fromkeys((r["date"], r["commit"]) for r in rows))
-    if len(runs) < 2:
+def plot_history(run, rows, path):
+    """The headline configuration at 1 thread over the recorded runs, one line per backend."""
+    headline = [r for r in run.timed if run.is_headline(r) and r["threads"] == 1 and r["view"]["kind"] == "default"]
+    hf = headline[0]["heightfield"]["label"] if headline else (run.heightfields or [""])[0]
+    view = view_name(headline[0]["view"]) if headline else "default"
+    picked = [r for r in rows if r["technique"] == HEADLINE_TECHNIQUE and r["layers"] == HEADLINE_LAYERS
+              and r["threads"] == "1" and r["heightfield"] == hf and r["view"].startswith(view)
+              and (not headline or r["depth_map"] == depth_map(headline[0]))]
+    if not picked:
         return False
-    key = [b for b in dict.fromkeys(r["benchmark"] for r in rows) if "technique:pom/layers:32/" in b][:6]
-    fig, ax = plt.subplots(figsize=(8, 4))
-    for bench in key:
-        pts = [(runs.index((r["date"], r["commit"])), float(r["rays_per_second_median"]) / 1e6) for r in rows if r["benchmark"] == bench]
-        ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", label=bench.replace("BM_", "").replace("/technique:pom/layers:32", ""))
+    runs = sorted({(r["date"], r["commit"]) for r in picked})
+    by_backend = groups(picked, lambda r: r["backend"])
+    colors = run.backend_colors(by_backend)
+    fig, ax = plt.subplots(figsize=(max(7.0, 0.9 * len(runs) + 3), 4.2))
+    for backend in [b for b in colors if b in by_backend]:
+        pts = sorted((runs.index((r["date"], r["commit"])), [float(r[c]) / 1e6 for c in HISTORY_COLUMNS[-3:]])
+                     for r in by_backend[backend])
+        ax.errorbar([x for x, _ in pts], [v[0] for _, v in pts], yerr=[[v[0] - v[1] for _, v in pts], [v[2] - v[0] for _, v in pts]],
+                    marker="o", markersize=4, capsize=3, color=colors[backend], label=backend)
     ax.set_xticks(range(len(runs)))
-    ax.set_xticklabels(["%s\n%s" % (d[:10], c) for d, c in runs], fontsize=6)
-    ax.set_ylabel("Mrays/s")
-    ax.set_title("POM-32 over recorded runs")
-    ax.legend(fontsize=6)
-    fig.tight_layout()
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
+    ax.set_xticklabels(["%s\n%s" % (d[:16].replace("T", " "), c) for d, c in runs], fontsize=7)
+    log_axes(ax, x=False)
+    ax.set_ylabel("Mrays/s, median (bars: min-max)")
+    ax.grid(True, which="both", alpha=0.3)
+    finish(fig, path, "%s, %s layers, %s view, %s, 1 thread, over the recorded runs" % (
+        HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS, view, hf), [ax])
     return True
 
 
-def section_gallery(run_dir):
-    path = os.path.join(run_dir, "gallery.json")
-    if not os.path.exists(path):
-        return ["## Gallery", "", "Not produced in this run."]
-    with open(path) as f:
-        gallery = json.load(f)
-    lines = ["## Gallery", "", "%s, %s. Left: shaded render at the technique's uv; right: uv error "
-             "(log scale 0.01 to 10 texels, legend below each map)." % (gallery.get("heightfield", ""), gallery.get("view", "")), "",
-             "| technique | render | error | mean | p95 | wrong surface |", "|---|---|---|---:|---:|---:|"]
-    for e in gallery.get("entries", []):
-        name = e["technique"] + ("" if e.get("layers") in (None, "-", "1") else " " + e["layers"])
-        lines.append("| %s | ![](%s) | ![](%s) | %s | %s | %s%% |" % (
-            name, e["render"], e["error"], fmt(e.get("uv_error_mean")), fmt(e.get("uv_error_p95")), fmt(100 * e.get("wrong_surface_rate", 0), 2)))
-    return lines
+# ---------------------------------------------------------------------------------------------
+# Output
+
+def atomic_write(path, text):
+    """Temp file, world-readable, then rename: a reader never sees half a file."""
+    fd, temporary = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)), prefix=".tmp-")
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(text)
+        os.chmod(temporary, 0o644)
+        os.replace(temporary, path)
+    except BaseException:
+        os.unlink(temporary)
+        raise
 
 
-def section_claims(run_dir):
-    lines = ["## The tutorials' claims", ""]
-    path = os.path.join(run_dir, "claims.json")
-    if not os.path.exists(path):
-        return lines + ["Not measured in this run."]
-    with open(path) as f:
-        claims = json.load(f)
-    lines += ["Rules, figures and every check: [claims.md](claims.md).", "", "| claim | verdict |", "|---|---|"]
-    for c in claims:
-        lines.append("| %s: %s | **%s** |" % (c["id"], c["claim"], c["verdict"]))
-    return lines
+def section_plots(run, run_dir, history):
+    plots = os.path.join(run_dir, "plots")
+    os.makedirs(plots, exist_ok=True)
+    body = []
+
+    def add(drawn, name, alt, missing):
+        if drawn:
+            body.extend(["![%s](plots/%s)" % (alt, name), ""])
+            return
+        body.extend(["%s: %s" % (alt.capitalize(), missing), ""])
+        if os.path.exists(os.path.join(plots, name)):  # a plot of an earlier report of this directory
+            os.remove(os.path.join(plots, name))
+
+    add(plot_error_vs_layers(run, os.path.join(plots, "error_vs_layers.png")), "error_vs_layers.png",
+        "error against layers", "not measured in this run.")
+    add(plot_error_vs_angle(run, os.path.join(plots, "error_vs_angle.png")), "error_vs_angle.png",
+        "error against view angle", "not measured in this run.")
+    drawn, notes = plot_error_vs_speed(run, os.path.join(plots, "error_vs_speed.png"))
+    add(drawn, "error_vs_speed.png", "error against speed", "not measured in this run.")
+    body += ["- " + n for n in notes] + ([""] if notes else [])
+    add(plot_isa_speedup(run, os.path.join(plots, "isa_speedup.png")), "isa_speedup.png",
+        "speed-up per ISA", "not measured in this run.")
+    if history:
+        add(plot_history(run, update_history(history, run), os.path.join(plots, "history.png")), "history.png",
+            "history", "the headline configuration is not in the history.")
+    return section("Plots", body[:-1])
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("run_dir")
-    parser.add_argument("--history", help="history CSV to append this run's rows to, and to plot")
+    parser.add_argument("--history", help="history CSV to append this run's timed rows to, and to plot")
     args = parser.parse_args()
-    run_dir = args.run_dir
-    machine = {}
-    if os.path.exists(os.path.join(run_dir, "machine.json")):
-        with open(os.path.join(run_dir, "machine.json")) as f:
-            machine = json.load(f)
-    entries, context = load_benchmarks(run_dir)
-    isa, threads = best_isa(entries, machine), max_threads(entries)
-    os.makedirs(os.path.join(run_dir, "plots"), exist_ok=True)
+    try:
+        run, claims = load_run(args.run_dir)
+        faults = []
+        # sections first: the warnings at the top name the faults they find
+        sections = (section_claims(claims) + section_matrix(run) + section_glsl(run) + section_every_backend(run, faults)
+                    + section_threads(run) + section_plots(run, args.run_dir, args.history) + section_gallery(run))
+    except InputError as e:
+        print("report.py: %s" % e, file=sys.stderr)
+        return 2
     md = ["# heightmarch report", "",
           "Parallax-mapping techniques on the CPU (packet kernels per ISA) and as GLSL (OSMesa llvmpipe), measured "
-          "against the exact ray/heightfield intersection. Reproduce with `scripts/main` (see README)."]
-    md += [""] + section_machine(machine, context)
-    md += [""] + section_claims(run_dir)
-    if entries:
-        md += [""] + section_accuracy_speed(entries, isa, threads)
-        md += [""] + section_isa_vs_glsl(entries, isa, threads)
-        md += [""] + section_threads(entries)
-    else:
-        md += ["", "No benchmark results in this run."]
-    md += ["", "## Plots", ""]
-    if plot_error_vs_layers(entries, isa, threads, os.path.join(run_dir, "plots", "error_vs_layers.png")):
-        md += ["![error against layers](plots/error_vs_layers.png)", ""]
-    if plot_error_vs_angle(run_dir, os.path.join(run_dir, "plots", "error_vs_angle.png")):
-        md += ["![error against view angle](plots/error_vs_angle.png)", ""]
-    shown, notes = plot_error_vs_speed(entries, isa, threads, os.path.join(run_dir, "plots", "error_vs_speed.png"))
-    if shown:
-        md += ["![error against speed](plots/error_vs_speed.png)", ""] + ["- " + n for n in notes] + [""]
-    if plot_isa_speedup(entries, os.path.join(run_dir, "plots", "isa_speedup.png")):
-        md += ["![speed-up per ISA](plots/isa_speedup.png)", ""]
-    if args.history:
-        rows = update_history(args.history, entries, machine)
-        if plot_history(rows, os.path.join(run_dir, "plots", "history.png")):
-            md += ["![history](plots/history.png)", ""]
-    md += section_gallery(run_dir)
-    atomic_write(os.path.join(run_dir, "report.md"), "\n".join(md) + "\n")
-    print("report: %s" % os.path.join(run_dir, "report.md"))
+          "against the exact ray/heightfield intersection. Speeds: median (min-max) of the repetitions; ratios: median "
+          "(min-max) of the per-round ratios. Reproduce with `scripts/main` (see README).", ""]
+    md += section_machine(run) + section_warnings(run, faults) + sections
+    atomic_write(os.path.join(args.run_dir, "report.md"), "\n".join(md) + "\n")
+    print("report: %s" % os.path.join(args.run_dir, "report.md"))
     return 0
 
 

@@ -1,0 +1,106 @@
+#!/usr/bin/env bash
+# scripts/report.py on a small synthetic measurements.json (no build needed): speeds and ratios show
+# their spread as `x (a-b)`, a planted roofline fraction above 100% is a fault and not a result, a
+# busy run says so at the top, --history appends rows with the new columns (replacing a rerun's),
+# and a missing measurements.json is a one-line error with exit status 2.
+# Usage: test_report.sh [BUILD_DIR]
+set -euo pipefail
+root="$(cd "$(dirname "$0")/../.." && pwd)"
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+/usr/bin/python3 - "$tmp/run" <<'PY'
+import json, os, sys
+run = sys.argv[1]
+os.makedirs(run)
+view = {"kind": "default", "width": 64, "height": 64, "theta": None, "phi": None}
+rows = []
+
+
+def add(kind, purposes, technique, layers, backend, threads, rates, samples_per_ray=10.0, view=view, uv=0.5):
+    rays = view["width"] * view["height"]
+    n = int(rays * samples_per_ray)
+    speed = None
+    if rates:
+        s = sorted(rates)
+        speed = {"repetitions": len(rates), "seconds": [rays / r for r in rates],
+                 "rays_per_second": {"median": s[len(s) // 2], "min": s[0], "max": s[-1], "rounds": rates},
+                 "samples_per_second": {"median": s[len(s) // 2] * samples_per_ray, "min": s[0] * samples_per_ray,
+                                        "max": s[-1] * samples_per_ray}}
+    layered = layers not in (None, "1")
+    rows.append({"id": len(rows), "kind": kind, "purposes": purposes,
+                 "heightfield": {"label": "bricks", "source": "builtin:bricks", "width": 32, "height": 32},
+                 "technique": technique, "layers": layers, "min_layers": int(layers) if layers else None,
+                 "max_layers": int(layers) if layers else None, "refine": 5, "backend": backend, "threads": threads,
+                 "view": view, "scale": 0.1, "wrap": "repeat", "discard": False, "rays": rays, "samples": n,
+                 "samples_known": backend != "glsl", "samples_per_ray": samples_per_ray, "simd_utilization": 1.0,
+                 "errors": None if kind == "roofline" else {"uv_mean": uv, "uv_p95": 2 * uv, "uv_max": 9 * uv,
+                                                             "wrong_surface_rate": 0.1},
+                 "speed": speed, "images": None})
+
+
+add("trace", ["matrix"], "parallax", "1", "avx2", 2, [100e6, 101e6, 99e6, 100e6, 102e6], 1.0, uv=20)
+add("trace", ["matrix", "isa"], "pom", "32", "avx2", 2, [40e6, 41e6, 39e6, 40e6, 42e6])
+add("trace", ["isa"], "pom", "32", "avx2", 1, [20e6, 21e6, 20e6, 19e6, 20e6])
+add("trace", ["isa"], "pom", "32", "scalar", 1, [5e6, 5e6, 5e6, 5e6, 5e6])
+add("naive", ["naive"], "pom", "32", "naive", 1, [4e6, 4e6, 4e6, 4e6, 4e6])
+add("glsl", ["glsl"], "pom", "32", "glsl", 2, [10e6, 10e6, 9e6, 10e6, 11e6])
+# planted fault: avx2's 1-thread roofline (samples/s) below the kernel's own samples/s
+add("roofline", ["roofline"], None, "32", "avx2", 1, [15e6, 15e6, 15e6, 15e6, 15e6])
+add("roofline", ["roofline"], None, "32", "scalar", 1, [10e6, 10e6, 10e6, 10e6, 10e6])
+for theta in (0.0, 40.0, 80.0):
+    add("trace", ["sweep"], "pom", "32", "avx2", 2, None,
+        view={"kind": "sweep", "width": 16, "height": 16, "theta": theta, "phi": 0.0}, uv=0.1 + theta / 100)
+techniques = [{"name": "parallax", "layered": False, "color": "#7f7f7f", "marker": "o", "description": "one sample"},
+              {"name": "pom", "layered": True, "color": "#d62728", "marker": "s", "description": "interpolated"}]
+data = {"schema": "heightmarch-measurements/1",
+        "provenance": {"commit": "abc123", "dirty": False, "cpu": "Test CPU", "cores": 2, "compiler": "GNU 12",
+                       "build_type": "Release", "date": "2026-01-01T00:00:00Z", "best_isa": "avx2", "threads": 2},
+        "plan": {"name": "test", "repetitions": 5, "min_seconds_per_repetition": 0.01},
+        "load": {"before": [1.5, 0.5, 0.2], "after": [1.9, 0.6, 0.3], "other_cpu_share": 0.25, "busy": True,
+                 "busy_reasons": ["other processes used 25% of the CPU time"]},
+        "techniques": techniques, "backends": ["scalar", "avx2", "glsl", "naive", "exact"], "rows": rows}
+json.dump(data, open(os.path.join(run, "measurements.json"), "w"))
+PY
+
+"$root/scripts/report.py" "$tmp/run" --history "$tmp/history.csv" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "report.py exited non-zero"; }
+report="$tmp/run/report.md"
+[ "$(stat -c %a "$report")" = 644 ] || fail "report.md is not mode 0644"
+for png in error_vs_layers error_vs_angle error_vs_speed isa_speedup history; do
+  [ -s "$tmp/run/plots/$png.png" ] || fail "missing plots/$png.png"
+done
+echo "ok: report.md (0644) and its plots"
+
+grep -q '| pom | 32 | 40.0 (39.0-42.0) |' "$report" || fail "a speed lacks its spread"
+# per-round ratios: 40/20, 41/21, 39/20, 40/19, 42/20 (not median over median with min over max)
+grep -q '| 2.00x (1.95-2.11) |' "$report" || fail "the thread speed-up is not the per-round ratio with its spread"
+grep -q '| 4.00x (3.82-4.33) |' "$report" || fail "CPU/GLSL is not the per-round ratio with its spread"
+grep -q '| 4.00x (3.80-4.20) | 5.00x (4.75-5.25) |' "$report" || fail "x scalar and x naive are not per-round ratios"
+echo "ok: speeds and ratios show median (min-max)"
+
+grep -q 'fault (>100%: timing disturbed)' "$report" || fail "the planted roofline fraction is not a fault"
+grep -q -i 'measurement faults' "$report" || fail "no measurement faults note"
+grep -q '| 50% (50-50) |' "$report" || fail "scalar's roofline fraction is not a result"
+echo "ok: a roofline fraction above 100% is a measurement fault"
+
+grep -q 'Warning: the machine was busy' "$report" || fail "no busy warning"
+grep -q 'other processes used 25% of the CPU time' "$report" || fail "the busy warning lacks its reasons"
+[ "$(grep -n 'Warning: the machine was busy' "$report" | cut -d: -f1)" -lt "$(grep -n '^## The tutorials' "$report" | cut -d: -f1)" ] \
+  || fail "the busy warning is not at the top"
+echo "ok: a busy run says so at the top"
+
+columns='date,commit,cpu,backend,threads,heightfield,technique,layers,view,depth_map,rays_per_second_median,rays_per_second_min,rays_per_second_max'
+[ "$(head -1 "$tmp/history.csv")" = "$columns" ] || fail "history columns: $(head -1 "$tmp/history.csv")"
+[ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 8 ] || fail "history rows: expected one per timed row (8)"
+grep -q '^2026-01-01T00:00:00Z,abc123,Test CPU,avx2,2,bricks,pom,32,default 64x64,32x32,4e+07,3.9e+07,4.2e+07$' "$tmp/history.csv" \
+  || fail "history row of POM-32 at avx2"
+"$root/scripts/report.py" "$tmp/run" --history "$tmp/history.csv" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "rerun failed"; }
+[ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 8 ] || fail "a rerun of the same date and commit was appended, not replaced"
+echo "ok: --history appends one row per timed row with the new columns"
+
+rm "$tmp/run/measurements.json"
+status=0
+"$root/scripts/report.py" "$tmp/run" > "$tmp/out" 2>&1 || status=$?
+[ "$status" = 2 ] && [ "$(wc -l < "$tmp/out")" = 1 ] || { cat "$tmp/out"; fail "missing measurements.json: status $status"; }
+echo "ok: a missing measurements.json is a one-line error, status 2"
