@@ -1,5 +1,3 @@
-#include <tbb/info.h>
-
 #include <cstdlib>
 #include <fstream>
 #include <regex>
@@ -13,7 +11,7 @@
 
 #include "glsl_sources.hpp"
 #include "heightmarch/error.hpp"
-#include "heightmarch/glsl_runner.hpp"
+#include "glsl/osmesa_runner.hpp"
 
 // GL entry points come from libOSMesa itself; linking libGL or libOpenGL as well would route
 // every call to a dispatch table no context of theirs fills, making each one a no-op.
@@ -99,7 +97,7 @@ std::string technique_call(Technique technique) {
 
 }  // namespace
 
-struct GlslRunner::State {
+struct OsmesaRunner::State {
   OSMesaContext context = nullptr;
   std::vector<unsigned char> buffer = std::vector<unsigned char>(4 * 4 * 4);  // OSMesa wants a buffer bound
   GLuint vao = 0, framebuffer = 0, program = 0;
@@ -109,16 +107,7 @@ struct GlslRunner::State {
   bool discard = false;  // the tutorial's discard of a uv outside [0,1]^2, applied on read-back
 };
 
-GlslRunner& GlslRunner::instance(int threads) {
-  const int wanted = threads > 0 ? threads : tbb::info::default_concurrency();
-  static GlslRunner runner(wanted);
-  if (runner.threads() != wanted)
-    throw InputError("the GL context runs " + std::to_string(runner.threads()) + " llvmpipe threads; " +
-                     std::to_string(wanted) + " needs a new process (LP_NUM_THREADS is read once)");
-  return runner;
-}
-
-GlslRunner::GlslRunner(int threads) : state_(std::make_unique<State>()), threads_(threads) {
+OsmesaRunner::OsmesaRunner(int threads) : state_(std::make_unique<State>()) {
   // llvmpipe reads LP_NUM_THREADS when the first context is created; 0 would mean "render on the
   // calling thread", which is one thread too.
   setenv("LP_NUM_THREADS", std::to_string(threads).c_str(), 1);
@@ -138,7 +127,7 @@ GlslRunner::GlslRunner(int threads) : state_(std::make_unique<State>()), threads
   glGenFramebuffers(1, &state_->framebuffer);
 }
 
-GlslRunner::~GlslRunner() {
+OsmesaRunner::~OsmesaRunner() {
   if (state_->context) OSMesaDestroyContext(state_->context);
 }
 
@@ -159,7 +148,7 @@ GLuint float_texture(GLuint texture, GLenum internal, GLenum format, int width, 
 
 }  // namespace
 
-void GlslRunner::prepare(const DepthMap& map, const TechniqueParams& params, const RayBatch& rays,
+void OsmesaRunner::prepare(const DepthMap& map, const TechniqueParams& params, const RayBatch& rays,
                          const std::string& shader_path) {
   State& s = *state_;
   GLint max_size = 0;
@@ -247,12 +236,12 @@ void GlslRunner::prepare(const DepthMap& map, const TechniqueParams& params, con
   if (glGetError() != GL_NO_ERROR) throw std::runtime_error("OSMesa: GL error while preparing the draw");
 }
 
-void GlslRunner::draw() {
+void OsmesaRunner::draw() {
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glFinish();
 }
 
-void GlslRunner::read(HitBuffers& hits, bool& samples_known) const {
+void OsmesaRunner::read(HitBuffers& hits, bool& samples_known) const {
   const State& s = *state_;
   std::vector<float> hit(std::size_t(s.width) * s.height * 4), shadow(hit.size());
   glReadBuffer(GL_COLOR_ATTACHMENT0);
