@@ -42,8 +42,9 @@ std::string worker_path() {
 std::string describe_status(int status) {
   if (WIFEXITED(status)) return "exited with status " + std::to_string(WEXITSTATUS(status));
   if (WIFSIGNALED(status))
-    return "killed by signal " + std::to_string(WTERMSIG(status)) + " (" + strsignal(WTERMSIG(status)) + ")";
-  return "stopped";
+    return "was killed by signal " + std::to_string(WTERMSIG(status)) + " (" + strsignal(WTERMSIG(status)) +
+           ")";
+  return "was stopped";
 }
 
 }  // namespace
@@ -68,7 +69,7 @@ struct GlslRunner::Worker {
       done = ::waitpid(pid, &status, 0);
     }
     pid = -1;
-    return done < 0 ? std::string("lost (") + std::strerror(errno) + ")" : describe_status(status);
+    return done < 0 ? std::string("was lost (") + std::strerror(errno) + ")" : describe_status(status);
   }
 
   void close_channel() {

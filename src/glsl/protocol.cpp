@@ -103,7 +103,7 @@ void write_all(int fd, const char* data, std::size_t n, Deadline deadline) {
     ssize_t done = ::send(fd, data, n, MSG_NOSIGNAL);
     if (done < 0 && errno == ENOTSOCK) done = ::write(fd, data, n);
     if (done < 0 && (errno == EINTR || errno == EAGAIN)) continue;
-    if (done < 0 && errno == EPIPE) throw ChannelClosed("the other end closed the channel");
+    if (done < 0 && errno == EPIPE) throw ChannelClosed("channel closed");
     if (done < 0) throw std::system_error(errno, std::generic_category(), "write");
     data += done;
     n -= std::size_t(done);
@@ -116,9 +116,9 @@ void read_all(int fd, char* data, std::size_t n, Deadline deadline) {
     if (!wait_for(fd, POLLIN, deadline)) throw ChannelTimeout("timed out reading");
     const ssize_t done = ::read(fd, data, n);
     if (done < 0 && (errno == EINTR || errno == EAGAIN)) continue;
-    if (done < 0 && errno == ECONNRESET) throw ChannelClosed("the other end closed the channel");
+    if (done < 0 && errno == ECONNRESET) throw ChannelClosed("channel closed");
     if (done < 0) throw std::system_error(errno, std::generic_category(), "read");
-    if (done == 0) throw ChannelClosed("the other end closed the channel");
+    if (done == 0) throw ChannelClosed("channel closed");
     data += done;
     n -= std::size_t(done);
   }
