@@ -9,9 +9,9 @@
 #include <GL/osmesa.h>
 #include <GL/glext.h>
 
+#include "glsl/osmesa_runner.hpp"
 #include "glsl_sources.hpp"
 #include "heightmarch/error.hpp"
-#include "glsl/osmesa_runner.hpp"
 
 // GL entry points come from libOSMesa itself; linking libGL or libOpenGL as well would route
 // every call to a dispatch table no context of theirs fills, making each one a no-op.
@@ -149,7 +149,7 @@ GLuint float_texture(GLuint texture, GLenum internal, GLenum format, int width, 
 }  // namespace
 
 void OsmesaRunner::prepare(const DepthMap& map, const TechniqueParams& params, const RayBatch& rays,
-                         const std::string& shader_path) {
+                           const std::string& shader_path) {
   State& s = *state_;
   GLint max_size = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);

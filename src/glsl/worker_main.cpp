@@ -7,7 +7,9 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "glsl/osmesa_runner.hpp"
 #include "glsl/protocol.hpp"
