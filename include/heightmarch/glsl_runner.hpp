@@ -29,7 +29,7 @@ class GlslRunner {
  public:
   // The runner of `threads` llvmpipe threads (<= 0: all cores), its worker started on the first
   // call for that count and kept until the process exits. Throws std::runtime_error when the
-  // worker cannot be started or creates no context. Not thread-safe: one caller at a time.
+  // worker cannot be started or creates no context. A runner serves one caller at a time.
   static GlslRunner& instance(int threads);
 
   const std::string& renderer() const { return renderer_; }
