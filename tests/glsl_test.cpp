@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <fstream>
 #include <tuple>
 
+#include "heightmarch/error.hpp"
 #include "heightmarch/glsl_runner.hpp"
 #include "heightmarch/metrics.hpp"
 #include "heightmarch/trace.hpp"
@@ -67,6 +69,105 @@ INSTANTIATE_TEST_SUITE_P(
         if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
       return name;
     });
+
+// One worker process per llvmpipe thread count: both counts run in this process, on the same
+// rays, and agree bit for bit.
+TEST(GlslRunner, OneAndTwoThreadsInOneProcessGiveIdenticalHits) {
+  TechniqueParams params;
+  params.technique = Technique::shadow;  // POM's hit and the shadow march: every output is written
+  const DepthMap map = make_builtin_heightfield("bricks", 128, 3);
+  const RayBatch rays = make_view_rays(parse_view("default", 128, 96));
+  HitBuffers hits[2];
+  GlslRunner* runners[2] = {&GlslRunner::instance(1), &GlslRunner::instance(2)};
+  ASSERT_NE(runners[0], runners[1]);
+  for (int t = 0; t < 2; ++t) {
+    GlslRunner& runner = *runners[t];
+    EXPECT_EQ(runner.threads(), t + 1);
+    EXPECT_NE(runner.renderer().find("llvmpipe"), std::string::npos) << runner.renderer();
+    runner.prepare(map, params, rays);
+    runner.draw();
+    const double seconds = runner.draw();
+    EXPECT_GT(seconds, 0.0);
+    EXPECT_LT(seconds, 60.0);
+    bool samples_known = false;
+    runner.read(hits[t], samples_known);
+    EXPECT_TRUE(samples_known);
+    ASSERT_EQ(hits[t].size(), rays.size());
+  }
+  EXPECT_EQ(&GlslRunner::instance(2), runners[1]) << "a thread count keeps its runner";
+  EXPECT_EQ(hits[0].u, hits[1].u);
+  EXPECT_EQ(hits[0].v, hits[1].v);
+  EXPECT_EQ(hits[0].depth, hits[1].depth);
+  EXPECT_EQ(hits[0].samples, hits[1].samples);
+  EXPECT_EQ(hits[0].shadow, hits[1].shadow);
+  EXPECT_EQ(hits[0].discarded, hits[1].discarded);
+}
+
+// A compile error in the worker comes back as an InputError naming the file and line, and the
+// worker stays usable.
+TEST(GlslRunner, ShaderSyntaxErrorIsAnInputErrorAndTheWorkerLives) {
+  const std::string dir = test::temp_dir("glsl-runner-bad");
+  const std::string path = dir + "/bad.glsl";
+  std::ofstream(path) << "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)\n{\n  return texCoords +;\n}\n";
+  const DepthMap map = make_builtin_heightfield("bricks", 32, 1);
+  const RayBatch rays = make_view_rays(parse_view("default", 8, 8));
+  GlslRunner& runner = GlslRunner::instance(1);
+  try {
+    runner.prepare(map, TechniqueParams(), rays, path);
+    FAIL() << "a syntax error compiled";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(path + ":3:"), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+  runner.prepare(map, TechniqueParams(), rays);
+  runner.draw();
+  HitBuffers hits;
+  bool samples_known = false;
+  runner.read(hits, samples_known);
+  EXPECT_EQ(hits.size(), rays.size());
+}
+
+// Sets an environment variable for one scope.
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, const char* value) : name_(name) { setenv(name, value, 1); }
+  ~ScopedEnv() { unsetenv(name_); }
+
+ private:
+  const char* name_;
+};
+
+// Thread counts no other test asks for: a runner that failed to start is not kept, but one that
+// started would be.
+TEST(GlslRunner, MissingWorkerIsAClearError) {
+  const ScopedEnv env("HEIGHTMARCH_GLSL_WORKER", "/nonexistent");
+  try {
+    GlslRunner::instance(5);
+    FAIL() << "a missing worker started";
+  } catch (const std::runtime_error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("GLSL worker /nonexistent"), std::string::npos) << message;
+    EXPECT_NE(message.find("cannot start"), std::string::npos) << message;
+  }
+  const auto r = test::run_cli("glsl --res 16 --size 8x8 --threads 1");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_EQ(r.output.rfind("heightmarch: GLSL worker /nonexistent (1 thread): cannot start", 0), 0u)
+      << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+}
+
+TEST(GlslRunner, WorkerThatExitsIsAClearError) {
+  const ScopedEnv env("HEIGHTMARCH_GLSL_WORKER", "/bin/true");
+  try {
+    GlslRunner::instance(6);
+    FAIL() << "/bin/true answered as a worker";
+  } catch (const std::runtime_error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("GLSL worker /bin/true (6 threads)"), std::string::npos) << message;
+    EXPECT_NE(message.find("exited with status 0"), std::string::npos) << message;
+  }
+}
 
 // LearnOpenGL's steep parallax function, pasted as the tutorial writes it (with its own uniform
 // declarations and names).

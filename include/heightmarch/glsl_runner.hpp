@@ -1,6 +1,12 @@
 #pragma once
 // The techniques as GLSL (src/glsl/) in Mesa's OSMesa (llvmpipe), offscreen, on the same rays
-// and parameters as the CPU kernels.
+// and parameters as the CPU kernels. The GL context lives in a worker process,
+// heightmarch-glsl-worker (src/glsl/worker_main.cpp), so only GLSL runs load libOSMesa and
+// libLLVM, and each llvmpipe thread count (read once per process) gets its own context.
+//
+// The worker is found next to the running executable, or at $HEIGHTMARCH_GLSL_WORKER. Each
+// request waits 600 s at most; a worker that crashes, exits or does not answer in time is killed
+// and its runner's calls throw a one-line std::runtime_error naming it from then on.
 //
 // Brought-in shaders (--shader FILE): the file defines LearnOpenGL's
 //   vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)
@@ -21,9 +27,9 @@ namespace heightmarch {
 
 class GlslRunner {
  public:
-  // The process's one GL 3.3 core context. llvmpipe reads LP_NUM_THREADS once, when the first
-  // context is created, so the thread count is fixed for the process: asking later for another
-  // count throws. threads <= 0: all cores.
+  // The runner of `threads` llvmpipe threads (<= 0: all cores), its worker started on the first
+  // call for that count and kept until the process exits. Throws std::runtime_error when the
+  // worker cannot be started or creates no context. A runner serves one caller at a time.
   static GlslRunner& instance(int threads);
 
   const std::string& renderer() const { return renderer_; }
@@ -36,19 +42,22 @@ class GlslRunner {
   void prepare(const DepthMap& map, const TechniqueParams& params, const RayBatch& rays,
                const std::string& shader_path = "");
 
-  // One draw over every ray, finished (glFinish). The first draw after prepare() also
-  // JIT-compiles the shader: time the ones after it.
-  void draw();
+  // One draw over every ray, finished (glFinish); returns its seconds as timed in the worker,
+  // without the round trip. The first draw after prepare() also JIT-compiles the shader: time
+  // the ones after it.
+  double draw();
 
   // Reads the hits of the last draw back, in batch order (samples: -1 cast for unknown).
   void read(HitBuffers& hits, bool& samples_known) const;
 
+  GlslRunner(const GlslRunner&) = delete;
+  GlslRunner& operator=(const GlslRunner&) = delete;
   ~GlslRunner();
 
  private:
   explicit GlslRunner(int threads);
-  struct State;
-  std::unique_ptr<State> state_;
+  struct Worker;
+  std::unique_ptr<Worker> worker_;
   std::string renderer_, version_;
   int threads_;
 };

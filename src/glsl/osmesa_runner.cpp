@@ -1,5 +1,3 @@
-#include <tbb/info.h>
-
 #include <cstdlib>
 #include <fstream>
 #include <regex>
@@ -11,9 +9,9 @@
 #include <GL/osmesa.h>
 #include <GL/glext.h>
 
+#include "glsl/osmesa_runner.hpp"
 #include "glsl_sources.hpp"
 #include "heightmarch/error.hpp"
-#include "heightmarch/glsl_runner.hpp"
 
 // GL entry points come from libOSMesa itself; linking libGL or libOpenGL as well would route
 // every call to a dispatch table no context of theirs fills, making each one a no-op.
@@ -85,7 +83,7 @@ GLuint compile(GLenum type, const std::string& source, const std::string& user_p
 
 }  // namespace
 
-struct GlslRunner::State {
+struct OsmesaRunner::State {
   OSMesaContext context = nullptr;
   std::vector<unsigned char> buffer = std::vector<unsigned char>(4 * 4 * 4);  // OSMesa wants a buffer bound
   GLuint vao = 0, framebuffer = 0, program = 0;
@@ -95,16 +93,7 @@ struct GlslRunner::State {
   bool discard = false;  // the tutorial's discard of a uv outside [0,1]^2, applied on read-back
 };
 
-GlslRunner& GlslRunner::instance(int threads) {
-  const int wanted = threads > 0 ? threads : tbb::info::default_concurrency();
-  static GlslRunner runner(wanted);
-  if (runner.threads() != wanted)
-    throw InputError("the GL context runs " + std::to_string(runner.threads()) + " llvmpipe threads; " +
-                     std::to_string(wanted) + " needs a new process (LP_NUM_THREADS is read once)");
-  return runner;
-}
-
-GlslRunner::GlslRunner(int threads) : state_(std::make_unique<State>()), threads_(threads) {
+OsmesaRunner::OsmesaRunner(int threads) : state_(std::make_unique<State>()) {
   // llvmpipe reads LP_NUM_THREADS when the first context is created; 0 would mean "render on the
   // calling thread", which is one thread too.
   setenv("LP_NUM_THREADS", std::to_string(threads).c_str(), 1);
@@ -124,7 +113,7 @@ GlslRunner::GlslRunner(int threads) : state_(std::make_unique<State>()), threads
   glGenFramebuffers(1, &state_->framebuffer);
 }
 
-GlslRunner::~GlslRunner() {
+OsmesaRunner::~OsmesaRunner() {
   if (state_->context) OSMesaDestroyContext(state_->context);
 }
 
@@ -145,8 +134,8 @@ GLuint float_texture(GLuint texture, GLenum internal, GLenum format, int width, 
 
 }  // namespace
 
-void GlslRunner::prepare(const DepthMap& map, const TechniqueParams& params, const RayBatch& rays,
-                         const std::string& shader_path) {
+void OsmesaRunner::prepare(const DepthMap& map, const TechniqueParams& params, const RayBatch& rays,
+                           const std::string& shader_path) {
   State& s = *state_;
   GLint max_size = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
@@ -233,12 +222,12 @@ void GlslRunner::prepare(const DepthMap& map, const TechniqueParams& params, con
   if (glGetError() != GL_NO_ERROR) throw std::runtime_error("OSMesa: GL error while preparing the draw");
 }
 
-void GlslRunner::draw() {
+void OsmesaRunner::draw() {
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glFinish();
 }
 
-void GlslRunner::read(HitBuffers& hits, bool& samples_known) const {
+void OsmesaRunner::read(HitBuffers& hits, bool& samples_known) const {
   const State& s = *state_;
   std::vector<float> hit(std::size_t(s.width) * s.height * 4), shadow(hit.size());
   glReadBuffer(GL_COLOR_ATTACHMENT0);

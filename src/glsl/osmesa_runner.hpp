@@ -1,0 +1,39 @@
+#pragma once
+// The GL side of GlslRunner, in heightmarch-glsl-worker only (heightmarch_gl, the one target that
+// links OSMesa): one GL 3.3 core context in llvmpipe. See heightmarch/glsl_runner.hpp for the
+// brought-in shaders' contract.
+#include <memory>
+#include <string>
+
+#include "heightmarch/heightfield.hpp"
+#include "heightmarch/hits.hpp"
+#include "heightmarch/rays.hpp"
+#include "heightmarch/technique.hpp"
+
+namespace heightmarch {
+
+class OsmesaRunner {
+ public:
+  // llvmpipe reads LP_NUM_THREADS once, when the process's first context is created: make one
+  // OsmesaRunner per process.
+  explicit OsmesaRunner(int threads);
+  ~OsmesaRunner();
+  OsmesaRunner(const OsmesaRunner&) = delete;
+  OsmesaRunner& operator=(const OsmesaRunner&) = delete;
+
+  const std::string& renderer() const { return renderer_; }
+  const std::string& version() const { return version_; }
+
+  // As GlslRunner's; rays need only tx, ty, vx, vy, vz.
+  void prepare(const DepthMap& map, const TechniqueParams& params, const RayBatch& rays,
+               const std::string& shader_path);
+  void draw();
+  void read(HitBuffers& hits, bool& samples_known) const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+  std::string renderer_, version_;
+};
+
+}  // namespace heightmarch

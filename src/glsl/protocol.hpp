@@ -1,0 +1,134 @@
+#pragma once
+// What the GLSL client (glsl_client.cpp, in heightmarch_core) and heightmarch-glsl-worker
+// (worker_main.cpp) say to each other over the worker's stdin/stdout, a socket pair.
+//
+// A message is a Header and `size` bytes of payload: plain values and length-prefixed arrays in
+// host byte order (both ends are the same build on the same machine). The client sends one
+// request and reads one answer:
+//   (at start)                  -> ready {u32 protocol version, renderer, version}
+//   prepare {params, map, rays, shader path} -> done
+//   draw                        -> drawn {f64 seconds of draw + glFinish, timed in the worker}
+//   read                        -> hits {HitBuffers, u8 samples known}
+// and any request may be answered input_error {text} (an InputError: the same one-line message)
+// or error {text} (anything else; the worker stays usable after both).
+#include <chrono>
+#include <cstdint>
+#include <cstring>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "heightmarch/heightfield.hpp"
+#include "heightmarch/hits.hpp"
+#include "heightmarch/rays.hpp"
+#include "heightmarch/technique.hpp"
+
+namespace heightmarch::glsl_protocol {
+
+inline constexpr std::uint32_t kVersion = 1;
+inline constexpr std::uint32_t kMagic = 0x4c474d48;  // "HMGL": a stray write to stdout is caught at once
+
+enum class Message : std::uint32_t { ready = 1, prepare, done, draw, drawn, read, hits, input_error, error };
+
+struct Header {
+  std::uint32_t magic = kMagic;
+  Message type = Message::error;
+  std::uint64_t size = 0;
+};
+
+// The other end closed the channel (it exited or crashed) or sent bytes that are no message.
+struct ChannelClosed : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+// No whole message before the deadline.
+struct ChannelTimeout : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+class Writer {
+ public:
+  template <class T>
+  void value(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    append(&v, sizeof v);
+  }
+  template <class T>
+  void array(const std::vector<T>& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    value(std::uint64_t(v.size()));
+    append(v.data(), v.size() * sizeof(T));
+  }
+  void text(const std::string& s) {
+    value(std::uint64_t(s.size()));
+    append(s.data(), s.size());
+  }
+  const std::vector<char>& bytes() const { return bytes_; }
+
+ private:
+  void append(const void* data, std::size_t n) {
+    // resize + memcpy: GCC 12 takes vector::insert of a few bytes for an overflow (-Wstringop-overflow).
+    const std::size_t at = bytes_.size();
+    bytes_.resize(at + n);
+    if (n) std::memcpy(bytes_.data() + at, data, n);
+  }
+  std::vector<char> bytes_;
+};
+
+// Reads a payload back; a short or overlong payload throws ChannelClosed.
+class Reader {
+ public:
+  explicit Reader(const std::vector<char>& bytes) : bytes_(bytes) {}
+  template <class T>
+  void value(T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    std::memcpy(&v, take(sizeof v), sizeof v);
+  }
+  template <class T>
+  void array(std::vector<T>& v) {
+    std::uint64_t n = 0;
+    value(n);
+    if (n > (bytes_.size() - at_) / sizeof(T)) throw ChannelClosed("message array longer than its payload");
+    v.resize(n);
+    if (n) std::memcpy(v.data(), take(n * sizeof(T)), n * sizeof(T));
+  }
+  void text(std::string& s) {
+    std::uint64_t n = 0;
+    value(n);
+    if (n > bytes_.size() - at_) throw ChannelClosed("message text longer than its payload");
+    s.assign(take(n), n);
+  }
+  void finish() const {
+    if (at_ != bytes_.size()) throw ChannelClosed("message payload longer than its fields");
+  }
+
+ private:
+  const char* take(std::size_t n) {
+    if (n > bytes_.size() - at_) throw ChannelClosed("message payload shorter than its fields");
+    const char* p = bytes_.data() + at_;
+    at_ += n;
+    return p;
+  }
+  const std::vector<char>& bytes_;
+  std::size_t at_ = 0;
+};
+
+// The one place that knows TechniqueParams' fields: a field added there is added here, twice.
+void write(Writer& w, const TechniqueParams& params);
+void read(Reader& r, TechniqueParams& params);
+void write(Writer& w, const DepthMap& map);
+void read(Reader& r, DepthMap& map);
+// Only T and V (tx, ty, vx, vy, vz): all the GL run reads of a batch.
+void write(Writer& w, const RayBatch& rays);
+void read(Reader& r, RayBatch& rays);
+void write(Writer& w, const HitBuffers& hits);
+void read(Reader& r, HitBuffers& hits);
+
+using Deadline = std::optional<std::chrono::steady_clock::time_point>;  // none: wait for EOF at most
+
+void send(int fd, Message type, const Writer& payload, Deadline deadline);
+// Throws ChannelClosed on EOF or a malformed header, ChannelTimeout after the deadline.
+Message receive(int fd, std::vector<char>& payload, Deadline deadline);
+
+}  // namespace heightmarch::glsl_protocol
