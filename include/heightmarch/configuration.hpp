@@ -50,7 +50,7 @@ struct Configuration {
 
 // The Google Benchmark name of a configuration, the same in heightmarch-bench and in a suite's
 // bench.json: BM_Trace/heightfield:bricks/technique:pom/layers:32/isa:avx512/threads:2/
-// view:1024x1024/depth_map:512x512 (Google Benchmark appends /real_time).
+// view:1024x1024/depth_map:512x512 (Google Benchmark appends /manual_time: each trace times itself).
 std::string benchmark_name(const Configuration& config, int depth_map_width, int depth_map_height);
 
 }  // namespace heightmarch

@@ -84,8 +84,10 @@ class MeasurementSession {
                       const std::function<void(const TracedRow&)>& on_traced = {});
 
   // One trace of the configuration's whole batch, for a timer to call repeatedly (after
-  // measure()); prepares what it needs (the Tracer, the GLSL program) when called.
-  std::function<void()> trace_once(const Configuration& config);
+  // measure()); prepares what it needs (the Tracer, the GLSL program) when called. Each call
+  // returns the seconds of that trace: wall time around a CPU trace, the GLSL worker's own time
+  // of a draw (without the round trip to it).
+  std::function<double()> trace_once(const Configuration& config);
 
   void forget_scenes();  // frees every scene but the depth maps
 

@@ -151,17 +151,20 @@ TechniqueParams roofline_params(const TechniqueParams& params) {
 }
 
 // A brought-in loop that never ends is cut off by llvmpipe (or optimised away) and leaves
-// garbage: no figure is made from it.
+// garbage, NaN or coordinates far beyond any texture (at 1e6 a float has no texel precision
+// left): no figure is made from it.
 void check_finite(const Configuration& c, const RayBatch& rays, const HitBuffers& hits) {
+  constexpr float kAbsurd = 1e6f;
   std::size_t not_finite = 0, first = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     if (rays.is_padding(i)) continue;
-    if (!std::isfinite(hits.u[i]) || !std::isfinite(hits.v[i]) || !std::isfinite(hits.depth[i]))
+    const bool finite = std::isfinite(hits.u[i]) && std::isfinite(hits.v[i]) && std::isfinite(hits.depth[i]);
+    if (!finite || std::fabs(hits.u[i]) > kAbsurd || std::fabs(hits.v[i]) > kAbsurd)
       if (not_finite++ == 0) first = i;
   }
   if (not_finite)
     throw InputError((c.shader_path.empty() ? "GLSL " + to_string(c.params.technique) : c.shader_path) +
-                     ": returned a non-finite uv or depth for " + std::to_string(not_finite) + " of " +
+                     ": returned a non-finite uv or depth (or a uv beyond 1e6) for " + std::to_string(not_finite) + " of " +
                      std::to_string(rays.ray_count) + " rays (first: T = " + std::to_string(rays.tx[first]) + "," +
                      std::to_string(rays.ty[first]) + "); an endless loop ends this way in llvmpipe");
 }
@@ -247,6 +250,7 @@ Measurement MeasurementSession::measure(const Configuration& c, int id,
       runner.prepare(scene.map, c.params, scene.rays, c.shader_path);
       runner.draw();
       runner.read(hits, row.samples_known);
+      row.samples_known = row.samples_known && c.shader_path.empty();
       check_finite(c, scene.rays, hits);
       break;
     }
@@ -272,31 +276,38 @@ Measurement MeasurementSession::measure(const Configuration& c, int id,
   return row;
 }
 
-std::function<void()> MeasurementSession::trace_once(const Configuration& c) {
+std::function<double()> MeasurementSession::trace_once(const Configuration& c) {
   SceneRun& scene = state_->scene(c);
+  auto timed = [](auto trace) {
+    return [trace] {
+      const Clock::time_point start = Clock::now();
+      trace();
+      return seconds_since(start);
+    };
+  };
   switch (c.kind) {
     case RunKind::trace: {
       const Tracer& t = state_->tracer(scene, c);
-      return [&t, &scene] { t.run(scene.rays, scene.scratch); };
+      return timed([&t, &scene] { t.run(scene.rays, scene.scratch); });
     }
     case RunKind::roofline: {
       const Tracer& t = state_->tracer(scene, c);
-      return [&t, &scene] { t.run_sampler_roofline(scene.rays, scene.scratch); };
+      return timed([&t, &scene] { t.run_sampler_roofline(scene.rays, scene.scratch); });
     }
     case RunKind::glsl: {
       GlslRunner& runner = GlslRunner::instance(c.threads);
       runner.prepare(scene.map, c.params, scene.rays, c.shader_path);
-      return [&runner] { runner.draw(); };
+      return [&runner] { return runner.draw(); };
     }
     case RunKind::naive:
-      return [&scene, c] {
+      return timed([&scene, c] {
         naive_pom(scene.map, scene.rays, c.params.layers.min_layers, c.params.layers.max_layers, c.params.scale,
                   scene.scratch);
-      };
+      });
     case RunKind::exact:
-      return [&scene, c] { scene.scratch = exact_hits(scene.map, scene.rays, c.params); };
+      return timed([&scene, c] { scene.scratch = exact_hits(scene.map, scene.rays, c.params); });
   }
-  return [] {};
+  return [] { return 0.0; };
 }
 
 namespace {
@@ -360,16 +371,16 @@ class PlanRunner {
   // One repetition: a warm-up trace, then traces until min_seconds have passed; the mean time of one.
   double time_repetition(const Configuration& c) {
     const ThreadLimit limit(c.threads);
-    const std::function<void()> once = session_.trace_once(c);
+    const std::function<double()> once = session_.trace_once(c);
     once();  // warm-up: caches, TBB's workers, llvmpipe's JIT after a prepare
     const bool cpu = c.kind != RunKind::glsl;
     const CpuTicks ticks_before = cpu ? read_cpu_ticks() : CpuTicks{};
     const Clock::time_point start = Clock::now();
     int runs = 0;
-    double elapsed = 0;
+    double traced = 0, elapsed = 0;
     constexpr int kMaxRuns = 100000;
     do {
-      once();
+      traced += once();
       ++runs;
       elapsed = seconds_since(start);
     } while (elapsed < options_.min_seconds && runs < kMaxRuns);
@@ -379,7 +390,7 @@ class PlanRunner {
                                         (ticks_after.self - ticks_before.self));
       timed_seconds_ += elapsed;
     }
-    return elapsed / runs;
+    return traced / runs;
   }
 
   void finish_load(MachineLoad& load) const {

@@ -112,16 +112,19 @@ void write_row(JsonWriter& json, const Measurement& m) {
   m.failure.empty() ? json.null("failure") : json.value("failure", m.failure);
 }
 
-void write_provenance(JsonWriter& json, const Provenance& p) {
+// threads: the most any row used (0: not known here).
+void write_provenance(JsonWriter& json, const Provenance& p, int threads) {
   json.begin_object("provenance")
       .value("commit", p.commit)
+      .value("dirty", p.commit.find("+dirty") != std::string::npos)
       .value("cpu", p.cpu)
       .value("cores", p.cores)
       .value("compiler", p.compiler)
       .value("build_type", p.build_type)
       .value("date", p.date)
-      .value("best_isa", to_string(best_isa()))
-      .end_object();
+      .value("best_isa", to_string(best_isa()));
+  threads > 0 ? json.value("threads", threads) : json.null("threads");
+  json.end_object();
 }
 
 std::string mrays(const Measurement& m) {
@@ -137,7 +140,7 @@ std::string metrics_json(const Measurement& row) {
   JsonWriter json;
   json.begin_object();
   write_row(json, row);
-  write_provenance(json, provenance());
+  write_provenance(json, provenance(), row.config.threads);
   json.end_object();
   return json.str() + "\n";
 }
@@ -238,14 +241,13 @@ void write_run_outputs(const std::string& dir, const TracedRow& traced) {
 std::string measurements_json(const MeasuredPlan& run, const std::string& plan_name) {
   JsonWriter json;
   json.begin_object().value("schema", "heightmarch-measurements/1");
-  write_provenance(json, provenance());
   int threads = 0;
   for (const Measurement& m : run.rows) threads = std::max(threads, m.config.threads);
+  write_provenance(json, provenance(), threads);
   json.begin_object("plan")
       .value("name", plan_name)
       .value("repetitions", run.repetitions)
       .value("min_seconds_per_repetition", run.min_seconds)
-      .value("threads", threads)
       .end_object();
   json.begin_object("load").begin_array("before");
   for (double l : run.load.before) json.value("", l);
@@ -304,7 +306,7 @@ std::string benchmark_json(const MeasuredPlan& run) {
   json.begin_array("benchmarks");
   for (const Measurement& m : run.rows) {
     if (m.seconds.empty()) continue;
-    const std::string name = benchmark_name(m.config, m.depth_map_width, m.depth_map_height) + "/real_time";
+    const std::string name = benchmark_name(m.config, m.depth_map_width, m.depth_map_height) + "/manual_time";
     const std::vector<double> rays = m.rays_per_second(), samples = m.samples_per_second();
     for (std::size_t r = 0; r < m.seconds.size(); ++r) {
       json.begin_object()

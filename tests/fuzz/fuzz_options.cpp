@@ -1,5 +1,6 @@
-// libFuzzer: command lines (NUL-separated arguments) parse into technique parameters and a view,
-// or give an InputError: never a crash or an invalid value.
+// libFuzzer: command lines (NUL-separated arguments) parse into a typed configuration of the
+// trace command, or give a CLI11 parse error or an InputError: never a crash or an invalid value.
+#include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -17,12 +18,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       args.back() += char(data[i]);
   }
   using namespace heightmarch;
+  CLI::App app("fuzz");
+  cli::TraceOptions options;
+  cli::add_trace_options(app, options, true);
   try {
-    const cli::Options options(args, cli::trace_option_specs());
-    const TechniqueParams params = cli::technique_params(options);
-    if (!(params.scale >= 0.0f && params.scale <= 1.0f) || !(params.light[2] > 0.0f)) __builtin_trap();
-    const ViewSpec view = parse_view(options.text("view", "default"), 8, 8);
-    if (!(view.theta_degrees >= 0.0f && view.theta_degrees <= 89.0f)) __builtin_trap();
+    std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 parses a reversed vector
+    app.parse(reversed);
+    const Configuration c = cli::trace_configuration(options, options.technique == "exact" ? RunKind::exact : RunKind::trace);
+    if (!(c.params.scale >= 0.0f && c.params.scale <= 1.0f) || !(c.params.light[2] > 0.0f)) __builtin_trap();
+    if (c.view.kind == ViewSpec::Kind::sweep && !(c.view.theta_degrees >= 0.0f && c.view.theta_degrees <= 89.0f))
+      __builtin_trap();
+    if (c.threads < 1) __builtin_trap();
+  } catch (const CLI::Error&) {
   } catch (const InputError&) {
   }
   return 0;

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# The suite's plumbing on its quick configuration: the run directory holds the benchmark JSON
-# with the configurations asked for, the sweeps, the gallery, the claims, the report and its
-# plots; the history gets one set of rows per recorded run.
+# The suite's plumbing on its quick plan: one typed row per configuration in measurements.json
+# (every technique on the CPU and as GLSL, roofline, naive port, sweeps, gallery, claims), every
+# timed row with at least 5 repetitions and its spread, bench.json named as heightmarch-bench
+# names, the claims, the report with spreads, and a run directory that is fresh and locked; a
+# quick run neither moves results/latest nor writes results/history.csv.
 # Usage: test_suite.sh BUILD_DIR
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -10,43 +12,84 @@ tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 
-"$build/heightmarch" suite --quick --out "$tmp/run" > "$tmp/suite.out" 2>&1 || { cat "$tmp/suite.out"; fail "suite exited non-zero"; }
-for f in bench.json bench-glsl-1thread.json sweep.csv gallery.json claims.md claims.json machine.json report.md \
+# A quick run into the default place: a fresh results/<date>-<commit>-<time>-quick of the cwd.
+mkdir "$tmp/cwd"
+(cd "$tmp/cwd" && "$build/heightmarch" suite --quick > "$tmp/suite.out" 2>&1) || { cat "$tmp/suite.out"; fail "suite exited non-zero"; }
+run="$(ls -d "$tmp"/cwd/results/*-quick)"
+[ "$(echo "$run" | wc -l)" -eq 1 ] || fail "expected one run directory, got: $run"
+[ ! -e "$tmp/cwd/results/latest" ] || fail "a quick run moved results/latest"
+[ ! -e "$tmp/cwd/results/history.csv" ] || fail "a quick run wrote results/history.csv"
+for f in measurements.json bench.json claims.md claims.json report.md \
          plots/error_vs_layers.png plots/error_vs_angle.png plots/error_vs_speed.png plots/isa_speedup.png; do
-  [ -s "$tmp/run/$f" ] || fail "missing or empty $f"
+  [ -s "$run/$f" ] || fail "missing or empty $f"
 done
-[ ! -e "$tmp/run/INCOMPLETE" ] || fail "a completed run still says INCOMPLETE"
-echo "ok: every file of the run exists"
+[ ! -e "$run/INCOMPLETE" ] || fail "a completed run still says INCOMPLETE"
+[ "$(stat -c %a "$run/report.md")" = 644 ] || fail "report.md is not world-readable"
+echo "ok: a fresh run directory with every file; latest and history untouched by --quick"
 
-/usr/bin/python3 - "$tmp/run" <<'PY' || fail "bench.json lacks configurations"
-import json, sys
+/usr/bin/python3 - "$run" <<'PY' || fail "measurements.json or bench.json lacks what the plan asked for"
+import json, os, sys
 run = sys.argv[1]
-names = [b["name"] for b in json.load(open(run + "/bench.json"))["benchmarks"]]
+m = json.load(open(run + "/measurements.json"))
+rows = m["rows"]
+techniques = [t["name"] for t in m["techniques"]]
+def has(**want):
+    return any(all(r.get(k) == v for k, v in want.items()) for r in rows)
 for hf in ("bricks", "terrain"):
-    for technique in ("parallax", "parallax-limited", "steep", "steep-limited", "relief", "pom", "shadow"):
-        for kind in ("BM_Trace", "BM_GLSL"):
-            assert any(n.startswith("%s/heightfield:%s/technique:%s/" % (kind, hf, technique)) for n in names), (kind, hf, technique)
+    sel = [r for r in rows if r["heightfield"]["label"] == hf]
+    for t in techniques:
+        for kind in ("trace", "glsl"):
+            assert any(r["kind"] == kind and r["technique"] == t and r["view"]["kind"] == "default" for r in sel), (hf, t, kind)
     for layers in ("8", "32", "8-32"):
-        assert any("heightfield:%s/technique:pom/layers:%s/" % (hf, layers) in n for n in names), (hf, layers)
-    assert any(n.startswith("BM_SamplerRoofline/heightfield:" + hf) for n in names), hf
-    assert any(n.startswith("BM_NaivePort/heightfield:" + hf) for n in names), hf
-counters = [b for b in json.load(open(run + "/bench.json"))["benchmarks"] if b["name"].startswith("BM_Trace")]
-assert all("rays_per_second" in b and "uv_error_p95" in b and "samples_per_second" in b for b in counters)
+        assert any(r["kind"] == "trace" and r["technique"] == "pom" and r["layers"] == layers for r in sel), (hf, layers)
+    assert any(r["kind"] == "roofline" for r in sel) and any(r["kind"] == "naive" for r in sel), hf
+    assert len({r["view"]["theta"] for r in sel if r["view"]["kind"] == "sweep"}) == 18, hf
+assert any("gallery" in r["purposes"] and r["images"] for r in rows)
+for r in rows:
+    if r["failure"]:
+        raise AssertionError("row %d failed: %s" % (r["id"], r["failure"]))
+    s = r["speed"]
+    if s is None:
+        continue
+    rps = s["rays_per_second"]
+    assert s["repetitions"] >= 5 and len(rps["rounds"]) == s["repetitions"] == len(s["seconds"]), r["id"]
+    assert rps["min"] <= rps["median"] <= rps["max"] and rps["min"] > 0, r["id"]
+    for rate, seconds in zip(rps["rounds"], s["seconds"]):
+        assert abs(rate * seconds - r["rays"]) <= 1e-6 * r["rays"], r["id"]
+    if r["kind"] in ("trace", "glsl"):
+        assert r["errors"] is not None and r["errors"]["uv_p95"] >= 0, r["id"]
+for r in rows:
+    if r["images"]:
+        for path in r["images"].values():
+            assert os.path.getsize(os.path.join(run, path)) > 100, path
+timed = {r["id"] for r in rows if r["speed"]}
+bench = json.load(open(run + "/bench.json"))
+names = {b["name"] for b in bench["benchmarks"]}
+assert all("min_time" not in n and "/view:256x256/depth_map:256x256/manual_time" in n for n in names), sorted(names)[:3]
+assert any(n.startswith("BM_GLSL/heightfield:bricks/technique:pom/layers:32/isa:glsl/") for n in names)
+assert len(bench["benchmarks"]) == sum(r["speed"]["repetitions"] for r in rows if r["speed"])
+assert bench["context"]["heightmarch_view"] == "256x256" and bench["context"]["heightmarch_build_type"]
 claims = json.load(open(run + "/claims.json"))
 assert [c["id"] for c in claims] == ["C%d" % i for i in range(1, 11)], [c["id"] for c in claims]
 assert all(c["verdict"] in ("holds", "holds partly", "refuted", "not measured") for c in claims)
-print("ok: bench.json holds every technique, layer spec, GLSL, roofline and naive port; claims C1-C10 have verdicts")
+print("ok: %d rows (%d timed, each with >= 5 repetitions and its spread), bench.json of %d repetitions, claims C1-C10"
+      % (len(rows), len(timed), len(bench["benchmarks"])))
 PY
 
-grep -q "## Techniques x layers" "$tmp/run/report.md" || fail "report lacks the technique table"
-grep -q "| bricks | pom | 32 |" "$tmp/run/report.md" || fail "report lacks the CPU/GLSL row of POM-32"
-grep -q "claims.md" "$tmp/run/report.md" || fail "report does not link claims.md"
-echo "ok: report.md has its tables and links"
+grep -q "## Techniques x layers" "$run/report.md" || fail "report lacks the technique table"
+grep -Eq "\| pom \| 32 \| [0-9.]+ \([0-9.]+-[0-9.]+\) \|" "$run/report.md" || fail "report shows no speed with its spread"
+grep -q "claims.md" "$run/report.md" || fail "report does not link claims.md"
+echo "ok: report.md has its tables, speeds with their spread, and links"
 
-"$root/scripts/report.py" "$tmp/run" --history "$tmp/history.csv" > /dev/null
-sed -i 's/"commit": "[^"]*"/"commit": "second"/' "$tmp/run/machine.json"
-"$root/scripts/report.py" "$tmp/run" --history "$tmp/history.csv" > /dev/null
+# A second run into the same directory is refused, and so is one while another holds its lock.
+if "$build/heightmarch" suite --quick --no-glsl --out "$run" > "$tmp/again.out" 2>&1; then fail "a second run into a complete run's directory was accepted"; fi
+grep -q "already holds a run" "$tmp/again.out" || { cat "$tmp/again.out"; fail "no clear message for a second run"; }
+echo "ok: a second run into the same directory is refused"
+
+"$root/scripts/report.py" "$run" --history "$tmp/history.csv" > /dev/null
+sed -i '0,/"commit": "[^"]*"/s//"commit": "second"/' "$run/measurements.json"
+"$root/scripts/report.py" "$run" --history "$tmp/history.csv" > /dev/null
 runs=$(tail -n +2 "$tmp/history.csv" | cut -d, -f2 | sort -u | wc -l)
 [ "$runs" -eq 2 ] || fail "history holds $runs runs, expected 2"
-[ -s "$tmp/run/plots/history.png" ] || fail "no history plot with two runs"
+[ -s "$run/plots/history.png" ] || fail "no history plot with two runs"
 echo "ok: history has one set of rows per run and is plotted"
