@@ -1,0 +1,131 @@
+// The measurement pass: plans merge what is measured twice, every configuration is measured once
+// for its accuracy and then timed in interleaved rounds, and names and spreads are as documented.
+#include <gtest/gtest.h>
+
+#include "heightmarch/measurement.hpp"
+#include "heightmarch/run_outputs.hpp"
+#include "kernels/kernel_abi.hpp"
+#include "test_support.hpp"
+
+namespace heightmarch {
+namespace {
+
+Configuration small(Technique technique, const char* layers, unsigned purposes) {
+  Configuration c;
+  c.heightfield = parse_heightfield("builtin:bricks", 64);
+  c.view = parse_view("default", 48, 40);
+  c.params.technique = technique;
+  c.params.layers = layers_for(technique, parse_layer_spec(layers));
+  c.isa = best_isa();
+  c.threads = 1;
+  c.purposes = purposes;
+  return c;
+}
+
+TEST(Plan, OneConfigurationIsMeasuredOnce) {
+  std::vector<Configuration> plan;
+  add_to_plan(plan, small(Technique::pom, "32", kPurposeMatrix));
+  Configuration claims = small(Technique::pom, "32", kPurposeClaims);
+  claims.timed = false;
+  add_to_plan(plan, claims);
+  add_to_plan(plan, small(Technique::pom, "8", kPurposeMatrix));
+  Configuration other_threads = small(Technique::pom, "32", kPurposeIsa);
+  other_threads.threads = 2;
+  add_to_plan(plan, other_threads);
+  ASSERT_EQ(plan.size(), 3u);
+  EXPECT_EQ(plan[0].purposes, kPurposeMatrix | kPurposeClaims);
+  EXPECT_TRUE(plan[0].timed);
+  // The technique of a run without one does not tell two configurations apart.
+  Configuration a = small(Technique::pom, "32", 0), b = small(Technique::steep, "32", 0);
+  a.kind = b.kind = RunKind::roofline;
+  EXPECT_TRUE(a.same_measurement(b));
+}
+
+TEST(Plan, RoundsInterleaveAndEveryTimedRowHasItsRepetitions) {
+  std::vector<Configuration> plan = {small(Technique::pom, "32", kPurposeMatrix), small(Technique::steep, "8", kPurposeMatrix),
+                                     small(Technique::relief, "8", kPurposeSweep)};
+  plan[2].timed = false;
+  std::vector<std::string> steps;
+  MeasureOptions options;
+  options.repetitions = 5;
+  options.min_seconds = 0.0;
+  options.progress = [&](const std::string& what, std::size_t done, std::size_t total) {
+    EXPECT_EQ(total, 3u + 2u * 5u);
+    EXPECT_EQ(done, steps.size() + 1);
+    steps.push_back(what);
+  };
+  const MeasuredPlan run = measure_plan(plan, options);
+  ASSERT_EQ(run.rows.size(), 3u);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(run.rows[i].seconds.size(), 5u);
+    const Spread s = spread_of(run.rows[i].rays_per_second());
+    EXPECT_GT(s.min, 0.0);
+    EXPECT_LE(s.min, s.median);
+    EXPECT_LE(s.median, s.max);
+  }
+  EXPECT_TRUE(run.rows[2].seconds.empty());
+  for (const Measurement& m : run.rows) {
+    EXPECT_TRUE(m.failure.empty()) << m.failure;
+    ASSERT_TRUE(m.errors.has_value());
+    EXPECT_TRUE(m.errors->within_one_layer_step.has_value());
+    EXPECT_EQ(m.rays, run.rows[0].rays);  // one scene: the pixels whose ray meets the plane
+    EXPECT_GT(m.rays, 48u * 40u * 9 / 10);
+  }
+  // Accuracy first, then round 1 of both timed rows, then round 2, ...
+  ASSERT_EQ(steps.size(), 13u);
+  for (int round = 0; round < 5; ++round) {
+    const std::string tag = "(round " + std::to_string(round + 1) + ")";
+    EXPECT_NE(steps[3 + 2 * round].find("pom-32"), std::string::npos) << steps[3 + 2 * round];
+    EXPECT_NE(steps[3 + 2 * round].find(tag), std::string::npos) << steps[3 + 2 * round];
+    EXPECT_NE(steps[4 + 2 * round].find("steep-8"), std::string::npos) << steps[4 + 2 * round];
+  }
+}
+
+TEST(Plan, TheExactReferenceIsARowWithoutError) {
+  Configuration c = small(Technique::pom, "32", kPurposeCommand);
+  c.kind = RunKind::exact;
+  MeasureOptions options;
+  options.repetitions = 1;
+  options.min_seconds = 0.0;
+  const MeasuredPlan run = measure_plan({c}, options);
+  ASSERT_TRUE(run.rows[0].errors.has_value());
+  EXPECT_EQ(run.rows[0].errors->max, 0.0);
+  EXPECT_GT(run.rows[0].samples, 0u);  // cells solved
+}
+
+TEST(Plan, SpreadOfEvenAndOddCounts) {
+  const Spread odd = spread_of({3.0, 1.0, 2.0});
+  EXPECT_EQ(odd.median, 2.0);
+  EXPECT_EQ(odd.min, 1.0);
+  EXPECT_EQ(odd.max, 3.0);
+  EXPECT_EQ(spread_of({4.0, 1.0, 2.0, 3.0}).median, 2.5);
+  EXPECT_EQ(spread_of({}).median, 0.0);
+}
+
+TEST(Plan, BenchmarkNamesCarryTheSizes) {
+  Configuration c = small(Technique::pom, "8-32", 0);
+  c.isa = Isa::scalar;
+  EXPECT_EQ(benchmark_name(c, 64, 64),
+            "BM_Trace/heightfield:bricks/technique:pom/layers:8-32/isa:scalar/threads:1/view:48x40/depth_map:64x64");
+  c.kind = RunKind::roofline;
+  EXPECT_EQ(benchmark_name(c, 64, 64).rfind("BM_SamplerRoofline/heightfield:bricks/layers:8-32/isa:scalar/", 0), 0u);
+}
+
+// Every ISA exports a kernel for every registry row and addressing mode.
+TEST(Registry, EveryIsaHasEveryKernel) {
+  for (Isa isa : all_isas()) {
+    if (!cpu_supports(isa)) continue;  // the table of an ISA the CPU lacks is never touched
+    const KernelTable& table = kernel_table(isa);
+    for (const TechniqueInfo& t : techniques())
+      for (int a = 0; a < kAddressingCount; ++a) EXPECT_NE(table.technique[int(t.id)][a], nullptr) << t.name;
+    for (int a = 0; a < kAddressingCount; ++a) EXPECT_NE(table.sampler_roofline[a], nullptr);
+  }
+  for (const TechniqueInfo& t : techniques()) {
+    EXPECT_EQ(parse_technique(std::string(t.name)), t.id);
+    EXPECT_FALSE(t.glsl_call.empty());
+    EXPECT_EQ(t.color.size(), 7u);
+  }
+}
+
+}  // namespace
+}  // namespace heightmarch
