@@ -44,19 +44,7 @@ void set_counters(benchmark::State& state, const Measurement& m) {
   state.counters["samples_per_ray"] = m.rays ? double(m.samples) / double(m.rays) : 0.0;
   if (m.config.kind == RunKind::trace) state.counters["simd_utilization"] = m.simd_utilization;
   if (!m.errors) return;
-  const ErrorSummary& e = *m.errors;
-  state.counters["uv_error_mean"] = e.mean;
-  state.counters["uv_error_rms"] = e.rms;
-  state.counters["uv_error_p50"] = e.p50;
-  state.counters["uv_error_p95"] = e.p95;
-  state.counters["uv_error_p99"] = e.p99;
-  state.counters["uv_error_max"] = e.max;
-  state.counters["wrong_surface_rate"] = e.wrong_surface_rate;
-  state.counters["depth_error_mean"] = e.depth_error_mean;
-  if (e.has_shadow) {
-    state.counters["shadow_error_mean"] = e.shadow_error_mean;
-    state.counters["shadow_mismatch_rate"] = e.shadow_mismatch_rate;
-  }
+  for (const auto& [name, value] : error_counters(*m.errors)) state.counters[name] = value;
 }
 
 // Google Benchmark calls a benchmark again for each iteration-count estimate: the accuracy is

@@ -3,6 +3,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "heightmarch/heightfield.hpp"
@@ -32,6 +34,11 @@ struct ErrorSummary {
   // Layered techniques: the share of rays within one layer's texture step of the exact hit.
   std::optional<double> within_one_layer_step;
 };
+
+// The error measures as (name, value), named as Google Benchmark counters (uv_error_mean, ...,
+// wrong_surface_rate, depth_error_mean, and the shadow's two where it has them): the one list
+// that heightmarch-bench's counters and a suite's bench.json share.
+std::vector<std::pair<std::string, double>> error_counters(const ErrorSummary& errors);
 
 // Errors per ray (0 for padding and discarded rays) and their summary.
 ErrorSummary summarize_errors(const RayBatch& rays, const HitBuffers& hits, const HitBuffers& exact,

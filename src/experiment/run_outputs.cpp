@@ -323,18 +323,8 @@ std::string benchmark_json(const MeasuredPlan& run) {
           .value("rays_per_second", rays[r]);
       if (m.samples_known) json.value("samples_per_second", samples[r]).value("samples_per_ray", m.rays ? double(m.samples) / double(m.rays) : 0.0);
       if (m.config.kind == RunKind::trace) json.value("simd_utilization", m.simd_utilization);
-      if (m.errors) {
-        const ErrorSummary& e = *m.errors;
-        json.value("uv_error_mean", e.mean)
-            .value("uv_error_rms", e.rms)
-            .value("uv_error_p50", e.p50)
-            .value("uv_error_p95", e.p95)
-            .value("uv_error_p99", e.p99)
-            .value("uv_error_max", e.max)
-            .value("wrong_surface_rate", e.wrong_surface_rate)
-            .value("depth_error_mean", e.depth_error_mean);
-        if (e.has_shadow) json.value("shadow_error_mean", e.shadow_error_mean).value("shadow_mismatch_rate", e.shadow_mismatch_rate);
-      }
+      if (m.errors)
+        for (const auto& [name, value] : error_counters(*m.errors)) json.value(name, value);
       json.end_object();
     }
   }
