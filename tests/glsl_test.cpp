@@ -103,6 +103,85 @@ TEST(GlslRunner, OneAndTwoThreadsInOneProcessGiveIdenticalHits) {
   EXPECT_EQ(hits[0].discarded, hits[1].discarded);
 }
 
+// Draws once and reads the hits back.
+HitBuffers draw_and_read(GlslRunner& runner) {
+  runner.draw();
+  HitBuffers hits;
+  bool samples_known = false;
+  runner.read(hits, samples_known);
+  return hits;
+}
+
+void expect_same_hits(const HitBuffers& a, const HitBuffers& b, const std::string& what) {
+  EXPECT_EQ(a.u, b.u) << what;
+  EXPECT_EQ(a.v, b.v) << what;
+  EXPECT_EQ(a.depth, b.depth) << what;
+  EXPECT_EQ(a.samples, b.samples) << what;
+  EXPECT_EQ(a.shadow, b.shadow) << what;
+  EXPECT_EQ(a.discarded, b.discarded) << what;
+}
+
+// The suite prepares configuration after configuration on one scene: the client sends the depth
+// map and rays only when their contents change, and the worker keeps linked programs. Neither
+// may change a hit. The references come from another worker (3 threads), each after a decoy scene,
+// so their map and rays are uploaded afresh.
+TEST(GlslRunner, RepeatedPreparesOnOneSceneGiveTheHitsOfFreshOnes) {
+  const DepthMap map = make_builtin_heightfield("bricks", 128, 3);
+  const DepthMap other_map = make_builtin_heightfield("bricks", 128, 4);
+  const RayBatch rays = make_view_rays(parse_view("default", 128, 96));
+  RayBatch other_rays = rays;  // the view transposed: the same sizes, other rays
+  other_rays.tx = rays.ty;
+  other_rays.ty = rays.tx;
+  other_rays.vx = rays.vy;
+  other_rays.vy = rays.vx;
+  const DepthMap decoy_map = make_builtin_heightfield("bricks", 16, 1);
+  const RayBatch decoy_rays = make_view_rays(parse_view("default", 8, 8));
+  GlslRunner& fresh_runner = GlslRunner::instance(3);
+  auto fresh = [&](const DepthMap& m, const TechniqueParams& p, const RayBatch& r) {
+    fresh_runner.prepare(decoy_map, p, decoy_rays);
+    fresh_runner.prepare(m, p, r);
+    return draw_and_read(fresh_runner);
+  };
+  // Two techniques, each in both wrap modes; the shadow march also reads the light.
+  std::vector<TechniqueParams> cases(4);
+  cases[0].technique = cases[2].technique = Technique::pom;
+  cases[1].technique = cases[3].technique = Technique::shadow;
+  cases[1].wrap = cases[2].wrap = Wrap::clamp;
+  std::vector<HitBuffers> references;
+  for (const TechniqueParams& p : cases) references.push_back(fresh(map, p, rays));
+  ASSERT_NE(references[0].u, references[2].u) << "the scene must tell the wrap modes apart";
+
+  GlslRunner& runner = GlslRunner::instance(1);
+  for (int round = 0; round < 3; ++round)
+    for (std::size_t c = 0; c < cases.size(); ++c) {
+      runner.prepare(map, cases[c], rays);
+      expect_same_hits(draw_and_read(runner), references[c], "round " + std::to_string(round) + ", case " + std::to_string(c));
+    }
+
+  // New contents in the same buffers (a pointer says nothing), after a cached prepare.
+  DepthMap scene_map = map;
+  RayBatch scene_rays = rays;
+  runner.prepare(scene_map, cases[3], scene_rays);
+  const float* texels = scene_map.texels.data();
+  scene_map.texels = other_map.texels;
+  ASSERT_EQ(scene_map.texels.data(), texels);
+  runner.prepare(scene_map, cases[3], scene_rays);
+  const HitBuffers new_map = fresh(other_map, cases[3], rays);
+  ASSERT_NE(new_map.u, references[3].u);
+  expect_same_hits(draw_and_read(runner), new_map, "new depth map");
+  scene_rays.tx = other_rays.tx;
+  scene_rays.ty = other_rays.ty;
+  scene_rays.vx = other_rays.vx;
+  scene_rays.vy = other_rays.vy;
+  scene_rays.vz = other_rays.vz;
+  runner.prepare(scene_map, cases[3], scene_rays);
+  const HitBuffers new_rays = fresh(other_map, cases[3], other_rays);
+  ASSERT_NE(new_rays.u, new_map.u);
+  expect_same_hits(draw_and_read(runner), new_rays, "new rays");
+  runner.prepare(map, cases[0], rays);
+  expect_same_hits(draw_and_read(runner), references[0], "the first scene again");
+}
+
 // A compile error in the worker comes back as an InputError naming the file and line, and the
 // worker stays usable.
 TEST(GlslRunner, ShaderSyntaxErrorIsAnInputErrorAndTheWorkerLives) {

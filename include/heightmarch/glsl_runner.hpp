@@ -38,13 +38,14 @@ class GlslRunner {
 
   // Uploads the depth map and the rays and builds the program (the technique's, or the
   // brought-in shader's when shader_path is not empty). Throws InputError for compile errors,
-  // with the brought-in file's line numbers.
+  // with the brought-in file's line numbers. A depth map or rays identical to the last ones sent
+  // to this runner's worker are not sent again, and the worker keeps its last 64 programs.
   void prepare(const DepthMap& map, const TechniqueParams& params, const RayBatch& rays,
                const std::string& shader_path = "");
 
   // One draw over every ray, finished (glFinish); returns its seconds as timed in the worker,
-  // without the round trip. The first draw after prepare() also JIT-compiles the shader: time
-  // the ones after it.
+  // without the round trip. The first draw after prepare() may also JIT-compile the shader:
+  // time the ones after it.
   double draw();
 
   // Reads the hits of the last draw back, in batch order (samples: -1 cast for unknown).

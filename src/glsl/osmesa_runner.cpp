@@ -1,8 +1,11 @@
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <regex>
 #include <sstream>
 #include <stdexcept>
+#include <string>
+#include <utility>
 #include <vector>
 
 #define GL_GLEXT_PROTOTYPES
@@ -20,6 +23,7 @@ namespace heightmarch {
 namespace {
 
 constexpr int kRowWidth = 1024;  // rays per framebuffer row
+constexpr std::size_t kMaxPrograms = 64;  // far more than techniques, a bound for brought-in shaders
 
 const std::string& glsl(const std::string& name) {
   const auto& sources = embedded_glsl();
@@ -90,7 +94,11 @@ struct OsmesaRunner::State {
   GLuint depth_texture = 0, origin_texture = 0, direction_texture = 0, hit_texture = 0, shadow_texture = 0;
   int width = 0, height = 0;
   std::size_t rays = 0;
+  bool has_map = false, has_rays = false;
   bool discard = false;  // the tutorial's discard of a uv outside [0,1]^2, applied on read-back
+  // Linked programs by fragment source, oldest first: the suite's interleaved rounds switch back
+  // to every technique at each repetition, and a kept program keeps llvmpipe's compiled code too.
+  std::vector<std::pair<std::string, GLuint>> programs;
 };
 
 OsmesaRunner::OsmesaRunner(int threads) : state_(std::make_unique<State>()) {
@@ -132,29 +140,15 @@ GLuint float_texture(GLuint texture, GLenum internal, GLenum format, int width, 
   return texture;
 }
 
-}  // namespace
-
-void OsmesaRunner::prepare(const DepthMap& map, const TechniqueParams& params, const RayBatch& rays,
-                           const std::string& shader_path) {
-  State& s = *state_;
+void check_side(int side) {
   GLint max_size = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
-  s.rays = rays.size();
-  s.discard = params.discard;
-  s.width = kRowWidth;
-  s.height = int((rays.size() + kRowWidth - 1) / kRowWidth);
-  if (map.width > max_size || map.height > max_size || s.height > max_size)
+  if (side > max_size)
     throw InputError("the GL context's textures are limited to " + std::to_string(max_size) + " texels a side");
-  // The program: the harness, then the technique (or the brought-in function), then main.
-  std::string fragment = "#version 330 core\n" + glsl("prelude.glsl");
-  if (shader_path.empty()) {
-    fragment += glsl("steep.glsl") + glsl("techniques.glsl") + "#define TECHNIQUE(T, V) " +
-                std::string(info(params.technique).glsl_call) + "\n";
-  } else {
-    fragment += "#define height_scale heightScale\nfloat numLayers = maxLayers;\n#line 1 1\n" + user_source(shader_path) +
-                "#line 1 0\n" + glsl("user_shader.glsl") + "#define TECHNIQUE(T, V) userShader(T, V)\n";
-  }
-  fragment += glsl("main.glsl");
+}
+
+// Compiles and links the program of a fragment source; InputError for a brought-in shader's errors.
+GLuint link_program(const std::string& fragment, const std::string& shader_path) {
   const char* vertex =
       "#version 330 core\n"
       "void main() {\n"
@@ -163,24 +157,41 @@ void OsmesaRunner::prepare(const DepthMap& map, const TechniqueParams& params, c
       "}\n";
   const GLuint vs = compile(GL_VERTEX_SHADER, vertex, "");
   const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment, shader_path);
-  if (s.program) glDeleteProgram(s.program);
-  s.program = glCreateProgram();
-  glAttachShader(s.program, vs);
-  glAttachShader(s.program, fs);
-  glLinkProgram(s.program);
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, vs);
+  glAttachShader(program, fs);
+  glLinkProgram(program);
   glDeleteShader(vs);
   glDeleteShader(fs);
   GLint linked = 0;
-  glGetProgramiv(s.program, GL_LINK_STATUS, &linked);
+  glGetProgramiv(program, GL_LINK_STATUS, &linked);
   if (!linked) {
-    const std::string log = info_log(s.program, true);
+    const std::string log = info_log(program, true);
+    glDeleteProgram(program);
     if (!shader_path.empty()) throw InputError(shader_path + ": shader does not link: " + user_log(log, shader_path));
     throw std::logic_error("built-in shader does not link: " + log);
   }
-  // The depth map: R32F, GL_LINEAR on level 0, the run's wrap mode.
-  const GLint wrap = params.wrap == Wrap::repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE;
-  s.depth_texture = float_texture(s.depth_texture, GL_R32F, GL_RED, map.width, map.height, map.texels.data(), GL_LINEAR, wrap);
-  // The rays, one texel each in batch order; the last row's tail repeats a harmless straight-down ray.
+  return program;
+}
+
+}  // namespace
+
+void OsmesaRunner::set_depth_map(const DepthMap& map) {
+  State& s = *state_;
+  check_side(std::max(map.width, map.height));
+  // R32F, GL_LINEAR on level 0; prepare() sets the run's wrap mode.
+  s.depth_texture = float_texture(s.depth_texture, GL_R32F, GL_RED, map.width, map.height, map.texels.data(), GL_LINEAR, GL_REPEAT);
+  s.has_map = true;
+}
+
+void OsmesaRunner::set_rays(const RayBatch& rays) {
+  State& s = *state_;
+  const int height = int((rays.size() + kRowWidth - 1) / kRowWidth);
+  check_side(height);
+  s.rays = rays.size();
+  s.width = kRowWidth;
+  s.height = height;
+  // One texel each in batch order; the last row's tail repeats a harmless straight-down ray.
   std::vector<float> origins(std::size_t(s.width) * s.height * 4, 0.5f), directions(origins.size(), 0.0f);
   for (std::size_t i = 0; i < origins.size() / 4; ++i) directions[4 * i + 2] = 1.0f;
   for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -201,6 +212,40 @@ void OsmesaRunner::prepare(const DepthMap& map, const TechniqueParams& params, c
   glDrawBuffers(2, buffers);
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw std::runtime_error("OSMesa: the RGBA32F framebuffer is incomplete");
+  glViewport(0, 0, s.width, s.height);
+  s.has_rays = true;
+}
+
+void OsmesaRunner::prepare(const TechniqueParams& params, const std::string& shader_path) {
+  State& s = *state_;
+  if (!s.has_map || !s.has_rays) throw std::logic_error("prepare before a depth map and rays were set");
+  s.discard = params.discard;
+  // The program: the harness, then the technique (or the brought-in function), then main.
+  std::string fragment = "#version 330 core\n" + glsl("prelude.glsl");
+  if (shader_path.empty()) {
+    fragment += glsl("steep.glsl") + glsl("techniques.glsl") + "#define TECHNIQUE(T, V) " +
+                std::string(info(params.technique).glsl_call) + "\n";
+  } else {
+    fragment += "#define height_scale heightScale\nfloat numLayers = maxLayers;\n#line 1 1\n" + user_source(shader_path) +
+                "#line 1 0\n" + glsl("user_shader.glsl") + "#define TECHNIQUE(T, V) userShader(T, V)\n";
+  }
+  fragment += glsl("main.glsl");
+  const auto cached = std::find_if(s.programs.begin(), s.programs.end(), [&](const auto& p) { return p.first == fragment; });
+  if (cached != s.programs.end()) {
+    s.program = cached->second;
+  } else {
+    s.program = link_program(fragment, shader_path);
+    if (s.programs.size() == kMaxPrograms) {
+      glDeleteProgram(s.programs.front().second);  // GL defers it while the program is still in use
+      s.programs.erase(s.programs.begin());
+    }
+    s.programs.emplace_back(std::move(fragment), s.program);
+  }
+  // The run's wrap mode on the kept depth texture.
+  const GLint wrap = params.wrap == Wrap::repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE;
+  glBindTexture(GL_TEXTURE_2D, s.depth_texture);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap);
   // Uniforms.
   glUseProgram(s.program);
   auto uniform = [&](const char* name) { return glGetUniformLocation(s.program, name); };
@@ -218,7 +263,6 @@ void OsmesaRunner::prepare(const DepthMap& map, const TechniqueParams& params, c
   glUniform1f(uniform("maxLayers"), params.layers.max_layers);
   glUniform1i(uniform("refineSteps"), params.refine_steps);
   glUniform3f(uniform("lightDirection"), params.light[0], params.light[1], params.light[2]);
-  glViewport(0, 0, s.width, s.height);
   if (glGetError() != GL_NO_ERROR) throw std::runtime_error("OSMesa: GL error while preparing the draw");
 }
 

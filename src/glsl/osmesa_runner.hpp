@@ -24,9 +24,12 @@ class OsmesaRunner {
   const std::string& renderer() const { return renderer_; }
   const std::string& version() const { return version_; }
 
-  // As GlslRunner's; rays need only tx, ty, vx, vy, vz.
-  void prepare(const DepthMap& map, const TechniqueParams& params, const RayBatch& rays,
-               const std::string& shader_path);
+  // The depth map and the rays stay in the context until replaced, so a prepare on the same scene
+  // uploads neither again; rays need only tx, ty, vx, vy, vz.
+  void set_depth_map(const DepthMap& map);
+  void set_rays(const RayBatch& rays);
+  // As GlslRunner's, on the depth map and rays last set (both must have been).
+  void prepare(const TechniqueParams& params, const std::string& shader_path);
   void draw();
   void read(HitBuffers& hits, bool& samples_known) const;
 

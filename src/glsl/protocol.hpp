@@ -6,7 +6,8 @@
 // host byte order (both ends are the same build on the same machine). The client sends one
 // request and reads one answer:
 //   (at start)                  -> ready {u32 protocol version, renderer, version}
-//   prepare {params, map, rays, shader path} -> done
+//   prepare {params, u8 map follows, [map], u8 rays follow, [rays], shader path} -> done
+//                               (a map or rays not sent: the worker's last ones, unchanged)
 //   draw                        -> drawn {f64 seconds of draw + glFinish, timed in the worker}
 //   read                        -> hits {HitBuffers, u8 samples known}
 // and any request may be answered input_error {text} (an InputError: the same one-line message)
@@ -27,7 +28,7 @@
 
 namespace heightmarch::glsl_protocol {
 
-inline constexpr std::uint32_t kVersion = 1;
+inline constexpr std::uint32_t kVersion = 2;
 inline constexpr std::uint32_t kMagic = 0x4c474d48;  // "HMGL": a stray write to stdout is caught at once
 
 enum class Message : std::uint32_t { ready = 1, prepare, done, draw, drawn, read, hits, input_error, error };

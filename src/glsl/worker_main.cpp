@@ -30,13 +30,18 @@ void serve(OsmesaRunner& runner, Message type, const std::vector<char>& payload,
       TechniqueParams params;
       DepthMap map;
       RayBatch rays;
+      std::uint8_t map_sent = 0, rays_sent = 0;
       std::string shader_path;
       protocol::read(reader, params);
-      protocol::read(reader, map);
-      protocol::read(reader, rays);
+      reader.value(map_sent);
+      if (map_sent) protocol::read(reader, map);
+      reader.value(rays_sent);
+      if (rays_sent) protocol::read(reader, rays);
       reader.text(shader_path);
       reader.finish();
-      runner.prepare(map, params, rays, shader_path);
+      if (map_sent) runner.set_depth_map(map);
+      if (rays_sent) runner.set_rays(rays);
+      runner.prepare(params, shader_path);
       return protocol::send(out, Message::done, answer, std::nullopt);
     }
     case Message::draw: {
