@@ -285,7 +285,7 @@ TEST(GlslShaderFile, TutorialShaderRunsAndIsMeasured) {
   EXPECT_NE(r.output.find("uv error (texels)"), std::string::npos) << r.output;
   std::ifstream json(dir + "/out/metrics.json");
   const std::string text((std::istreambuf_iterator<char>(json)), {});
-  EXPECT_NE(text.find("\"isa\": \"glsl\""), std::string::npos) << text;
+  EXPECT_NE(text.find("\"backend\": \"glsl\""), std::string::npos) << text;
 }
 
 TEST(GlslShaderFile, SyntaxErrorNamesTheLine) {
