@@ -252,6 +252,15 @@ Measurement MeasurementSession::measure(const Configuration& c, int id,
       runner.read(hits, row.samples_known);
       row.samples_known = row.samples_known && c.shader_path.empty();
       check_finite(c, scene.rays, hits);
+      if (!c.shader_path.empty()) {  // a loop llvmpipe cut off may leave different garbage each draw
+        HitBuffers again;
+        bool known = false;
+        runner.draw();
+        runner.read(again, known);
+        if (const long long i = first_difference(scene.rays, hits, again); i >= 0)
+          throw InputError(c.shader_path + ": returned different hits on two draws of the same rays (first at ray " +
+                           std::to_string(i) + "): not deterministic, as a non-finite uv or an endless loop cut off by llvmpipe");
+      }
       break;
     }
     case RunKind::naive: {
