@@ -307,6 +307,19 @@ TEST(GlslShaderFile, EndlessLoopIsReportedNotMeasured) {
   EXPECT_EQ(r.output.find("nan"), std::string::npos) << r.output;
 }
 
+// A very long line (once a stack overflow in the line filter's regex) is read like any other,
+// and the file's own declarations of the harness's uniforms are still dropped.
+TEST(GlslShaderFile, LongLinesAndOwnUniformDeclarations) {
+  const std::string dir = test::temp_dir("glsl-long");
+  std::ofstream(dir + "/long.glsl") << "#version 330 //" << std::string(40000, 'x') << "\n"
+                                    << "  uniform float heightScale ;\nuniform sampler2D depthMap;\n"
+                                    << "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) { // " << std::string(40000, 'y')
+                                    << "\n  return texCoords;\n}\n";
+  const auto r = test::run_cli("glsl --res 16 --size 8x8 --threads 1 --shader " + dir + "/long.glsl");
+  EXPECT_EQ(r.status, 0) << r.output.substr(0, 2000);
+  EXPECT_NE(r.output.find("uv error (texels)"), std::string::npos) << r.output.substr(0, 2000);
+}
+
 TEST(GlslShaderFile, MissingAndEmptyFiles) {
   const std::string dir = test::temp_dir("glsl-missing");
   std::ofstream(dir + "/empty.glsl") << "\n";

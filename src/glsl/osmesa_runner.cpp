@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <fstream>
 #include <regex>
@@ -42,6 +43,32 @@ std::string info_log(GLuint object, bool program) {
 }
 
 // A brought-in shader: its own #version and declarations of the harness's uniforms go.
+// A #version line, or the file's own declaration of one of the harness's uniforms
+// ("uniform TYPE NAME;"). Scanned by hand: std::regex recurses per character and overflows the
+// stack on a line of some 30,000 characters.
+bool harness_declaration(const std::string& line) {
+  const auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+  const auto is_word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  std::size_t i = 0;
+  const auto skip_spaces = [&] {
+    const std::size_t start = i;
+    while (i < line.size() && is_space(line[i])) ++i;
+    return i > start;
+  };
+  const auto word = [&] {
+    const std::size_t start = i;
+    while (i < line.size() && is_word(line[i])) ++i;
+    return line.substr(start, i - start);
+  };
+  skip_spaces();
+  if (line.compare(i, 8, "#version") == 0) return i + 8 == line.size() || !is_word(line[i + 8]);
+  if (word() != "uniform" || !skip_spaces() || word().empty() || !skip_spaces()) return false;
+  const std::string name = word();
+  skip_spaces();
+  static const char* const names[] = {"depthMap", "heightScale", "height_scale", "numLayers", "minLayers", "maxLayers"};
+  return i < line.size() && line[i] == ';' && std::find(std::begin(names), std::end(names), name) != std::end(names);
+}
+
 std::string user_source(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open shader file");
@@ -51,11 +78,9 @@ std::string user_source(const std::string& path) {
   if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw InputError(path + ": empty shader file");
   if (text.find("ParallaxMapping") == std::string::npos)
     throw InputError(path + ": does not define vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)");
-  static const std::regex dropped(
-      R"(^\s*(#version\b.*|uniform\s+\w+\s+(depthMap|heightScale|height_scale|numLayers|minLayers|maxLayers)\s*;.*)$)");
   std::string out, line;
   std::stringstream lines(text);
-  while (std::getline(lines, line)) out += (std::regex_match(line, dropped) ? "" : line) + "\n";
+  while (std::getline(lines, line)) out += (harness_declaration(line) ? "" : line) + "\n";
   return out;
 }
 
