@@ -16,7 +16,9 @@ namespace {
 void write_image(const std::string& path, int w, int h, int channels, OIIO::TypeDesc type, const std::vector<float>& pixels) {
   auto out = OIIO::ImageOutput::create(path);
   ASSERT_TRUE(out) << path;
-  ASSERT_TRUE(out->open(path, OIIO::ImageSpec(w, h, channels, type))) << out->geterror();
+  OIIO::ImageSpec spec(w, h, channels, type);
+  spec.attribute("oiio:UnassociatedAlpha", 1);  // the pixels are written as given, alpha apart
+  ASSERT_TRUE(out->open(path, spec)) << out->geterror();
   ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data())) << out->geterror();
   out->close();
 }
@@ -65,6 +67,24 @@ TEST(Loading, FormatsDepthsAndChannels) {
     for (int k = 0; k < 6; ++k) EXPECT_NEAR(depth.texels[k], gray[k], c.tolerance + 1e-6f) << c.file << " texel " << k;
     const DepthMap height = load_depth_map(dir + "/" + c.file, Convention::height);
     for (int k = 0; k < 6; ++k) EXPECT_NEAR(height.texels[k], 1.0f - depth.texels[k], 1e-6f) << c.file;
+  }
+}
+
+// The depth is the first channel as stored, never multiplied by alpha (what GLSL's .r reads).
+TEST(Loading, AlphaNeverScalesTheDepth) {
+  const std::string dir = test::temp_dir("alpha");
+  const std::vector<float> gray = {0.0f, 0.25f, 0.5f, 1.0f, 0.75f, 0.125f};
+  const std::vector<float> alpha = {0.0f, 0.5f, 1.0f, 0.0f, 0.2f, 0.9f};
+  std::vector<float> rgba, ga;
+  for (int k = 0; k < 6; ++k) {
+    rgba.insert(rgba.end(), {gray[k], 0.3f, 0.6f, alpha[k]});
+    ga.insert(ga.end(), {gray[k], alpha[k]});
+  }
+  write_image(dir + "/rgba.png", 3, 2, 4, OIIO::TypeDesc::UINT8, rgba);
+  write_image(dir + "/ga.png", 3, 2, 2, OIIO::TypeDesc::UINT8, ga);
+  for (const char* file : {"rgba.png", "ga.png"}) {
+    const DepthMap depth = load_depth_map(dir + "/" + file, Convention::depth);
+    for (int k = 0; k < 6; ++k) EXPECT_NEAR(depth.texels[k], gray[k], 1.0f / 255 + 1e-6f) << file << " texel " << k;
   }
 }
 

@@ -47,7 +47,11 @@ class SilencedStderr {
 // .r reads it; integer formats normalised to [0, 1] by OIIO.
 DepthMap read_first_channel(const std::string& path) {
   SilencedStderr silenced;
-  auto in = OIIO::ImageInput::open(path);
+  // Unassociated: the depth is what GLSL's .r reads from the file, never colour times alpha (OIIO
+  // premultiplies PNG colour by alpha unless asked not to).
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(path, &config);
   if (!in) throw InputError(path + ": cannot read as an image (" + one_line(OIIO::geterror()) + ")");
   const OIIO::ImageSpec spec = in->spec();
   if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1)
