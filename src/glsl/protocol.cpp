@@ -10,27 +10,27 @@
 
 namespace heightmarch::glsl_protocol {
 
-void write(Writer& w, const TechniqueParams& params) {
-  w.value(params.technique);
-  w.value(params.layers.min_layers);
-  w.value(params.layers.max_layers);
-  w.value(params.refine_steps);
-  w.value(params.scale);
-  w.value(params.wrap);
-  w.value(params.discard);
-  w.value(params.light);
+namespace {
+
+// The fields of TechniqueParams in wire order, once for both directions (Writer::value takes
+// const&, Reader::value &).
+template <class Io, class Params>
+void params_fields(Io& io, Params& params) {
+  io.value(params.technique);
+  io.value(params.layers.min_layers);
+  io.value(params.layers.max_layers);
+  io.value(params.refine_steps);
+  io.value(params.scale);
+  io.value(params.wrap);
+  io.value(params.discard);
+  io.value(params.light);
 }
 
-void read(Reader& r, TechniqueParams& params) {
-  r.value(params.technique);
-  r.value(params.layers.min_layers);
-  r.value(params.layers.max_layers);
-  r.value(params.refine_steps);
-  r.value(params.scale);
-  r.value(params.wrap);
-  r.value(params.discard);
-  r.value(params.light);
-}
+}  // namespace
+
+void write(Writer& w, const TechniqueParams& params) { params_fields(w, params); }
+
+void read(Reader& r, TechniqueParams& params) { params_fields(r, params); }
 
 void write(Writer& w, const DepthMap& map) {
   w.value(map.width);

@@ -115,7 +115,7 @@ class Reader {
   std::size_t at_ = 0;
 };
 
-// The one place that knows TechniqueParams' fields: a field added there is added here, twice.
+// The one place that knows TechniqueParams' fields (params_fields in protocol.cpp, for both directions).
 void write(Writer& w, const TechniqueParams& params);
 void read(Reader& r, TechniqueParams& params);
 void write(Writer& w, const DepthMap& map);
