@@ -14,12 +14,23 @@
 
 namespace heightmarch::cli {
 
-std::vector<HeightfieldSource> extra_heightfields(const std::string& list) {
-  std::vector<HeightfieldSource> sources;
-  std::stringstream in(list);
+void add_plan_options(CLI::App& command, PlanOptions& o, const std::string& quick_help) {
+  command.add_flag("--quick", o.quick, quick_help);
+  command.add_option("--heightmap", o.heightmap, "extra depth map files, comma-separated, measured beside the builtins");
+  command.add_option("--threads", o.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 1024));
+  command.add_option("--repetitions", o.repetitions, "timed repetitions per configuration (at least 5 for published figures)")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+}
+
+PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
+  std::vector<HeightfieldSource> extra;
+  std::stringstream in(o.heightmap);
   for (std::string path; std::getline(in, path, ',');)
-    if (!path.empty()) sources.push_back(parse_heightfield(path));
-  return sources;
+    if (!path.empty()) extra.push_back(parse_heightfield(path));
+  PlanSettings settings = suite_settings(o.quick, extra, resolve_threads(o.threads), glsl);
+  settings.repetitions = o.repetitions;
+  return settings;
 }
 
 MeasuredPlan measure_with_progress(const std::vector<Configuration>& plan, const PlanSettings& settings,
@@ -63,12 +74,9 @@ void write_claims(const std::string& dir, const MeasuredPlan& run, const PlanSet
 namespace {
 
 struct ClaimsOptions {
-  std::string heightmap;
-  bool quick = false;
+  PlanOptions plan;
   std::string out = ".";
-  int threads = 0;
   std::string isa;
-  int repetitions = 5;
 };
 
 }  // namespace
@@ -76,16 +84,12 @@ struct ClaimsOptions {
 Command add_claims_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand("claims", "measure the tutorials' claims C1-C10 and write claims.md");
   auto o = std::make_shared<ClaimsOptions>();
-  command->add_option("--heightmap", o->heightmap, "extra depth map files, comma-separated, measured beside the builtins");
-  command->add_flag("--quick", o->quick, "the quick plan's heightfields and sizes");
+  add_plan_options(*command, o->plan, "the quick plan's heightfields and sizes");
   command->add_option("--out", o->out, "directory for claims.md, claims.json and measurements.json")->capture_default_str();
-  command->add_option("--threads", o->threads, "worker threads (0: all cores)")->check(CLI::Range(0, 1024));
   command->add_option("--isa", o->isa, isa_names() + " or auto");
-  command->add_option("--repetitions", o->repetitions, "timed repetitions per configuration")->check(CLI::Range(1, 1000))->capture_default_str();
   return [o] {
-    PlanSettings settings = suite_settings(o->quick, extra_heightfields(o->heightmap), resolve_threads(o->threads), false);
+    PlanSettings settings = plan_settings(o->plan, false);
     settings.best_isa = select_isa(o->isa);
-    settings.repetitions = o->repetitions;
     Progress progress("claims");
     progress.stage("measuring " + std::to_string(settings.heightfields.size()) + " heightfields");
     const MeasuredPlan run = measure_with_progress(claims_plan(settings), settings, progress, {});

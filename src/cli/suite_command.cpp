@@ -20,13 +20,10 @@ namespace {
 namespace fs = std::filesystem;
 
 struct SuiteOptions {
-  bool quick = false;
+  PlanOptions plan;
   std::string out;
-  std::string heightmap;
-  int threads = 0;
   bool no_glsl = false;
   bool record = false;
-  int repetitions = 5;
 };
 
 std::string shell_quote(const std::string& s) {
@@ -56,23 +53,18 @@ void write_gallery_images(const std::string& dir, const TracedRow& traced) {
 Command add_suite_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand("suite", "the main job: the measured plan, gallery, claims and report into results/");
   auto o = std::make_shared<SuiteOptions>();
-  command->add_flag("--quick", o->quick, "a smoke run of a minute or two: two heightfields, small views");
+  add_plan_options(*command, o->plan, "a smoke run of a minute or two: two heightfields, small views");
   command->add_option("--out", o->out, "run directory (default: a fresh results/<date>-<commit>-<time>)");
-  command->add_option("--heightmap", o->heightmap, "extra depth map files, comma-separated, measured beside the builtins");
-  command->add_option("--threads", o->threads, "worker threads (0: all cores)")->check(CLI::Range(0, 1024));
   command->add_flag("--no-glsl", o->no_glsl, "skip the GLSL (OSMesa) rows");
   command->add_flag("--record", o->record,
                     "with --quick: still point results/latest at the run and add it to results/history.csv");
-  command->add_option("--repetitions", o->repetitions, "timed repetitions per configuration (at least 5 for published figures)")
-      ->check(CLI::Range(1, 1000))->capture_default_str();
   return [o] {
-    PlanSettings settings = suite_settings(o->quick, extra_heightfields(o->heightmap), resolve_threads(o->threads), !o->no_glsl);
-    settings.repetitions = o->repetitions;
+    const PlanSettings settings = plan_settings(o->plan, !o->no_glsl);
     const std::vector<Configuration> plan = suite_plan(settings);
     const bool default_out = o->out.empty();
-    const std::string run_name = fresh_run_name(o->quick);
+    const std::string run_name = fresh_run_name(o->plan.quick);
     RunDirectory dir(default_out ? "results/" + run_name : o->out);
-    const bool record = default_out && (!o->quick || o->record);
+    const bool record = default_out && (!o->plan.quick || o->record);
     Progress progress("suite");
     std::size_t timed = 0;
     for (const Configuration& c : plan) timed += c.timed;
