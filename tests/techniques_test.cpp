@@ -134,6 +134,45 @@ TEST(Pom, OnAPlaneItIsExact) {
   }
 }
 
+TEST(Secant, WithoutIterationsItIsPom) {
+  const DepthMap map = make_builtin_heightfield("bricks", 128, 2);
+  const RayBatch rays = test::random_rays(1000, 80.0, 21);
+  auto params = params_for(Technique::secant, "10");
+  params.refine_steps = 0;
+  const HitBuffers secant = trace_with(map, rays, params);
+  const HitBuffers pom = trace_with(map, rays, params_for(Technique::pom, "10"));
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    ASSERT_EQ(secant.u[i], pom.u[i]);
+    ASSERT_EQ(secant.v[i], pom.v[i]);
+    ASSERT_EQ(secant.depth[i], pom.depth[i]);
+    ASSERT_EQ(secant.samples[i], pom.samples[i]);
+  }
+}
+
+TEST(Secant, HitStaysBetweenItsLayersAndConvergesOnTheExactHit) {
+  // Regula falsi keeps a bracket around the crossing: the hit never leaves the steep layer pair,
+  // each iteration costs one sample, and on a smooth field more iterations never move it away.
+  const DepthMap map = make_builtin_heightfield("waves", 128, 2);
+  const ExactIntersector exact(map, Wrap::repeat);
+  const RayBatch rays = test::random_rays(1000, 70.0, 22);
+  const HitBuffers steep = trace_with(map, rays, params_for(Technique::steep, "16"));
+  double error_sum[2] = {0.0, 0.0};
+  for (int n = 0; n < 2; ++n) {
+    auto params = params_for(Technique::secant, "16");
+    params.refine_steps = n == 0 ? 1 : 6;
+    const HitBuffers hits = trace_with(map, rays, params);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      ASSERT_EQ(hits.samples[i], steep.samples[i] + 1 + std::uint32_t(params.refine_steps));
+      if (steep.samples[i] == 1) continue;
+      ASSERT_GE(hits.depth[i], steep.depth[i] - 1.0f / 16.0f - 1e-6f);
+      ASSERT_LE(hits.depth[i], steep.depth[i] + 1e-6f);
+      const double d = exact.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], 0.1).t;
+      error_sum[n] += std::fabs(hits.depth[i] - d);
+    }
+  }
+  EXPECT_LT(error_sum[1], 0.5 * error_sum[0]);
+}
+
 TEST(DynamicLayers, FollowTheTutorialsMix) {
   // N = mix(32, 8, |V.z|): straight down 8 layers, at V.z = 0.5 twenty.
   const DepthMap map{8, 8, std::vector<float>(64, 1.0f)};

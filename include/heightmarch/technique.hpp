@@ -56,7 +56,7 @@ inline constexpr int kMaxRefineSteps = 64;
 struct TechniqueParams {
   Technique technique = Technique::pom;
   LayerSpec layers;
-  int refine_steps = 5;          // relief's binary search halvings
+  int refine_steps = 5;          // relief's halvings, secant's regula falsi steps
   float scale = 0.1f;            // height scale s
   Wrap wrap = Wrap::repeat;
   bool discard = false;          // the tutorial's discard of a final uv outside [0,1]^2

@@ -22,6 +22,8 @@
     "relief mapping: steep, then binary search between the last two layers")                    \
   X(pom, "pom", true, pom(k, ray), "pom(T, V)", "#d62728", "s",                                   \
     "parallax occlusion mapping: steep, then linear interpolation between the last two layers") \
+  X(secant, "secant", true, secant(k, ray), "secant(T, V)", "#ff7f0e", "X",                      \
+    "secant (interval) mapping: steep, then --refine regula falsi steps between the last two layers") \
   X(shadow, "shadow", true, shadow(k, ray), "shadow(T, V)", "#9467bd", "*",                       \
     "POM's hit, then the tutorial's soft self-shadow factor towards the light")
 
@@ -29,6 +31,7 @@
 #include "kernels/parallax.hpp"
 #include "kernels/pom.hpp"
 #include "kernels/relief.hpp"
+#include "kernels/secant.hpp"
 #include "kernels/shadow.hpp"
 #include "kernels/steep.hpp"
 #endif

@@ -75,3 +75,36 @@ vec4 shadow(vec2 T, vec3 V) {
   hit.w = underSurface ? 1.0 - shadowMultiplier : 1.0;
   return hit;
 }
+
+// secant.hpp: regula falsi between the last two layers; both gaps written as pom writes them.
+float secantWeight(float aGap, float bGap) {
+  float denominator = bGap - aGap;
+  return denominator != 0.0 ? bGap / denominator : 0.0;
+}
+
+vec4 secant(vec2 T, vec3 V) {
+  LayerMarch m = marchLayers(T, V, false);
+  vec2 aUv = m.uv + m.delta;
+  float aDepth = m.currentLayerDepth - m.layerDepth;
+  vec2 bUv = m.uv;
+  float bDepth = m.currentLayerDepth;
+  float aGap = sampleDepth(aUv) - m.currentLayerDepth + m.layerDepth;
+  float bGap = m.depthMapValue - m.currentLayerDepth;
+  for (int i = 0; i < refineSteps; ++i) {
+    float w = secantWeight(aGap, bGap);
+    float oneMinusW = 1.0 - w;
+    vec2 uv = aUv * w + bUv * oneMinusW;
+    float depth = aDepth * w + bDepth * oneMinusW;
+    float gap = sampleDepth(uv) - depth;
+    bool above = gap > 0.0;
+    aUv = above ? uv : aUv;
+    aDepth = above ? depth : aDepth;
+    aGap = above ? gap : aGap;
+    bUv = above ? bUv : uv;
+    bDepth = above ? bDepth : depth;
+    bGap = above ? bGap : gap;
+  }
+  float w = secantWeight(aGap, bGap);
+  float oneMinusW = 1.0 - w;
+  return vec4(aUv * w + bUv * oneMinusW, aDepth * w + bDepth * oneMinusW, 1.0);
+}
