@@ -76,7 +76,7 @@ TEST(Exact, AgreesWithBruteForceOnEveryBuiltin) {
     const DepthMap map = make_builtin_heightfield(name, 128, 7);
     for (Wrap wrap : {Wrap::repeat, Wrap::clamp}) {
       const ExactIntersector exact(map, wrap);
-      const RayBatch rays = test::random_rays(160, 85.0, std::hash<std::string>{}(name) + int(wrap));
+      const RayBatch rays = test::random_rays(160, 88.0, std::hash<std::string>{}(name) + int(wrap));
       for (std::size_t i = 0; i < rays.size(); ++i) {
         if (rays.is_padding(i)) continue;
         for (double scale : {0.1, 0.35}) {
@@ -104,6 +104,34 @@ TEST(Exact, VisibilityOfAPitFloor) {
   const double u = 8.5 / 16.0, v = 0.5, d = 1.0;
   EXPECT_TRUE(exact.visible(u, v, d, above, 0.5));
   EXPECT_FALSE(exact.visible(u, v, d, grazing, 0.5));
+}
+
+}  // namespace
+}  // namespace heightmarch
+
+namespace heightmarch {
+namespace {
+
+TEST(Exact, GrazingPathsAreRefusedPastTheLimit) {
+  const DepthMap map = make_builtin_heightfield("bricks", 512, 1);
+  TechniqueParams params;
+  params.scale = 1.0f;
+  // The ray of a 115-second walk before the limit: V.z = 6e-7 at scale 1 crosses 8.5e8 cells.
+  const RayBatch grazing = make_ray_list({0.5f}, {0.5f}, {1.0f}, {0.0f}, {6e-7f});
+  EXPECT_THROW(check_exact_path_lengths(map, grazing, params), InputError);
+  EXPECT_THROW(exact_hits(map, grazing, params, LightVisibility::skip), InputError);
+  // Just inside the limit it is solved, and its padding copies are not walked again.
+  const float vz = float(1.05 * (512 + 512) / kMaxExactPathCells);
+  const RayBatch inside = make_ray_list({0.5f}, {0.5f}, {1.0f}, {0.0f}, {vz});
+  EXPECT_NO_THROW(check_exact_path_lengths(map, inside, params));
+  const HitBuffers hits = exact_hits(map, inside, params, LightVisibility::compute);
+  EXPECT_GT(hits.depth[0], 0.0f);
+  for (std::size_t i = 1; i < inside.size(); ++i) EXPECT_EQ(hits.samples[i], 0u);
+  // A light that grazes is refused the same way.
+  params.light[0] = 1.0f;
+  params.light[1] = 0.0f;
+  params.light[2] = 1e-5f;
+  EXPECT_THROW(check_exact_path_lengths(map, make_ray_list({0.5f}, {0.5f}, {0.0f}, {0.0f}, {1.0f}), params), InputError);
 }
 
 }  // namespace

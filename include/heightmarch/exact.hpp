@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "heightmarch/error.hpp"
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/hits.hpp"
 #include "heightmarch/rays.hpp"
@@ -58,10 +59,27 @@ class ExactIntersector {
   std::vector<Level> levels_;
 };
 
+// The longest path, in texel cells, the exact reference walks for one ray or its light path:
+// past it a grazing ray's walk can take seconds (a ray at V.z = 6e-7 and scale 1 crosses 8.5e8
+// cells of a 512 x 512 map), and float texture coordinates that far out have lost the precision
+// any technique would need. At the default scale 0.1 on 512 x 512 this admits angles up to
+// 89.997 degrees.
+inline constexpr double kMaxExactPathCells = double(1 << 20);
+
+// Throws InputError naming the first ray (or the light) whose path through the depth map,
+// scale s |V.xy| / V.z (W + H) cells, is longer than kMaxExactPathCells.
+void check_exact_path_lengths(const DepthMap& map, const RayBatch& rays, const TechniqueParams& params);
+
 // The exact answer for every ray of a batch, in parallel over its tiles under the current thread
-// limit: uv and d* per ray, the texel cells solved in `samples`, the light's exact visibility
-// (0 or 1) from the exact hit in `shadow`, and the discard flag as a technique would set it.
-// Uses params' scale, wrap, light and discard; not its technique.
-HitBuffers exact_hits(const DepthMap& map, const RayBatch& rays, const TechniqueParams& params);
+// limit: uv and d* per ray, the texel cells solved in `samples`, the discard flag as a technique
+// would set it, and in `shadow` the light's exact visibility (0 or 1) from the exact hit when
+// `visibility` asks for it (a second walk per ray, only the shadow technique needs), else 1.
+// Uses params' scale, wrap, light and discard; not its technique. Checks path lengths first.
+enum class LightVisibility { skip, compute };
+inline LightVisibility visibility_for(Technique technique) {
+  return technique == Technique::shadow ? LightVisibility::compute : LightVisibility::skip;
+}
+HitBuffers exact_hits(const DepthMap& map, const RayBatch& rays, const TechniqueParams& params,
+                      LightVisibility visibility);
 
 }  // namespace heightmarch

@@ -1,11 +1,45 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <cmath>
+#include <string>
+
+#include "heightmarch/error.hpp"
 #include "heightmarch/exact.hpp"
 
 namespace heightmarch {
+namespace {
 
-HitBuffers exact_hits(const DepthMap& map, const RayBatch& rays, const TechniqueParams& params) {
+// Cells a path of texture offset (ox, oy) per unit depth crosses on a W x H map, at most.
+double path_cells(const DepthMap& map, double ox, double oy) {
+  return std::fabs(ox) * map.width + std::fabs(oy) * map.height;
+}
+
+}  // namespace
+
+void check_exact_path_lengths(const DepthMap& map, const RayBatch& rays, const TechniqueParams& params) {
+  const double s = params.scale;
+  const float* L = params.light;
+  if (path_cells(map, s * L[0] / L[2], s * L[1] / L[2]) > kMaxExactPathCells)
+    throw InputError("the light (z = " + std::to_string(L[2]) + ") grazes the surface: its path crosses more than " +
+                     std::to_string(long(kMaxExactPathCells)) + " texel cells, the exact reference's limit");
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const double vz = rays.vz[i];
+    if (path_cells(map, s * rays.vx[i] / vz, s * rays.vy[i] / vz) <= kMaxExactPathCells) continue;
+    const double xy = std::hypot(double(rays.vx[i]), double(rays.vy[i]));
+    const double min_vz = s * xy * (map.width + map.height) / kMaxExactPathCells;
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "ray %u grazes the surface: V.z = %.3g crosses more than %ld texel cells of this %dx%d depth map at "
+                  "scale %g, the exact reference's limit; it needs V.z >= %.3g",
+                  unsigned(rays.origin[i]) + 1, vz, long(kMaxExactPathCells), map.width, map.height, s, min_vz);
+    throw InputError(text);
+  }
+}
+
+HitBuffers exact_hits(const DepthMap& map, const RayBatch& rays, const TechniqueParams& params,
+                      LightVisibility visibility) {
+  check_exact_path_lengths(map, rays, params);
   const ExactIntersector exact(map, params.wrap);
   HitBuffers hits;
   hits.resize(rays.size());
@@ -13,6 +47,11 @@ HitBuffers exact_hits(const DepthMap& map, const RayBatch& rays, const Technique
                     [&](const tbb::blocked_range<std::size_t>& tiles) {
     for (std::size_t t = tiles.begin(); t != tiles.end(); ++t)
       for (std::size_t i = rays.tile_offsets[t]; i < rays.tile_offsets[t + 1]; ++i) {
+        if (rays.is_padding(i)) {  // a copy of a real ray: not worth a second exact walk
+          hits.u[i] = rays.tx[i];
+          hits.v[i] = rays.ty[i];
+          continue;
+        }
         const double vz = rays.vz[i];
         const PathHit hit = exact.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], vz, params.scale);
         const double d = hit.t;
@@ -22,7 +61,8 @@ HitBuffers exact_hits(const DepthMap& map, const RayBatch& rays, const Technique
         hits.v[i] = float(v);
         hits.depth[i] = float(d);
         hits.samples[i] = hit.cells;
-        hits.shadow[i] = exact.visible(u, v, d, params.light, params.scale) ? 1.0f : 0.0f;
+        if (visibility == LightVisibility::compute)
+          hits.shadow[i] = exact.visible(u, v, d, params.light, params.scale) ? 1.0f : 0.0f;
         hits.discarded[i] = params.discard && (u < 0.0 || u > 1.0 || v < 0.0 || v > 1.0);
       }
   });

@@ -17,6 +17,7 @@ long long floor_to_cell(double x, double direction) {
 }
 
 long long wrap_index(long long i, long long n) {
+  if ((n & (n - 1)) == 0) return i & (n - 1);  // the common power-of-two side, without a division
   const long long r = i % n;
   return r < 0 ? r + n : r;
 }
@@ -133,9 +134,11 @@ PathHit ExactIntersector::first_hit(const HeightfieldPath& p) const {
   long long cx = clamp_cell(floor_to_cell(p.x0, p.dx), w);
   long long cy = clamp_cell(floor_to_cell(p.y0, p.dy), h);
   // t at which the path leaves the cell range [lo, hi) along one axis (hi exclusive).
-  auto exit_t = [](double origin, double rate, long long lo, long long hi) {
-    if (rate > 0.0) return (double(hi) - origin) / rate;
-    if (rate < 0.0) return (double(lo) - origin) / rate;
+  // Divisions dominated the walk: each axis' rate is inverted once per path.
+  const double inv_dx = 1.0 / p.dx, inv_dy = 1.0 / p.dy;
+  auto exit_t = [](double origin, double rate, double inv_rate, long long lo, long long hi) {
+    if (rate > 0.0) return (double(hi) - origin) * inv_rate;
+    if (rate < 0.0) return (double(lo) - origin) * inv_rate;
     return kInf;
   };
   // A clamp edge cell reaches to infinity on its outer side.
@@ -144,41 +147,54 @@ PathHit ExactIntersector::first_hit(const HeightfieldPath& p) const {
   auto depth = [&](double t) { return p.depth0 + p.ddepth * t; };
   auto interior = [&](long long c, long long n) { return repeat || (c >= 0 && c < n - 1); };
 
-  // Each pass advances t to a cell or block exit; the count of cells on the path bounds it.
+  // Tevs et al.'s maximum-mipmap walk: `level` goes down while the path may touch a block's
+  // shallowest texel and up after each block or cell the path leaves without a hit, so a pass
+  // either advances t or descends. Passes are bounded by the cells on the path times the levels.
+  const int top = int(levels_.size()) - 1;
   const double path_cells = (std::fabs(p.dx) + std::fabs(p.dy)) * p.t_max;
-  const double bound = std::min(4.0 * path_cells + 64.0, 1e12);
+  const double bound = std::min((4.0 * path_cells + 64.0) * double(top + 2), 1e13);
+  int level = top;
   double t = 0.0;
   for (double pass = 0; pass < bound; ++pass) {
-    // Skip the largest block whose shallowest texel lies deeper than the path across it.
-    bool skipped = false;
-    if (!levels_.empty() && interior(cx, w) && interior(cy, h)) {
+    if (level >= 0 && interior(cx, w) && interior(cy, h)) {
+      const Level& L = levels_[std::size_t(level)];
+      const long long size = 1LL << level;
       const long long wx = repeat ? wrap_index(cx, w) : cx, wy = repeat ? wrap_index(cy, h) : cy;
-      for (int level = int(levels_.size()) - 1; level >= 0 && !skipped; --level) {
-        const Level& L = levels_[std::size_t(level)];
-        const long long size = 1LL << level;
-        const long long bx = wx >> level, by = wy >> level;
-        const long long x_lo = cx - (wx - (bx << level)), y_lo = cy - (wy - (by << level));
-        const long long x_hi = repeat ? x_lo + size : std::min(x_lo + size, w - 1);
-        const long long y_hi = repeat ? y_lo + size : std::min(y_lo + size, h - 1);
-        const double tx = exit_t(p.x0, p.dx, x_lo, x_hi), ty = exit_t(p.y0, p.dy, y_lo, y_hi);
-        const double te = std::min(tx, ty);
-        const double t_end = std::min(te, p.t_max);
-        const double deepest = std::max(depth(t), depth(t_end));
-        if (!(deepest < double(L.min_depth[std::size_t(by) * L.blocks_x + bx]))) continue;
+      const long long bx = wx >> level, by = wy >> level;
+      const long long x_lo = cx - (wx - (bx << level)), y_lo = cy - (wy - (by << level));
+      const long long x_hi = repeat ? x_lo + size : std::min(x_lo + size, w - 1);
+      const long long y_hi = repeat ? y_lo + size : std::min(y_lo + size, h - 1);
+      const double tx = exit_t(p.x0, p.dx, inv_dx, x_lo, x_hi), ty = exit_t(p.y0, p.dy, inv_dy, y_lo, y_hi);
+      const double te = std::min(tx, ty);
+      const double t_end = std::min(te, p.t_max);
+      const double shallowest = double(L.min_depth[std::size_t(by) * L.blocks_x + bx]);
+      if (std::max(depth(t), depth(t_end)) < shallowest) {  // the path stays above the block
         if (te >= p.t_max) return result;
-        skipped = true;
         t = te;
         // Step across the exited side(s); the other axis' cell comes from the position.
         const long long nx = p.dx > 0 ? x_hi : x_lo - 1, ny = p.dy > 0 ? y_hi : y_lo - 1;
-        cx = tx <= ty ? nx : std::clamp(floor_to_cell(p.x0 + p.dx * t, p.dx), x_lo, x_hi - 1);
-        cy = ty <= tx ? ny : std::clamp(floor_to_cell(p.y0 + p.dy * t, p.dy), y_lo, y_hi - 1);
-        cx = clamp_cell(cx, w);
-        cy = clamp_cell(cy, h);
+        cx = clamp_cell(tx <= ty ? nx : std::clamp(floor_to_cell(p.x0 + p.dx * t, p.dx), x_lo, x_hi - 1), w);
+        cy = clamp_cell(ty <= tx ? ny : std::clamp(floor_to_cell(p.y0 + p.dy * t, p.dy), y_lo, y_hi - 1), h);
+        level = std::min(level + 1, top);
+        continue;
+      }
+      if (level > 0) {
+        // A descending path touches nothing in the block before it reaches the block's
+        // shallowest depth (depth(t_end) >= shallowest, so that point is inside the block).
+        if (p.ddepth > 0.0) {
+          const double t_reach = (shallowest - p.depth0) / p.ddepth;
+          if (t_reach > t) {
+            t = std::min(t_reach, t_end);
+            cx = std::clamp(floor_to_cell(p.x0 + p.dx * t, p.dx), x_lo, x_hi - 1);
+            cy = std::clamp(floor_to_cell(p.y0 + p.dy * t, p.dy), y_lo, y_hi - 1);
+          }
+        }
+        --level;
+        continue;
       }
     }
-    if (skipped) continue;
-    const double tx = exit_t(p.x0, p.dx, cell_lo(cx), cell_hi(cx, w));
-    const double ty = exit_t(p.y0, p.dy, cell_lo(cy), cell_hi(cy, h));
+    const double tx = exit_t(p.x0, p.dx, inv_dx, cell_lo(cx), cell_hi(cx, w));
+    const double ty = exit_t(p.y0, p.dy, inv_dy, cell_lo(cy), cell_hi(cy, h));
     const double te = std::max(t, std::min(tx, ty));
     ++result.cells;
     double t_hit;
@@ -191,6 +207,7 @@ PathHit ExactIntersector::first_hit(const HeightfieldPath& p) const {
     t = te;
     if (tx <= ty) cx = clamp_cell(cx + (p.dx > 0 ? 1 : -1), w);
     if (ty <= tx) cy = clamp_cell(cy + (p.dy > 0 ? 1 : -1), h);
+    level = std::min(level + 1, top);
   }
   return result;
 }

@@ -120,8 +120,9 @@ class SceneRun {
   SceneRun(const DepthMap& map, const ViewSpec& view) : map(map), rays(make_view_rays(view)) {}
 
   const HitBuffers& exact(const TechniqueParams& params) {
-    auto& slot = exact_[params_key(params, false)];
-    if (!slot) slot = std::make_unique<HitBuffers>(exact_hits(map, rays, params));
+    const LightVisibility visibility = visibility_for(params.technique);
+    auto& slot = exact_[params_key(params, false) + (visibility == LightVisibility::compute ? "/visibility" : "")];
+    if (!slot) slot = std::make_unique<HitBuffers>(exact_hits(map, rays, params, visibility));
     return *slot;
   }
 
@@ -314,7 +315,7 @@ std::function<double()> MeasurementSession::trace_once(const Configuration& c) {
                   scene.scratch);
       });
     case RunKind::exact:
-      return timed([&scene, c] { scene.scratch = exact_hits(scene.map, scene.rays, c.params); });
+      return timed([&scene, c] { scene.scratch = exact_hits(scene.map, scene.rays, c.params, visibility_for(c.params.technique)); });
   }
   return [] { return 0.0; };
 }
