@@ -6,6 +6,7 @@
 #include "heightmarch/error.hpp"
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/hits.hpp"
+#include "heightmarch/min_depth_pyramid.hpp"
 #include "heightmarch/rays.hpp"
 #include "heightmarch/sampler.hpp"
 #include "heightmarch/technique.hpp"
@@ -51,12 +52,7 @@ class ExactIntersector {
 
   const DepthMap* map_;
   Wrap wrap_;
-  // levels_[L] holds, per block of 2^L x 2^L cells, the minimum of the texels its cells read.
-  struct Level {
-    int blocks_x, blocks_y;
-    std::vector<float> min_depth;
-  };
-  std::vector<Level> levels_;
+  MinDepthPyramid pyramid_;
 };
 
 // The longest path, in texel cells, the exact reference walks for one ray or its light path:

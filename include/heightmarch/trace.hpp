@@ -6,6 +6,7 @@
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/hits.hpp"
 #include "heightmarch/isa.hpp"
+#include "heightmarch/min_depth_pyramid.hpp"
 #include "heightmarch/rays.hpp"
 #include "heightmarch/sampler.hpp"
 #include "heightmarch/technique.hpp"
@@ -54,6 +55,7 @@ class Tracer {
   TechniqueParams params_;
   Isa isa_;
   SamplerTexture texture_;
+  std::unique_ptr<MinDepthPyramid> pyramid_;  // built for the techniques that walk it
   KernelFn technique_kernel_;
   KernelFn roofline_kernel_;
 };

@@ -24,34 +24,7 @@ long long wrap_index(long long i, long long n) {
 
 }  // namespace
 
-ExactIntersector::ExactIntersector(const DepthMap& map, Wrap wrap) : map_(&map), wrap_(wrap) {
-  // Level 0: one entry per cell (the 2 x 2 texels it blends); then 2 x 2 blocks per level.
-  // REPEAT: cells 0..W-1 wrap, used only while 2^L divides both sides so blocks tile the period.
-  // CLAMP: the interior cells 0..W-2; the half-infinite edge cells are solved directly.
-  const bool repeat = wrap == Wrap::repeat;
-  const int cells_x = repeat ? map.width : map.width - 1;
-  const int cells_y = repeat ? map.height : map.height - 1;
-  if (cells_x < 1 || cells_y < 1) return;
-  Level level0{cells_x, cells_y, std::vector<float>(std::size_t(cells_x) * std::size_t(cells_y))};
-  for (int j = 0; j < cells_y; ++j)
-    for (int i = 0; i < cells_x; ++i)
-      level0.min_depth[std::size_t(j) * cells_x + i] =
-          float(std::min({texel(i, j), texel(i + 1, j), texel(i, j + 1), texel(i + 1, j + 1)}));
-  levels_.push_back(std::move(level0));
-  while (true) {
-    const Level& fine = levels_.back();
-    if (fine.blocks_x == 1 && fine.blocks_y == 1) break;
-    if (repeat && (fine.blocks_x % 2 != 0 || fine.blocks_y % 2 != 0)) break;
-    Level coarse{(fine.blocks_x + 1) / 2, (fine.blocks_y + 1) / 2, {}};
-    coarse.min_depth.assign(std::size_t(coarse.blocks_x) * std::size_t(coarse.blocks_y), 1.0f);
-    for (int j = 0; j < fine.blocks_y; ++j)
-      for (int i = 0; i < fine.blocks_x; ++i) {
-        float& m = coarse.min_depth[std::size_t(j / 2) * coarse.blocks_x + i / 2];
-        m = std::min(m, fine.min_depth[std::size_t(j) * fine.blocks_x + i]);
-      }
-    levels_.push_back(std::move(coarse));
-  }
-}
+ExactIntersector::ExactIntersector(const DepthMap& map, Wrap wrap) : map_(&map), wrap_(wrap), pyramid_(map, wrap) {}
 
 double ExactIntersector::texel(long long i, long long j) const {
   const long long w = map_->width, h = map_->height;
@@ -150,14 +123,13 @@ PathHit ExactIntersector::first_hit(const HeightfieldPath& p) const {
   // Tevs et al.'s maximum-mipmap walk: `level` goes down while the path may touch a block's
   // shallowest texel and up after each block or cell the path leaves without a hit, so a pass
   // either advances t or descends. Passes are bounded by the cells on the path times the levels.
-  const int top = int(levels_.size()) - 1;
+  const int top = pyramid_.levels() - 1;
   const double path_cells = (std::fabs(p.dx) + std::fabs(p.dy)) * p.t_max;
   const double bound = std::min((4.0 * path_cells + 64.0) * double(top + 2), 1e13);
   int level = top;
   double t = 0.0;
   for (double pass = 0; pass < bound; ++pass) {
     if (level >= 0 && interior(cx, w) && interior(cy, h)) {
-      const Level& L = levels_[std::size_t(level)];
       const long long size = 1LL << level;
       const long long wx = repeat ? wrap_index(cx, w) : cx, wy = repeat ? wrap_index(cy, h) : cy;
       const long long bx = wx >> level, by = wy >> level;
@@ -167,7 +139,7 @@ PathHit ExactIntersector::first_hit(const HeightfieldPath& p) const {
       const double tx = exit_t(p.x0, p.dx, inv_dx, x_lo, x_hi), ty = exit_t(p.y0, p.dy, inv_dy, y_lo, y_hi);
       const double te = std::min(tx, ty);
       const double t_end = std::min(te, p.t_max);
-      const double shallowest = double(L.min_depth[std::size_t(by) * L.blocks_x + bx]);
+      const double shallowest = double(pyramid_.at(level, bx, by));
       if (std::max(depth(t), depth(t_end)) < shallowest) {  // the path stays above the block
         if (te >= p.t_max) return result;
         t = te;

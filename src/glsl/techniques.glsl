@@ -108,3 +108,8 @@ vec4 secant(vec2 T, vec3 V) {
   float oneMinusW = 1.0 - w;
   return vec4(aUv * w + bUv * oneMinusW, aDepth * w + bDepth * oneMinusW, 1.0);
 }
+
+// maxmip.hpp: placeholder until the harness uploads the pyramid.
+vec4 maxmip(vec2 T, vec3 V) {
+  return pom(T, V);
+}

@@ -15,6 +15,12 @@ struct KernelTexture {
   const float* texels;  // SamplerTexture layout: (width + 1) x (height + 1)
   int width, height, stride;
   Wrap wrap;
+  // The min-depth pyramid (MinDepthPyramid's flat layout) for the techniques that walk it;
+  // null with 0 levels otherwise.
+  const float* pyramid = nullptr;
+  const std::int32_t* level_offsets = nullptr;
+  const std::int32_t* level_blocks_x = nullptr;
+  int pyramid_levels = 0;
 };
 
 struct KernelParams {

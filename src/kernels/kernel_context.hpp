@@ -26,15 +26,20 @@ class KernelContext {
   using B = vbool<W>;
 
   KernelContext(const KernelTexture& texture, const KernelParams& params, KernelCounters& counters)
-      : params(params), sampler_(texture), counters_(counters) {}
+      : params(params), texture(texture), sampler_(texture), counters_(counters) {}
 
   // One height sample, counted for the active lanes in `samples`. Every lane is gathered (all
   // indices are valid): a gather masked by the last comparison would wait for it.
   F sample(F u, F v, B active, I& samples) {
-    samples = select(active, samples + I(1), samples);
-    counters_.lane_samples += std::uint64_t(popcount(active));
-    counters_.packet_samples += W;
+    count(active, samples, 1);
     return sampler_(u, v);
+  }
+
+  // Counts n texel reads for the active lanes, for kernels that read texels themselves.
+  void count(B active, I& samples, int n) {
+    samples = select(active, samples + I(n), samples);
+    counters_.lane_samples += std::uint64_t(n) * std::uint64_t(popcount(active));
+    counters_.packet_samples += std::uint64_t(n) * W;
   }
 
   // The tutorial's layer count: N, or mix(max, min, |cos|) for a dynamic spec. Not rounded.
@@ -49,6 +54,7 @@ class KernelContext {
   int max_step_bound() const { return int(params.max_layers) + 2; }
 
   const KernelParams& params;
+  const KernelTexture& texture;
 
  private:
   PacketSampler<W, ADDRESSING> sampler_;

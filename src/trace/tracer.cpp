@@ -30,6 +30,7 @@ TraceRangeFn pick(const TraceRangeFn (&row)[kAddressingCount], const SamplerText
 Tracer::Tracer(const DepthMap& map, const TechniqueParams& params, Isa isa)
     : params_(params), isa_(isa), texture_(map, params.wrap) {
   if (!cpu_supports(isa)) throw InputError("ISA " + to_string(isa) + " is not supported by this CPU");
+  if (params.technique == Technique::maxmip) pyramid_ = std::make_unique<MinDepthPyramid>(map, params.wrap);
   const KernelTable& table = kernel_table(isa);
   technique_kernel_ = pick(table.technique[int(params.technique)], texture_);
   roofline_kernel_ = pick(table.sampler_roofline, texture_);
@@ -46,8 +47,14 @@ TraceStats Tracer::run_sampler_roofline(const RayBatch& rays, HitBuffers& hits) 
 TraceStats Tracer::run_kernel(TraceRangeFn kernel, const RayBatch& rays, HitBuffers& hits) const {
   hits.resize(rays.size());
   tbb::combinable<KernelCounters> counters;
-  const KernelTexture texture{texture_.texels.data(), texture_.width, texture_.height, texture_.stride,
-                              texture_.wrap};
+  KernelTexture texture{texture_.texels.data(), texture_.width, texture_.height, texture_.stride,
+                        texture_.wrap};
+  if (pyramid_) {
+    texture.pyramid = pyramid_->data();
+    texture.level_offsets = pyramid_->offsets();
+    texture.level_blocks_x = pyramid_->blocks_x();
+    texture.pyramid_levels = pyramid_->levels();
+  }
   const KernelParams params{params_.layers.min_layers, params_.layers.max_layers, params_.refine_steps,
                             params_.scale, params_.discard,
                             {params_.light[0], params_.light[1], params_.light[2]}};

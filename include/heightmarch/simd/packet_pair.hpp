@@ -76,4 +76,12 @@ inline void gather_pairs(const float* base, vint<2 * HEIGHTMARCH_PAIR_OF> index,
   gather_pairs(base, index.hi, first.hi, second.hi);
 }
 
+inline vfloat<2 * HEIGHTMARCH_PAIR_OF> gather(const float* base, vint<2 * HEIGHTMARCH_PAIR_OF> index) {
+  return {gather(base, index.lo), gather(base, index.hi)};
+}
+inline vint<2 * HEIGHTMARCH_PAIR_OF> gather(const std::int32_t* base, vint<2 * HEIGHTMARCH_PAIR_OF> index) {
+  return {gather(base, index.lo), gather(base, index.hi)};
+}
+inline vfloat<2 * HEIGHTMARCH_PAIR_OF> sqrt(vfloat<2 * HEIGHTMARCH_PAIR_OF> a) { return {sqrt(a.lo), sqrt(a.hi)}; }
+
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

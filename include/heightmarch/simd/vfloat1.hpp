@@ -71,4 +71,9 @@ inline void gather_pairs(const float* base, vint<1> index, vfloat<1>& first, vfl
   second = base[index.i + 1];
 }
 
+// base[index] per lane: the min-depth pyramid's reads and its per-level tables.
+inline vfloat<1> gather(const float* base, vint<1> index) { return base[index.i]; }
+inline vint<1> gather(const std::int32_t* base, vint<1> index) { return base[index.i]; }
+inline vfloat<1> sqrt(vfloat<1> a) { return std::sqrt(a.f); }
+
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

@@ -72,4 +72,9 @@ inline void gather_pairs(const float* base, vint<16> index, vfloat<16>& first, v
   second = _mm512_permutex2var_ps(lo, odd, hi);
 }
 
+// base[index] per lane.
+inline vfloat<16> gather(const float* base, vint<16> index) { return _mm512_i32gather_ps(index.i, base, 4); }
+inline vint<16> gather(const std::int32_t* base, vint<16> index) { return _mm512_i32gather_epi32(index.i, base, 4); }
+inline vfloat<16> sqrt(vfloat<16> a) { return _mm512_sqrt_ps(a.f); }
+
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

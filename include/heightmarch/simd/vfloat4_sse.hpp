@@ -82,4 +82,15 @@ inline void gather_pairs(const float* base, vint<4> index, vfloat<4>& first, vfl
   second = _mm_shuffle_ps(p01, p23, _MM_SHUFFLE(3, 1, 3, 1));
 }
 
+// base[index] per lane (no gather on SSE: four scalar loads).
+inline vfloat<4> gather(const float* base, vint<4> index) {
+  return _mm_setr_ps(base[_mm_extract_epi32(index.i, 0)], base[_mm_extract_epi32(index.i, 1)],
+                     base[_mm_extract_epi32(index.i, 2)], base[_mm_extract_epi32(index.i, 3)]);
+}
+inline vint<4> gather(const std::int32_t* base, vint<4> index) {
+  return _mm_setr_epi32(base[_mm_extract_epi32(index.i, 0)], base[_mm_extract_epi32(index.i, 1)],
+                        base[_mm_extract_epi32(index.i, 2)], base[_mm_extract_epi32(index.i, 3)]);
+}
+inline vfloat<4> sqrt(vfloat<4> a) { return _mm_sqrt_ps(a.f); }
+
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

@@ -80,4 +80,11 @@ inline void gather_pairs(const float* base, vint<8> index, vfloat<8>& first, vfl
   second = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1)), order);
 }
 
+// base[index] per lane.
+inline vfloat<8> gather(const float* base, vint<8> index) { return _mm256_i32gather_ps(base, index.i, 4); }
+inline vint<8> gather(const std::int32_t* base, vint<8> index) {
+  return _mm256_i32gather_epi32(reinterpret_cast<const int*>(base), index.i, 4);
+}
+inline vfloat<8> sqrt(vfloat<8> a) { return _mm256_sqrt_ps(a.f); }
+
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

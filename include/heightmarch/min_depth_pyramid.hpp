@@ -1,0 +1,46 @@
+#pragma once
+// The min-depth pyramid ("maximum mipmap" of heights) over the texel cells of a depth map:
+// level 0 holds, per cell (the 2 x 2 texels the bilinear sampler blends between texel centres
+// x..x+1, y..y+1 with x = u W - 0.5), the shallowest of its four texels, which bounds the whole
+// bilinear patch; level L holds the shallowest of each 2^L x 2^L block of cells. A path whose
+// depth stays below a block's entry cannot meet the surface inside it.
+//
+// REPEAT: cells 0..W-1 wrap; a level exists only while 2^L divides both sides, so blocks tile
+// the period. CLAMP: the interior cells 0..W-2; the half-infinite edge cells outside them (where
+// the sampler's clamp makes the surface constant along one axis) are left to the caller.
+#include <cstdint>
+#include <vector>
+
+#include "heightmarch/heightfield.hpp"
+#include "heightmarch/sampler.hpp"
+
+namespace heightmarch {
+
+class MinDepthPyramid {
+ public:
+  static constexpr int kMaxLevels = 16;  // sides up to kMaxDepthMapSide = 2^14 cells
+
+  MinDepthPyramid(const DepthMap& map, Wrap wrap);
+
+  int levels() const { return int(offsets_.size()); }  // 0 when the map has no interior cell
+  int blocks_x(int level) const { return blocks_x_[std::size_t(level)]; }
+  int blocks_y(int level) const { return blocks_y_[std::size_t(level)]; }
+  float at(int level, long long bx, long long by) const {
+    return min_depth_[std::size_t(offsets_[std::size_t(level)]) + std::size_t(by) * std::size_t(blocks_x(level)) +
+                      std::size_t(bx)];
+  }
+
+  // The flat layout the packet kernels gather from: level L's block (bx, by) at
+  // offsets()[L] + by * blocks_x()[L] + bx.
+  const float* data() const { return min_depth_.data(); }
+  const std::int32_t* offsets() const { return offsets_.data(); }
+  const std::int32_t* blocks_x() const { return blocks_x_.data(); }
+  const std::int32_t* blocks_y() const { return blocks_y_.data(); }
+  std::size_t bytes() const { return min_depth_.size() * sizeof(float); }
+
+ private:
+  std::vector<float> min_depth_;
+  std::vector<std::int32_t> offsets_, blocks_x_, blocks_y_;
+};
+
+}  // namespace heightmarch

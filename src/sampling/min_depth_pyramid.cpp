@@ -1,0 +1,44 @@
+#include "heightmarch/min_depth_pyramid.hpp"
+
+#include <algorithm>
+
+namespace heightmarch {
+
+MinDepthPyramid::MinDepthPyramid(const DepthMap& map, Wrap wrap) {
+  const bool repeat = wrap == Wrap::repeat;
+  int cells_x = repeat ? map.width : map.width - 1;
+  int cells_y = repeat ? map.height : map.height - 1;
+  if (cells_x < 1 || cells_y < 1) return;
+  auto texel = [&](int i, int j) {
+    if (repeat) return map.at(i % map.width, j % map.height);
+    return map.at(std::min(i, map.width - 1), std::min(j, map.height - 1));
+  };
+  auto add_level = [&](int bx, int by) {
+    offsets_.push_back(std::int32_t(min_depth_.size()));
+    blocks_x_.push_back(bx);
+    blocks_y_.push_back(by);
+    min_depth_.resize(min_depth_.size() + std::size_t(bx) * std::size_t(by), 1.0f);
+  };
+  add_level(cells_x, cells_y);
+  for (int j = 0; j < cells_y; ++j)
+    for (int i = 0; i < cells_x; ++i)
+      min_depth_[std::size_t(j) * std::size_t(cells_x) + std::size_t(i)] =
+          std::min({texel(i, j), texel(i + 1, j), texel(i, j + 1), texel(i + 1, j + 1)});
+  while (levels() < kMaxLevels) {
+    const int fine = levels() - 1;
+    const int fx = blocks_x(fine), fy = blocks_y(fine);
+    if (fx == 1 && fy == 1) break;
+    if (repeat && (fx % 2 != 0 || fy % 2 != 0)) break;
+    add_level((fx + 1) / 2, (fy + 1) / 2);
+    const int coarse = levels() - 1;
+    float* out = &min_depth_[std::size_t(offsets_[std::size_t(coarse)])];
+    const float* in = &min_depth_[std::size_t(offsets_[std::size_t(fine)])];
+    for (int j = 0; j < fy; ++j)
+      for (int i = 0; i < fx; ++i) {
+        float& m = out[std::size_t(j / 2) * std::size_t(blocks_x(coarse)) + std::size_t(i / 2)];
+        m = std::min(m, in[std::size_t(j) * std::size_t(fx) + std::size_t(i)]);
+      }
+  }
+}
+
+}  // namespace heightmarch
