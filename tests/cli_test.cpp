@@ -53,7 +53,7 @@ TEST(Cli, RaysFromCsvKeepTheirOrder) {
   std::getline(in, header);
   std::getline(in, first);
   std::getline(in, second);
-  EXPECT_EQ(header, "tx,ty,vx,vy,vz,u,v,depth,samples,exact_u,exact_v,exact_depth,uv_error_texels");
+  EXPECT_EQ(header, "tx,ty,vx,vy,vz,u,v,depth,samples,exact_u,exact_v,exact_depth,uv_error_texels,shadow,exact_visibility");
   EXPECT_EQ(first.rfind("0.5,0.5,0,0,1,", 0), 0u) << first;
   EXPECT_EQ(second.rfind("0.25,0.75,0.6", 0), 0u) << second;
 }
