@@ -123,7 +123,7 @@ double relative_error(const ClaimFigure& f) { return f.per_ray.offset_mean > 0 ?
 
 ClaimResult claim_c1(const ClaimsData& d) {
   ClaimBuilder c(d, "C1", "plain parallax is a rough approximation that breaks at steep view angles and sharp depth changes",
-                 "000-002",
+                 "LearnOpenGL",
                  "Per heightfield. Steep angles: plain parallax's relative error (mean uv error / mean |T - T*|, both in "
                  "texels, on sweep views) at 70 and 80 degrees is at least 2x that at 20 and 30 degrees. Sharp depth "
                  "changes: at the default view, its mean uv error on the rays whose |grad D| at the exact hit is in the "
@@ -149,7 +149,7 @@ ClaimResult claim_c1(const ClaimsData& d) {
 }
 
 ClaimResult claim_c2(const ClaimsData& d) {
-  ClaimBuilder c(d, "C2", "offset limiting gives better results than plain parallax at grazing angles", "000-002, 003",
+  ClaimBuilder c(d, "C2", "offset limiting gives better results than plain parallax at grazing angles", "LearnOpenGL; POM in GLSL",
                  "Per heightfield and grazing angle (70, 80 degrees): parallax-limited's mean uv error is below plain "
                  "parallax's.");
   for (const std::string& hf : d.heightfields())
@@ -163,7 +163,7 @@ ClaimResult claim_c2(const ClaimsData& d) {
 }
 
 ClaimResult claim_c3(const ClaimsData& d) {
-  ClaimBuilder c(d, "C3", "steep parallax's accuracy grows with the number of layers", "000-002, 004",
+  ClaimBuilder c(d, "C3", "steep parallax's accuracy grows with the number of layers", "LearnOpenGL; Steep PM notes",
                  "Per heightfield and each doubling 4 -> 8 -> 16 -> 32 -> 64: steep's mean uv error decreases.");
   const std::vector<std::string> counts = {"4", "8", "16", "32", "64"};
   for (const std::string& hf : d.heightfields())
@@ -179,7 +179,7 @@ ClaimResult claim_c3(const ClaimsData& d) {
 
 ClaimResult claim_c4(const ClaimsData& d) {
   ClaimBuilder c(d, "C4", "about 10 layers already make steep parallax look far more correct than plain parallax",
-                 "000-002",
+                 "LearnOpenGL",
                  "Per heightfield at the default view: steep with 10 layers has at most half of plain parallax's mean uv "
                  "error and at most half of its p95 uv error (the typical ray and the visible outliers; not the share "
                  "over one texel, which steep's expected stair-stepping of several texels per layer at 10 layers "
@@ -217,7 +217,7 @@ double fixed_curve_error(const ClaimBuilder& c, const std::string& hf, const std
 
 ClaimResult claim_c5(const ClaimsData& d) {
   ClaimBuilder c(d, "C5", "view-dependent layer counts (8-32) save samples where few are needed, at little cost in accuracy",
-                 "000-002, 004",
+                 "LearnOpenGL; Steep PM notes",
                  "Per heightfield and layered technique (steep, relief, POM). Pareto, at the default view: 8-32's mean uv "
                  "error is at most that of the fixed layer counts' curve at the same samples per ray (interpolated in "
                  "1 / samples between the two measured counts around it). Near-normal views (sweeps at 0, 10, 20, 30 "
@@ -248,7 +248,7 @@ ClaimResult claim_c5(const ClaimsData& d) {
 }
 
 ClaimResult claim_c6(const ClaimsData& d) {
-  ClaimBuilder c(d, "C6", "steep parallax shows stair-stepping: its error is bounded by about one layer", "000-002, 004",
+  ClaimBuilder c(d, "C6", "steep parallax shows stair-stepping: its error is bounded by about one layer", "LearnOpenGL; Steep PM notes",
                  "Per heightfield and layer count (8, 16, 32): at least 99% of steep's rays have a uv error no larger "
                  "than the texture step of one layer along their own ray.");
   for (const std::string& hf : d.heightfields())
@@ -260,7 +260,7 @@ ClaimResult claim_c6(const ClaimsData& d) {
 }
 
 ClaimResult claim_c7(const ClaimsData& d) {
-  ClaimBuilder c(d, "C7", "POM is much more accurate than steep parallax at the same layer count", "000-002, 003",
+  ClaimBuilder c(d, "C7", "POM is much more accurate than steep parallax at the same layer count", "LearnOpenGL; POM in GLSL",
                  "Per heightfield and layer count (8, 16, 32): POM's mean uv error is at most half of steep's.");
   for (const std::string& hf : d.heightfields())
     for (const char* layers : {"8", "16", "32"}) {
@@ -274,7 +274,7 @@ ClaimResult claim_c7(const ClaimsData& d) {
 
 ClaimResult claim_c8(const ClaimsData& d) {
   ClaimBuilder c(d, "C8", "relief mapping gives the most accurate results of the layered methods, at a somewhat higher cost than POM",
-                 "000-002, 003, 004",
+                 "LearnOpenGL; POM in GLSL; Steep PM notes",
                  "Per heightfield and layer count (8, 16, 32): relief's mean uv error is the lowest of steep, POM and "
                  "relief, and relief's cost, in height samples per ray (deterministic; the speeds are shown as median "
                  "(min-max) beside it, and decide nothing), is above POM's but at most twice it.");
@@ -295,7 +295,7 @@ ClaimResult claim_c8(const ClaimsData& d) {
 }
 
 ClaimResult claim_c9(const ClaimsData& d) {
-  ClaimBuilder c(d, "C9", "POM is close to relief mapping in quality and faster, hence the more common choice", "000-002, 004",
+  ClaimBuilder c(d, "C9", "POM is close to relief mapping in quality and faster, hence the more common choice", "LearnOpenGL; Steep PM notes",
                  "Per heightfield and layer count (8, 16, 32): POM's mean uv error is close to relief's (at most 1.5x, "
                  "or at most a quarter texel more) and POM takes fewer height samples per ray than relief "
                  "(deterministic; the speeds are shown as median (min-max) beside it, and decide nothing).");
@@ -314,7 +314,7 @@ ClaimResult claim_c9(const ClaimsData& d) {
 }
 
 ClaimResult claim_c10(const ClaimsData& d) {
-  ClaimBuilder c(d, "C10", "too few layers miss thin features and steep height changes", "000-002, 003",
+  ClaimBuilder c(d, "C10", "too few layers miss thin features and steep height changes", "LearnOpenGL; POM in GLSL",
                  "Per heightfield, for steep and POM with 4 and 8 layers against 64: among the rays whose exact hit lies "
                  "on a thin feature (the ray leaves the solid again within 1/8 of the depth range) and, separately, "
                  "among the rays whose |grad D| at the exact hit is in the field's top decile, the share of rays off by "
@@ -481,7 +481,7 @@ std::string claims_markdown(const std::vector<ClaimResult>& results, const std::
   }
   for (const ClaimResult& r : results) {
     md += "\n<a id=\"" + r.id + "\"></a>\n## " + r.id + ": " + r.claim + "\n\n";
-    md += "Source: seeds " + r.source + ".\n\nRule: " + r.rule + "\n\n";
+    md += "Source: " + r.source + " (docs/claims.md quotes the words and links the pages).\n\nRule: " + r.rule + "\n\n";
     if (r.previous_verdict)
       md += "Previous reading (shown this release only): " + r.previous_rule + " Its verdict on these figures: **" +
             to_string(*r.previous_verdict) + "**.\n\n";

@@ -3,7 +3,6 @@
 // from the hits, the exact hits and the depth map while the row is traced.
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
 #include "heightmarch/sampler.hpp"
 #include "heightmarch/suite_plan.hpp"
