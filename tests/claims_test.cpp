@@ -1,7 +1,10 @@
 // The claims' rules on synthetic figures give the expected verdicts.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "heightmarch/claims.hpp"
+#include "heightmarch/suite_plan.hpp"
 
 namespace heightmarch {
 namespace {
@@ -58,6 +61,109 @@ TEST(Claims, PomCloseToReliefAndCheaper) {
   EXPECT_EQ(claim(evaluate_claims(d), "C9").verdict, Verdict::refuted);
 }
 
+TEST(Claims, CloseInQualityIsARatioOrAQuarterTexel) {
+  ClaimsData d;
+  d.figures.push_back(figure("toy_box", "relief", "16", 0.084, 8e6, 0.0, 20.0));
+  d.figures.push_back(figure("toy_box", "pom", "16", 0.143, 10e6, 0.0, 16.0));  // 1.7x, but 0.06 texel more
+  EXPECT_EQ(claim(evaluate_claims(d), "C9").verdict, Verdict::holds);
+  d.figures[0].uv_error_mean = 1.0;
+  d.figures[1].uv_error_mean = 1.6;  // 1.6x and 0.6 texel more
+  EXPECT_EQ(claim(evaluate_claims(d), "C9").verdict, Verdict::refuted);
+}
+
+TEST(Claims, SpeedsAreComparedByTheirSpreads) {
+  ClaimFigure a = figure("bricks", "pom", "32", 0.1, 100e6), b = figure("bricks", "relief", "32", 0.1, 110e6);
+  a.rays_per_second_min = 90e6, a.rays_per_second_max = 105e6;
+  b.rays_per_second_min = 104e6, b.rays_per_second_max = 112e6;
+  EXPECT_EQ(compare_speeds(a, b), "not distinguishable (spreads overlap)");
+  b.rays_per_second_min = 106e6;
+  EXPECT_EQ(compare_speeds(a, b), "slower");
+  EXPECT_EQ(compare_speeds(b, a), "faster");
+  a.rays_per_second = 0;
+  EXPECT_EQ(compare_speeds(a, b), "not timed");
+}
+
+// C1 on one field: the angle part reads the error against the offset |T - T*| (an error that only
+// grows with tan(theta) as the offset does is no break), the sharp part compares the field's own
+// rays with high and low |grad D|.
+TEST(Claims, PlainParallaxBreaksWithinOneField) {
+  ClaimsData d;
+  for (double theta : {20.0, 30.0, 70.0, 80.0}) {
+    ClaimFigure f = figure("waves", "parallax", "1", 0.1 * std::tan(theta * M_PI / 180), 1e7, 0.0, 1.0, theta);
+    f.per_ray.offset_mean = 2.0 * std::tan(theta * M_PI / 180);  // relative error 0.05 at every angle
+    d.figures.push_back(f);
+  }
+  ClaimFigure view = figure("waves", "parallax", "1", 1.0);
+  view.per_ray.sharp_error_mean = 3.0;
+  view.per_ray.smooth_error_mean = 1.0;
+  d.figures.push_back(view);
+  ClaimResult c1 = claim(evaluate_claims(d), "C1");
+  ASSERT_EQ(c1.checks.size(), 2u);
+  EXPECT_FALSE(c1.checks[0].passed);  // error grows 16x from 20 to 80 degrees, relative error not at all
+  EXPECT_TRUE(c1.checks[1].passed);
+  for (ClaimFigure& f : d.figures)
+    if (f.theta >= 70) f.per_ray.offset_mean /= 4;  // relative error 0.2 at 70-80 degrees: 4x
+  EXPECT_EQ(claim(evaluate_claims(d), "C1").verdict, Verdict::holds);
+  d.figures.back().per_ray.sharp_error_mean = -1;  // a flat field has no sharp changes: no check
+  EXPECT_EQ(claim(evaluate_claims(d), "C1").checks.size(), 1u);
+}
+
+TEST(Claims, TenLayersReadOnMeanAndP95NotTheWrongSurfaceRate) {
+  ClaimsData d;
+  ClaimFigure plain = figure("bricks", "parallax", "1", 4.0, 1e7, 0.36);
+  plain.uv_error_p95 = 20.0;
+  ClaimFigure steep = figure("bricks", "steep", "10", 1.5, 1e7, 0.30);  // stair-steps over a texel often
+  steep.uv_error_p95 = 4.0;
+  d.figures = {plain, steep};
+  const ClaimResult c4 = claim(evaluate_claims(d), "C4");
+  EXPECT_EQ(c4.verdict, Verdict::holds);
+  EXPECT_EQ(c4.previous_verdict, Verdict::refuted);  // the previous reading asked to halve the rate
+  d.figures[1].uv_error_p95 = 12.0;
+  EXPECT_EQ(claim(evaluate_claims(d), "C4").verdict, Verdict::refuted);
+}
+
+TEST(Claims, TunnellingThroughThinFeaturesAndSharpChanges) {
+  ClaimsData d;
+  for (const char* technique : {"steep", "pom"})
+    for (const char* layers : {"4", "8", "64"}) {
+      ClaimFigure f = figure("my_own_map.png", technique, layers, 0.5);
+      const bool few = layers != std::string("64");
+      f.per_ray.thin_beyond_one_layer = few ? 0.20 : 0.02;
+      f.per_ray.sharp_beyond_one_layer = few ? 0.05 : 0.01;
+      d.figures.push_back(f);
+    }
+  ClaimResult c10 = claim(evaluate_claims(d), "C10");
+  EXPECT_EQ(c10.checks.size(), 8u);  // a brought-in map takes part, whatever its name
+  EXPECT_EQ(c10.verdict, Verdict::holds);
+  for (ClaimFigure& f : d.figures) f.per_ray.thin_beyond_one_layer = -1;  // no thin features: no thin checks
+  c10 = claim(evaluate_claims(d), "C10");
+  EXPECT_EQ(c10.checks.size(), 4u);
+  for (ClaimFigure& f : d.figures)
+    if (f.layers == "8") f.per_ray.sharp_beyond_one_layer = 0.015;  // not 1 point above 64's
+  EXPECT_EQ(claim(evaluate_claims(d), "C10").verdict, Verdict::holds_partly);
+}
+
+// Names decide nothing: the same figures under other names give the same verdicts.
+TEST(Claims, VerdictsDoNotDependOnNames) {
+  ClaimsData d;
+  for (const char* technique : {"steep", "pom"})
+    for (const char* layers : {"4", "8", "64"}) {
+      ClaimFigure f = figure("bricks", technique, layers, 0.5);
+      f.per_ray.sharp_beyond_one_layer = layers == std::string("64") ? 0.01 : 0.05;
+      d.figures.push_back(f);
+    }
+  ClaimFigure plain = figure("bricks", "parallax", "1", 1.0);
+  plain.per_ray.sharp_error_mean = 3.0, plain.per_ray.smooth_error_mean = 1.0;
+  d.figures.push_back(plain);
+  const std::vector<ClaimResult> named = evaluate_claims(d);
+  for (ClaimFigure& f : d.figures) f.heightfield = "waves_of_terrain.png";
+  const std::vector<ClaimResult> renamed = evaluate_claims(d);
+  for (const char* id : {"C1", "C10"}) {
+    ASSERT_EQ(claim(named, id).checks.size(), claim(renamed, id).checks.size()) << id;
+    EXPECT_EQ(claim(named, id).verdict, claim(renamed, id).verdict) << id;
+  }
+}
+
 TEST(Claims, SteepImprovesWithLayers) {
   ClaimsData d;
   double error = 2.0;
@@ -67,15 +173,25 @@ TEST(Claims, SteepImprovesWithLayers) {
   EXPECT_EQ(claim(evaluate_claims(d), "C3").verdict, Verdict::holds_partly);
 }
 
-TEST(Claims, DynamicLayersSaveSamples) {
+TEST(Claims, DynamicLayersAreParetoEfficientAndSaveSamplesNearTheNormal) {
   ClaimsData d;
-  for (const char* technique : {"steep", "relief", "pom"}) {
-    d.figures.push_back(figure("toybox", technique, "32", 0.5, 1e7, 0.0, 30.0));
-    d.figures.push_back(figure("toybox", technique, "8-32", 0.55, 1e7, 0.0, 18.0));
+  // The fixed counts' curve: error 4 / N at N + 1 samples per ray.
+  for (int n : {4, 8, 16, 32})
+    d.figures.push_back(figure("toybox", "steep", std::to_string(n), 4.0 / n, 1e7, 0.0, n + 1.0));
+  d.figures.push_back(figure("toybox", "steep", "8-32", 0.30, 1e7, 0.0, 13.0));  // curve at 13 samples: 1/3
+  for (double theta : {0.0, 10.0, 20.0, 30.0}) {
+    d.figures.push_back(figure("toybox", "steep", "32", 0.01, 1e7, 0.0, 20.0, theta));
+    d.figures.push_back(figure("toybox", "steep", "8-32", 0.20, 1e7, 0.0, 6.0, theta));  // worse, but < 1/4 texel more
   }
   EXPECT_EQ(claim(evaluate_claims(d), "C5").verdict, Verdict::holds);
-  d.figures[1].samples_per_ray = 29.0;  // steep 8-32 saves nothing
+  d.figures[4].uv_error_mean = 0.36;  // above the fixed counts' curve at the same samples per ray
   EXPECT_EQ(claim(evaluate_claims(d), "C5").verdict, Verdict::holds_partly);
+  d.figures[4].uv_error_mean = 0.30;
+  d.figures.back().samples_per_ray = 19.0;  // saves nothing at 30 degrees
+  const ClaimResult c5 = claim(evaluate_claims(d), "C5");
+  EXPECT_EQ(c5.verdict, Verdict::holds_partly);
+  EXPECT_FALSE(c5.checks.back().passed);
+  EXPECT_NE(c5.checks.back().where.find("30 deg"), std::string::npos);
 }
 
 TEST(Claims, OffsetLimitingAtGrazingAngles) {
@@ -88,6 +204,43 @@ TEST(Claims, OffsetLimitingAtGrazingAngles) {
   const std::string md = claims_markdown(evaluate_claims(d), "provenance", "configurations");
   EXPECT_NE(md.find("Rule: Per heightfield and grazing angle"), std::string::npos);
   EXPECT_LT(md.find("Rule:"), md.find("limited 2.000 vs plain 5.000"));  // the rule precedes the figures
+}
+
+
+// Two consecutive claims computations on the same rows give identical verdict tables, and two
+// measurements of the same small plan too (costs are samples per ray; speeds decide nothing).
+TEST(Claims, ConsecutiveComputationsGiveIdenticalVerdicts) {
+  PlanSettings s = suite_settings(true, {}, 1, false);
+  s.heightfields = {parse_heightfield("builtin:bricks", 64), parse_heightfield("builtin:waves", 64)};
+  s.view_size = 64;
+  s.sweep_size = 16;
+  s.repetitions = 1;
+  s.min_seconds = 0.0;
+  MeasureOptions options;
+  options.repetitions = 1;
+  options.min_seconds = 0.0;
+  auto verdicts = [](const std::vector<ClaimResult>& results) {
+    std::string table;
+    for (const ClaimResult& r : results) {
+      table += r.id + " " + to_string(r.verdict) + " " + (r.previous_verdict ? to_string(*r.previous_verdict) : "-") + ":";
+      for (const ClaimCheck& c : r.checks) table += (c.passed ? " +" : " -") + c.where;
+      table += "\n";
+    }
+    return table;
+  };
+  std::string tables[2];
+  for (std::string& table : tables) {
+    ClaimsCollector collector;
+    options.on_traced = [&](const TracedRow& traced) { collector.observe(traced); };
+    const MeasuredPlan run = measure_plan(claims_plan(s), options);
+    const ClaimsData data = collector.data(run.rows);
+    EXPECT_EQ(verdicts(evaluate_claims(data)), verdicts(evaluate_claims(data)));
+    table = verdicts(evaluate_claims(data));
+  }
+  EXPECT_EQ(tables[0], tables[1]);
+  // Every claim speaks on these two small fields, and the features were measured from the maps.
+  for (const ClaimResult& r : evaluate_claims(ClaimsData{})) EXPECT_NE(tables[0].find(r.id + " "), std::string::npos);
+  EXPECT_EQ(tables[0].find("not measured"), std::string::npos) << tables[0];
 }
 
 }  // namespace

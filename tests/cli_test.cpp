@@ -53,9 +53,44 @@ TEST(Cli, RaysFromCsvKeepTheirOrder) {
   std::getline(in, header);
   std::getline(in, first);
   std::getline(in, second);
-  EXPECT_EQ(header, "tx,ty,vx,vy,vz,u,v,depth,samples,exact_u,exact_v,exact_depth,uv_error_texels");
+  EXPECT_EQ(header, "tx,ty,vx,vy,vz,u,v,depth,samples,exact_u,exact_v,exact_depth,uv_error_texels,shadow,exact_visibility");
   EXPECT_EQ(first.rfind("0.5,0.5,0,0,1,", 0), 0u) << first;
   EXPECT_EQ(second.rfind("0.25,0.75,0.6", 0), 0u) << second;
+}
+
+// rays.csv carries the shadow factor and the exact visibility per ray, so a shadow run can be
+// checked ray by ray: on bricks, some rays are lit and some not, and the factor dims some.
+TEST(Cli, RaysCsvCarriesTheShadowPerRay) {
+  const std::string dir = test::temp_dir("rays-shadow");
+  const RayBatch rays = test::random_rays(300, 75.0, 11);
+  std::string text = "tx,ty,vx,vy,vz\n";
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    if (!rays.is_padding(i))
+      text += std::to_string(rays.tx[i]) + "," + std::to_string(rays.ty[i]) + "," + std::to_string(rays.vx[i]) + "," +
+              std::to_string(rays.vy[i]) + "," + std::to_string(rays.vz[i]) + "\n";
+  const std::string csv = write_text(dir, "rays.csv", text);
+  const auto r = test::run_cli("trace --heightmap builtin:bricks --res 64 --technique shadow --layers 16 --repetitions 1 --rays " +
+                               csv + " --out " + dir + "/out");
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream in(dir + "/out/rays.csv");
+  std::string line;
+  std::getline(in, line);
+  std::size_t rows = 0, dimmed = 0, lit = 0, unlit = 0;
+  while (std::getline(in, line)) {
+    ++rows;
+    const std::size_t exact_at = line.rfind(','), shadow_at = line.rfind(',', exact_at - 1);
+    const double shadow = std::stod(line.substr(shadow_at + 1, exact_at - shadow_at - 1));
+    const std::string exact = line.substr(exact_at + 1);
+    EXPECT_TRUE(shadow >= 0.0 && shadow <= 1.0) << line;
+    EXPECT_TRUE(exact == "0" || exact == "1") << line;
+    dimmed += shadow < 1.0;
+    lit += exact == "1";
+    unlit += exact == "0";
+  }
+  EXPECT_EQ(rows, 300u);
+  EXPECT_GT(dimmed, 0u);
+  EXPECT_GT(lit, 0u);
+  EXPECT_GT(unlit, 0u);
 }
 
 TEST(Cli, AMillionRaysFromCsv) {

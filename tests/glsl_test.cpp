@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <tuple>
@@ -17,6 +18,41 @@ namespace heightmarch {
 namespace {
 
 using Case = std::tuple<Technique, std::string, Wrap>;
+
+// GLSL against the scalar reference. llvmpipe's GL_LINEAR rounds differently from the SPEC
+// formula in the last bit for a few percent of samples (its lerp is fused), which moves POM's hit
+// depth by an ulp. Every technique but the shadow must then still take identical sample counts on
+// 99.9% of rays. The shadow loop of seed 003 runs while h - k h / N > 0, whose last step lands
+// within an ulp of 0, so its step count flips by one on a few percent of rays (7% on white noise
+// at 4 layers); that step is the k = N one, weighted by 1 - k / N = 0, so it never changes the
+// factor. The shadow is therefore measured by its factor (agreeing within 1e-4 on 99.9% of rays)
+// and by sample counts within one, not by identical sample counts, which the flip dominates.
+struct ShadowConformance {
+  double same_samples = 0, same_factor = 0, uv_p99 = 0;
+  unsigned max_sample_difference = 0;
+};
+
+ShadowConformance compare_hits(const RayBatch& rays, const HitBuffers& glsl, const HitBuffers& reference,
+                               const DepthMap& map) {
+  ShadowConformance c;
+  std::size_t n = 0, same = 0, factor = 0;
+  std::vector<float> differences;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    if (rays.is_padding(i)) continue;
+    ++n;
+    same += glsl.samples[i] == reference.samples[i];
+    factor += std::fabs(glsl.shadow[i] - reference.shadow[i]) <= 1e-4f;
+    c.max_sample_difference = std::max(c.max_sample_difference, glsl.samples[i] > reference.samples[i]
+                                                                    ? glsl.samples[i] - reference.samples[i]
+                                                                    : reference.samples[i] - glsl.samples[i]);
+    differences.push_back(uv_error_texels(glsl.u[i], glsl.v[i], reference.u[i], reference.v[i], map.width, map.height));
+  }
+  std::sort(differences.begin(), differences.end());
+  c.same_samples = double(same) / double(n);
+  c.same_factor = double(factor) / double(n);
+  c.uv_p99 = differences[differences.size() * 99 / 100];
+  return c;
+}
 
 class GlslConformance : public ::testing::TestWithParam<Case> {};
 
@@ -36,25 +72,38 @@ TEST_P(GlslConformance, MatchesTheScalarReference) {
   bool samples_known = false;
   runner.read(glsl, samples_known);
   ASSERT_TRUE(samples_known);
-  std::size_t same = 0, n = 0;
-  std::vector<float> differences;
-  for (std::size_t i = 0; i < rays.size(); ++i) {
-    if (rays.is_padding(i)) continue;
-    ++n;
-    same += glsl.samples[i] == reference.samples[i];
-    differences.push_back(uv_error_texels(glsl.u[i], glsl.v[i], reference.u[i], reference.v[i], map.width, map.height));
-    if (technique == Technique::shadow && glsl.samples[i] == reference.samples[i]) {
-      EXPECT_NEAR(glsl.shadow[i], reference.shadow[i], 1e-4) << "ray " << i;
-    }
+  const ShadowConformance c = compare_hits(rays, glsl, reference, map);
+  if (technique == Technique::shadow) {
+    // The shadow is measured by its factor: see ShadowConformance.
+    EXPECT_GE(c.same_factor, 0.999) << "share of rays whose shadow factors agree within 1e-4";
+    EXPECT_LE(c.max_sample_difference, 1u);
+  } else {
+    EXPECT_GE(c.same_samples, 0.999) << "share of rays with identical sample counts";
   }
-  std::sort(differences.begin(), differences.end());
-  // llvmpipe's GL_LINEAR rounds differently from the SPEC formula in the last bit for a few
-  // percent of samples (its lerp is fused), which moves POM's hit depth by an ulp. The shadow
-  // loop of seed 003 runs while h - k h / N > 0, whose last step lands within an ulp of 0, so
-  // its step count flips for 1-2% of rays. Every other technique must agree on 99.9%.
-  const double required = technique == Technique::shadow ? 0.98 : 0.999;
-  EXPECT_GE(double(same) / double(n), required) << same << " of " << n << " rays with identical sample counts";
-  EXPECT_LE(differences[differences.size() * 99 / 100], 1e-3) << "p99 uv difference in texels";
+  EXPECT_LE(c.uv_p99, 1e-3) << "p99 uv difference in texels";
+}
+
+// The shadow on a held-out white-noise field at 4 layers, where the flip below is most frequent
+// (identical sample counts fall to about 93% of rays there): its factor still agrees.
+TEST(GlslShadow, FactorAgreesOnANoiseFieldAtFourLayers) {
+  TechniqueParams params;
+  params.technique = Technique::shadow;
+  params.layers = parse_layer_spec("4");
+  DepthMap map{128, 128, std::vector<float>(128 * 128)};
+  test::Random rng(17);
+  for (float& t : map.texels) t = float(rng.uniform());
+  const RayBatch rays = test::random_rays(8192, 75.0, 5);
+  HitBuffers reference, glsl;
+  Tracer(map, params, Isa::scalar).run(rays, reference);
+  GlslRunner& runner = GlslRunner::instance(1);
+  runner.prepare(map, params, rays);
+  runner.draw();
+  bool samples_known = false;
+  runner.read(glsl, samples_known);
+  const ShadowConformance c = compare_hits(rays, glsl, reference, map);
+  EXPECT_GE(c.same_factor, 0.999) << "share of rays whose shadow factors agree within 1e-4";
+  EXPECT_LE(c.max_sample_difference, 1u);
+  EXPECT_LE(c.uv_p99, 1e-3) << "p99 uv difference in texels";
 }
 
 INSTANTIATE_TEST_SUITE_P(

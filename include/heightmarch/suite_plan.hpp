@@ -1,6 +1,8 @@
 #pragma once
 // What a suite run (or a claims run) measures, as one typed plan of configurations: the default
 // plan, the quick one, and the claims' part of either.
+#include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -34,11 +36,31 @@ PlanSettings suite_settings(bool quick, const std::vector<HeightfieldSource>& ex
 std::vector<Configuration> suite_plan(const PlanSettings& settings);
 
 // The claims' rows alone (what `heightmarch claims` runs): every claim technique at the claims'
-// layer specs on the default view, and plain and offset-limited parallax on sweep views at the
-// claims' angles.
+// layer specs on the default view, plain and offset-limited parallax on sweep views at the
+// claims' angles, and steep, relief and POM at 8-32 and 32 on near-normal sweep views.
 std::vector<Configuration> claims_plan(const PlanSettings& settings);
 
-// The figures the claims' rules read, from the rows with the claims purpose.
-ClaimsData claims_data(const std::vector<Measurement>& rows);
+// The figures the claims' rules read: observe() sees each traced row (the measurement pass's
+// on_traced) and keeps the per-ray figures of the rows with the claims purpose; data() joins them
+// to the rows' summaries and speeds.
+class ClaimsCollector {
+ public:
+  void observe(const TracedRow& traced);
+  ClaimsData data(const std::vector<Measurement>& rows) const;
+
+ private:
+  // What the rows of one scene (heightfield, view, scale, wrap) share: which rays hit where the
+  // depth map changes sharply (top decile of |grad D|), smoothly (bottom half), or on a thin feature.
+  struct SceneFeatures {
+    HeightfieldSource heightfield;
+    ViewSpec view;
+    float scale = 0;
+    Wrap wrap = Wrap::repeat;
+    std::vector<std::uint8_t> sharp, smooth, thin;
+    bool has_spread = false;  // the top decile's |grad D| exceeds the bottom half's
+  };
+  SceneFeatures features_;
+  std::map<int, ClaimFigure::PerRay> per_row_;  // by the row's id (its position in the plan)
+};
 
 }  // namespace heightmarch

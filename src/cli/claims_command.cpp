@@ -45,8 +45,8 @@ MeasuredPlan measure_with_progress(const std::vector<Configuration>& plan, const
   return run;
 }
 
-void write_claims(const std::string& dir, const MeasuredPlan& run, const PlanSettings& settings) {
-  const std::vector<ClaimResult> results = evaluate_claims(claims_data(run.rows));
+void write_claims(const std::string& dir, const ClaimsData& data, const PlanSettings& settings) {
+  const std::vector<ClaimResult> results = evaluate_claims(data);
   const Provenance p = provenance();
   const std::string provenance_line = "Measured " + p.date + " on " + p.cpu + " (" + std::to_string(p.cores) +
                                       " cores), ISA " + to_string(settings.best_isa) + ", " +
@@ -54,17 +54,24 @@ void write_claims(const std::string& dir, const MeasuredPlan& run, const PlanSet
                                       p.compiler + " (" + p.build_type + ").";
   std::string heightfields;
   for (const auto& hf : settings.heightfields) heightfields += (heightfields.empty() ? "" : ", ") + hf.label();
-  std::string angles;
-  for (double a : claim_sweep_angles()) angles += (angles.empty() ? "" : ", ") + std::to_string(int(a));
+  auto degrees = [](const std::vector<double>& list) {
+    std::string text;
+    for (double a : list) text += (text.empty() ? "" : ", ") + std::to_string(int(a));
+    return text;
+  };
   const std::string configurations =
       "Configurations: heightfields " + heightfields + " (builtins at " + std::to_string(settings.heightfields.front().resolution) +
       " x " + std::to_string(settings.heightfields.front().resolution) +
       "), scale 0.1, REPEAT; the default view at " + std::to_string(settings.view_size) + " x " +
       std::to_string(settings.view_size) + " pixels (the same rows as the report's tables) for every claim technique at layers 4, 8, 10, "
       "16, 32, 64 and 8-32; sweep views of " + std::to_string(settings.sweep_size) + " x " + std::to_string(settings.sweep_size) +
-      " rays at " + angles + " degrees for the parallax claims. Errors are uv errors in texels against the exact intersection; "
-      "costs are height samples per ray (deterministic); speeds are rays/s of the CPU packet kernels, the median (min-max) of " +
-      std::to_string(settings.repetitions) + " interleaved repetitions.";
+      " rays at " + degrees(claim_sweep_angles()) + " degrees for the parallax claims and at " +
+      degrees(claim_near_normal_angles()) + " degrees for steep, relief and POM at 8-32 and 32. Errors are uv errors in "
+      "texels against the exact intersection; sharp depth changes (|grad D| at the exact hit, top decile of the view's "
+      "rays against its bottom half) and thin features (the ray leaves the solid again within 1/8 of the depth range) "
+      "are measured per ray from each depth map, never from its name. Costs are height samples per ray "
+      "(deterministic); speeds are rays/s of the CPU packet kernels, the median (min-max) of " +
+      std::to_string(settings.repetitions) + " interleaved repetitions, shown beside the costs and deciding no verdict.";
   write_file_atomically(dir + "/claims.md", claims_markdown(results, provenance_line, configurations));
   write_file_atomically(dir + "/claims.json", claims_json(results));
   for (const ClaimResult& r : results)
@@ -92,10 +99,12 @@ Command add_claims_command(CLI::App& app) {
     settings.best_isa = select_isa(o->isa);
     Progress progress("claims");
     progress.stage("measuring " + std::to_string(settings.heightfields.size()) + " heightfields");
-    const MeasuredPlan run = measure_with_progress(claims_plan(settings), settings, progress, {});
+    ClaimsCollector claims;
+    const MeasuredPlan run = measure_with_progress(claims_plan(settings), settings, progress,
+                                                   [&](const TracedRow& traced) { claims.observe(traced); });
     std::filesystem::create_directories(o->out);
     write_file_atomically(o->out + "/measurements.json", measurements_json(run, settings.name + " claims"));
-    write_claims(o->out, run, settings);
+    write_claims(o->out, claims.data(run.rows), settings);
     return 0;
   };
 }

@@ -71,8 +71,10 @@ Command add_suite_command(CLI::App& app) {
     progress.stage("measuring " + std::to_string(plan.size()) + " configurations (" + std::to_string(timed) + " timed, " +
                    std::to_string(settings.repetitions) + " interleaved repetitions each) into " + dir.path());
     fs::create_directories(dir.path() + "/gallery");
+    ClaimsCollector claims;
     MeasuredPlan run = measure_with_progress(plan, settings, progress, [&](const TracedRow& traced) {
       if (traced.row.config.purposes & kPurposeGallery) write_gallery_images(dir.path(), traced);
+      claims.observe(traced);
     });
     for (Measurement& m : run.rows)
       if ((m.config.purposes & kPurposeGallery) && m.failure.empty()) {
@@ -86,7 +88,7 @@ Command add_suite_command(CLI::App& app) {
     write_file_atomically(dir.path() + "/bench.json", benchmark_json(run));
     dir.finished("measurements.json, bench.json");
     progress.stage("claims");
-    write_claims(dir.path(), run, settings);
+    write_claims(dir.path(), claims.data(run.rows), settings);
     dir.finished("claims.md, claims.json");
     progress.stage("report");
     std::string report = "/usr/bin/python3 " + shell_quote(std::string(HEIGHTMARCH_SOURCE_DIR) + "/scripts/report.py") + " " +

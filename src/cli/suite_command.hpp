@@ -26,7 +26,7 @@ PlanSettings plan_settings(const PlanOptions& options, bool glsl);
 MeasuredPlan measure_with_progress(const std::vector<Configuration>& plan, const PlanSettings& settings,
                                    Progress& progress, const std::function<void(const TracedRow&)>& on_traced);
 
-// claims.md and claims.json from the rows' claims figures; prints the verdicts.
-void write_claims(const std::string& dir, const MeasuredPlan& run, const PlanSettings& settings);
+// claims.md and claims.json from the claims' figures (ClaimsCollector); prints the verdicts.
+void write_claims(const std::string& dir, const ClaimsData& data, const PlanSettings& settings);
 
 }  // namespace heightmarch::cli

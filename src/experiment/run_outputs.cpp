@@ -223,16 +223,18 @@ void write_run_outputs(const std::string& dir, const TracedRow& traced) {
                  shade_render(traced.map, c.params.wrap, c.params.scale, u, v, shadow, has_ray, w, h, c.params.light));
   write_file_atomically(dir + "/metrics.json", metrics_json(traced.row));
   if (c.view.kind != ViewSpec::Kind::rays_file) return;
-  std::string csv = "tx,ty,vx,vy,vz,u,v,depth,samples,exact_u,exact_v,exact_depth,uv_error_texels\n";
+  // shadow: the technique's shadow factor (1 for techniques without one); exact_visibility: the
+  // light seen from the exact hit (0 or 1), the shadow's reference, per ray.
+  std::string csv = "tx,ty,vx,vy,vz,u,v,depth,samples,exact_u,exact_v,exact_depth,uv_error_texels,shadow,exact_visibility\n";
   std::vector<std::size_t> by_row(rays.ray_count);
   for (std::size_t i = 0; i < rays.size(); ++i)
     if (!rays.is_padding(i)) by_row[rays.origin[i]] = i;
   char line[512];
   for (std::size_t i : by_row) {
-    std::snprintf(line, sizeof line, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%s,%.9g,%.9g,%.9g,%.9g\n", rays.tx[i],
-                  rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], hits.u[i], hits.v[i], hits.depth[i],
+    std::snprintf(line, sizeof line, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%s,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n",
+                  rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], hits.u[i], hits.v[i], hits.depth[i],
                   traced.row.samples_known ? std::to_string(hits.samples[i]).c_str() : "", exact.u[i], exact.v[i],
-                  exact.depth[i], traced.uv_error[i]);
+                  exact.depth[i], traced.uv_error[i], is_shadow ? hits.shadow[i] : 1.0f, exact.shadow[i]);
     csv += line;
   }
   write_file_atomically(dir + "/rays.csv", csv);

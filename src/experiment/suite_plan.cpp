@@ -67,13 +67,18 @@ std::vector<Configuration> claims_plan(const PlanSettings& s) {
       if (layers != "1")
         for (Technique t : {Technique::steep, Technique::relief, Technique::pom})
           add_to_plan(plan, with_technique(base, t, parse_layer_spec(layers)));
+    auto on_sweep = [&](double theta, Technique t, const LayerSpec& layers) {
+      Configuration c = with_technique(base, t, layers);
+      c.view = sweep_view(theta, s.sweep_size, s.sweep_size);
+      c.timed = false;
+      add_to_plan(plan, c);
+    };
     for (double theta : claim_sweep_angles())
-      for (Technique t : {Technique::parallax, Technique::parallax_limited}) {
-        Configuration c = with_technique(base, t, LayerSpec{});
-        c.view = sweep_view(theta, s.sweep_size, s.sweep_size);
-        c.timed = false;
-        add_to_plan(plan, c);
-      }
+      for (Technique t : {Technique::parallax, Technique::parallax_limited}) on_sweep(theta, t, LayerSpec{});
+    for (double theta : claim_near_normal_angles())  // where the tutorial places 8-32's saving
+      for (const char* layers : {"8-32", "32"})
+        for (Technique t : {Technique::steep, Technique::relief, Technique::pom})
+          on_sweep(theta, t, parse_layer_spec(layers));
   }
   return plan;
 }
