@@ -1,9 +1,11 @@
 // Each technique against a hand-traced example and against its defining property.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "heightmarch/exact.hpp"
+#include "heightmarch/metrics.hpp"
 #include "heightmarch/trace.hpp"
 #include "test_support.hpp"
 
@@ -171,6 +173,39 @@ TEST(Secant, HitStaysBetweenItsLayersAndConvergesOnTheExactHit) {
     }
   }
   EXPECT_LT(error_sum[1], 0.5 * error_sum[0]);
+}
+
+TEST(Maxmip, EqualsTheExactReferenceUpToFloatRounding) {
+  // Every builtin, both wraps, a power-of-two and an odd size (REPEAT's pyramid stops early, CLAMP
+  // has edge cells), rays up to 88 degrees: the float walk finds the exact hit.
+  for (const std::string& name : builtin_heightfield_names()) {
+    for (int size : {64, 45}) {
+      const DepthMap map = make_builtin_heightfield(name, size, 4);
+      const RayBatch rays = test::random_rays(600, 88.0, std::hash<std::string>{}(name) + std::size_t(size));
+      for (Wrap wrap : {Wrap::repeat, Wrap::clamp}) {
+        const HitBuffers hits = trace_with(map, rays, params_for(Technique::maxmip, "1", wrap));
+        TechniqueParams exact_params;
+        exact_params.wrap = wrap;
+        const HitBuffers exact = exact_hits(map, rays, exact_params, LightVisibility::skip);
+        std::vector<double> errors;
+        for (std::size_t i = 0; i < rays.size(); ++i)
+          if (!rays.is_padding(i)) errors.push_back(uv_error_texels(hits.u[i], hits.v[i], exact.u[i], exact.v[i], size, size));
+        std::sort(errors.begin(), errors.end());
+        EXPECT_LE(errors[errors.size() * 99 / 100], 1e-3) << name << " " << size << (wrap == Wrap::repeat ? " repeat" : " clamp");
+        EXPECT_LE(errors.back(), 0.05) << name << " " << size << (wrap == Wrap::repeat ? " repeat" : " clamp");
+      }
+    }
+  }
+}
+
+TEST(Maxmip, StraightDownAndOnAOneTexelWideClampMap) {
+  // Straight down the path is a point (both rates 0); a 1 x 8 CLAMP map has no interior cell.
+  const DepthMap column{1, 8, {0.1f, 0.2f, 0.3f, 0.4f, 0.5f, 0.6f, 0.7f, 0.8f}};
+  const HitBuffers down = trace_with(column, one_ray(0.5f, 0.5f, 0.0f, 0.0f, 1.0f), params_for(Technique::maxmip, "1", Wrap::clamp));
+  EXPECT_NEAR(down.depth[0], sample_depth(column, Wrap::clamp, 0.5f, 0.5f), 1e-6);
+  const HitBuffers slanted = trace_with(column, one_ray(0.5f, 0.3f, 0.3f, 0.5f, 0.8f), params_for(Technique::maxmip, "1", Wrap::clamp));
+  const ExactIntersector exact(column, Wrap::clamp);
+  EXPECT_NEAR(slanted.depth[0], exact.intersect(0.5, 0.3, 0.3, 0.5, 0.8, 0.1).t, 1e-5);
 }
 
 TEST(DynamicLayers, FollowTheTutorialsMix) {

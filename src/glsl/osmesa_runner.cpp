@@ -15,6 +15,7 @@
 
 #include "glsl/osmesa_runner.hpp"
 #include "glsl_sources.hpp"
+#include "heightmarch/min_depth_pyramid.hpp"
 #include "heightmarch/error.hpp"
 
 // GL entry points come from libOSMesa itself; linking libGL or libOpenGL as well would route
@@ -117,6 +118,9 @@ struct OsmesaRunner::State {
   std::vector<unsigned char> buffer = std::vector<unsigned char>(4 * 4 * 4);  // OSMesa wants a buffer bound
   GLuint vao = 0, framebuffer = 0, program = 0;
   GLuint depth_texture = 0, origin_texture = 0, direction_texture = 0, hit_texture = 0, shadow_texture = 0;
+  GLuint pyramid_texture = 0;
+  DepthMap map;              // kept for the textures derived from it
+  int pyramid_wrap = -1;     // the wrap mode pyramid_texture was built for; -1: none
   int width = 0, height = 0;
   std::size_t rays = 0;
   bool has_map = false, has_rays = false;
@@ -165,6 +169,21 @@ GLuint float_texture(GLuint texture, GLenum internal, GLenum format, int width, 
   return texture;
 }
 
+// The min-depth pyramid in its flat layout (MinDepthPyramid), row after row of an R32F texture
+// kPyramidAtlasWidth wide: CLAMP's interior cells (W - 1 a side) halve with rounding up, which
+// no GL mip chain holds. The shader reads entry i at (i % width, i / width) with texelFetch.
+constexpr int kPyramidAtlasWidth = 4096;
+
+GLuint pyramid_texture(GLuint texture, const MinDepthPyramid& pyramid) {
+  const int last = pyramid.levels() - 1;
+  const std::size_t entries = last < 0 ? 1 : std::size_t(pyramid.offsets()[last]) + std::size_t(pyramid.blocks_x(last)) *
+                                                                                       std::size_t(pyramid.blocks_y(last));
+  const std::size_t rows = (entries + kPyramidAtlasWidth - 1) / kPyramidAtlasWidth;
+  std::vector<float> atlas(rows * kPyramidAtlasWidth, 1.0f);
+  if (last >= 0) std::copy(pyramid.data(), pyramid.data() + entries, atlas.begin());
+  return float_texture(texture, GL_R32F, GL_RED, kPyramidAtlasWidth, int(rows), atlas.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
+}
+
 void check_side(int side) {
   GLint max_size = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
@@ -206,6 +225,8 @@ void OsmesaRunner::set_depth_map(const DepthMap& map) {
   check_side(std::max(map.width, map.height));
   // R32F, GL_LINEAR on level 0; prepare() sets the run's wrap mode.
   s.depth_texture = float_texture(s.depth_texture, GL_R32F, GL_RED, map.width, map.height, map.texels.data(), GL_LINEAR, GL_REPEAT);
+  s.map = map;
+  s.pyramid_wrap = -1;
   s.has_map = true;
 }
 
@@ -288,6 +309,19 @@ void OsmesaRunner::prepare(const TechniqueParams& params, const std::string& sha
   glUniform1f(uniform("maxLayers"), params.layers.max_layers);
   glUniform1i(uniform("refineSteps"), params.refine_steps);
   glUniform3f(uniform("lightDirection"), params.light[0], params.light[1], params.light[2]);
+  glUniform1i(uniform("wrapRepeat"), params.wrap == Wrap::repeat ? 1 : 0);
+  if (params.technique == Technique::maxmip && shader_path.empty()) {
+    const MinDepthPyramid pyramid(s.map, params.wrap);
+    glActiveTexture(GL_TEXTURE3);  // float_texture binds to the active unit: not the rays' ones
+    if (s.pyramid_wrap != int(params.wrap)) s.pyramid_texture = pyramid_texture(s.pyramid_texture, pyramid);
+    s.pyramid_wrap = int(params.wrap);
+    glBindTexture(GL_TEXTURE_2D, s.pyramid_texture);
+    glUniform1i(uniform("minDepthPyramid"), 3);
+    glUniform1i(uniform("pyramidLevels"), pyramid.levels());
+    glUniform1i(uniform("pyramidAtlasWidth"), kPyramidAtlasWidth);
+    glUniform1iv(uniform("levelOffsets"), pyramid.levels(), pyramid.offsets());
+    glUniform1iv(uniform("levelBlocksX"), pyramid.levels(), pyramid.blocks_x());
+  }
   if (glGetError() != GL_NO_ERROR) throw std::runtime_error("OSMesa: GL error while preparing the draw");
 }
 

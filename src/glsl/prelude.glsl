@@ -6,6 +6,15 @@ uniform float minLayers;
 uniform float maxLayers;
 uniform int refineSteps;
 uniform vec3 lightDirection;  // unit, towards the light
+uniform bool wrapRepeat;      // the depth map's wrap mode: REPEAT, else CLAMP_TO_EDGE
+
+// The min-depth pyramid (maxmip only): MinDepthPyramid's flat layout, entry i at texel
+// (i % pyramidAtlasWidth, i / pyramidAtlasWidth).
+uniform sampler2D minDepthPyramid;
+uniform int pyramidAtlasWidth;
+uniform int pyramidLevels;
+uniform int levelOffsets[16];
+uniform int levelBlocksX[16];
 
 float samples;  // height samples taken by this fragment
 

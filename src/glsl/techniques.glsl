@@ -109,7 +109,164 @@ vec4 secant(vec2 T, vec3 V) {
   return vec4(aUv * w + bUv * oneMinusW, aDepth * w + bDepth * oneMinusW, 1.0);
 }
 
-// maxmip.hpp: placeholder until the harness uploads the pyramid.
+// maxmip.hpp: the min-depth pyramid walk, one ray per fragment; each packet select of the C++
+// is a branch here. Samples: one per pyramid entry, four per solved cell.
+const float kInf = uintBitsToFloat(0x7F800000u);
+
+float floorToCell(float x, float rate) {
+  float f = floor(x);
+  return (f == x && rate < 0.0) ? f - 1.0 : f;
+}
+
+float exitT(float x0, float rate, float invRate, float lo, float hi) {
+  float t = ((rate > 0.0 ? hi : lo) - x0) * invRate;
+  return (rate > 0.0 || rate < 0.0) ? t : kInf;
+}
+
+float wrapCell(float c, float n, float invN) {
+  float r = c - n * floor(c * invN);
+  r = r < 0.0 ? r + n : r;
+  r = r >= n ? r - n : r;
+  return min(max(r, 0.0), n - 1.0);
+}
+
+float firstCrossing(float c0, float c1, float c2, float span, out bool found) {
+  bool linear = !(abs(c2) * span > 1e-6 * (abs(c1) + abs(c0) / max(span, 1e-30)));
+  float disc = c1 * c1 - 4.0 * c2 * c0;
+  float rootDisc = sqrt(max(disc, 0.0));
+  float q = -0.5 * (c1 + (c1 < 0.0 ? 0.0 - rootDisc : rootDisc));
+  float r1 = q / c2, r2 = c0 / q;
+  float first = r1 < r2 ? r1 : r2, second = r1 > r2 ? r1 : r2;
+  bool quadratic = !linear && disc >= 0.0;
+  bool inFirst = quadratic && first >= 0.0 && !(first > span);
+  bool inSecond = quadratic && second >= 0.0 && !(second > span);
+  float rLinear = (0.0 - c0) / c1;
+  bool inLinear = linear && c1 > 0.0 && rLinear >= 0.0 && !(rLinear > span);
+  bool endsBelow = c0 + span * (c1 + span * c2) >= 0.0;
+  found = inFirst || inSecond || inLinear || endsBelow;
+  return inFirst ? first : (inSecond ? second : (inLinear ? rLinear : span));
+}
+
+float pyramidEntry(int index) {
+  samples += 1.0;
+  return texelFetch(minDepthPyramid, ivec2(index % pyramidAtlasWidth, index / pyramidAtlasWidth), 0).r;
+}
+
 vec4 maxmip(vec2 T, vec3 V) {
-  return pom(T, V);
+  ivec2 mapSize = textureSize(depthMap, 0);
+  float width = float(mapSize.x), height = float(mapSize.y);
+  float invWidth = 1.0 / width, invHeight = 1.0 / height;
+  int top = pyramidLevels - 1;
+  int topLevel = top < 0 ? 0 : top;
+
+  float pX = V.x / V.z * heightScale;
+  float pY = V.y / V.z * heightScale;
+  float x0 = T.x * width - 0.5, y0 = T.y * height - 0.5;
+  float dx = 0.0 - pX * width, dy = 0.0 - pY * height;
+  float invDx = 1.0 / dx, invDy = 1.0 / dy;
+
+  float t = 0.0, hitT = 1.0;
+  float cx = floorToCell(x0, dx), cy = floorToCell(y0, dy);
+  if (!wrapRepeat) {
+    cx = min(max(cx, -1.0), width - 1.0);
+    cy = min(max(cy, -1.0), height - 1.0);
+  }
+  int level = topLevel;
+  float size = float(1 << topLevel), invSize = 1.0 / float(1 << topLevel);
+  float laneBound = float(2 * (top + 2)) * (abs(dx) + abs(dy) + 2.0);
+  float pass = 0.0;
+  bool walking = true;
+  for (int p = 0; p < (1 << 25) && walking; ++p) {
+    pass = pass + 1.0;
+    if (pass > laneBound) break;
+    float wx = wrapRepeat ? wrapCell(cx, width, invWidth) : max(cx, 0.0);
+    float wy = wrapRepeat ? wrapCell(cy, height, invHeight) : max(cy, 0.0);
+    bool interior = wrapRepeat || (cx >= 0.0 && cx < width - 1.0 && cy >= 0.0 && cy < height - 1.0);
+    bool inPyramid = interior && top >= 0;
+
+    float bx = floor(wx * invSize), by = floor(wy * invSize);
+    float xLo = cx - (wx - bx * size), yLo = cy - (wy - by * size);
+    float xHi = xLo + size, yHi = yLo + size;
+    if (!wrapRepeat) {
+      xHi = min(xHi, width - 1.0);
+      yHi = min(yHi, height - 1.0);
+      if (!interior) {
+        xLo = cx < 0.0 ? -kInf : cx;
+        xHi = cx >= width - 1.0 ? kInf : cx + 1.0;
+        yLo = cy < 0.0 ? -kInf : cy;
+        yHi = cy >= height - 1.0 ? kInf : cy + 1.0;
+      }
+    }
+    float tx = exitT(x0, dx, invDx, xLo, xHi), ty = exitT(y0, dy, invDy, yLo, yHi);
+    float te = min(tx, ty);
+    float tEnd = min(te, 1.0);
+
+    float shallowest = -kInf;
+    if (inPyramid) shallowest = pyramidEntry(levelOffsets[level] + int(by) * levelBlocksX[level] + int(bx));
+    bool skip = inPyramid && tEnd < shallowest;
+    bool descend = inPyramid && !skip && level > 0;
+    bool solve = !skip && !descend;
+
+    bool hit = false;
+    if (solve) {
+      int ix = min(int(wx), mapSize.x - 1), iy = min(int(wy), mapSize.y - 1);
+      int ix1 = wrapRepeat ? (ix + 1) % mapSize.x : min(ix + 1, mapSize.x - 1);
+      int iy1 = wrapRepeat ? (iy + 1) % mapSize.y : min(iy + 1, mapSize.y - 1);
+      float t00 = texelFetch(depthMap, ivec2(ix, iy), 0).r, t10 = texelFetch(depthMap, ivec2(ix1, iy), 0).r;
+      float t01 = texelFetch(depthMap, ivec2(ix, iy1), 0).r, t11 = texelFetch(depthMap, ivec2(ix1, iy1), 0).r;
+      samples += 4.0;
+      if (!wrapRepeat) {
+        t10 = cx < 0.0 ? t00 : t10;
+        t11 = cx < 0.0 ? t01 : t11;
+        t01 = cy < 0.0 ? t00 : t01;
+        t11 = cy < 0.0 ? t10 : t11;
+      }
+      float fx = (x0 - cx) + dx * t, fy = (y0 - cy) + dy * t;
+      float e = t10 - t00, f = t01 - t00, g = (t11 - t10) - (t01 - t00);
+      float c0 = t - (t00 + e * fx + f * fy + g * fx * fy);
+      float c1 = 1.0 - (e * dx + f * dy + g * (fx * dy + fy * dx));
+      float c2 = 0.0 - g * dx * dy;
+      bool found;
+      float root = firstCrossing(c0, c1, c2, tEnd - t, found);
+      bool atStart = !(c0 < 0.0);
+      hit = atStart || found;
+      if (hit) {
+        hitT = atStart ? t : t + root;
+        walking = false;
+      }
+    }
+
+    bool leave = skip || (solve && !hit);
+    if (leave && !(te < 1.0)) walking = false;
+    if (leave && te < 1.0) {
+      float nextX = dx > 0.0 ? xHi : xLo - 1.0;
+      float nextY = dy > 0.0 ? yHi : yLo - 1.0;
+      float atX = min(max(floorToCell(x0 + dx * te, dx), xLo), xHi - 1.0);
+      float atY = min(max(floorToCell(y0 + dy * te, dy), yLo), yHi - 1.0);
+      cx = !(tx > ty) ? nextX : atX;
+      cy = !(ty > tx) ? nextY : atY;
+      if (!wrapRepeat) {
+        cx = min(max(cx, -1.0), width - 1.0);
+        cy = min(max(cy, -1.0), height - 1.0);
+      }
+      t = te;
+      if (level < topLevel) {
+        level += 1;
+        size = size * 2.0;
+        invSize = invSize * 0.5;
+      }
+    } else if (descend) {
+      if (shallowest > t) {
+        float tReach = min(shallowest, tEnd);
+        cx = min(max(floorToCell(x0 + dx * tReach, dx), xLo), xHi - 1.0);
+        cy = min(max(floorToCell(y0 + dy * tReach, dy), yLo), yHi - 1.0);
+        t = tReach;
+      }
+      level -= 1;
+      size = size * 0.5;
+      invSize = invSize * 2.0;
+    }
+  }
+  if (walking) hitT = t;
+  return vec4(T.x - pX * hitT, T.y - pY * hitT, hitT, 1.0);
 }
