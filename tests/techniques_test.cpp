@@ -233,6 +233,13 @@ TEST(Bounds, ExtremeParametersStayFiniteAndBounded) {
           ASSERT_TRUE(std::isfinite(hits.u[i]) && std::isfinite(hits.v[i]) && std::isfinite(hits.depth[i]) &&
                       std::isfinite(hits.shadow[i]))
               << to_string(technique) << " " << layers << " scale " << scale;
+          if (technique == Technique::maxmip) {
+            // Not layered: its walk is bounded by the path's cells times the pyramid's levels,
+            // at most five texel reads a pass (64 x 64: 7 levels; path of s |V.xy| / V.z W cells).
+            const double cells = scale * 64.0 * (std::fabs(rays.vx[i]) + std::fabs(rays.vy[i])) / rays.vz[i];
+            ASSERT_LE(hits.samples[i], 5.0 * 2.0 * (7 + 2) * (cells + 2.0) + 5.0);
+            continue;
+          }
           // steps + first read + refinement + POM/shadow extras
           ASSERT_LE(hits.samples[i], 2 * (std::ceil(spec.max_layers) + 3) + 5);
         }
