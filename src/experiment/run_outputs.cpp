@@ -61,11 +61,11 @@ void write_row(JsonWriter& json, const Measurement& m) {
       .value("width", m.depth_map_width)
       .value("height", m.depth_map_height)
       .end_object();
-  if (c.has_technique())
-    json.value("technique", c.shader_path.empty() ? to_string(c.params.technique) : "shader");
+  c.has_technique() ? json.value("technique", to_string(c.params.technique)) : json.null("technique");
+  if (c.shader)
+    json.begin_object("shader").value("path", c.shader->path).value("label", c.shader->label()).end_object();
   else
-    json.null("technique");
-  if (!c.shader_path.empty()) json.value("shader", c.shader_path);
+    json.null("shader");
   if (c.kind == RunKind::exact)
     json.null("layers").null("min_layers").null("max_layers");
   else
@@ -149,27 +149,31 @@ std::string summary_text(const Measurement& m) {
   const Configuration& c = m.config;
   std::string text;
   char buf[512];
-  const std::string what = c.kind == RunKind::exact ? std::string("exact")
-                           : !c.shader_path.empty() ? "brought-in shader " + c.shader_path
-                                                    : to_string(c.params.technique) + " layers " + to_string(c.params.layers);
+  const std::string what = c.kind == RunKind::exact ? c.label() : c.label() + " layers " + to_string(c.params.layers);
   std::snprintf(buf, sizeof buf, "%s on %s (%dx%d depth map), %s: %zu rays\n", what.c_str(),
                 c.heightfield.describe().c_str(), m.depth_map_width, m.depth_map_height, describe(c.view).c_str(), m.rays);
   text += buf;
-  const std::string per_ray = m.samples_known ? [&] {
-    char b[64];
-    std::snprintf(b, sizeof b, "%.2f %s/ray", m.rays ? double(m.samples) / double(m.rays) : 0.0,
-                  c.kind == RunKind::exact ? "cells" : "samples");
-    return std::string(b);
-  }() : std::string("samples unknown");
+  // Figures not measured for a row (a brought-in shader's samples, SIMD use outside the CPU
+  // kernels) read "unknown", never as a made-up 0 or 100%.
+  const char* unit = c.kind == RunKind::exact ? "cells" : "samples";
+  std::string per_ray = std::string(unit) + "/ray unknown";
+  if (m.samples_known) {
+    std::snprintf(buf, sizeof buf, "%.2f %s/ray", m.rays ? double(m.samples) / double(m.rays) : 0.0, unit);
+    per_ray = buf;
+  }
   std::string speed = "not timed";
   if (!m.seconds.empty()) {
     speed = mrays(m) + " over " + std::to_string(m.seconds.size()) + " repetitions";
     if (m.samples_known) {
-      std::snprintf(buf, sizeof buf, ", %.1f Msamples/s", spread_of(m.samples_per_second()).median / 1e6);
+      std::snprintf(buf, sizeof buf, ", %.1f M%s/s", spread_of(m.samples_per_second()).median / 1e6, unit);
       speed += buf;
+    } else {
+      speed += ", M" + std::string(unit) + "/s unknown";
     }
   }
-  const std::string simd = c.kind == RunKind::trace ? ", SIMD use " + std::to_string(int(100.0 * m.simd_utilization + 0.5)) + "%" : "";
+  const std::string simd = c.kind == RunKind::trace ? ", SIMD use " + std::to_string(int(100.0 * m.simd_utilization + 0.5)) + "%"
+                           : c.kind == RunKind::glsl || c.kind == RunKind::naive ? ", SIMD use unknown"
+                                                                                 : "";
   std::snprintf(buf, sizeof buf, "  %s, %d thread%s: %s, %s%s\n", c.backend().c_str(), c.threads, c.threads == 1 ? "" : "s",
                 speed.c_str(), per_ray.c_str(), simd.c_str());
   text += buf;
