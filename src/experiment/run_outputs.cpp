@@ -105,10 +105,13 @@ void write_row(JsonWriter& json, const Measurement& m) {
     if (m.samples_known) write_spread(json, "samples_per_second", m.samples_per_second(), false);
     json.end_object();
   }
-  if (m.render_image.empty())
+  if (m.render_image.empty()) {
     json.null("images");
-  else
-    json.begin_object("images").value("render", m.render_image).value("error", m.error_image).end_object();
+  } else {
+    json.begin_object("images").value("render", m.render_image).value("error", m.error_image);
+    m.cost_image.empty() ? json.null("cost") : json.value("cost", m.cost_image);
+    json.end_object();
+  }
   m.failure.empty() ? json.null("failure") : json.value("failure", m.failure);
 }
 
@@ -132,6 +135,25 @@ std::string mrays(const Measurement& m) {
   char buf[96];
   std::snprintf(buf, sizeof buf, "%.2f (%.2f-%.2f) Mrays/s", s.median / 1e6, s.min / 1e6, s.max / 1e6);
   return buf;
+}
+
+// cost.png: the samples each pixel's ray took (discarded rays took theirs too), beside error.png
+// and with the same legend strip; none when the counts are unknown (a brought-in shader).
+void write_cost_image(const std::string& dir, const TracedRow& traced) {
+  if (!traced.row.samples_known) return;
+  const RayBatch& rays = traced.rays;
+  const int w = rays.image_width, h = rays.image_height;
+  std::vector<std::uint32_t> samples(std::size_t(w) * std::size_t(h), 0);
+  std::vector<std::uint8_t> has_ray(samples.size(), 0);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    if (rays.is_padding(i)) continue;
+    samples[rays.origin[i]] = traced.hits.samples[i];
+    has_ray[rays.origin[i]] = 1;
+  }
+  int cost_height = 0;
+  const char* unit = traced.row.config.kind == RunKind::exact ? "cells" : "samples";
+  const std::vector<std::uint8_t> cost = cost_map(samples, has_ray, w, h, unit, cost_height);
+  write_png_rgb8(dir + "/cost.png", w, cost_height, cost);
 }
 
 }  // namespace
@@ -223,6 +245,7 @@ void write_run_outputs(const std::string& dir, const TracedRow& traced) {
   int heat_height = 0;
   const std::vector<std::uint8_t> heat = error_heat_map(error, has_ray, w, h, heat_height);
   write_png_rgb8(dir + "/error.png", w, heat_height, heat);
+  write_cost_image(dir, traced);
   write_png_rgb8(dir + "/render.png", w, h,
                  shade_render(traced.map, c.params.wrap, c.params.scale, u, v, shadow, has_ray, w, h, c.params.light));
   write_file_atomically(dir + "/metrics.json", metrics_json(traced.row));
