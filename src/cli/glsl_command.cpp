@@ -87,13 +87,18 @@ void write_comparison_json(JsonWriter& json, const Measurement& glsl, const Meas
   json.end_object();
 }
 
+std::string percent(double share) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f%%", 100.0 * share);
+  return buf;
+}
+
 void print_comparison(const Measurement& glsl, const Measurement& cpu, const Comparison& c) {
   std::fputs(summary_text(cpu).c_str(), stdout);
   if (!c.conformance) return;  // the summary says why
   std::printf("conformance of %s with %s (%s): identical sample counts %s, uv difference p99 %.3g max %.3g texels\n",
               glsl.config.label().c_str(), cpu.config.label().c_str(), cpu.config.backend().c_str(),
-              glsl.samples_known ? (std::to_string(100.0 * c.conformance->same_samples).substr(0, 6) + "%").c_str()
-                                 : "unknown",
+              glsl.samples_known ? percent(c.conformance->same_samples).c_str() : "unknown",
               c.conformance->p99, c.conformance->max);
   std::printf("speed at %d thread%s: CPU/GLSL %.2fx (%.2f-%.2f over %zu paired rounds)\n", glsl.config.threads,
               glsl.config.threads == 1 ? "" : "s", c.ratio.median, c.ratio.min, c.ratio.max, glsl.seconds.size());
