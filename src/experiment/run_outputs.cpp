@@ -102,7 +102,10 @@ void write_row(JsonWriter& json, const Measurement& m) {
     for (double s : m.seconds) json.value("", s);
     json.end_array();
     write_spread(json, "rays_per_second", m.rays_per_second(), true);
-    if (m.samples_known) write_spread(json, "samples_per_second", m.samples_per_second(), false);
+    if (m.samples_known)
+      write_spread(json, "samples_per_second", m.samples_per_second(), false);
+    else
+      json.null("samples_per_second");
     json.end_object();
   }
   if (m.render_image.empty()) {
