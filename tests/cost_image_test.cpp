@@ -1,8 +1,7 @@
 // The cost map (samples per pixel) and its legend, shared with the error map: sizes, colours at
 // the ends of the scale, the legend's bar and digits; and cost.png written by trace --out.
-#include <gtest/gtest.h>
-
 #include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 
 #include <filesystem>
 
@@ -42,7 +41,8 @@ TEST(CostMap, ScaleFromZeroToARoundCountWithALegend) {
   ASSERT_EQ(rgb.size(), 3u * w * out_height);
   EXPECT_EQ(pixel(rgb, w, 0, 0), (Pixel{96, 96, 96})) << "no ray: grey";
   EXPECT_EQ(pixel(rgb, w, 1, 1), (Pixel{68, 1, 84})) << "0 samples: viridis' dark end";
-  EXPECT_EQ(pixel(rgb, w, w - 1, 1), (Pixel{253, 231, 37})) << "40 samples, the top tick: viridis' bright end";
+  EXPECT_EQ(pixel(rgb, w, w - 1, 1), (Pixel{253, 231, 37}))
+      << "40 samples, the top tick: viridis' bright end";
   // The bar runs from the dark end to the bright end; digits and the unit are drawn below and beside it.
   const int bar_y = h + 1, bar_x0 = w / 20, bar_x1 = bar_x0 + w * 7 / 10 - 1;
   EXPECT_EQ(pixel(rgb, w, bar_x0, bar_y), (Pixel{68, 1, 84}));
@@ -69,7 +69,9 @@ TEST(CostMap, TicksReachTheLargestCount) {
 
 TEST(CostMap, TraceWritesCostPngBesideErrorPng) {
   const std::string out = test::temp_dir("cost-png");
-  const auto r = test::run_cli("trace --res 64 --size 120x72 --technique relief --layers 8-32 --threads 1 --repetitions 1 --out " + out);
+  const auto r = test::run_cli(
+      "trace --res 64 --size 120x72 --technique relief --layers 8-32 --threads 1 --repetitions 1 --out " +
+      out);
   ASSERT_EQ(r.status, 0) << r.output;
   auto size_of = [](const std::string& path) {
     auto in = OIIO::ImageInput::open(path);
@@ -77,7 +79,8 @@ TEST(CostMap, TraceWritesCostPngBesideErrorPng) {
     const OIIO::ImageSpec spec = in->spec();
     return std::array<int, 3>{spec.width, spec.height, spec.nchannels};
   };
-  const auto cost = size_of(out + "/cost.png"), error = size_of(out + "/error.png"), render = size_of(out + "/render.png");
+  const auto cost = size_of(out + "/cost.png"), error = size_of(out + "/error.png"),
+             render = size_of(out + "/render.png");
   EXPECT_EQ(cost[0], 120) << "the view's width";
   EXPECT_EQ(render[1], 72);
   EXPECT_EQ(cost, error) << "the view's size and the same legend strip below it";

@@ -27,7 +27,8 @@ struct Conformance {
   double p99 = 0, max = 0;  // uv difference, texels
 };
 
-Conformance conformance(const RayBatch& rays, const HitBuffers& glsl, const HitBuffers& cpu, int width, int height) {
+Conformance conformance(const RayBatch& rays, const HitBuffers& glsl, const HitBuffers& cpu, int width,
+                        int height) {
   std::size_t same = 0, measured = 0;
   std::vector<float> differences;
   for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -49,7 +50,8 @@ Conformance conformance(const RayBatch& rays, const HitBuffers& glsl, const HitB
 Spread ratio_per_round(const Measurement& cpu, const Measurement& glsl) {
   const std::vector<double> a = cpu.rays_per_second(), b = glsl.rays_per_second();
   std::vector<double> ratios;
-  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) ratios.push_back(b[i] > 0 ? a[i] / b[i] : 0.0);
+  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+    ratios.push_back(b[i] > 0 ? a[i] / b[i] : 0.0);
   return spread_of(ratios);
 }
 
@@ -69,13 +71,16 @@ struct Comparison {
   Spread ratio;
 };
 
-void write_comparison_json(JsonWriter& json, const Measurement& glsl, const Measurement& cpu, const Comparison& c) {
+void write_comparison_json(JsonWriter& json, const Measurement& glsl, const Measurement& cpu,
+                           const Comparison& c) {
   json.begin_object().raw("cpu", metrics_json(cpu));
   if (c.conformance) {
     json.begin_object("conformance").value("cpu_backend", cpu.config.backend());
     glsl.samples_known ? json.value("identical_sample_counts", c.conformance->same_samples)
                        : json.null("identical_sample_counts");
-    json.value("uv_difference_p99", c.conformance->p99).value("uv_difference_max", c.conformance->max).end_object();
+    json.value("uv_difference_p99", c.conformance->p99)
+        .value("uv_difference_max", c.conformance->max)
+        .end_object();
   } else {
     json.null("conformance");
   }
@@ -83,7 +88,10 @@ void write_comparison_json(JsonWriter& json, const Measurement& glsl, const Meas
     json.null("cpu_over_glsl_rays_per_second");
   else
     json.begin_object("cpu_over_glsl_rays_per_second")
-        .value("median", c.ratio.median).value("min", c.ratio.min).value("max", c.ratio.max).end_object();
+        .value("median", c.ratio.median)
+        .value("min", c.ratio.min)
+        .value("max", c.ratio.max)
+        .end_object();
   json.end_object();
 }
 
@@ -96,27 +104,35 @@ std::string percent(double share) {
 void print_comparison(const Measurement& glsl, const Measurement& cpu, const Comparison& c) {
   std::fputs(summary_text(cpu).c_str(), stdout);
   if (!c.conformance) return;  // the summary says why
-  std::printf("conformance of %s with %s (%s): identical sample counts %s, uv difference p99 %.3g max %.3g texels\n",
-              glsl.config.label().c_str(), cpu.config.label().c_str(), cpu.config.backend().c_str(),
-              glsl.samples_known ? percent(c.conformance->same_samples).c_str() : "unknown",
-              c.conformance->p99, c.conformance->max);
-  std::printf("speed at %d thread%s: CPU/GLSL %.2fx (%.2f-%.2f over %zu paired rounds)\n", glsl.config.threads,
-              glsl.config.threads == 1 ? "" : "s", c.ratio.median, c.ratio.min, c.ratio.max, glsl.seconds.size());
+  std::printf(
+      "conformance of %s with %s (%s): identical sample counts %s, uv difference p99 %.3g max %.3g texels\n",
+      glsl.config.label().c_str(), cpu.config.label().c_str(), cpu.config.backend().c_str(),
+      glsl.samples_known ? percent(c.conformance->same_samples).c_str() : "unknown", c.conformance->p99,
+      c.conformance->max);
+  std::printf("speed at %d thread%s: CPU/GLSL %.2fx (%.2f-%.2f over %zu paired rounds)\n",
+              glsl.config.threads, glsl.config.threads == 1 ? "" : "s", c.ratio.median, c.ratio.min,
+              c.ratio.max, glsl.seconds.size());
 }
 
 }  // namespace
 
 Command add_glsl_command(CLI::App& app) {
-  CLI::App* command = app.add_subcommand(
-      "glsl", "run a technique, or a brought-in shader, as GLSL in OSMesa (llvmpipe); --compare sets it beside the CPU");
+  CLI::App* command = app.add_subcommand("glsl",
+                                         "run a technique, or a brought-in shader, as GLSL in OSMesa "
+                                         "(llvmpipe); --compare sets it beside the CPU");
   auto o = std::make_shared<GlslOptions>();
   add_trace_options(*command, o->trace, false);
-  command->add_option("--shader", o->shader, "GLSL file defining vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir), run instead of --technique")
+  command
+      ->add_option(
+          "--shader", o->shader,
+          "GLSL file defining vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir), run instead of --technique")
       ->excludes(command->get_option("--technique"));
   CLI::Option* compare =
-      command->add_option("--compare", o->compare_with,
-                          "also run the CPU kernels (best ISA) of TECHNIQUE (default: the same technique; with --shader: "
-                          "every technique, naming the closest), interleaved, and report conformance and speed")
+      command
+          ->add_option(
+              "--compare", o->compare_with,
+              "also run the CPU kernels (best ISA) of TECHNIQUE (default: the same technique; with --shader: "
+              "every technique, naming the closest), interleaved, and report conformance and speed")
           ->expected(0, 1)
           ->type_name("[TECHNIQUE]");
   return [o, compare] {
@@ -155,7 +171,8 @@ Command add_glsl_command(CLI::App& app) {
     for (std::size_t k = 0; k < comparisons.size(); ++k) {
       Comparison& c = comparisons[k];
       c.ratio = ratio_per_round(run.rows[k + 1], g);
-      if (c.conformance && (!closest || c.conformance->p99 < comparisons[*closest].conformance->p99)) closest = k;
+      if (c.conformance && (!closest || c.conformance->p99 < comparisons[*closest].conformance->p99))
+        closest = k;
     }
     GlslRunner& runner = GlslRunner::instance(g.config.threads);
     if (o->trace.json) {
@@ -165,9 +182,13 @@ Command add_glsl_command(CLI::App& app) {
       }
       // One document: the GLSL row, each CPU row with what compares it, and the closest.
       JsonWriter json;
-      json.begin_object().value("renderer", runner.renderer()).value("version", runner.version()).raw("glsl", metrics_json(g));
+      json.begin_object()
+          .value("renderer", runner.renderer())
+          .value("version", runner.version())
+          .raw("glsl", metrics_json(g));
       json.begin_array("comparisons");
-      for (std::size_t k = 0; k < comparisons.size(); ++k) write_comparison_json(json, g, run.rows[k + 1], comparisons[k]);
+      for (std::size_t k = 0; k < comparisons.size(); ++k)
+        write_comparison_json(json, g, run.rows[k + 1], comparisons[k]);
       json.end_array();
       closest ? json.value("closest", run.rows[*closest + 1].config.label()) : json.null("closest");
       json.end_object();
