@@ -330,7 +330,7 @@ TEST(GlslShaderFile, TutorialShaderRunsAndIsMeasured) {
   std::ofstream(dir + "/steep.glsl") << kTutorialShader;
   const auto r = test::run_cli("glsl --res 64 --size 64x48 --layers 8-32 --threads 1 --shader " + dir + "/steep.glsl --out " + dir + "/out");
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("samples unknown"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("samples/ray unknown"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("uv error (texels)"), std::string::npos) << r.output;
   std::ifstream json(dir + "/out/metrics.json");
   const std::string text((std::istreambuf_iterator<char>(json)), {});

@@ -2,6 +2,7 @@
 // One measured configuration, as typed values from the plan to every result file: what traces
 // (a technique on a CPU backend, the same as GLSL, the sampler roofline, the naive port or the
 // exact reference), on which heightfield and view, with which parameters and threads.
+#include <optional>
 #include <string>
 
 #include "heightmarch/heightfield.hpp"
@@ -29,21 +30,39 @@ enum Purpose : unsigned {
 inline constexpr unsigned kPurposeCount = 9;
 std::string purpose_name(unsigned single_purpose_bit);
 
+// A GLSL file brought in with `glsl --shader`, run instead of a registry technique. It is named
+// as itself everywhere (console, result files, benchmark names), never as a technique.
+struct BroughtInShader {
+  std::string path;  // as given on the command line
+  // "shader:" and the file's name: "shader:mine.glsl". Without the directory, so it reads in a
+  // benchmark name, whose segments '/' separates.
+  std::string label() const;
+  bool operator==(const BroughtInShader&) const = default;
+};
+
 struct Configuration {
   RunKind kind = RunKind::trace;
   HeightfieldSource heightfield;
   ViewSpec view;
-  TechniqueParams params;    // the technique is ignored by roofline and exact runs
+  TechniqueParams params;    // the technique is ignored by roofline, exact and brought-in shader runs
   Isa isa = Isa::scalar;     // trace and roofline runs
   int threads = 1;           // worker threads (never 0: resolved by the plan)
-  std::string shader_path;   // glsl runs: a brought-in shader instead of the technique's
+  std::optional<BroughtInShader> shader;  // glsl runs: a brought-in shader instead of the technique
   bool timed = true;         // false: accuracy only (sweeps, gallery)
   unsigned purposes = 0;
 
   // "avx512", "glsl", "naive", "exact"
   std::string backend() const;
-  // Whether the technique is part of the configuration (not for roofline and exact runs).
-  bool has_technique() const { return kind == RunKind::trace || kind == RunKind::glsl || kind == RunKind::naive; }
+  // Whether a registry technique is part of the configuration (not for roofline, exact and
+  // brought-in shader runs).
+  bool has_technique() const {
+    return (kind == RunKind::trace || kind == RunKind::glsl || kind == RunKind::naive) && !shader;
+  }
+  // What traces, for people and result files: the technique ("pom"), the brought-in shader
+  // ("shader:mine.glsl"), or the kind ("roofline", "exact").
+  std::string label() const;
+  // The brought-in shader's path, empty for the technique's own program.
+  std::string shader_path() const { return shader ? shader->path : std::string(); }
   // The same measurement: equal in everything but timed and purposes.
   bool same_measurement(const Configuration& other) const;
 };
@@ -51,6 +70,7 @@ struct Configuration {
 // The Google Benchmark name of a configuration, the same in heightmarch-bench and in a suite's
 // bench.json: BM_Trace/heightfield:bricks/technique:pom/layers:32/isa:avx512/threads:2/
 // view:1024x1024/depth_map:512x512 (Google Benchmark appends /manual_time: each trace times itself).
+// A brought-in shader's segment is shader:FILE_NAME instead of technique:NAME.
 std::string benchmark_name(const Configuration& config, int depth_map_width, int depth_map_height);
 
 }  // namespace heightmarch

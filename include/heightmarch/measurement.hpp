@@ -25,7 +25,7 @@ struct Measurement {
   double simd_utilization = 1.0;
   std::optional<ErrorSummary> errors;  // none for roofline runs
   std::vector<double> seconds;         // per repetition: one trace of the whole batch; empty if untimed
-  std::string render_image, error_image;  // gallery rows: paths relative to the run directory
+  std::string render_image, error_image, cost_image;  // gallery rows: paths relative to the run directory
   std::string failure;         // non-empty: not measured (e.g. differs from the scalar reference)
 
   // Per repetition, and their median, min and max.

@@ -1,9 +1,10 @@
-// heightmarch glsl: the technique as GLSL in OSMesa (llvmpipe) on the same rays as the CPU;
-// --compare measures the CPU kernels beside it, interleaved, and reports conformance and the
-// speed ratio with its spread.
+// heightmarch glsl: the technique (or a brought-in shader) as GLSL in OSMesa (llvmpipe) on the
+// same rays as the CPU; --compare measures CPU kernels beside it, interleaved, and reports
+// conformance and the speed ratio with its spread.
 #include <algorithm>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
@@ -18,7 +19,7 @@ namespace {
 struct GlslOptions {
   TraceOptions trace;
   std::string shader;
-  bool compare = false;
+  std::string compare_with;  // --compare's technique; empty: the same, or every one for a shader
 };
 
 struct Conformance {
@@ -26,7 +27,8 @@ struct Conformance {
   double p99 = 0, max = 0;  // uv difference, texels
 };
 
-Conformance conformance(const RayBatch& rays, const HitBuffers& glsl, const HitBuffers& cpu, int width, int height) {
+Conformance conformance(const RayBatch& rays, const HitBuffers& glsl, const HitBuffers& cpu, int width,
+                        int height) {
   std::size_t same = 0, measured = 0;
   std::vector<float> differences;
   for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -48,80 +50,157 @@ Conformance conformance(const RayBatch& rays, const HitBuffers& glsl, const HitB
 Spread ratio_per_round(const Measurement& cpu, const Measurement& glsl) {
   const std::vector<double> a = cpu.rays_per_second(), b = glsl.rays_per_second();
   std::vector<double> ratios;
-  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) ratios.push_back(b[i] > 0 ? a[i] / b[i] : 0.0);
+  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+    ratios.push_back(b[i] > 0 ? a[i] / b[i] : 0.0);
   return spread_of(ratios);
+}
+
+// The CPU techniques --compare sets beside the GLSL run: the one named, else the GLSL run's own
+// technique, else (a brought-in shader) every technique, to find the one it is closest to.
+std::vector<Technique> compared_techniques(const Configuration& glsl, const std::string& named) {
+  if (!named.empty()) return {parse_technique(named, "")};
+  if (glsl.has_technique()) return {glsl.params.technique};
+  std::vector<Technique> all;
+  for (const TechniqueInfo& t : techniques()) all.push_back(t.id);
+  return all;
+}
+
+// One CPU row beside the GLSL row; conformance is known once the CPU row was traced.
+struct Comparison {
+  std::optional<Conformance> conformance;  // none: the CPU row failed its reference check
+  Spread ratio;
+};
+
+void write_comparison_json(JsonWriter& json, const Measurement& glsl, const Measurement& cpu,
+                           const Comparison& c) {
+  json.begin_object().raw("cpu", metrics_json(cpu));
+  if (c.conformance) {
+    json.begin_object("conformance").value("cpu_backend", cpu.config.backend());
+    glsl.samples_known ? json.value("identical_sample_counts", c.conformance->same_samples)
+                       : json.null("identical_sample_counts");
+    json.value("uv_difference_p99", c.conformance->p99)
+        .value("uv_difference_max", c.conformance->max)
+        .end_object();
+  } else {
+    json.null("conformance");
+  }
+  if (cpu.seconds.empty() || glsl.seconds.empty())
+    json.null("cpu_over_glsl_rays_per_second");
+  else
+    json.begin_object("cpu_over_glsl_rays_per_second")
+        .value("median", c.ratio.median)
+        .value("min", c.ratio.min)
+        .value("max", c.ratio.max)
+        .end_object();
+  json.end_object();
+}
+
+std::string percent(double share) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f%%", 100.0 * share);
+  return buf;
+}
+
+void print_comparison(const Measurement& glsl, const Measurement& cpu, const Comparison& c) {
+  std::fputs(summary_text(cpu).c_str(), stdout);
+  if (!c.conformance) return;  // the summary says why
+  std::printf(
+      "conformance of %s with %s (%s): identical sample counts %s, uv difference p99 %.3g max %.3g texels\n",
+      glsl.config.label().c_str(), cpu.config.label().c_str(), cpu.config.backend().c_str(),
+      glsl.samples_known ? percent(c.conformance->same_samples).c_str() : "unknown", c.conformance->p99,
+      c.conformance->max);
+  std::printf("speed at %d thread%s: CPU/GLSL %.2fx (%.2f-%.2f over %zu paired rounds)\n",
+              glsl.config.threads, glsl.config.threads == 1 ? "" : "s", c.ratio.median, c.ratio.min,
+              c.ratio.max, glsl.seconds.size());
 }
 
 }  // namespace
 
 Command add_glsl_command(CLI::App& app) {
-  CLI::App* command = app.add_subcommand("glsl", "run the same technique as GLSL in OSMesa (llvmpipe); --compare sets it beside the CPU");
+  CLI::App* command = app.add_subcommand("glsl",
+                                         "run a technique, or a brought-in shader, as GLSL in OSMesa "
+                                         "(llvmpipe); --compare sets it beside the CPU");
   auto o = std::make_shared<GlslOptions>();
   add_trace_options(*command, o->trace, false);
-  command->add_option("--shader", o->shader, "GLSL file defining vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)");
-  command->add_flag("--compare", o->compare, "also run the CPU kernels (best ISA), interleaved, and report conformance and speed");
-  return [o] {
+  command
+      ->add_option(
+          "--shader", o->shader,
+          "GLSL file defining vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir), run instead of --technique")
+      ->excludes(command->get_option("--technique"));
+  CLI::Option* compare =
+      command
+          ->add_option(
+              "--compare", o->compare_with,
+              "also run the CPU kernels (best ISA) of TECHNIQUE (default: the same technique; with --shader: "
+              "every technique, naming the closest), interleaved, and report conformance and speed")
+          ->expected(0, 1)
+          ->type_name("[TECHNIQUE]");
+  return [o, compare] {
     Configuration glsl = trace_configuration(o->trace, RunKind::glsl);
-    glsl.shader_path = o->shader;
+    if (!o->shader.empty()) glsl.shader = BroughtInShader{o->shader};
     std::vector<Configuration> plan = {glsl};
-    if (o->compare) {
-      Configuration cpu = glsl;
-      cpu.kind = RunKind::trace;
-      cpu.shader_path.clear();
-      cpu.isa = select_isa("");
-      plan.push_back(cpu);
-    }
-    HitBuffers glsl_hits;  // row 0's, for the conformance when row 1 (the CPU) is traced
-    Conformance conf;
+    if (compare->count() > 0)
+      for (Technique technique : compared_techniques(glsl, o->compare_with)) {
+        Configuration cpu = glsl;
+        cpu.kind = RunKind::trace;
+        cpu.shader.reset();
+        cpu.isa = select_isa("");
+        cpu.params.technique = technique;
+        cpu.params.layers = layers_for(technique, parse_layer_spec(o->trace.layers));  // the layers asked for
+        plan.push_back(cpu);
+      }
+    HitBuffers glsl_hits;  // row 0's (traced first), for the conformance of the CPU rows after it
+    std::vector<Comparison> comparisons(plan.size() - 1);
     MeasureOptions measure;
     measure.repetitions = o->trace.repetitions;
     measure.min_seconds = 0.05;
     measure.on_traced = [&](const TracedRow& traced) {
       if (traced.row.id == 0) {
-        if (o->compare) glsl_hits = traced.hits;
+        if (plan.size() > 1) glsl_hits = traced.hits;
         if (!o->trace.out.empty()) write_run_outputs(o->trace.out, traced);
       } else {
-        conf = conformance(traced.rays, glsl_hits, traced.hits, traced.map.width, traced.map.height);
+        comparisons[traced.row.id - 1].conformance =
+            conformance(traced.rays, glsl_hits, traced.hits, traced.map.width, traced.map.height);
       }
     };
     const MeasuredPlan run = measure_plan(plan, measure);
     const Measurement& g = run.rows.front();
     if (!o->trace.out.empty()) write_file_atomically(o->trace.out + "/metrics.json", metrics_json(g));
-    GlslRunner& runner = GlslRunner::instance(g.config.threads);
-    if (!o->compare) {
-      if (o->trace.json) {
-        std::fputs(metrics_json(g).c_str(), stdout);
-      } else {
-        std::printf("GLSL on %s, %s\n", runner.renderer().c_str(), runner.version().c_str());
-        std::fputs(summary_text(g).c_str(), stdout);
-      }
-      return 0;
+    // The closest CPU technique: the lowest uv difference p99 (the first of equals).
+    std::optional<std::size_t> closest;
+    for (std::size_t k = 0; k < comparisons.size(); ++k) {
+      Comparison& c = comparisons[k];
+      c.ratio = ratio_per_round(run.rows[k + 1], g);
+      if (c.conformance && (!closest || c.conformance->p99 < comparisons[*closest].conformance->p99))
+        closest = k;
     }
-    const Measurement& c = run.rows.back();
-    const Spread ratio = ratio_per_round(c, g);
+    GlslRunner& runner = GlslRunner::instance(g.config.threads);
     if (o->trace.json) {
-      // One document: both rows and what compares them.
+      if (comparisons.empty()) {
+        std::fputs(metrics_json(g).c_str(), stdout);
+        return 0;
+      }
+      // One document: the GLSL row, each CPU row with what compares it, and the closest.
       JsonWriter json;
-      json.begin_object().value("renderer", runner.renderer()).value("version", runner.version());
-      json.begin_object("conformance").value("cpu_backend", c.config.backend());
-      g.samples_known ? json.value("identical_sample_counts", conf.same_samples) : json.null("identical_sample_counts");
-      json.value("uv_difference_p99", conf.p99).value("uv_difference_max", conf.max).end_object();
-      json.begin_object("cpu_over_glsl_rays_per_second")
-          .value("median", ratio.median).value("min", ratio.min).value("max", ratio.max).end_object().end_object();
-      std::printf("{\"glsl\": %s, \"cpu\": %s, \"comparison\": %s}\n", metrics_json(g).c_str(), metrics_json(c).c_str(),
-                  json.str().c_str());
+      json.begin_object()
+          .value("renderer", runner.renderer())
+          .value("version", runner.version())
+          .raw("glsl", metrics_json(g));
+      json.begin_array("comparisons");
+      for (std::size_t k = 0; k < comparisons.size(); ++k)
+        write_comparison_json(json, g, run.rows[k + 1], comparisons[k]);
+      json.end_array();
+      closest ? json.value("closest", run.rows[*closest + 1].config.label()) : json.null("closest");
+      json.end_object();
+      std::fputs((json.str() + "\n").c_str(), stdout);
       return 0;
     }
     std::printf("GLSL on %s, %s\n", runner.renderer().c_str(), runner.version().c_str());
     std::fputs(summary_text(g).c_str(), stdout);
-    std::fputs(summary_text(c).c_str(), stdout);
-    std::printf("conformance with the CPU (%s): identical sample counts %s, uv difference p99 %.3g max %.3g texels\n",
-                c.config.backend().c_str(),
-                g.samples_known ? (std::to_string(100.0 * conf.same_samples).substr(0, 6) + "%").c_str()
-                                : "unknown (brought-in shader)",
-                conf.p99, conf.max);
-    std::printf("speed at %d thread%s: CPU/GLSL %.2fx (%.2f-%.2f over %zu paired rounds)\n", g.config.threads,
-                g.config.threads == 1 ? "" : "s", ratio.median, ratio.min, ratio.max, g.seconds.size());
+    for (std::size_t k = 0; k < comparisons.size(); ++k) print_comparison(g, run.rows[k + 1], comparisons[k]);
+    if (comparisons.size() > 1 && closest)
+      std::printf("closest technique to %s: %s (uv difference p99 %.3g texels)\n", g.config.label().c_str(),
+                  run.rows[*closest + 1].config.label().c_str(), comparisons[*closest].conformance->p99);
     return 0;
   };
 }

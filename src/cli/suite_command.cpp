@@ -38,13 +38,14 @@ std::string gallery_stem(const Configuration& c) {
   return "gallery/" + c.heightfield.label() + "-" + what;
 }
 
-// The render and error map of a gallery row, as PNGs beside each other in gallery/.
+// The render, error map and cost map of a gallery row, as PNGs beside each other in gallery/.
 void write_gallery_images(const std::string& dir, const TracedRow& traced) {
   const std::string tmp = dir + "/" + gallery_stem(traced.row.config) + ".tmp";
   write_run_outputs(tmp, traced);
   const std::string stem = dir + "/" + gallery_stem(traced.row.config);
   fs::rename(tmp + "/render.png", stem + "-render.png");
   fs::rename(tmp + "/error.png", stem + "-error.png");
+  if (traced.row.samples_known) fs::rename(tmp + "/cost.png", stem + "-cost.png");
   fs::remove_all(tmp);
 }
 
@@ -80,6 +81,7 @@ Command add_suite_command(CLI::App& app) {
       if ((m.config.purposes & kPurposeGallery) && m.failure.empty()) {
         m.render_image = gallery_stem(m.config) + "-render.png";
         m.error_image = gallery_stem(m.config) + "-error.png";
+        if (m.samples_known) m.cost_image = gallery_stem(m.config) + "-cost.png";
       }
     dir.finished("measurements and gallery images");
     if (run.load.busy)

@@ -1,6 +1,7 @@
 #include "heightmarch/configuration.hpp"
 
 #include <cstring>
+#include <filesystem>
 
 namespace heightmarch {
 
@@ -23,6 +24,15 @@ std::string purpose_name(unsigned bit) {
   return "?";
 }
 
+std::string BroughtInShader::label() const {
+  return "shader:" + std::filesystem::path(path).filename().string();
+}
+
+std::string Configuration::label() const {
+  if (shader) return shader->label();
+  return has_technique() ? to_string(params.technique) : to_string(kind);
+}
+
 std::string Configuration::backend() const {
   switch (kind) {
     case RunKind::trace:
@@ -41,12 +51,13 @@ bool Configuration::same_measurement(const Configuration& o) const {
                            a.discard == b.discard && std::memcmp(a.light, b.light, sizeof a.light) == 0;
   const bool same_isa = (kind != RunKind::trace && kind != RunKind::roofline) || isa == o.isa;
   return kind == o.kind && heightfield == o.heightfield && view == o.view && same_params && same_isa &&
-         threads == o.threads && shader_path == o.shader_path;
+         threads == o.threads && shader == o.shader;
 }
 
 std::string benchmark_name(const Configuration& c, int map_width, int map_height) {
   static const char* const prefixes[] = {"BM_Trace", "BM_GLSL", "BM_SamplerRoofline", "BM_NaivePort", "BM_Exact"};
   std::string name = std::string(prefixes[int(c.kind)]) + "/heightfield:" + c.heightfield.label();
+  if (c.shader) name.append("/").append(c.shader->label());
   if (c.has_technique()) name += "/technique:" + to_string(c.params.technique);
   if (c.kind != RunKind::exact) name += "/layers:" + to_string(c.params.layers);
   name += "/isa:" + (c.kind == RunKind::naive ? std::string("scalar-naive") : c.backend()) +

@@ -164,7 +164,7 @@ void check_finite(const Configuration& c, const RayBatch& rays, const HitBuffers
       if (not_finite++ == 0) first = i;
   }
   if (not_finite)
-    throw InputError((c.shader_path.empty() ? "GLSL " + to_string(c.params.technique) : c.shader_path) +
+    throw InputError((c.shader_path().empty() ? "GLSL " + to_string(c.params.technique) : c.shader_path()) +
                      ": returned a non-finite uv or depth (or a uv beyond 1e6) for " + std::to_string(not_finite) + " of " +
                      std::to_string(rays.ray_count) + " rays (first: T = " + std::to_string(rays.tx[first]) + "," +
                      std::to_string(rays.ty[first]) + "); an endless loop ends this way in llvmpipe");
@@ -248,18 +248,18 @@ Measurement MeasurementSession::measure(const Configuration& c, int id,
     }
     case RunKind::glsl: {
       GlslRunner& runner = GlslRunner::instance(c.threads);
-      runner.prepare(scene.map, c.params, scene.rays, c.shader_path);
+      runner.prepare(scene.map, c.params, scene.rays, c.shader_path());
       runner.draw();
       runner.read(hits, row.samples_known);
-      row.samples_known = row.samples_known && c.shader_path.empty();
+      row.samples_known = row.samples_known && c.shader_path().empty();
       check_finite(c, scene.rays, hits);
-      if (!c.shader_path.empty()) {  // a loop llvmpipe cut off may leave different garbage each draw
+      if (!c.shader_path().empty()) {  // a loop llvmpipe cut off may leave different garbage each draw
         HitBuffers again;
         bool known = false;
         runner.draw();
         runner.read(again, known);
         if (const long long i = first_difference(scene.rays, hits, again); i >= 0)
-          throw InputError(c.shader_path + ": returned different hits on two draws of the same rays (first at ray " +
+          throw InputError(c.shader_path() + ": returned different hits on two draws of the same rays (first at ray " +
                            std::to_string(i) + "): not deterministic, as a non-finite uv or an endless loop cut off by llvmpipe");
       }
       break;
@@ -278,7 +278,7 @@ Measurement MeasurementSession::measure(const Configuration& c, int id,
   std::vector<float> uv_error;
   ErrorSummary errors = summarize_errors(scene.rays, hits, exact, scene.map.width, scene.map.height,
                                          c.has_technique() && c.params.technique == Technique::shadow, &uv_error);
-  if (c.has_technique() && info(c.params.technique).layered && c.shader_path.empty())
+  if (c.has_technique() && info(c.params.technique).layered)
     errors.within_one_layer_step =
         share_within_one_layer_step(scene.rays, hits, uv_error, c.params, scene.map.width, scene.map.height);
   row.errors = errors;
@@ -306,7 +306,7 @@ std::function<double()> MeasurementSession::trace_once(const Configuration& c) {
     }
     case RunKind::glsl: {
       GlslRunner& runner = GlslRunner::instance(c.threads);
-      runner.prepare(scene.map, c.params, scene.rays, c.shader_path);
+      runner.prepare(scene.map, c.params, scene.rays, c.shader_path());
       return [&runner] { return runner.draw(); };
     }
     case RunKind::naive:
@@ -374,7 +374,7 @@ class PlanRunner {
   static std::string describe_row(const Measurement& m) {
     const Configuration& c = m.config;
     std::string what = c.heightfield.label() + " " + to_string(c.kind);
-    if (c.has_technique()) what += " " + to_string(c.params.technique) + "-" + to_string(c.params.layers);
+    if (c.has_technique() || c.shader) what += " " + c.label() + "-" + to_string(c.params.layers);
     return what + " " + c.backend() + " x" + std::to_string(c.threads) + " " + describe(c.view);
   }
 

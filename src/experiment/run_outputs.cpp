@@ -61,11 +61,11 @@ void write_row(JsonWriter& json, const Measurement& m) {
       .value("width", m.depth_map_width)
       .value("height", m.depth_map_height)
       .end_object();
-  if (c.has_technique())
-    json.value("technique", c.shader_path.empty() ? to_string(c.params.technique) : "shader");
+  c.has_technique() ? json.value("technique", to_string(c.params.technique)) : json.null("technique");
+  if (c.shader)
+    json.begin_object("shader").value("path", c.shader->path).value("label", c.shader->label()).end_object();
   else
-    json.null("technique");
-  if (!c.shader_path.empty()) json.value("shader", c.shader_path);
+    json.null("shader");
   if (c.kind == RunKind::exact)
     json.null("layers").null("min_layers").null("max_layers");
   else
@@ -102,13 +102,19 @@ void write_row(JsonWriter& json, const Measurement& m) {
     for (double s : m.seconds) json.value("", s);
     json.end_array();
     write_spread(json, "rays_per_second", m.rays_per_second(), true);
-    if (m.samples_known) write_spread(json, "samples_per_second", m.samples_per_second(), false);
+    if (m.samples_known)
+      write_spread(json, "samples_per_second", m.samples_per_second(), false);
+    else
+      json.null("samples_per_second");
     json.end_object();
   }
-  if (m.render_image.empty())
+  if (m.render_image.empty()) {
     json.null("images");
-  else
-    json.begin_object("images").value("render", m.render_image).value("error", m.error_image).end_object();
+  } else {
+    json.begin_object("images").value("render", m.render_image).value("error", m.error_image);
+    m.cost_image.empty() ? json.null("cost") : json.value("cost", m.cost_image);
+    json.end_object();
+  }
   m.failure.empty() ? json.null("failure") : json.value("failure", m.failure);
 }
 
@@ -134,6 +140,25 @@ std::string mrays(const Measurement& m) {
   return buf;
 }
 
+// cost.png: the samples each pixel's ray took (discarded rays took theirs too), beside error.png
+// and with the same legend strip; none when the counts are unknown (a brought-in shader).
+void write_cost_image(const std::string& dir, const TracedRow& traced) {
+  if (!traced.row.samples_known) return;
+  const RayBatch& rays = traced.rays;
+  const int w = rays.image_width, h = rays.image_height;
+  std::vector<std::uint32_t> samples(std::size_t(w) * std::size_t(h), 0);
+  std::vector<std::uint8_t> has_ray(samples.size(), 0);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    if (rays.is_padding(i)) continue;
+    samples[rays.origin[i]] = traced.hits.samples[i];
+    has_ray[rays.origin[i]] = 1;
+  }
+  int cost_height = 0;
+  const char* unit = traced.row.config.kind == RunKind::exact ? "cells" : "samples";
+  const std::vector<std::uint8_t> cost = cost_map(samples, has_ray, w, h, unit, cost_height);
+  write_png_rgb8(dir + "/cost.png", w, cost_height, cost);
+}
+
 }  // namespace
 
 std::string metrics_json(const Measurement& row) {
@@ -149,27 +174,31 @@ std::string summary_text(const Measurement& m) {
   const Configuration& c = m.config;
   std::string text;
   char buf[512];
-  const std::string what = c.kind == RunKind::exact ? std::string("exact")
-                           : !c.shader_path.empty() ? "brought-in shader " + c.shader_path
-                                                    : to_string(c.params.technique) + " layers " + to_string(c.params.layers);
+  const std::string what = c.kind == RunKind::exact ? c.label() : c.label() + " layers " + to_string(c.params.layers);
   std::snprintf(buf, sizeof buf, "%s on %s (%dx%d depth map), %s: %zu rays\n", what.c_str(),
                 c.heightfield.describe().c_str(), m.depth_map_width, m.depth_map_height, describe(c.view).c_str(), m.rays);
   text += buf;
-  const std::string per_ray = m.samples_known ? [&] {
-    char b[64];
-    std::snprintf(b, sizeof b, "%.2f %s/ray", m.rays ? double(m.samples) / double(m.rays) : 0.0,
-                  c.kind == RunKind::exact ? "cells" : "samples");
-    return std::string(b);
-  }() : std::string("samples unknown");
+  // Figures not measured for a row (a brought-in shader's samples, SIMD use outside the CPU
+  // kernels) read "unknown", never as a made-up 0 or 100%.
+  const char* unit = c.kind == RunKind::exact ? "cells" : "samples";
+  std::string per_ray = std::string(unit) + "/ray unknown";
+  if (m.samples_known) {
+    std::snprintf(buf, sizeof buf, "%.2f %s/ray", m.rays ? double(m.samples) / double(m.rays) : 0.0, unit);
+    per_ray = buf;
+  }
   std::string speed = "not timed";
   if (!m.seconds.empty()) {
     speed = mrays(m) + " over " + std::to_string(m.seconds.size()) + " repetitions";
     if (m.samples_known) {
-      std::snprintf(buf, sizeof buf, ", %.1f Msamples/s", spread_of(m.samples_per_second()).median / 1e6);
+      std::snprintf(buf, sizeof buf, ", %.1f M%s/s", spread_of(m.samples_per_second()).median / 1e6, unit);
       speed += buf;
+    } else {
+      speed += ", M" + std::string(unit) + "/s unknown";
     }
   }
-  const std::string simd = c.kind == RunKind::trace ? ", SIMD use " + std::to_string(int(100.0 * m.simd_utilization + 0.5)) + "%" : "";
+  const std::string simd = c.kind == RunKind::trace ? ", SIMD use " + std::to_string(int(100.0 * m.simd_utilization + 0.5)) + "%"
+                           : c.kind == RunKind::glsl || c.kind == RunKind::naive ? ", SIMD use unknown"
+                                                                                 : "";
   std::snprintf(buf, sizeof buf, "  %s, %d thread%s: %s, %s%s\n", c.backend().c_str(), c.threads, c.threads == 1 ? "" : "s",
                 speed.c_str(), per_ray.c_str(), simd.c_str());
   text += buf;
@@ -219,6 +248,7 @@ void write_run_outputs(const std::string& dir, const TracedRow& traced) {
   int heat_height = 0;
   const std::vector<std::uint8_t> heat = error_heat_map(error, has_ray, w, h, heat_height);
   write_png_rgb8(dir + "/error.png", w, heat_height, heat);
+  write_cost_image(dir, traced);
   write_png_rgb8(dir + "/render.png", w, h,
                  shade_render(traced.map, c.params.wrap, c.params.scale, u, v, shadow, has_ray, w, h, c.params.light));
   write_file_atomically(dir + "/metrics.json", metrics_json(traced.row));

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
 
 namespace heightmarch {
@@ -26,17 +27,23 @@ void write_image(const std::string& path, const OIIO::ImageSpec& spec, OIIO::Typ
   if (ec) throw std::runtime_error(path + ": cannot write (" + ec.message() + ")");
 }
 
-// Inferno, 9 anchors from dark to bright.
-constexpr std::array<std::array<float, 3>, 9> kInferno = {{{0, 0, 4},       {31, 12, 72},   {85, 15, 109},
-                                                           {136, 34, 106},  {186, 54, 85},  {227, 89, 51},
-                                                           {249, 140, 10},  {249, 201, 50}, {252, 255, 164}}};
+using Colour = std::array<std::uint8_t, 3>;
+using Palette = std::array<std::array<float, 3>, 9>;  // 9 anchors from dark to bright
 
-std::array<std::uint8_t, 3> inferno(double t) {
-  t = std::clamp(t, 0.0, 1.0) * double(kInferno.size() - 1);
-  const std::size_t i = std::min<std::size_t>(std::size_t(t), kInferno.size() - 2);
+// matplotlib's inferno (the error map) and viridis (the cost map): perceptually uniform, and
+// distinct, so the two maps are not read for each other.
+constexpr Palette kInferno = {{{0, 0, 4},      {31, 12, 72},  {85, 15, 109},  {136, 34, 106}, {186, 54, 85},
+                               {227, 89, 51},  {249, 140, 10}, {249, 201, 50}, {252, 255, 164}}};
+constexpr Palette kViridis = {{{68, 1, 84},     {71, 44, 122},  {59, 81, 139},  {44, 113, 142}, {33, 144, 141},
+                               {39, 173, 129},  {92, 200, 99},  {170, 220, 50}, {253, 231, 37}}};
+constexpr Colour kNoRay = {96, 96, 96};
+
+Colour colour_at(const Palette& palette, double t) {
+  t = std::clamp(t, 0.0, 1.0) * double(palette.size() - 1);
+  const std::size_t i = std::min<std::size_t>(std::size_t(t), palette.size() - 2);
   const double f = t - double(i);
-  std::array<std::uint8_t, 3> c;
-  for (int k = 0; k < 3; ++k) c[k] = std::uint8_t(std::lround(kInferno[i][k] + f * (kInferno[i + 1][k] - kInferno[i][k])));
+  Colour c;
+  for (int k = 0; k < 3; ++k) c[k] = std::uint8_t(std::lround(palette[i][k] + f * (palette[i + 1][k] - palette[i][k])));
   return c;
 }
 
@@ -45,17 +52,30 @@ double heat_position(double texels) {
   return (std::log10(std::max(texels, kHeatMapMinTexels)) - lo) / (hi - lo);
 }
 
-// A 3x5 bitmap font for the legend: digits, '.', and the letters of "texels".
+// A 3x5 bitmap font for the legends: digits, '.', and the letters of "texels", "samples" and
+// "cells".
 const char* glyph(char c) {
   switch (c) {
     case '0': return "111101101101111";
     case '1': return "010110010010111";
+    case '2': return "111001111100111";
+    case '3': return "111001111001111";
+    case '4': return "101101111001001";
+    case '5': return "111100111001111";
+    case '6': return "111100111101111";
+    case '7': return "111001001001001";
+    case '8': return "111101111101111";
+    case '9': return "111101111001111";
     case '.': return "000000000000010";
-    case 't': return "010111010010011";
+    case 'a': return "000110011101111";
+    case 'c': return "000011100100011";
     case 'e': return "000111111100111";
-    case 'x': return "000101010010101";
     case 'l': return "110010010010111";
+    case 'm': return "000111111101101";
+    case 'p': return "000110101110100";
     case 's': return "000011110001110";
+    case 't': return "010111010010011";
+    case 'x': return "000101010010101";
     default: return "000000000000000";
   }
 }
@@ -77,6 +97,64 @@ void draw_text(std::vector<std::uint8_t>& rgb, int width, int height, int x, int
   }
 }
 
+struct LegendTick {
+  double position;  // along the bar, [0, 1]
+  std::string label;
+};
+
+// The legend's size step (text 5 px high per step) and the strip's height, for an image's width.
+int legend_scale(int width) { return std::clamp(width / 256, 1, 4); }
+int legend_height(int width) { return 14 * legend_scale(width); }
+
+// A map of `height` rows with the legend strip below them: dark, then the palette as a colour
+// bar over 70% of the width, a tick and label under each tick position, the unit after the bar.
+std::vector<std::uint8_t> image_with_legend(int width, int height, const Palette& palette,
+                                            const std::vector<LegendTick>& ticks, const std::string& unit,
+                                            const std::function<Colour(std::size_t pixel)>& pixel_colour,
+                                            int& out_height) {
+  const int scale = legend_scale(width);
+  out_height = height + legend_height(width);
+  std::vector<std::uint8_t> rgb(3 * std::size_t(width) * std::size_t(out_height), 24);
+  for (std::size_t p = 0; p < std::size_t(width) * std::size_t(height); ++p) {
+    const Colour c = pixel_colour(p);
+    std::copy(c.begin(), c.end(), &rgb[3 * p]);
+  }
+  const int bar_x0 = width / 20, bar_x1 = bar_x0 + width * 7 / 10, bar_y = height + scale, bar_h = 3 * scale;
+  for (int x = bar_x0; x < bar_x1; ++x) {
+    const Colour c = colour_at(palette, double(x - bar_x0) / double(std::max(1, bar_x1 - bar_x0 - 1)));
+    for (int y = bar_y; y < bar_y + bar_h; ++y) std::copy(c.begin(), c.end(), &rgb[3 * (std::size_t(y) * width + x)]);
+  }
+  for (const LegendTick& tick : ticks) {
+    const int x = bar_x0 + int(std::lround((bar_x1 - 1 - bar_x0) * tick.position));
+    if (x < 0 || x >= width) continue;
+    for (int y = bar_y + bar_h; y < bar_y + bar_h + scale; ++y) {
+      std::uint8_t* p = &rgb[3 * (std::size_t(y) * width + x)];
+      p[0] = p[1] = p[2] = 235;
+    }
+    const int text_width = int(tick.label.size()) * 4 * scale;
+    draw_text(rgb, width, out_height, std::clamp(x - text_width / 2, 0, std::max(0, width - text_width)),
+              bar_y + bar_h + 2 * scale, scale, tick.label);
+  }
+  draw_text(rgb, width, out_height, bar_x1 + 8 * scale, bar_y + 2 * scale, scale, unit);
+  return rgb;
+}
+
+// Ticks for a count scale from 0: a round step (1, 2 or 5 times a power of ten) giving at most
+// five ticks; `top` becomes the last tick, at or above the largest count.
+std::vector<LegendTick> count_ticks(std::uint32_t largest, std::uint32_t& top) {
+  constexpr std::uint64_t kMantissas[3] = {1, 2, 5};
+  std::uint64_t decade = 1, step = 1;
+  // 30 steps up reach 1e10, beyond any 32-bit count.
+  for (int k = 1; k <= 30 && step * 4 < largest; ++k) {
+    if (k % 3 == 0) decade *= 10;
+    step = kMantissas[k % 3] * decade;
+  }
+  top = std::uint32_t((std::max<std::uint64_t>(largest, 1) + step - 1) / step * step);
+  std::vector<LegendTick> ticks;
+  for (std::uint64_t v = 0; v <= top; v += step) ticks.push_back({double(v) / double(top), std::to_string(v)});
+  return ticks;
+}
+
 }  // namespace
 
 void write_png_rgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb) {
@@ -93,33 +171,23 @@ void write_exr(const std::string& path, int width, int height, const std::vector
 
 std::vector<std::uint8_t> error_heat_map(const std::vector<float>& error_texels, const std::vector<std::uint8_t>& has_ray,
                                          int width, int height, int& out_height) {
-  const int scale = std::clamp(width / 256, 1, 4);  // legend text 5 px high per scale step
-  const int legend = 14 * scale;
-  out_height = height + legend;
-  std::vector<std::uint8_t> rgb(3 * std::size_t(width) * std::size_t(out_height), 24);
-  for (std::size_t p = 0; p < std::size_t(width) * std::size_t(height); ++p) {
-    const auto c = has_ray[p] ? inferno(heat_position(error_texels[p])) : std::array<std::uint8_t, 3>{96, 96, 96};
-    std::copy(c.begin(), c.end(), &rgb[3 * p]);
-  }
-  // Colour bar over 70% of the width, ticks and labels at each decade, "texels" after it.
-  const int bar_x0 = width / 20, bar_x1 = bar_x0 + width * 7 / 10, bar_y = height + scale, bar_h = 3 * scale;
-  for (int x = bar_x0; x < bar_x1; ++x) {
-    const auto c = inferno(double(x - bar_x0) / double(std::max(1, bar_x1 - bar_x0 - 1)));
-    for (int y = bar_y; y < bar_y + bar_h; ++y) std::copy(c.begin(), c.end(), &rgb[3 * (std::size_t(y) * width + x)]);
-  }
-  const char* labels[] = {"0.01", "0.1", "1", "10"};
-  for (int k = 0; k < 4; ++k) {
-    const int x = bar_x0 + (bar_x1 - 1 - bar_x0) * k / 3;
-    for (int y = bar_y + bar_h; y < bar_y + bar_h + scale; ++y) {
-      std::uint8_t* p = &rgb[3 * (std::size_t(y) * width + x)];
-      p[0] = p[1] = p[2] = 235;
-    }
-    const int text_width = int(std::string(labels[k]).size()) * 4 * scale;
-    draw_text(rgb, width, out_height, std::clamp(x - text_width / 2, 0, width - text_width), bar_y + bar_h + 2 * scale,
-              scale, labels[k]);
-  }
-  draw_text(rgb, width, out_height, bar_x1 + 8 * scale, bar_y + 2 * scale, scale, "texels");
-  return rgb;
+  // A tick at each decade of the fixed scale.
+  const std::vector<LegendTick> ticks = {{0.0, "0.01"}, {1.0 / 3.0, "0.1"}, {2.0 / 3.0, "1"}, {1.0, "10"}};
+  return image_with_legend(width, height, kInferno, ticks, "texels", [&](std::size_t p) {
+    return has_ray[p] ? colour_at(kInferno, heat_position(error_texels[p])) : kNoRay;
+  }, out_height);
+}
+
+std::vector<std::uint8_t> cost_map(const std::vector<std::uint32_t>& samples, const std::vector<std::uint8_t>& has_ray,
+                                   int width, int height, const std::string& unit, int& out_height) {
+  std::uint32_t largest = 0;
+  for (std::size_t p = 0; p < std::size_t(width) * std::size_t(height); ++p)
+    if (has_ray[p]) largest = std::max(largest, samples[p]);
+  std::uint32_t top = 1;
+  const std::vector<LegendTick> ticks = count_ticks(largest, top);
+  return image_with_legend(width, height, kViridis, ticks, unit, [&](std::size_t p) {
+    return has_ray[p] ? colour_at(kViridis, double(samples[p]) / double(top)) : kNoRay;
+  }, out_height);
 }
 
 std::vector<std::uint8_t> shade_render(const DepthMap& map, Wrap wrap, float scale, const std::vector<float>& u,

@@ -24,6 +24,12 @@ inline constexpr double kHeatMapMaxTexels = 10.0;
 std::vector<std::uint8_t> error_heat_map(const std::vector<float>& error_texels, const std::vector<std::uint8_t>& has_ray,
                                          int width, int height, int& out_height);
 
+// Per-pixel cost, the samples a pixel's ray took (exact: texel cells solved), as RGB (viridis from
+// 0 to a round count at or above the largest; grey where a pixel has no ray), with the same legend
+// strip as the heat map: ticks at round counts and `unit` ("samples", "cells") after the bar.
+std::vector<std::uint8_t> cost_map(const std::vector<std::uint32_t>& samples, const std::vector<std::uint8_t>& has_ray,
+                                   int width, int height, const std::string& unit, int& out_height);
+
 // The surface at each pixel's uv, lit by diffuse light along `light` (normals from the depth map's
 // slopes at that uv), on a gridded albedo that makes the parallax shift visible, times the soft
 // shadow factor to the 4th power as seed 003 does. Dark where a pixel has no ray.

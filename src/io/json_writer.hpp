@@ -49,6 +49,15 @@ class JsonWriter {
   JsonWriter& value(const std::string& key, int number) { return value(key, (long long)number); }
   JsonWriter& value(const std::string& key, std::size_t number) { return value(key, (long long)number); }
 
+  // A value another writer wrote (a whole document, trailing newline dropped), indented to fit.
+  JsonWriter& raw(const std::string& key, const std::string& json) {
+    prefix(key);
+    const std::string indent = "\n" + std::string(2 * depth_, ' ');
+    const std::size_t end = json.find_last_not_of('\n') + 1;  // npos + 1 == 0 for "" or all newlines
+    for (std::size_t i = 0; i < end; ++i) json[i] == '\n' ? out_ += indent : out_ += json[i];
+    return *this;
+  }
+
   const std::string& str() const { return out_; }
 
   static std::string quote(const std::string& text) {

@@ -46,6 +46,10 @@ for hf in ("bricks", "terrain"):
     assert len({r["view"]["theta"] for r in sel if r["view"]["kind"] == "sweep"}) == 18, hf
 assert any("gallery" in r["purposes"] and r["images"] for r in rows)
 for r in rows:
+    for image in (r["images"] or {}).values():
+        assert os.path.getsize(os.path.join(run, image)) > 0, (r["id"], image)
+    assert not r["images"] or r["images"]["cost"], r["id"]
+for r in rows:
     if r["failure"]:
         raise AssertionError("row %d failed: %s" % (r["id"], r["failure"]))
     s = r["speed"]
