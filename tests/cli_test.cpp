@@ -164,6 +164,8 @@ std::string fixture_dir() {
     write_text(d, "below.csv", "tx,ty,vx,vy,vz\n0.5,0.5,0,0.6,-0.8\n");
     write_text(d, "nan.csv", "tx,ty,vx,vy,vz\n0.5,nan,0,0,1\n");
     write_text(d, "bad_header.csv", "x,y,z\n1,2,3\n");
+    write_text(d, "discard.glsl",
+               "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) {\n  if (texCoords.x > 0.5) discard;\n  return texCoords;\n}\n");
     return d;
   }();
   return dir;
@@ -204,6 +206,8 @@ std::vector<BadInput> bad_inputs() {
       {"NanInCsv", "trace --rays " + d + "/nan.csv", "not finite"},
       {"BadHeaderCsv", "trace --rays " + d + "/bad_header.csv", "header must be tx,ty,vx,vy,vz"},
       {"MissingCsv", "trace --rays /nonexistent/rays.csv", "cannot open"},
+      {"DiscardingShader", "glsl --size 16x16 --repetitions 1 --shader " + d + "/discard.glsl",
+       "discard.glsl: left 128 of 256 rays without a hit (does it call discard?)"},
   };
 }
 

@@ -1,5 +1,7 @@
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <limits>
 #include <cstdlib>
 #include <fstream>
 #include <regex>
@@ -24,7 +26,8 @@ namespace heightmarch {
 namespace {
 
 constexpr int kRowWidth = 1024;  // rays per framebuffer row
-constexpr std::size_t kMaxPrograms = 64;  // far more than techniques, a bound for brought-in shaders
+constexpr std::size_t kMaxPrograms = 64;
+const float kUndrawn = std::numeric_limits<float>::quiet_NaN();  // the hits' clear value  // far more than techniques, a bound for brought-in shaders
 
 const std::string& glsl(const std::string& name) {
   const auto& sources = embedded_glsl();
@@ -121,6 +124,7 @@ struct OsmesaRunner::State {
   std::size_t rays = 0;
   bool has_map = false, has_rays = false;
   bool discard = false;  // the tutorial's discard of a uv outside [0,1]^2, applied on read-back
+  std::string shader_path;  // of the program prepared: a brought-in one when not empty
   // Linked programs by fragment source, oldest first: the suite's interleaved rounds switch back
   // to every technique at each repetition, and a kept program keeps llvmpipe's compiled code too.
   std::vector<std::pair<std::string, GLuint>> programs;
@@ -245,6 +249,7 @@ void OsmesaRunner::prepare(const TechniqueParams& params, const std::string& sha
   State& s = *state_;
   if (!s.has_map || !s.has_rays) throw std::logic_error("prepare before a depth map and rays were set");
   s.discard = params.discard;
+  s.shader_path = shader_path;
   // The program: the harness, then the technique (or the brought-in function), then main.
   std::string fragment = "#version 330 core\n" + glsl("prelude.glsl");
   if (shader_path.empty()) {
@@ -291,6 +296,14 @@ void OsmesaRunner::prepare(const TechniqueParams& params, const std::string& sha
   if (glGetError() != GL_NO_ERROR) throw std::runtime_error("OSMesa: GL error while preparing the draw");
 }
 
+void OsmesaRunner::clear_hits() {
+  // Every fragment main.glsl writes has a number of samples (>= 0, or -1: unknown) in alpha: a
+  // NaN left there is a ray whose fragment was discarded.
+  const float sentinel[4] = {kUndrawn, kUndrawn, kUndrawn, kUndrawn};
+  glClearBufferfv(GL_COLOR, 0, sentinel);
+  glFinish();
+}
+
 void OsmesaRunner::draw() {
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glFinish();
@@ -303,6 +316,12 @@ void OsmesaRunner::read(HitBuffers& hits, bool& samples_known) const {
   glReadPixels(0, 0, s.width, s.height, GL_RGBA, GL_FLOAT, hit.data());
   glReadBuffer(GL_COLOR_ATTACHMENT1);
   glReadPixels(0, 0, s.width, s.height, GL_RGBA, GL_FLOAT, shadow.data());
+  std::size_t undrawn = 0;
+  for (std::size_t i = 0; i < s.rays; ++i) undrawn += std::isnan(hit[4 * i + 3]);
+  if (undrawn && !s.shader_path.empty())
+    throw InputError(s.shader_path + ": left " + std::to_string(undrawn) + " of " + std::to_string(s.rays) +
+                     " rays without a hit (does it call discard?); every ray must return a uv");
+  if (undrawn) throw std::logic_error("built-in shader left " + std::to_string(undrawn) + " rays without a hit");
   hits.resize(s.rays);
   samples_known = true;
   for (std::size_t i = 0; i < s.rays; ++i) {
