@@ -7,10 +7,12 @@
 
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
+#include "glsl/user_shader_text.hpp"
 #include "heightmarch/glsl_runner.hpp"
 #include "heightmarch/run_outputs.hpp"
 #include "io/atomic_file.hpp"
 #include "io/json_writer.hpp"
+#include "util/input_file.hpp"
 
 namespace heightmarch::cli {
 namespace {
@@ -63,6 +65,7 @@ Command add_glsl_command(CLI::App& app) {
   return [o] {
     Configuration glsl = trace_configuration(o->trace, RunKind::glsl);
     glsl.shader_path = o->shader;
+    if (!o->shader.empty()) user_source(read_input_file(o->shader, "shader file", kMaxShaderBytes), o->shader);  // before the run
     std::vector<Configuration> plan = {glsl};
     if (o->compare) {
       Configuration cpu = glsl;

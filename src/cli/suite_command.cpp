@@ -41,10 +41,16 @@ std::string gallery_stem(const Configuration& c) {
 // The render and error map of a gallery row, as PNGs beside each other in gallery/.
 void write_gallery_images(const std::string& dir, const TracedRow& traced) {
   const std::string tmp = dir + "/" + gallery_stem(traced.row.config) + ".tmp";
-  write_run_outputs(tmp, traced);
   const std::string stem = dir + "/" + gallery_stem(traced.row.config);
-  fs::rename(tmp + "/render.png", stem + "-render.png");
-  fs::rename(tmp + "/error.png", stem + "-error.png");
+  try {
+    write_run_outputs(tmp, traced);
+    fs::rename(tmp + "/render.png", stem + "-render.png");
+    fs::rename(tmp + "/error.png", stem + "-error.png");
+  } catch (...) {
+    std::error_code ignored;
+    fs::remove_all(tmp, ignored);  // a full disk leaves no half-written temporary behind
+    throw;
+  }
   fs::remove_all(tmp);
 }
 
