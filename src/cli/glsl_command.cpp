@@ -66,6 +66,7 @@ Command add_glsl_command(CLI::App& app) {
     Configuration glsl = trace_configuration(o->trace, RunKind::glsl);
     glsl.shader_path = o->shader;
     if (!o->shader.empty()) user_source(read_input_file(o->shader, "shader file", kMaxShaderBytes), o->shader);  // before the run
+    prepare_out_directory(o->trace.out);
     std::vector<Configuration> plan = {glsl};
     if (o->compare) {
       Configuration cpu = glsl;

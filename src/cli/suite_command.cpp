@@ -67,6 +67,7 @@ Command add_suite_command(CLI::App& app) {
   return [o] {
     const PlanSettings settings = plan_settings(o->plan, !o->no_glsl);
     const std::vector<Configuration> plan = suite_plan(settings);
+    check_depth_map_files(plan);  // before the run directory exists
     const bool default_out = o->out.empty();
     const std::string run_name = fresh_run_name(o->plan.quick);
     RunDirectory dir(default_out ? "results/" + run_name : o->out);

@@ -189,11 +189,12 @@ std::string summary_text(const Measurement& m) {
   return text;
 }
 
-void write_run_outputs(const std::string& dir, const TracedRow& traced) {
-  std::filesystem::create_directories(dir);
+namespace {
+
+// hits.exr, error.png and render.png: the view's pixels.
+void write_images(const std::string& dir, const TracedRow& traced) {
   const RayBatch& rays = traced.rays;
   const HitBuffers& hits = traced.hits;
-  const HitBuffers& exact = traced.exact;
   const Configuration& c = traced.row.config;
   const int w = rays.image_width, h = rays.image_height;
   const std::size_t pixels = std::size_t(w) * std::size_t(h);
@@ -221,8 +222,21 @@ void write_run_outputs(const std::string& dir, const TracedRow& traced) {
   write_png_rgb8(dir + "/error.png", w, heat_height, heat);
   write_png_rgb8(dir + "/render.png", w, h,
                  shade_render(traced.map, c.params.wrap, c.params.scale, u, v, shadow, has_ray, w, h, c.params.light));
+}
+
+}  // namespace
+
+void write_run_outputs(const std::string& dir, const TracedRow& traced) {
+  std::filesystem::create_directories(dir);
+  const Configuration& c = traced.row.config;
+  // Rays from a file are no picture (their N x 1 "image" is beyond PNG's width at a million
+  // rays): per-ray files only.
+  if (c.view.kind != ViewSpec::Kind::rays_file) write_images(dir, traced);
   write_file_atomically(dir + "/metrics.json", metrics_json(traced.row));
   if (c.view.kind != ViewSpec::Kind::rays_file) return;
+  const RayBatch& rays = traced.rays;
+  const HitBuffers& hits = traced.hits;
+  const HitBuffers& exact = traced.exact;
   std::string csv = "tx,ty,vx,vy,vz,u,v,depth,samples,exact_u,exact_v,exact_depth,uv_error_texels\n";
   std::vector<std::size_t> by_row(rays.ray_count);
   for (std::size_t i = 0; i < rays.size(); ++i)
