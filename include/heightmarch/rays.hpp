@@ -49,8 +49,10 @@ inline constexpr int kMaxViewSide = 16384;
 
 // What a run holds per ray of its batch, for the memory budget: the ray (T, V, origin), its hits,
 // the exact and reference hits, the error and, with --out, the images' pixels (measured: a
-// 4096 x 4096 --out trace peaks at about 115 bytes a ray).
-inline constexpr double kBytesPerRay = 128.0;
+// 4096 x 4096 --out trace peaks at about 139 bytes a ray).
+inline constexpr double kBytesPerRay = 160.0;
+// And per row of a rays file: its columns as read, and its row of rays.csv written back.
+inline constexpr double kBytesPerRayCsvRow = 180.0;
 
 // Rays a batch holds per ray given, padding included: a tile's rays are padded to a multiple of
 // kRayAlignment, so --tile 1 holds 32 per ray.

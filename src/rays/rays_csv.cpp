@@ -2,7 +2,6 @@
 #include <charconv>
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -40,18 +39,28 @@ RayBatch load_rays_csv(const std::string& path, int tile_size) {
   const std::string text = read_input_file(path, "rays file", memory_budget());
   // The rays' memory, padding included, before any column is allocated: every line a ray.
   const std::size_t lines = std::size_t(std::count(text.begin(), text.end(), '\n')) + 1;
-  check_memory_budget(double(text.size()) + (20.0 + kBytesPerRay * padding_factor(tile_size)) * double(lines),
+  check_memory_budget(double(text.size()) +
+                          (kBytesPerRayCsvRow + kBytesPerRay * padding_factor(tile_size)) * double(lines),
                       path + " (up to " + std::to_string(lines) + " rays)");
-  std::istringstream in(text);
+  // One line per call, read in place (a copy of a 100 MB file is 100 MB more).
+  std::size_t at = 0;
+  const auto next_line = [&](std::string& line) {
+    if (at >= text.size()) return false;
+    std::size_t end = text.find('\n', at);
+    if (end == std::string::npos) end = text.size();
+    line.assign(text, at, end - at);
+    at = end + 1;
+    return true;
+  };
   std::string line;
-  if (!std::getline(in, line)) throw InputError(path + ": empty rays file (expected header tx,ty,vx,vy,vz)");
+  if (!next_line(line)) throw InputError(path + ": empty rays file (expected header tx,ty,vx,vy,vz)");
   if (line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark (spreadsheet exports)
   const std::vector<std::string> expected = {"tx", "ty", "vx", "vy", "vz"};
   if (split_fields(line) != expected)
     throw InputError(path + ":1: header must be tx,ty,vx,vy,vz (found '" + line.substr(0, 40) + "')");
   std::vector<float> columns[5];
   std::size_t line_number = 1;
-  while (std::getline(in, line)) {
+  while (next_line(line)) {
     ++line_number;
     if (trim(line).empty()) continue;
     const std::vector<std::string> fields = split_fields(line);
