@@ -7,13 +7,17 @@
 #include <tbb/info.h>
 
 #include <CLI/CLI.hpp>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <deque>
 #include <map>
 
 #include "heightmarch/error.hpp"
 #include "heightmarch/measurement.hpp"
 #include "heightmarch/trace.hpp"
+#include "io/atomic_file.hpp"
 #include "io/provenance.hpp"
 
 namespace {
@@ -104,6 +108,22 @@ std::vector<Configuration> bench_plan(const BenchOptions& o) {
 
 int depth_map_side(const HeightfieldSource& source) { return source.builtin.empty() ? -1 : source.resolution; }
 
+// Google Benchmark's file reporter, told apart from its stream's failure (a full disk): the file
+// goes to a temporary that is renamed into place only when every byte was written.
+template <class Base>
+class CheckedReporter : public Base {
+ public:
+  bool failed() const { return failed_; }
+  void Finalize() override {
+    Base::Finalize();
+    this->GetOutputStream().flush();
+    failed_ = !this->GetOutputStream();
+  }
+
+ private:
+  bool failed_ = false;
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -151,14 +171,39 @@ int main(int argc, char** argv) {
   }
   // The minimum time goes through Google Benchmark's global flag, so names carry no min_time.
   if (!has_min_time) rest.push_back("--benchmark_min_time=" + std::to_string(o.min_time));
+  // --benchmark_out=FILE is written to FILE.tmp-PID and renamed once whole (CheckedReporter).
+  std::string out_path, out_format = "json";
+  for (std::string& arg : rest) {
+    if (arg.rfind("--benchmark_out=", 0) == 0) {
+      out_path = arg.substr(std::string("--benchmark_out=").size());
+      arg = "--benchmark_out=" + temporary_path(out_path);
+    } else if (arg.rfind("--benchmark_out_format=", 0) == 0) {
+      out_format = arg.substr(std::string("--benchmark_out_format=").size());
+    }
+  }
+  if (out_format != "json" && out_format != "console") {  // csv is deprecated in Google Benchmark
+    std::fprintf(stderr, "heightmarch-bench: --benchmark_out_format=%s: json or console\n", out_format.c_str());
+    return 2;
+  }
   std::vector<char*> gbench_argv = {argv[0]};
   for (std::string& arg : rest) gbench_argv.push_back(arg.data());
   int gbench_argc = int(gbench_argv.size());
   gbench_argv.push_back(nullptr);
   std::vector<Configuration>* plan = nullptr;
+  // Every depth map file named is read before any benchmark runs: a bad one is one line, exit 2.
+  std::map<const Configuration*, std::pair<int, int>> sizes;
   try {
     static std::vector<Configuration> configurations = bench_plan(o);
     plan = &configurations;
+    for (const Configuration& c : *plan) {
+      int side = depth_map_side(c.heightfield);
+      std::pair<int, int> size{side, side};
+      if (side < 0) {  // a file: its size names the benchmark
+        const DepthMap map = load_heightfield(c.heightfield);
+        size = {map.width, map.height};
+      }
+      sizes[&c] = size;
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "heightmarch-bench: %s\n", e.what());
     return 2;
@@ -174,19 +219,29 @@ int main(int argc, char** argv) {
   benchmark::AddCustomContext("heightmarch_view", std::to_string(o.size) + "x" + std::to_string(o.size));
   benchmark::AddCustomContext("heightmarch_depth_map", std::to_string(o.res) + "x" + std::to_string(o.res));
   for (const Configuration& c : *plan) {
-    int side = depth_map_side(c.heightfield);
-    int width = side, height = side;
-    if (side < 0) {  // a file: its size names the benchmark
-      const DepthMap map = load_heightfield(c.heightfield);
-      width = map.width;
-      height = map.height;
-    }
+    const auto [width, height] = sizes.at(&c);
     benchmark::RegisterBenchmark(benchmark_name(c, width, height).c_str(),
                                  [&c](benchmark::State& state) { run_benchmark(state, c); })
         ->UseManualTime()
         ->Unit(benchmark::kMillisecond);
   }
-  benchmark::RunSpecifiedBenchmarks();
+  if (out_path.empty()) {
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+  }
+  CheckedReporter<benchmark::JSONReporter> json;
+  CheckedReporter<benchmark::ConsoleReporter> console;
+  const bool as_console = out_format == "console";
+  benchmark::RunSpecifiedBenchmarks(nullptr, as_console ? static_cast<benchmark::BenchmarkReporter*>(&console) : &json);
   benchmark::Shutdown();
+  const bool write_failed = as_console ? console.failed() : json.failed();
+  const std::string temporary = temporary_path(out_path);
+  if (write_failed || std::rename(temporary.c_str(), out_path.c_str()) != 0) {
+    const std::string why = write_failed ? "a write failed; a full disk?" : std::strerror(errno);
+    std::remove(temporary.c_str());
+    std::fprintf(stderr, "heightmarch-bench: %s: cannot write (%s)\n", out_path.c_str(), why.c_str());
+    return 1;
+  }
   return 0;
 }

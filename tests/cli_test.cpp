@@ -4,7 +4,10 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
+
+#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -93,16 +96,86 @@ TEST(Cli, RaysCsvCarriesTheShadowPerRay) {
   EXPECT_GT(unlit, 0u);
 }
 
+// More than a million rays with --out: per-ray files only (an N x 1 PNG is beyond libpng's width).
 TEST(Cli, AMillionRaysFromCsv) {
   const std::string dir = test::temp_dir("million");
+  const int rays = 1000001;
   {
     std::ofstream csv(dir + "/rays.csv");
     csv << "tx,ty,vx,vy,vz\n";
-    for (int i = 0; i < 1000000; ++i) csv << (i % 1000) / 1000.0 << "," << (i / 1000) / 1000.0 << ",0.6,0,0.8\n";
+    for (int i = 0; i < rays; ++i) csv << (i % 1000) / 1000.0 << "," << (i / 1000) / 1000.0 << ",0.6,0,0.8\n";
   }
-  const auto r = test::run_cli("trace --res 64 --technique steep --layers 8 --json --rays " + dir + "/rays.csv");
+  const auto r = test::run_cli("trace --res 64 --technique steep --layers 8 --json --repetitions 1 --rays " + dir +
+                               "/rays.csv --out " + dir + "/out");
   ASSERT_EQ(r.status, 0) << r.output.substr(0, 500);
-  EXPECT_NE(r.output.find("\"rays\": 1000000"), std::string::npos) << r.output.substr(0, 500);
+  EXPECT_NE(r.output.find("\"rays\": 1000001"), std::string::npos) << r.output.substr(0, 500);
+  std::vector<std::string> files;
+  for (const auto& entry : fs::directory_iterator(dir + "/out")) files.push_back(entry.path().filename().string());
+  std::sort(files.begin(), files.end());
+  EXPECT_EQ(files, (std::vector<std::string>{"metrics.json", "rays.csv"}));
+  std::ifstream out(dir + "/out/rays.csv");
+  const auto lines = std::count(std::istreambuf_iterator<char>(out), {}, '\n');
+  EXPECT_EQ(lines, rays + 1);
+}
+
+// --channel picks the depth of a multi-channel image: R = 0, G = 128/255, B = 1 at a straight-down ray.
+TEST(Cli, ChannelPicksTheDepth) {
+  const std::string dir = test::temp_dir("channel");
+  std::vector<std::uint8_t> rgb(16 * 16 * 3);
+  for (std::size_t i = 0; i < rgb.size(); i += 3) {
+    rgb[i] = 0;
+    rgb[i + 1] = 128;
+    rgb[i + 2] = 255;
+  }
+  auto image = OIIO::ImageOutput::create(dir + "/rgb.png");
+  ASSERT_TRUE(image && image->open(dir + "/rgb.png", OIIO::ImageSpec(16, 16, 3, OIIO::TypeDesc::UINT8)));
+  ASSERT_TRUE(image->write_image(OIIO::TypeDesc::UINT8, rgb.data()) && image->close());
+  const std::string rays = write_text(dir, "down.csv", "tx,ty,vx,vy,vz\n0.5,0.5,0,0,1\n");
+  for (const auto& [channel, depth] : std::vector<std::pair<std::string, std::string>>{
+           {"", ",0,"}, {"r", ",0,"}, {"1", ",0.501960814,"}, {"g", ",0.501960814,"}, {"b", ",1,"}}) {
+    const std::string out = dir + "/out" + channel;
+    const auto r = test::run_cli("trace --json --repetitions 1 --heightmap " + dir + "/rgb.png --rays " + rays + " --out " +
+                                 out + (channel.empty() ? "" : " --channel " + channel));
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::ifstream in(out + "/rays.csv");
+    std::string header, row;
+    std::getline(in, header);
+    std::getline(in, row);
+    EXPECT_NE(row.find("0.5,0.5,0,0,1,0.5,0.5" + depth), std::string::npos) << "--channel " << channel << ": " << row;
+  }
+}
+
+// What a ray file may hold: a UTF-8 byte order mark, 1e-50 (0 as a float), V.z = 5e-7 exactly.
+TEST(Cli, RaysFileEdgeValuesAreAccepted) {
+  const std::string dir = test::temp_dir("edge-rays");
+  for (const std::string& text : {std::string("\xEF\xBB\xBFtx,ty,vx,vy,vz\n0.5,0.5,0,0,1\n"),
+                                  std::string("tx,ty,vx,vy,vz\n0.5,0.5,1e-50,0,1\n"),
+                                  std::string("tx,ty,vx,vy,vz\n0.5,0.5,0,1,5e-7\n")}) {
+    const auto r = test::run_cli("trace --res 16 --repetitions 1 --json --rays " + write_text(dir, "rays.csv", text));
+    EXPECT_EQ(r.status, 0) << text << ": " << r.output.substr(0, 300);
+  }
+}
+
+// HEIGHTMARCH_MEMORY_LIMIT: bytes with K, M, G, T suffixes; anything else is one line, exit 2.
+TEST(Cli, MemoryLimitIsParsedStrictly) {
+  const std::string trace = std::string(HEIGHTMARCH_CLI) + " trace --res 16 --size 8x8 --repetitions 1 --json";
+  for (const char* bad : {"1e30", "inf", "2e19", "10X", "abc", "-1", "0", "nan", "99999999999999999999"}) {
+    const auto r = test::run_command("HEIGHTMARCH_MEMORY_LIMIT='" + std::string(bad) + "' " + trace);
+    EXPECT_EQ(r.status, 2) << bad << ": " << r.output;
+    EXPECT_EQ(r.output.rfind("heightmarch: HEIGHTMARCH_MEMORY_LIMIT='" + std::string(bad) + "': ", 0), 0u) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  }
+  for (const char* good : {"1T", "512M", "1.5GiB", "1073741824"}) {
+    const auto r = test::run_command("HEIGHTMARCH_MEMORY_LIMIT=" + std::string(good) + " " + trace);
+    EXPECT_EQ(r.status, 0) << good << ": " << r.output.substr(0, 300);
+  }
+}
+
+// The budget counts what a run holds: --tile 1 pads every tile of one ray to 32.
+TEST(Cli, MemoryBudgetCountsTilePadding) {
+  const auto r = test::run_command("HEIGHTMARCH_MEMORY_LIMIT=200M " + std::string(HEIGHTMARCH_CLI) + " trace --tile 1 --json");
+  EXPECT_EQ(r.status, 2) << r.output.substr(0, 300);
+  EXPECT_NE(r.output.find("a 1024x1024 view needs 5.0 GiB, more than the 200.0 MiB budget"), std::string::npos) << r.output;
 }
 
 TEST(Cli, JsonHasTheSpecKeys) {
@@ -185,6 +258,26 @@ TEST_P(CliBadInput, OneClearLineAndNonZeroExit) {
   EXPECT_LE(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
 }
 
+// truncated.jpg: a JPEG cut in its scan data; huge.jpg: 400 bytes whose header declares 16000 x 16000.
+void write_jpegs(const std::string& d) {
+  const int side = 256;
+  std::vector<std::uint8_t> grey(side * side);
+  for (int i = 0; i < side * side; ++i) grey[i] = std::uint8_t((i * 7 + i / side * 13) % 251);
+  auto out = OIIO::ImageOutput::create(d + "/whole.jpg");
+  ASSERT_TRUE(out && out->open(d + "/whole.jpg", OIIO::ImageSpec(side, side, 1, OIIO::TypeDesc::UINT8)));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, grey.data()) && out->close());
+  std::ifstream in(d + "/whole.jpg", std::ios::binary);
+  std::string jpeg((std::istreambuf_iterator<char>(in)), {});
+  write_text(d, "truncated.jpg", jpeg.substr(0, jpeg.size() / 2));
+  const std::size_t sof = jpeg.find("\xff\xc0");
+  ASSERT_NE(sof, std::string::npos);
+  for (std::size_t at : {sof + 5, sof + 7}) {  // height, width: 16000 = 0x3e80
+    jpeg[at] = char(0x3e);
+    jpeg[at + 1] = char(0x80);
+  }
+  write_text(d, "huge.jpg", jpeg.substr(0, 400));
+}
+
 std::string fixture_dir() {
   static const std::string dir = [] {
     const std::string d = test::temp_dir("bad-input");
@@ -199,6 +292,18 @@ std::string fixture_dir() {
     write_text(d, "below.csv", "tx,ty,vx,vy,vz\n0.5,0.5,0,0.6,-0.8\n");
     write_text(d, "nan.csv", "tx,ty,vx,vy,vz\n0.5,nan,0,0,1\n");
     write_text(d, "bad_header.csv", "x,y,z\n1,2,3\n");
+    write_text(d, "zero.csv", "tx,ty,vx,vy,vz\n0.5,0.5,0,0,0\n");
+    write_text(d, "huge_value.csv", "tx,ty,vx,vy,vz\n0.5,0.5,1e50,0,1\n");
+    write_text(d, "conflict.glsl", "// mine\nvec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) {\n  return texCoords;\n}\n"
+                                   "void main() {}\n");
+    write_text(d, "typo.glsl", "// mine\n\nvec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) {\n  return texCoordz;\n}\n");
+    write_text(d, "nofunction.glsl", "void main() {}\n");
+    write_text(d, "rgb.csv", "tx,ty,vx,vy,vz\n0.5,0.5,0,0,1\n");
+    write_text(d, "a_file", "");
+    ::mkfifo((d + "/fifo.png").c_str(), 0644);
+    write_jpegs(d);
+    write_text(d, "discard.glsl",
+               "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) {\n  if (texCoords.x > 0.5) discard;\n  return texCoords;\n}\n");
     return d;
   }();
   return dir;
@@ -239,6 +344,27 @@ std::vector<BadInput> bad_inputs() {
       {"NanInCsv", "trace --rays " + d + "/nan.csv", "not finite"},
       {"BadHeaderCsv", "trace --rays " + d + "/bad_header.csv", "header must be tx,ty,vx,vy,vz"},
       {"MissingCsv", "trace --rays /nonexistent/rays.csv", "cannot open"},
+      {"ZeroVectorCsv", "trace --rays " + d + "/zero.csv", "V is the zero vector"},
+      {"HugeValueCsv", "trace --rays " + d + "/huge_value.csv", "vx '1e50' is beyond a float's range"},
+      {"NanPhi", "trace --view sweep:30,nan", "PHI must be a finite number"},
+      {"GrazingLight", "trace --technique shadow --light 1,0,0.0001", "light direction grazes the plane"},
+      {"OutUnderAFile", "trace --size 8x8 --out " + d + "/a_file/out", "--out " + d + "/a_file/out: cannot create"},
+      {"DevZeroHeightmap", "trace --heightmap /dev/zero", "/dev/zero: is a character device, not a regular file"},
+      {"DevZeroRays", "trace --rays /dev/zero", "/dev/zero: is a character device, not a regular file"},
+      {"DevZeroShader", "glsl --shader /dev/zero", "/dev/zero: is a character device, not a regular file"},
+      {"FifoHeightmap", "trace --heightmap " + d + "/fifo.png", "fifo.png: is a FIFO, not a regular file"},
+      {"TruncatedJpeg", "trace --size 8x8 --heightmap " + d + "/truncated.jpg", "truncated.jpg: cannot read pixels"},
+      {"HugeJpeg", "trace --size 8x8 --heightmap " + d + "/huge.jpg", "declares 16000x16000 pixels in only 400 bytes"},
+      {"MissingChannel", "trace --size 8x8 --heightmap " + d + "/whole.jpg --channel g", "has no channel 1"},
+      {"BadChannel", "trace --size 8x8 --heightmap " + d + "/whole.jpg --channel x", "--channel 'x'"},
+      {"ChannelOfBuiltin", "trace --size 8x8 --channel 1", "--channel applies to a depth map file"},
+      {"ShaderConflict", "glsl --size 8x8 --shader " + d + "/conflict.glsl", "conflict.glsl:5:6: error: function `main' redefined"},
+      {"ShaderTypo", "glsl --size 8x8 --shader " + d + "/typo.glsl", "typo.glsl:4:9: error: `texCoordz' undeclared"},
+      {"ShaderWithoutFunction", "glsl --size 8x8 --shader " + d + "/nofunction.glsl", "does not define vec2 ParallaxMapping"},
+      {"BadExtraHeightmapInSuite", "suite --quick --no-glsl --heightmap " + d + "/truncated.jpg --out " + d + "/suite",
+       "truncated.jpg: cannot read pixels"},
+      {"DiscardingShader", "glsl --size 16x16 --repetitions 1 --shader " + d + "/discard.glsl",
+       "discard.glsl: left 128 of 256 rays without a hit (does it call discard?)"},
   };
 }
 

@@ -4,9 +4,12 @@
 // heightmarch-glsl-worker (src/glsl/worker_main.cpp), so only GLSL runs load libOSMesa and
 // libLLVM, and each llvmpipe thread count (read once per process) gets its own context.
 //
-// The worker is found next to the running executable, or at $HEIGHTMARCH_GLSL_WORKER. Each
-// request waits 600 s at most; a worker that crashes, exits or does not answer in time is killed
-// and its runner's calls throw a one-line std::runtime_error naming it from then on.
+// The worker is found next to the running executable, or at $HEIGHTMARCH_GLSL_WORKER. A draw
+// may take 10 s + 100 ns per ray and bound of its samples (2 x max layers + refine steps + 8),
+// some 25 times what the slowest built-in technique needs at one llvmpipe thread; other requests
+// 600 s. A worker that crashes, exits, does not answer in time or draws past its bound is killed
+// (the call throws one line: an InputError when a brought-in shader's draw ran past its bound)
+// and the next prepare starts a new one.
 //
 // Brought-in shaders (--shader FILE): the file defines LearnOpenGL's
 //   vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)
@@ -48,7 +51,8 @@ class GlslRunner {
   // time the ones after it.
   double draw();
 
-  // Reads the hits of the last draw back, in batch order (samples: -1 cast for unknown).
+  // Reads the hits of the last draw back, in batch order (samples: -1 cast for unknown). Throws
+  // InputError when a brought-in shader left rays without a hit (it called discard).
   void read(HitBuffers& hits, bool& samples_known) const;
 
   GlslRunner(const GlslRunner&) = delete;

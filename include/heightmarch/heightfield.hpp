@@ -20,10 +20,15 @@ enum class Convention { depth, height };  // height: white = high, turned into d
 // Largest accepted side of a depth map, loaded or built in.
 inline constexpr int kMaxDepthMapSide = 16384;
 
-// Loads any image OpenImageIO reads; the first channel is the depth. Throws InputError on
-// unreadable files, absurd sizes and NaN/Inf texels; values outside [0, 1] are clamped with a
-// warning on stderr.
-DepthMap load_depth_map(const std::string& path, Convention convention);
+// Loads any image OpenImageIO reads, a regular file; its channel `channel` (default the first)
+// is the depth, unassociated from alpha. Throws InputError on special or unreadable files, files
+// with errors in their pixel data (a truncated JPEG), absurd sizes (also an image declaring far
+// more pixels than its bytes can hold), a missing channel and NaN/Inf texels; values outside
+// [0, 1] are clamped with a warning on stderr.
+DepthMap load_depth_map(const std::string& path, Convention convention, int channel = 0);
+
+// --channel: an index from 0, or r, g, b, a (either case) for 0 to 3. Throws InputError.
+int parse_channel(const std::string& text);
 
 // Procedural heightfields, deterministic for a given resolution and seed.
 const std::vector<std::string>& builtin_heightfield_names();
@@ -37,6 +42,7 @@ struct HeightfieldSource {
   int resolution = 512;
   std::uint64_t seed = 1;
   Convention convention = Convention::depth;
+  int channel = 0;  // of an image file, from 0
 
   std::string label() const;     // "bricks", or the file name without directories
   std::string describe() const;  // "builtin:bricks", or the path
@@ -46,7 +52,8 @@ struct HeightfieldSource {
 // "builtin:NAME", a builtin's bare name (when no such file exists), or a file path. Throws
 // InputError for an unknown builtin or a resolution outside [1, kMaxDepthMapSide].
 HeightfieldSource parse_heightfield(const std::string& text, int resolution = 512,
-                                    std::uint64_t seed = 1, Convention convention = Convention::depth);
+                                    std::uint64_t seed = 1, Convention convention = Convention::depth,
+                                    int channel = 0);
 
 DepthMap load_heightfield(const HeightfieldSource& source);
 

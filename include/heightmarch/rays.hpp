@@ -2,6 +2,7 @@
 // Rays in tangent space (SPEC section 2) and the views that make them, as structure-of-arrays
 // tile batches: the view is cut into tiles, each tile's rays are stored together, ordered in
 // 4 x 4 pixel blocks so that any packet of 4, 8 or 16 consecutive rays is a compact 2D block.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -45,6 +46,20 @@ struct ViewSpec {
 };
 
 inline constexpr int kMaxViewSide = 16384;
+
+// What a run holds per ray of its batch, for the memory budget: the ray (T, V, origin), its hits,
+// the exact and reference hits, the error and, with --out, the images' pixels (measured: a
+// 4096 x 4096 --out trace peaks at about 139 bytes a ray).
+inline constexpr double kBytesPerRay = 160.0;
+// And per row of a rays file: its columns as read, and its row of rays.csv written back.
+inline constexpr double kBytesPerRayCsvRow = 180.0;
+
+// Rays a batch holds per ray given, padding included: a tile's rays are padded to a multiple of
+// kRayAlignment, so --tile 1 holds 32 per ray.
+inline double padding_factor(int tile_size) {
+  const double per_tile = double(tile_size) * double(tile_size);
+  return std::ceil(per_tile / double(kRayAlignment)) * double(kRayAlignment) / per_tile;
+}
 inline constexpr int kDefaultTileSize = 32;
 
 // "default" or "sweep:THETA[,PHI]" (degrees); throws InputError.

@@ -16,8 +16,8 @@ std::string summary_text(const Measurement& row);
 // what `trace --json` prints and `--out` writes as metrics.json.
 std::string metrics_json(const Measurement& row);
 
-// hits.exr, error.png, cost.png (when the sample counts are known), render.png, metrics.json
-// (and rays.csv for rays from a file) in dir.
+// hits.exr, error.png, cost.png (when the sample counts are known), render.png and metrics.json in
+// dir; for rays from a file, metrics.json and rays.csv (each ray with its hit and the exact one) only.
 void write_run_outputs(const std::string& dir, const TracedRow& traced);
 
 // The run's one table (docs/measurements.md).

@@ -2,6 +2,13 @@
 
 #include <tbb/info.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
 #include <sstream>
 
 #include "heightmarch/error.hpp"
@@ -18,6 +25,8 @@ void add_trace_options(CLI::App& app, TraceOptions& o, bool exact_allowed) {
   app.add_option("--seed", o.seed, "seed of a builtin heightfield")->check(CLI::Range(0, 1 << 30))->capture_default_str();
   app.add_option("--convention", o.convention, "depth (white = deep) or height (white = high)")
       ->check(CLI::IsMember({"depth", "height"}))->capture_default_str();
+  app.add_option("--channel", o.channel, "the depth map file's channel holding the depth: an index from 0, or r, g, b, a "
+                 "(default: the first)");
   app.add_option("--view", o.view, "default, or sweep:THETA[,PHI] in degrees")->capture_default_str();
   app.add_option("--size", o.size, "view size WxH in pixels")->capture_default_str();
   app.add_option("--rays", o.rays, "CSV file of rays (tx,ty,vx,vy,vz; V towards the eye) instead of a view")
@@ -34,7 +43,7 @@ void add_trace_options(CLI::App& app, TraceOptions& o, bool exact_allowed) {
   app.add_option("--threads", o.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
   app.add_option("--repetitions", o.repetitions, "timed repetitions (speed: their median, min and max)")
       ->check(CLI::Range(1, 1000))->capture_default_str();
-  app.add_option("--out", o.out, "directory for hits.exr, error.png, render.png, metrics.json (and rays.csv)");
+  app.add_option("--out", o.out, "directory for hits.exr, error.png, render.png and metrics.json (with --rays: metrics.json and rays.csv)");
   app.add_flag("--json", o.json, "print the metrics as JSON");
 }
 
@@ -59,6 +68,29 @@ void parse_size(const std::string& text, int& width, int& height) {
 
 }  // namespace
 
+void prepare_out_directory(const std::string& dir) {
+  if (dir.empty()) return;
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw InputError("--out " + dir + ": cannot create the directory (" + ec.message() + ")");
+  const std::string probe = dir + "/.probe-" + std::to_string(::getpid());
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) throw InputError("--out " + dir + ": cannot write into it (" + std::strerror(errno) + ")");
+  ::close(fd);
+  ::unlink(probe.c_str());
+}
+
+void check_depth_map_files(const std::vector<Configuration>& plan) {
+  std::vector<HeightfieldSource> checked;
+  for (const Configuration& c : plan) {
+    if (!c.heightfield.builtin.empty() ||
+        std::find(checked.begin(), checked.end(), c.heightfield) != checked.end())
+      continue;
+    load_heightfield(c.heightfield);
+    checked.push_back(c.heightfield);
+  }
+}
+
 int resolve_threads(int threads) { return threads > 0 ? threads : tbb::info::default_concurrency(); }
 
 Configuration trace_configuration(const TraceOptions& o, RunKind kind) {
@@ -66,7 +98,8 @@ Configuration trace_configuration(const TraceOptions& o, RunKind kind) {
   c.kind = kind;
   c.purposes = kPurposeCommand;
   c.heightfield = parse_heightfield(o.heightmap, o.res, std::uint64_t(o.seed),
-                                    o.convention == "height" ? Convention::height : Convention::depth);
+                                    o.convention == "height" ? Convention::height : Convention::depth,
+                                    o.channel.empty() ? 0 : parse_channel(o.channel));
   if (!o.rays.empty()) {
     c.view = rays_file_view(o.rays);
   } else {

@@ -14,6 +14,7 @@ struct TraceOptions {
   int res = 512;
   int seed = 1;
   std::string convention = "depth";
+  std::string channel;  // empty: the first
   std::string view = "default";
   std::string size = "1024x1024";
   std::string rays;
@@ -39,6 +40,13 @@ void add_trace_options(CLI::App& command, TraceOptions& options, bool exact_allo
 // The configuration the options describe (kind exact for --technique exact when allowed).
 // Throws InputError naming the option for values CLI11 cannot check on its own.
 Configuration trace_configuration(const TraceOptions& options, RunKind kind);
+
+// Creates --out's directory and writes a probe file into it, before the run: a bad --out is one
+// line (InputError) at once, not after the whole run. Empty: no --out, nothing to do.
+void prepare_out_directory(const std::string& dir);
+
+// Reads every depth map file the plan names (each once), before the run: a bad one is one line.
+void check_depth_map_files(const std::vector<Configuration>& plan);
 
 // --threads 0 (the default) means all cores.
 int resolve_threads(int threads);

@@ -8,10 +8,12 @@
 
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
+#include "glsl/user_shader_text.hpp"
 #include "heightmarch/glsl_runner.hpp"
 #include "heightmarch/run_outputs.hpp"
 #include "io/atomic_file.hpp"
 #include "io/json_writer.hpp"
+#include "util/input_file.hpp"
 
 namespace heightmarch::cli {
 namespace {
@@ -138,6 +140,8 @@ Command add_glsl_command(CLI::App& app) {
   return [o, compare] {
     Configuration glsl = trace_configuration(o->trace, RunKind::glsl);
     if (!o->shader.empty()) glsl.shader = BroughtInShader{o->shader};
+    if (!o->shader.empty()) user_source(read_input_file(o->shader, "shader file", kMaxShaderBytes), o->shader);  // before the run
+    prepare_out_directory(o->trace.out);
     std::vector<Configuration> plan = {glsl};
     if (compare->count() > 0)
       for (Technique technique : compared_techniques(glsl, o->compare_with)) {

@@ -8,6 +8,7 @@
 
 #include "cli/commands.hpp"
 #include "heightmarch/error.hpp"
+#include "heightmarch/memory_budget.hpp"
 #include "io/provenance.hpp"
 
 int main(int argc, char** argv) {
@@ -45,6 +46,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
+    memory_budget();  // a malformed HEIGHTMARCH_MEMORY_LIMIT is refused before any work
     return commands.at(app.get_subcommands().front())();
   } catch (const InputError& e) {
     std::fprintf(stderr, "heightmarch: %s\n", e.what());

@@ -40,6 +40,7 @@ class Progress {
   }
 
   double total_seconds() const { return seconds_since(start_); }
+  bool interactive() const { return interactive_; }
 
  private:
   using Clock = std::chrono::steady_clock;

@@ -41,11 +41,17 @@ std::string gallery_stem(const Configuration& c) {
 // The render, error map and cost map of a gallery row, as PNGs beside each other in gallery/.
 void write_gallery_images(const std::string& dir, const TracedRow& traced) {
   const std::string tmp = dir + "/" + gallery_stem(traced.row.config) + ".tmp";
-  write_run_outputs(tmp, traced);
   const std::string stem = dir + "/" + gallery_stem(traced.row.config);
-  fs::rename(tmp + "/render.png", stem + "-render.png");
-  fs::rename(tmp + "/error.png", stem + "-error.png");
-  if (traced.row.samples_known) fs::rename(tmp + "/cost.png", stem + "-cost.png");
+  try {
+    write_run_outputs(tmp, traced);
+    fs::rename(tmp + "/render.png", stem + "-render.png");
+    fs::rename(tmp + "/error.png", stem + "-error.png");
+    if (traced.row.samples_known) fs::rename(tmp + "/cost.png", stem + "-cost.png");
+  } catch (...) {
+    std::error_code ignored;
+    fs::remove_all(tmp, ignored);  // a full disk leaves no half-written temporary behind
+    throw;
+  }
   fs::remove_all(tmp);
 }
 
@@ -62,6 +68,7 @@ Command add_suite_command(CLI::App& app) {
   return [o] {
     const PlanSettings settings = plan_settings(o->plan, !o->no_glsl);
     const std::vector<Configuration> plan = suite_plan(settings);
+    check_depth_map_files(plan);  // before the run directory exists
     const bool default_out = o->out.empty();
     const std::string run_name = fresh_run_name(o->plan.quick);
     RunDirectory dir(default_out ? "results/" + run_name : o->out);

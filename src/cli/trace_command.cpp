@@ -4,6 +4,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
+#include "cli/progress.hpp"
 #include "heightmarch/run_outputs.hpp"
 #include "io/atomic_file.hpp"
 
@@ -18,12 +19,20 @@ Command add_trace_command(CLI::App& app) {
   return [options, isa] {
     Configuration config = trace_configuration(*options, options->technique == "exact" ? RunKind::exact : RunKind::trace);
     config.isa = select_isa(*isa);
+    prepare_out_directory(options->out);
     MeasureOptions measure;
     measure.repetitions = options->repetitions;
     measure.min_seconds = 0.05;
     if (!options->out.empty())
       measure.on_traced = [&](const TracedRow& traced) { write_run_outputs(options->out, traced); };
+    // On a terminal, a run that takes more than about 2 s shows how far it is; logs stay clean.
+    Progress progress("trace");
+    if (progress.interactive())
+      measure.progress = [&](const std::string& what, std::size_t done, std::size_t total) {
+        if (progress.total_seconds() > 2.0) progress.step(what, done, total);
+      };
     const MeasuredPlan run = measure_plan({config}, measure);
+    progress.finish_line();
     const Measurement& row = run.rows.front();
     // metrics.json again, now with the timed repetitions.
     if (!options->out.empty()) write_file_atomically(options->out + "/metrics.json", metrics_json(row));

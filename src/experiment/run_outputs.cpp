@@ -218,11 +218,12 @@ std::string summary_text(const Measurement& m) {
   return text;
 }
 
-void write_run_outputs(const std::string& dir, const TracedRow& traced) {
-  std::filesystem::create_directories(dir);
+namespace {
+
+// hits.exr, error.png and render.png: the view's pixels.
+void write_images(const std::string& dir, const TracedRow& traced) {
   const RayBatch& rays = traced.rays;
   const HitBuffers& hits = traced.hits;
-  const HitBuffers& exact = traced.exact;
   const Configuration& c = traced.row.config;
   const int w = rays.image_width, h = rays.image_height;
   const std::size_t pixels = std::size_t(w) * std::size_t(h);
@@ -251,20 +252,36 @@ void write_run_outputs(const std::string& dir, const TracedRow& traced) {
   write_cost_image(dir, traced);
   write_png_rgb8(dir + "/render.png", w, h,
                  shade_render(traced.map, c.params.wrap, c.params.scale, u, v, shadow, has_ray, w, h, c.params.light));
+}
+
+}  // namespace
+
+void write_run_outputs(const std::string& dir, const TracedRow& traced) {
+  std::filesystem::create_directories(dir);
+  const Configuration& c = traced.row.config;
+  // Rays from a file are no picture (their N x 1 "image" is beyond PNG's width at a million
+  // rays): per-ray files only.
+  if (c.view.kind != ViewSpec::Kind::rays_file) write_images(dir, traced);
   write_file_atomically(dir + "/metrics.json", metrics_json(traced.row));
   if (c.view.kind != ViewSpec::Kind::rays_file) return;
+  const RayBatch& rays = traced.rays;
+  const HitBuffers& hits = traced.hits;
+  const HitBuffers& exact = traced.exact;
   // shadow: the technique's shadow factor (1 for techniques without one); exact_visibility: the
-  // light seen from the exact hit (0 or 1), the shadow's reference, per ray.
+  // light seen from the exact hit (0 or 1), the shadow's reference, per ray (empty for the other
+  // techniques: the exact walk towards the light is only taken for the shadow).
+  const bool is_shadow = c.has_technique() && c.params.technique == Technique::shadow;
   std::string csv = "tx,ty,vx,vy,vz,u,v,depth,samples,exact_u,exact_v,exact_depth,uv_error_texels,shadow,exact_visibility\n";
   std::vector<std::size_t> by_row(rays.ray_count);
   for (std::size_t i = 0; i < rays.size(); ++i)
     if (!rays.is_padding(i)) by_row[rays.origin[i]] = i;
   char line[512];
   for (std::size_t i : by_row) {
-    std::snprintf(line, sizeof line, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%s,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n",
+    std::snprintf(line, sizeof line, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%s,%.9g,%.9g,%.9g,%.9g,%.9g,%s\n",
                   rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], hits.u[i], hits.v[i], hits.depth[i],
                   traced.row.samples_known ? std::to_string(hits.samples[i]).c_str() : "", exact.u[i], exact.v[i],
-                  exact.depth[i], traced.uv_error[i], is_shadow ? hits.shadow[i] : 1.0f, exact.shadow[i]);
+                  exact.depth[i], traced.uv_error[i], is_shadow ? hits.shadow[i] : 1.0f,
+                  is_shadow ? (exact.shadow[i] >= 0.5f ? "1" : "0") : "");
     csv += line;
   }
   write_file_atomically(dir + "/rays.csv", csv);

@@ -30,8 +30,22 @@ namespace {
 namespace protocol = glsl_protocol;
 using protocol::Message;
 
-constexpr auto kRequestTimeout = std::chrono::seconds(600);  // a 16k x 16k draw at one thread fits
+constexpr auto kRequestTimeout = std::chrono::seconds(600);  // uploads and compiles; draws have their own bound
 constexpr auto kExitGrace = std::chrono::seconds(5);  // for a worker told to stop, or closing after EOF
+
+// The draw watchdog. The slowest built-in technique (shadow: a march and a shadow march) takes
+// about 4 ns per sample at one llvmpipe thread on an AMD EPYC and at most 2 x max layers +
+// refine steps + a few samples per ray. A draw may take 25 times that (100 ns per sample, at any
+// thread count: the machine may be shared) plus 10 s for the first draw's JIT compile; a
+// brought-in loop that runs on (llvmpipe cuts each loop at 65,535 passes, which at 1024x1024 still
+// takes minutes) is killed at the bound.
+constexpr double kDrawFloorSeconds = 10.0;
+constexpr double kDrawSecondsPerSample = 100e-9;
+
+double draw_bound_seconds(const TechniqueParams& params, std::size_t rays) {
+  const double samples_per_ray = 2.0 * double(params.layers.max_layers) + double(params.refine_steps) + 8.0;
+  return kDrawFloorSeconds + double(rays) * samples_per_ray * kDrawSecondsPerSample;
+}
 
 std::string worker_path() {
   if (const char* path = std::getenv("HEIGHTMARCH_GLSL_WORKER"); path && *path) return path;
@@ -62,15 +76,23 @@ std::string describe_status(int status) {
 }  // namespace
 
 struct GlslRunner::Worker {
+  std::string path;
+  int threads = 0;
   std::string name;  // "GLSL worker PATH (N threads)", for every error
   pid_t pid = -1;
   int fd = -1;
-  std::string failure;  // why the worker is gone; empty while it runs
+  std::string failure;  // why the last worker is gone; empty while one runs
+  std::string renderer, version;
   // Copies of the depth map and rays the worker holds, as last sent (none: unknown, send them):
   // the suite prepares every configuration on the same scene, and these are 20+ MB at 1024x1024.
   // Contents, not pointers, decide: a caller's buffer may be refilled in place or reused.
   std::optional<DepthMap> sent_map;
   std::optional<std::array<std::vector<float>, 5>> sent_rays;
+  // The last prepare that succeeded: what a draw is bounded by and whose fault a draw past it is.
+  bool prepared = false;
+  std::string shader_path;
+  std::size_t rays = 0;
+  double draw_bound = kDrawFloorSeconds;
 
   bool holds(const DepthMap& map) const {
     return sent_map && sent_map->width == map.width && sent_map->height == map.height &&
@@ -82,6 +104,46 @@ struct GlslRunner::Worker {
     for (std::size_t i = 0; i < arrays.size(); ++i)
       if (!same_bits((*sent_rays)[i], *arrays[i])) return false;
     return true;
+  }
+
+  // Spawns the worker and reads its greeting; throws std::runtime_error when it cannot.
+  void start() {
+    failure.clear();
+    sent_map.reset();
+    sent_rays.reset();
+    prepared = false;
+    int fds[2];
+    // Close-on-exec: no other child (another worker, a popen) keeps this worker's channel open.
+    if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0)
+      throw std::runtime_error(name + ": socketpair: " + std::strerror(errno));
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_adddup2(&actions, fds[1], STDIN_FILENO);
+    posix_spawn_file_actions_adddup2(&actions, fds[1], STDOUT_FILENO);
+    const std::string thread_text = std::to_string(threads);
+    char* argv[] = {const_cast<char*>(path.c_str()), const_cast<char*>("--threads"),
+                    const_cast<char*>(thread_text.c_str()), nullptr};
+    const int spawned = ::posix_spawn(&pid, path.c_str(), &actions, nullptr, argv, environ);
+    posix_spawn_file_actions_destroy(&actions);
+    ::close(fds[1]);
+    fd = fds[0];
+    if (spawned != 0) {
+      pid = -1;
+      close_channel();
+      failure = std::string("cannot start: ") + std::strerror(spawned);
+      throw std::runtime_error(name + ": " + failure +
+                               " (build the heightmarch-glsl-worker target, or set HEIGHTMARCH_GLSL_WORKER)");
+    }
+    std::uint32_t protocol_version = 0;
+    call(std::nullopt, {}, Message::ready, "start-up", [&](protocol::Reader& reader) {
+      reader.value(protocol_version);
+      reader.text(renderer);
+      reader.text(version);
+    });
+    if (protocol_version != protocol::kVersion)
+      fail("speaks protocol " + std::to_string(protocol_version) + ", this build " +
+               std::to_string(protocol::kVersion) + " (a stale build?); killed",
+           true);
   }
 
   // Waits for the worker to exit, up to kExitGrace, then kills it; returns how it ended.
@@ -107,15 +169,23 @@ struct GlslRunner::Worker {
   }
 
   // Sends the request (none: only reads the worker's greeting) and hands the answer, which must be
-  // of type `answer`, to `parse`. The worker's errors come back as they were thrown there (its
-  // other errors named after it); losing the worker or a garbled answer is a runtime_error.
+  // of type `answer`, to `parse`, waiting `timeout` at most. The worker's errors come back as they
+  // were thrown there (its other errors named after it); losing the worker or a garbled answer is
+  // a runtime_error, and a draw past its bound a draw_timeout(). A worker that is gone is started
+  // again (revive()) before anything else is asked of it.
   void call(std::optional<Message> request, const protocol::Writer& payload, Message answer, const char* what,
-            const std::function<void(protocol::Reader&)>& parse) {
-    if (!failure.empty()) throw std::runtime_error(name + " is gone (" + failure + ")");
+            const std::function<void(protocol::Reader&)>& parse,
+            std::chrono::duration<double> timeout = kRequestTimeout) {
+    if (!failure.empty()) {
+      const std::string why = failure;
+      start();
+      throw std::runtime_error(name + " was restarted (before: " + why + "); prepare before a " + what);
+    }
     Message type = Message::error;
     std::string text;
     try {
-      const auto deadline = std::chrono::steady_clock::now() + kRequestTimeout;
+      const auto deadline =
+          std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(timeout);
       if (request) protocol::send(fd, *request, payload, deadline);
       std::vector<char> reply;
       type = protocol::receive(fd, reply, deadline);
@@ -130,8 +200,8 @@ struct GlslRunner::Worker {
         reader.finish();
       }
     } catch (const protocol::ChannelTimeout&) {
-      const std::string seconds = std::to_string(kRequestTimeout.count());
-      fail("no answer to " + std::string(what) + " within " + seconds + " s; killed", true);
+      if (request == Message::draw) draw_timeout();
+      fail("no answer to " + std::string(what) + " within " + seconds_text(timeout.count()) + " s; killed", true);
     } catch (const protocol::ChannelClosed& e) {
       fail(std::string(e.what()) + " during " + what, false);
     }
@@ -141,14 +211,40 @@ struct GlslRunner::Worker {
     fail("answered " + std::string(what) + " with message type " + received + "; killed", true);
   }
 
-  // Ends the worker (killed, or reaped after it closed the channel) and throws; the runner's later
-  // calls throw too.
-  [[noreturn]] void fail(const std::string& why, bool kill) {
+  static std::string seconds_text(double seconds) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f", seconds);
+    return text;
+  }
+
+  // A worker that is gone is started again, knowing nothing: a prepare sends it everything.
+  void revive() {
+    if (!failure.empty()) start();
+  }
+
+  // Ends the worker (killed, or reaped after it closed the channel) and keeps why; the next call
+  // starts a new one.
+  void end(const std::string& why, bool kill) {
     if (kill && pid > 0) ::kill(pid, SIGKILL);
     close_channel();
-    const std::string end = reap();
-    failure = kill ? why : why + "; the worker " + end;
+    const std::string how = reap();
+    failure = kill ? why : why + "; the worker " + how;
+  }
+
+  [[noreturn]] void fail(const std::string& why, bool kill) {
+    end(why, kill);
     throw std::runtime_error(name + ": " + failure);
+  }
+
+  // The watchdog: a draw past its bound is a brought-in shader's fault (an InputError), or a
+  // runtime_error for a built-in technique.
+  [[noreturn]] void draw_timeout() {
+    const std::string what = "the GLSL draw of " + std::to_string(rays) + " rays ran past its bound of " +
+                             seconds_text(draw_bound) + " s";
+    end(what + "; killed", true);
+    const std::string after = "; the GLSL worker was killed and restarts for the next request";
+    if (!shader_path.empty()) throw InputError(shader_path + ": " + what + " (an endless loop?)" + after);
+    throw std::runtime_error(name + ": " + what + after);
   }
 
   ~Worker() {
@@ -169,39 +265,12 @@ GlslRunner& GlslRunner::instance(int threads) {
 
 GlslRunner::GlslRunner(int threads) : worker_(std::make_unique<Worker>()), threads_(threads) {
   Worker& w = *worker_;
-  const std::string path = worker_path();
-  w.name = "GLSL worker " + path + " (" + std::to_string(threads) + (threads == 1 ? " thread)" : " threads)");
-  int fds[2];
-  // Close-on-exec: no other child (another worker, a popen) keeps this worker's channel open.
-  if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0)
-    throw std::runtime_error(w.name + ": socketpair: " + std::strerror(errno));
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_adddup2(&actions, fds[1], STDIN_FILENO);
-  posix_spawn_file_actions_adddup2(&actions, fds[1], STDOUT_FILENO);
-  const std::string thread_text = std::to_string(threads);
-  char* argv[] = {const_cast<char*>(path.c_str()), const_cast<char*>("--threads"),
-                  const_cast<char*>(thread_text.c_str()), nullptr};
-  const int spawned = ::posix_spawn(&w.pid, path.c_str(), &actions, nullptr, argv, environ);
-  posix_spawn_file_actions_destroy(&actions);
-  ::close(fds[1]);
-  w.fd = fds[0];
-  if (spawned != 0) {
-    w.pid = -1;
-    w.close_channel();
-    throw std::runtime_error(w.name + ": cannot start: " + std::strerror(spawned) +
-                             " (build the heightmarch-glsl-worker target, or set HEIGHTMARCH_GLSL_WORKER)");
-  }
-  std::uint32_t protocol_version = 0;
-  w.call(std::nullopt, {}, Message::ready, "start-up", [&](protocol::Reader& reader) {
-    reader.value(protocol_version);
-    reader.text(renderer_);
-    reader.text(version_);
-  });
-  if (protocol_version != protocol::kVersion)
-    w.fail("speaks protocol " + std::to_string(protocol_version) + ", this build " +
-               std::to_string(protocol::kVersion) + " (a stale build?); killed",
-           true);
+  w.path = worker_path();
+  w.threads = threads;
+  w.name = "GLSL worker " + w.path + " (" + std::to_string(threads) + (threads == 1 ? " thread)" : " threads)");
+  w.start();
+  renderer_ = w.renderer;
+  version_ = w.version;
 }
 
 GlslRunner::~GlslRunner() = default;
@@ -209,6 +278,7 @@ GlslRunner::~GlslRunner() = default;
 void GlslRunner::prepare(const DepthMap& map, const TechniqueParams& params, const RayBatch& rays,
                          const std::string& shader_path) {
   Worker& w = *worker_;
+  w.revive();
   const bool send_map = !w.holds(map), send_rays = !w.holds(rays);
   protocol::Writer request;
   protocol::write(request, params);
@@ -217,6 +287,7 @@ void GlslRunner::prepare(const DepthMap& map, const TechniqueParams& params, con
   request.value(std::uint8_t(send_rays));
   if (send_rays) protocol::write(request, rays);
   request.text(shader_path);
+  w.prepared = false;
   try {
     w.call(Message::prepare, request, Message::done, "prepare", [](protocol::Reader&) {});
   } catch (...) {
@@ -227,12 +298,17 @@ void GlslRunner::prepare(const DepthMap& map, const TechniqueParams& params, con
   }
   if (send_map) w.sent_map = map;
   if (send_rays) w.sent_rays = {rays.tx, rays.ty, rays.vx, rays.vy, rays.vz};
+  w.prepared = true;
+  w.shader_path = shader_path;
+  w.rays = rays.size();
+  w.draw_bound = draw_bound_seconds(params, rays.size());
 }
 
 double GlslRunner::draw() {
+  Worker& w = *worker_;
   double seconds = 0.0;
-  worker_->call(Message::draw, {}, Message::drawn, "draw",
-                [&](protocol::Reader& reader) { reader.value(seconds); });
+  w.call(Message::draw, {}, Message::drawn, "draw", [&](protocol::Reader& reader) { reader.value(seconds); },
+         std::chrono::duration<double>(w.draw_bound));
   return seconds;
 }
 

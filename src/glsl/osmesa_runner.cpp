@@ -1,9 +1,8 @@
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <limits>
 #include <cstdlib>
-#include <fstream>
-#include <regex>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -14,9 +13,11 @@
 #include <GL/glext.h>
 
 #include "glsl/osmesa_runner.hpp"
+#include "glsl/user_shader_text.hpp"
 #include "glsl_sources.hpp"
 #include "heightmarch/min_depth_pyramid.hpp"
 #include "heightmarch/error.hpp"
+#include "util/input_file.hpp"
 
 // GL entry points come from libOSMesa itself; linking libGL or libOpenGL as well would route
 // every call to a dispatch table no context of theirs fills, making each one a no-op.
@@ -25,7 +26,8 @@ namespace heightmarch {
 namespace {
 
 constexpr int kRowWidth = 1024;  // rays per framebuffer row
-constexpr std::size_t kMaxPrograms = 64;  // far more than techniques, a bound for brought-in shaders
+constexpr std::size_t kMaxPrograms = 64;
+const float kUndrawn = std::numeric_limits<float>::quiet_NaN();  // the hits' clear value  // far more than techniques, a bound for brought-in shaders
 
 const std::string& glsl(const std::string& name) {
   const auto& sources = embedded_glsl();
@@ -41,58 +43,6 @@ std::string info_log(GLuint object, bool program) {
   program ? glGetProgramInfoLog(object, length, nullptr, log.data()) : glGetShaderInfoLog(object, length, nullptr, log.data());
   while (!log.empty() && (log.back() == '\0' || log.back() == '\n')) log.pop_back();
   return log;
-}
-
-// A brought-in shader: its own #version and declarations of the harness's uniforms go.
-// A #version line, or the file's own declaration of one of the harness's uniforms
-// ("uniform TYPE NAME;"). Scanned by hand: std::regex recurses per character and overflows the
-// stack on a line of some 30,000 characters.
-bool harness_declaration(const std::string& line) {
-  const auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
-  const auto is_word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
-  std::size_t i = 0;
-  const auto skip_spaces = [&] {
-    const std::size_t start = i;
-    while (i < line.size() && is_space(line[i])) ++i;
-    return i > start;
-  };
-  const auto word = [&] {
-    const std::size_t start = i;
-    while (i < line.size() && is_word(line[i])) ++i;
-    return line.substr(start, i - start);
-  };
-  skip_spaces();
-  if (line.compare(i, 8, "#version") == 0) return i + 8 == line.size() || !is_word(line[i + 8]);
-  if (word() != "uniform" || !skip_spaces() || word().empty() || !skip_spaces()) return false;
-  const std::string name = word();
-  skip_spaces();
-  static const char* const names[] = {"depthMap", "heightScale", "height_scale", "numLayers", "minLayers", "maxLayers"};
-  return i < line.size() && line[i] == ';' && std::find(std::begin(names), std::end(names), name) != std::end(names);
-}
-
-std::string user_source(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open shader file");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
-  if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw InputError(path + ": empty shader file");
-  if (text.find("ParallaxMapping") == std::string::npos)
-    throw InputError(path + ": does not define vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)");
-  std::string out, line;
-  std::stringstream lines(text);
-  while (std::getline(lines, line)) out += (harness_declaration(line) ? "" : line) + "\n";
-  return out;
-}
-
-// "1:12(5): error: ..." from the brought-in file (source string 1) becomes "FILE:12:5: error: ...".
-std::string user_log(const std::string& log, const std::string& path) {
-  static const std::regex location(R"(\b1:(\d+)\((\d+)\))");
-  std::string joined;
-  std::stringstream lines(log);
-  for (std::string line; std::getline(lines, line);)
-    if (!line.empty()) joined += (joined.empty() ? "" : "; ") + std::regex_replace(line, location, path + ":$1:$2");
-  return joined;
 }
 
 GLuint compile(GLenum type, const std::string& source, const std::string& user_path) {
@@ -125,6 +75,7 @@ struct OsmesaRunner::State {
   std::size_t rays = 0;
   bool has_map = false, has_rays = false;
   bool discard = false;  // the tutorial's discard of a uv outside [0,1]^2, applied on read-back
+  std::string shader_path;  // of the program prepared: a brought-in one when not empty
   // Linked programs by fragment source, oldest first: the suite's interleaved rounds switch back
   // to every technique at each repetition, and a kept program keeps llvmpipe's compiled code too.
   std::vector<std::pair<std::string, GLuint>> programs;
@@ -266,16 +217,21 @@ void OsmesaRunner::prepare(const TechniqueParams& params, const std::string& sha
   State& s = *state_;
   if (!s.has_map || !s.has_rays) throw std::logic_error("prepare before a depth map and rays were set");
   s.discard = params.discard;
-  // The program: the harness, then the technique (or the brought-in function), then main.
-  std::string fragment = "#version 330 core\n" + glsl("prelude.glsl");
+  s.shader_path = shader_path;
+  // The program: the harness, then the technique and main; a brought-in file comes last, so its
+  // conflicts with the harness's names are reported at its own lines.
+  std::string fragment = "#version 330 core\n";
   if (shader_path.empty()) {
-    fragment += glsl("steep.glsl") + glsl("techniques.glsl") + "#define TECHNIQUE(T, V) " +
-                std::string(info(params.technique).glsl_call) + "\n";
+    fragment += glsl("prelude.glsl") + glsl("steep.glsl") + glsl("techniques.glsl") + "#define TECHNIQUE(T, V) " +
+                std::string(info(params.technique).glsl_call) + "\n" + glsl("main.glsl");
   } else {
-    fragment += "#define height_scale heightScale\nfloat numLayers = maxLayers;\n#line 1 1\n" + user_source(shader_path) +
-                "#line 1 0\n" + glsl("user_shader.glsl") + "#define TECHNIQUE(T, V) userShader(T, V)\n";
+    const std::string text = read_input_file(shader_path, "shader file", kMaxShaderBytes);
+    fragment += "#line " + std::to_string(kHarnessFirstLine) + " 0\n" + glsl("prelude.glsl") +
+                "#define height_scale heightScale\nfloat numLayers = maxLayers;\n"
+                "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir);\n" +
+                glsl("user_shader.glsl") + "#define TECHNIQUE(T, V) userShader(T, V)\n" + glsl("main.glsl") +
+                "#line 1 1\n" + user_source(text, shader_path);
   }
-  fragment += glsl("main.glsl");
   const auto cached = std::find_if(s.programs.begin(), s.programs.end(), [&](const auto& p) { return p.first == fragment; });
   if (cached != s.programs.end()) {
     s.program = cached->second;
@@ -325,6 +281,14 @@ void OsmesaRunner::prepare(const TechniqueParams& params, const std::string& sha
   if (glGetError() != GL_NO_ERROR) throw std::runtime_error("OSMesa: GL error while preparing the draw");
 }
 
+void OsmesaRunner::clear_hits() {
+  // Every fragment main.glsl writes has a number of samples (>= 0, or -1: unknown) in alpha: a
+  // NaN left there is a ray whose fragment was discarded.
+  const float sentinel[4] = {kUndrawn, kUndrawn, kUndrawn, kUndrawn};
+  glClearBufferfv(GL_COLOR, 0, sentinel);
+  glFinish();
+}
+
 void OsmesaRunner::draw() {
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glFinish();
@@ -337,6 +301,12 @@ void OsmesaRunner::read(HitBuffers& hits, bool& samples_known) const {
   glReadPixels(0, 0, s.width, s.height, GL_RGBA, GL_FLOAT, hit.data());
   glReadBuffer(GL_COLOR_ATTACHMENT1);
   glReadPixels(0, 0, s.width, s.height, GL_RGBA, GL_FLOAT, shadow.data());
+  std::size_t undrawn = 0;
+  for (std::size_t i = 0; i < s.rays; ++i) undrawn += std::isnan(hit[4 * i + 3]);
+  if (undrawn && !s.shader_path.empty())
+    throw InputError(s.shader_path + ": left " + std::to_string(undrawn) + " of " + std::to_string(s.rays) +
+                     " rays without a hit (does it call discard?); every ray must return a uv");
+  if (undrawn) throw std::logic_error("built-in shader left " + std::to_string(undrawn) + " rays without a hit");
   hits.resize(s.rays);
   samples_known = true;
   for (std::size_t i = 0; i < s.rays; ++i) {

@@ -30,6 +30,8 @@ class OsmesaRunner {
   void set_rays(const RayBatch& rays);
   // As GlslRunner's, on the depth map and rays last set (both must have been).
   void prepare(const TechniqueParams& params, const std::string& shader_path);
+  // Fills the hits with a NaN sentinel, which read() finds where a fragment was discarded.
+  void clear_hits();
   void draw();
   void read(HitBuffers& hits, bool& samples_known) const;
 

@@ -46,6 +46,7 @@ void serve(OsmesaRunner& runner, Message type, const std::vector<char>& payload,
     }
     case Message::draw: {
       reader.finish();
+      runner.clear_hits();
       const auto start = std::chrono::steady_clock::now();
       runner.draw();
       answer.value(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

@@ -5,6 +5,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +14,7 @@
 #include "heightmarch/error.hpp"
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/memory_budget.hpp"
+#include "util/input_file.hpp"
 
 namespace heightmarch {
 namespace {
@@ -43,9 +46,23 @@ class SilencedStderr {
   int saved_;
 };
 
-// The first channel of subimage 0, level 0 (the first image of a multi-image file), as GLSL's
-// .r reads it; integer formats normalised to [0, 1] by OIIO.
-DepthMap read_first_channel(const std::string& path) {
+// The largest depth map file: an uncompressed float RGBA image at the largest side, and headers.
+constexpr std::uintmax_t kMaxDepthMapFileBytes = std::uintmax_t(kMaxDepthMapSide) * kMaxDepthMapSide * 16 + (64u << 20);
+// Pixels a byte of an image file may declare: beyond deflate's 1,032:1 on a 1-bit PNG (8 pixels a
+// byte) and far beyond JPEG's; more is a corrupt or hostile header (333 bytes declaring
+// 16000 x 16000), refused before any pixel is allocated.
+constexpr double kMaxPixelsPerFileByte = 16384.0;
+
+std::string channel_list(const OIIO::ImageSpec& spec) {
+  std::string names;
+  for (int c = 0; c < spec.nchannels; ++c)
+    names += (c ? ", " : "") + std::to_string(c) + (c < int(spec.channelnames.size()) ? " " + spec.channelnames[c] : "");
+  return names;
+}
+
+// Channel `channel` of subimage 0, level 0 (the first image of a multi-image file), as GLSL's
+// .r reads the first; integer formats normalised to [0, 1] by OIIO.
+DepthMap read_channel(const std::string& path, std::uintmax_t file_bytes, int channel) {
   SilencedStderr silenced;
   // Unassociated: the depth is what GLSL's .r reads from the file, never colour times alpha (OIIO
   // premultiplies PNG colour by alpha unless asked not to).
@@ -62,20 +79,27 @@ DepthMap read_first_channel(const std::string& path) {
                      ", larger than the " + std::to_string(kMaxDepthMapSide) + " x " +
                      std::to_string(kMaxDepthMapSide) + " limit");
   if (spec.depth > 1) throw InputError(path + ": volume images are not depth maps");
-  check_memory_budget(12.0 * spec.width * spec.height, path);
+  const double pixels = double(spec.width) * double(spec.height);
+  if (pixels > kMaxPixelsPerFileByte * double(std::max<std::uintmax_t>(file_bytes, 1)))
+    throw InputError(path + ": declares " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                     " pixels in only " + std::to_string(file_bytes) + " bytes (corrupt or truncated)");
+  if (channel >= spec.nchannels)
+    throw InputError(path + ": has no channel " + std::to_string(channel) + " (--channel; its channels: " +
+                     channel_list(spec) + ")");
+  check_memory_budget(12.0 * pixels, path);
   DepthMap map{spec.width, spec.height, std::vector<float>(std::size_t(spec.width) * std::size_t(spec.height))};
-  if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::FLOAT, map.texels.data()))
+  // has_error too: some readers (libjpeg on a truncated scan) fill the rest grey and return true.
+  if (!in->read_image(0, 0, channel, channel + 1, OIIO::TypeDesc::FLOAT, map.texels.data()) || in->has_error())
     throw InputError(path + ": cannot read pixels (" + one_line(in->geterror()) + ")");
   return map;
 }
 
 }  // namespace
 
-DepthMap load_depth_map(const std::string& path, Convention convention) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
-  if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": is a directory, not an image");
-  DepthMap map = read_first_channel(path);
+DepthMap load_depth_map(const std::string& path, Convention convention, int channel) {
+  // A device or FIFO is refused before OIIO opens it (its IFF reader spins on /dev/zero).
+  const std::uintmax_t file_bytes = check_input_file(path, "depth map", kMaxDepthMapFileBytes);
+  DepthMap map = read_channel(path, file_bytes, channel);
   std::size_t not_finite = 0, outside = 0, first = 0;
   for (std::size_t k = 0; k < map.texels.size(); ++k) {
     float& d = map.texels[k];
@@ -103,7 +127,19 @@ std::string HeightfieldSource::label() const {
 
 std::string HeightfieldSource::describe() const { return builtin.empty() ? path : "builtin:" + builtin; }
 
-HeightfieldSource parse_heightfield(const std::string& text, int resolution, std::uint64_t seed, Convention convention) {
+int parse_channel(const std::string& text) {
+  static const std::string names = "rgba";
+  if (text.size() == 1 && names.find(char(std::tolower(static_cast<unsigned char>(text[0])))) != std::string::npos)
+    return int(names.find(char(std::tolower(static_cast<unsigned char>(text[0])))));
+  int channel = -1;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), channel);
+  if (text.empty() || error != std::errc() || end != text.data() + text.size() || channel < 0 || channel > 1023)
+    throw InputError("--channel '" + text + "': a channel index from 0, or r, g, b, a");
+  return channel;
+}
+
+HeightfieldSource parse_heightfield(const std::string& text, int resolution, std::uint64_t seed, Convention convention,
+                                    int channel) {
   if (resolution < 1 || resolution > kMaxDepthMapSide)
     throw InputError("heightfield resolution " + std::to_string(resolution) + " outside [1, " +
                      std::to_string(kMaxDepthMapSide) + "]");
@@ -111,6 +147,7 @@ HeightfieldSource parse_heightfield(const std::string& text, int resolution, std
   source.resolution = resolution;
   source.seed = seed;
   source.convention = convention;
+  source.channel = channel;
   const std::string prefix = "builtin:";
   const auto& names = builtin_heightfield_names();
   const bool prefixed = text.rfind(prefix, 0) == 0;
@@ -123,6 +160,7 @@ HeightfieldSource parse_heightfield(const std::string& text, int resolution, std
       throw InputError("unknown builtin heightfield '" + name + "' (" + list + ")");
     }
     source.builtin = name;
+    if (channel != 0) throw InputError("--channel applies to a depth map file, not builtin:" + name);
   } else {
     if (text.empty()) throw InputError("empty heightfield name");
     if (!std::filesystem::exists(text)) {
@@ -137,7 +175,7 @@ HeightfieldSource parse_heightfield(const std::string& text, int resolution, std
 
 DepthMap load_heightfield(const HeightfieldSource& source) {
   if (!source.builtin.empty()) return make_builtin_heightfield(source.builtin, source.resolution, source.seed);
-  return load_depth_map(source.path, source.convention);
+  return load_depth_map(source.path, source.convention, source.channel);
 }
 
 }  // namespace heightmarch

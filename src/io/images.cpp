@@ -20,11 +20,23 @@ void write_image(const std::string& path, const OIIO::ImageSpec& spec, OIIO::Typ
                                                                std::to_string(::getpid()) + final_path.extension().string()))
                                     .string();
   auto out = OIIO::ImageOutput::create(temporary);
-  if (!out || !out->open(temporary, spec) || !out->write_image(type, pixels) || !out->close())
-    throw std::runtime_error(path + ": cannot write (" + (out ? out->geterror() : OIIO::geterror()) + ")");
+  if (!out || !out->open(temporary, spec) || !out->write_image(type, pixels) || !out->close()) {
+    std::string why = out ? out->geterror() : OIIO::geterror();
+    for (char& c : why)
+      if (c == '\n') c = ' ';
+    out.reset();  // closes the file before it is removed
+    std::error_code ignored;
+    std::filesystem::remove(temporary, ignored);
+    throw std::runtime_error(path + ": cannot write (" + why + ")");
+  }
+  out.reset();
   std::error_code ec;
   std::filesystem::rename(temporary, path, ec);
-  if (ec) throw std::runtime_error(path + ": cannot write (" + ec.message() + ")");
+  if (ec) {
+    const std::string why = ec.message();
+    std::filesystem::remove(temporary, ec);
+    throw std::runtime_error(path + ": cannot write (" + why + ")");
+  }
 }
 
 using Colour = std::array<std::uint8_t, 3>;

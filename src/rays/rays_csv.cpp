@@ -1,10 +1,14 @@
+#include <algorithm>
 #include <charconv>
-#include <fstream>
+#include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "heightmarch/error.hpp"
+#include "heightmarch/memory_budget.hpp"
 #include "heightmarch/rays.hpp"
+#include "util/input_file.hpp"
 
 namespace heightmarch {
 namespace {
@@ -31,16 +35,32 @@ std::vector<std::string> split_fields(const std::string& line) {
 }  // namespace
 
 RayBatch load_rays_csv(const std::string& path, int tile_size) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open rays file");
+  // A regular file no larger than the budget: /dev/zero or a FIFO would read forever.
+  const std::string text = read_input_file(path, "rays file", memory_budget());
+  // The rays' memory, padding included, before any column is allocated: every line a ray.
+  const std::size_t lines = std::size_t(std::count(text.begin(), text.end(), '\n')) + 1;
+  check_memory_budget(double(text.size()) +
+                          (kBytesPerRayCsvRow + kBytesPerRay * padding_factor(tile_size)) * double(lines),
+                      path + " (up to " + std::to_string(lines) + " rays)");
+  // One line per call, read in place (a copy of a 100 MB file is 100 MB more).
+  std::size_t at = 0;
+  const auto next_line = [&](std::string& line) {
+    if (at >= text.size()) return false;
+    std::size_t end = text.find('\n', at);
+    if (end == std::string::npos) end = text.size();
+    line.assign(text, at, end - at);
+    at = end + 1;
+    return true;
+  };
   std::string line;
-  if (!std::getline(in, line)) throw InputError(path + ": empty rays file (expected header tx,ty,vx,vy,vz)");
+  if (!next_line(line)) throw InputError(path + ": empty rays file (expected header tx,ty,vx,vy,vz)");
+  if (line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark (spreadsheet exports)
   const std::vector<std::string> expected = {"tx", "ty", "vx", "vy", "vz"};
   if (split_fields(line) != expected)
-    throw InputError(path + ":1: header must be tx,ty,vx,vy,vz");
+    throw InputError(path + ":1: header must be tx,ty,vx,vy,vz (found '" + line.substr(0, 40) + "')");
   std::vector<float> columns[5];
   std::size_t line_number = 1;
-  while (std::getline(in, line)) {
+  while (next_line(line)) {
     ++line_number;
     if (trim(line).empty()) continue;
     const std::vector<std::string> fields = split_fields(line);
@@ -48,12 +68,17 @@ RayBatch load_rays_csv(const std::string& path, int tile_size) {
     if (fields.size() != 5)
       throw InputError(where + "expected 5 columns, found " + std::to_string(fields.size()));
     for (int c = 0; c < 5; ++c) {
-      float value = 0.0f;
+      // Read as a double, then rounded: 1e-50 is a number (0 as a float), 1e50 is out of range.
+      double value = 0.0;
       const char* end = fields[c].data() + fields[c].size();
       const auto [ptr, ec] = std::from_chars(fields[c].data(), end, value);
-      if (fields[c].empty() || ec != std::errc() || ptr != end)
+      if (fields[c].empty() || ptr != end || (ec != std::errc() && ec != std::errc::result_out_of_range))
         throw InputError(where + expected[c] + " '" + fields[c] + "' is not a number");
-      columns[c].push_back(value);
+      if (ec == std::errc::result_out_of_range && std::fabs(value) > 1.0)
+        throw InputError(where + expected[c] + " '" + fields[c] + "' is beyond a float's range");
+      if (std::isfinite(value) && std::fabs(value) > double(std::numeric_limits<float>::max()))
+        throw InputError(where + expected[c] + " '" + fields[c] + "' is beyond a float's range");
+      columns[c].push_back(float(value));
     }
     if (columns[0].size() > kMaxCsvRays)
       throw InputError(path + ": more than " + std::to_string(kMaxCsvRays) + " rays");

@@ -1,4 +1,5 @@
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "heightmarch/error.hpp"
@@ -108,8 +109,9 @@ ViewSpec parse_view(const std::string& text, int width, int height) {
   } catch (const std::logic_error&) {
     throw InputError("view '" + text + "': THETA and PHI must be numbers in degrees");
   }
-  if (!(view.theta_degrees >= 0.0f && view.theta_degrees <= 89.0f) || !std::isfinite(view.phi_degrees))
+  if (!(view.theta_degrees >= 0.0f && view.theta_degrees <= 89.0f))
     throw InputError("view '" + text + "': THETA must be in [0, 89] degrees");
+  if (!std::isfinite(view.phi_degrees)) throw InputError("view '" + text + "': PHI must be a finite number of degrees");
   return view;
 }
 
@@ -138,15 +140,12 @@ std::string describe(const ViewSpec& view) {
   return buf + size;
 }
 
-// A ray costs its batch entry (T, V, origin) and its hits (u, v, depth, samples, shadow, flag)
-// and the per-pixel images of an --out run: about 64 bytes.
-constexpr double kBytesPerRay = 64.0;
 
 RayBatch make_view_rays(const ViewSpec& view) {
   if (view.kind == ViewSpec::Kind::rays_file) return load_rays_csv(view.rays_path, view.tile_size);
   const int tile_size = view.tile_size;
   check_tile_size(tile_size);
-  check_memory_budget(kBytesPerRay * view.width * view.height,
+  check_memory_budget(kBytesPerRay * padding_factor(tile_size) * view.width * view.height,
                       "a " + std::to_string(view.width) + "x" + std::to_string(view.height) + " view");
   RayBatch batch;
   batch.image_width = view.width;
@@ -182,7 +181,7 @@ RayBatch make_ray_list(const std::vector<float>& tx, const std::vector<float>& t
                        const std::vector<float>& vx, const std::vector<float>& vy,
                        const std::vector<float>& vz, int tile_size) {
   check_tile_size(tile_size);
-  check_memory_budget(kBytesPerRay * double(tx.size()), std::to_string(tx.size()) + " rays");
+  check_memory_budget(kBytesPerRay * padding_factor(tile_size) * double(tx.size()), std::to_string(tx.size()) + " rays");
   RayBatch batch;
   batch.image_width = int(tx.size());
   batch.image_height = 1;
@@ -190,15 +189,20 @@ RayBatch make_ray_list(const std::vector<float>& tx, const std::vector<float>& t
   const std::size_t per_tile = std::size_t(tile_size) * std::size_t(tile_size);
   for (std::size_t i = 0; i < tx.size(); ++i) {
     const double len = std::sqrt(double(vx[i]) * vx[i] + double(vy[i]) * vy[i] + double(vz[i]) * vz[i]);
-    const double z = vz[i] / len;
-    if (!std::isfinite(len) || !std::isfinite(tx[i]) || !std::isfinite(ty[i]) || len == 0.0)
+    // Compared as stored (a float): V.z = 5e-7 exactly passes whatever the rounding of |V|.
+    const float z = float(vz[i] / len);
+    if (!std::isfinite(len) || !std::isfinite(tx[i]) || !std::isfinite(ty[i]))
       throw InputError("ray " + std::to_string(i) + ": not finite");
-    if (!(z >= kMinViewZ))
-      throw InputError("ray " + std::to_string(i) + ": V.z = " + std::to_string(z) +
+    if (len == 0.0) throw InputError("ray " + std::to_string(i) + ": V is the zero vector");
+    if (!(z >= float(kMinViewZ))) {
+      char value[32];
+      std::snprintf(value, sizeof value, "%.9g", double(z));
+      throw InputError("ray " + std::to_string(i) + ": V.z = " + value +
                        " after normalisation, must be >= 5e-7 (a ray from below or grazing the plane)");
+    }
     if (std::fabs(tx[i]) > 1e6f || std::fabs(ty[i]) > 1e6f)
       throw InputError("ray " + std::to_string(i) + ": |T| beyond 1e6");
-    builder.add({true, tx[i], ty[i], float(vx[i] / len), float(vy[i] / len), float(z)}, std::uint32_t(i));
+    builder.add({true, tx[i], ty[i], float(vx[i] / len), float(vy[i] / len), z}, std::uint32_t(i));
     if ((i + 1) % per_tile == 0) builder.end_tile();
   }
   builder.end_tile();

@@ -77,8 +77,11 @@ void validate(TechniqueParams& params) {
                      std::to_string(kMaxRefineSteps) + "]");
   const float* l = params.light;
   const float length = std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
-  if (!std::isfinite(length) || !(l[2] > 0.0f) || !(l[2] / length >= 1e-3f))
+  if (!std::isfinite(length) || !(l[2] > 0.0f))
     throw InputError("light direction must be finite and above the plane (z > 0)");
+  if (!(l[2] / length >= 1e-3f))  // a light along the plane would need unbounded shadow marches
+    throw InputError("light direction grazes the plane: z / |L| = " + std::to_string(l[2] / length) +
+                     ", must be at least 0.001 (0.06 degrees above it)");
   for (int i = 0; i < 3; ++i) params.light[i] = l[i] / length;
 }
 
