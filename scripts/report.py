@@ -38,8 +38,10 @@ ANY = object()  # a field that `partner` does not compare
 NOT_MEASURED = "Not measured in this run."
 MAX_PLOT_PIXELS = 1600  # widest plot, so a page shows it whole
 ERROR_TARGETS = (1.0, 0.25, 0.05)  # p95 uv error targets of the summary, in texels
-# Highlights of the cheapest configuration per target: black and grey, never a technique's colour.
-TARGET_STYLES = {1.0: ("o", "-", "black"), 0.25: ("o", "--", "dimgray"), 0.05: ("o", ":", "darkgray")}
+# Highlights of the cheapest configuration per target: black rings (no technique is black), told
+# apart by their size, their target's line style and a label.
+TARGET_STYLES = {1.0: "-", 0.25: "--", 0.05: ":"}
+BACKEND_MARKERS = "osD^vP*Xh"  # one per backend, by position in the run's backend list
 
 
 class InputError(Exception):
@@ -591,7 +593,8 @@ def plot_error_vs_layers(run, path):
             if run.style[technique]["layered"]:
                 ax.plot([x for x, _ in errors], [y for _, y in errors], label=name, **technique_kw(run, technique))
             elif errors:
-                ax.axhline(errors[0][1], linestyle="--", color=run.style[technique]["color"], label=name)
+                ax.axhline(errors[0][1], linestyle="--", color=run.style[technique]["color"], label=name,
+                           marker=run.style[technique]["marker"], markevery=[0])
         log_axes(ax, xticks=sorted({x for name, errors in series.items() for x, _ in errors
                                     if run.style[name.split(" = ")[0]]["layered"]}))
         ax.set_title("%s (%s)" % (hf, depth_map(rows[0])), fontsize=9)
@@ -646,16 +649,19 @@ def plot_error_vs_speed(run, path):
                 for r, x, y in zip(group, xs, ys):
                     ax.annotate(r["layers"], (x, y), fontsize=5, alpha=0.7, xytext=(2, 2), textcoords="offset points")
         for k, target in enumerate(ERROR_TARGETS):
-            marker, linestyle, color = TARGET_STYLES[target]
-            name = "p95 <= %g texel: cheapest" % target
-            ax.axhline(target, color=color, linestyle=linestyle, linewidth=1)
+            linestyle = TARGET_STYLES[target]
+            ax.axhline(target, color="black", linestyle=linestyle, linewidth=0.8)
+            # the legend names the target's line and ring even where no configuration reaches it
+            ax.plot([], [], color="black", linestyle=linestyle, marker="o", markerfacecolor="none",
+                    label="p95 <= %g texel (ring: cheapest)" % target)
             best = cheapest(hf_rows, target)
             if best:
-                ax.plot([spread(rays_rounds(best))[0] / 1e6], [max(best["errors"]["uv_p95"], 1e-4)], linestyle=linestyle,
-                        marker=marker, markersize=13 + 5 * k, markerfacecolor="none", markeredgecolor=color,
-                        markeredgewidth=1.6, color=color, label=name)
-            else:  # the legend still names the target's line
-                ax.plot([], [], linestyle=linestyle, marker=marker, markerfacecolor="none", color=color, label=name)
+                x, y = spread(rays_rounds(best))[0] / 1e6, max(best["errors"]["uv_p95"], 1e-4)
+                ax.plot([x], [y], linestyle="none", marker="o", markersize=12 + 4 * k, markerfacecolor="none",
+                        markeredgecolor="black", markeredgewidth=1.4)
+                ax.annotate("%g" % target, (x, y), xytext=(0, -(7 + 2 * k)), textcoords="offset points",
+                            ha="center", va="top", fontsize=6, fontweight="bold",
+                            bbox={"boxstyle": "round,pad=0.1", "facecolor": "white", "edgecolor": "none", "alpha": 0.8})
         log_axes(ax)
         ax.set_title(hf, fontsize=9)
         ax.set_xlabel("Mrays/s, median (bars: min-max)")
@@ -760,7 +766,8 @@ def plot_history(run, rows, path):
         pts = sorted((runs.index((r["date"], r["commit"])), [float(r[c]) / 1e6 for c in HISTORY_COLUMNS[-3:]])
                      for r in by_backend[backend])
         ax.errorbar([x for x, _ in pts], [v[0] for _, v in pts], yerr=[[v[0] - v[1] for _, v in pts], [v[2] - v[0] for _, v in pts]],
-                    marker="o", markersize=4, capsize=3, color=colors[backend], label=backend)
+                    marker=BACKEND_MARKERS[list(colors).index(backend) % len(BACKEND_MARKERS)], markersize=4, capsize=3,
+                    color=colors[backend], label=backend)
     ax.set_xticks(range(len(runs)))
     ax.set_xticklabels(["%s\n%s" % (d[:16].replace("T", " "), c) for d, c in runs], fontsize=7)
     log_axes(ax, x=False)
