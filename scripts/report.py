@@ -399,6 +399,9 @@ def summary_claims(claims):
 def section_summary(run, claims):
     parts = [p for p in (summary_targets(run), summary_ratios(run), summary_claims(claims)) if p]
     body = []
+    if run.load.get("busy"):  # the speeds below carry it; the warnings after the summary say why
+        body += ["*The machine was busy during this run: speeds and ratios may be disturbed (warnings below the "
+                 "summary). Errors and samples per ray are deterministic and unaffected.*", ""]
     for p in parts:
         body += p + [""]
     return ["## Summary", ""] + (body[:-1] or [NOT_MEASURED])
