@@ -36,6 +36,12 @@ HISTORY_COLUMNS = ["date", "commit", "cpu", "backend", "threads", "heightfield",
                    "rays_per_second_max"]
 ANY = object()  # a field that `partner` does not compare
 NOT_MEASURED = "Not measured in this run."
+MAX_PLOT_PIXELS = 1600  # widest plot, so a page shows it whole
+ERROR_TARGETS = (1.0, 0.25, 0.05)  # p95 uv error targets of the summary, in texels
+# Highlights of the cheapest configuration per target: black rings (no technique is black), told
+# apart by their size, their target's line style and a label.
+TARGET_STYLES = {1.0: "-", 0.25: "--", 0.05: ":"}
+BACKEND_MARKERS = "osD^vP*Xh"  # one per backend, by position in the run's backend list
 
 
 class InputError(Exception):
@@ -314,11 +320,91 @@ def section_warnings(run, faults):
     return [""] + lines if lines else []
 
 
-def section_claims(claims):
-    if claims is None:
-        return section("The tutorials' claims", [])
-    return section("The tutorials' claims", ["Rules, figures and every check: [claims.md](claims.md).", ""] + md_table(
-        [("claim", False), ("verdict", False)], [["%s: %s" % (c["id"], c["claim"]), "**%s**" % c["verdict"]] for c in claims]))
+def cheapest(rows, target):
+    """The cheapest row with p95 uv error <= target: fewest samples per ray (deterministic), then the
+    highest median rays/s; None when no row reaches the target."""
+    ok = [r for r in rows if r.get("errors") and r.get("speed") and r.get("samples_per_ray") is not None
+          and r["errors"]["uv_p95"] <= target]
+    return min(ok, key=lambda r: (r["samples_per_ray"], -spread(rays_rounds(r))[0])) if ok else None
+
+
+def summary_targets(run):
+    """Per heightfield, the cheapest matrix configuration for each error target."""
+    rows = [r for r in run.matrix if r.get("errors") and r.get("speed")]
+    if not rows:
+        return []
+    first = rows[0]
+    lines = ["### Cheapest configuration per error target", "",
+             "Per heightfield, the configuration with the fewest height samples per ray (then the most rays/s) "
+             "whose p95 uv error is at most the target, against the exact intersection (%s, %s, %s view). "
+             "Mrays/s: median (min-max)." % (first["backend"], counted(first["threads"], "thread"), view_name(first["view"])),
+             ""]
+    cells = []
+    for hf, group in groups(rows, lambda r: r["heightfield"]["label"]).items():
+        line = [hf]
+        for target in ERROR_TARGETS:
+            best = cheapest(group, target)
+            if best is None:
+                closest = min(group, key=lambda r: r["errors"]["uv_p95"])
+                line.append("none (best: %s, p95 %.3f)" % (run.label(closest), closest["errors"]["uv_p95"]))
+            else:
+                line.append("**%s**: %.1f samples/ray, %s Mrays/s, p95 %.3f" % (
+                    run.label(best), best["samples_per_ray"], mrays(best), best["errors"]["uv_p95"]))
+        cells.append(line)
+    return lines + md_table([("heightfield", False)] + [("p95 <= %g texel" % t, False) for t in ERROR_TARGETS], cells)
+
+
+def headline_ratios(run):
+    """Per heightfield, the headline configuration's speed ratios: (label, [per-heightfield spreads])."""
+    base = run.isas[0] if run.isas else None
+    best = run.best_isa
+    one = [r for r in sorted(run.timed, key=run.order) if run.is_headline(r) and r["kind"] == "trace"
+           and r["backend"] == best and r["threads"] == 1 and r["view"]["kind"] == "default"]
+    ratios = []
+    for r in one:
+        most = max((o for o in run.timed if config(o) == dict(config(r), threads=o["threads"])), key=lambda o: o["threads"])
+        cpu_glsl = run.partner(most, kind="glsl", backend="glsl")
+        ratios.append((r["heightfield"]["label"], [
+            speedup(r, run.partner(r, backend=base)) if base != best else None,
+            speedup(r, run.partner(r, kind="naive", backend="naive")),
+            speedup(most, r) if most is not r else None,
+            speedup(most, cpu_glsl)]))
+    threads = max((r["threads"] for r in run.timed), default=1)
+    columns = ["%s over %s, 1 thread" % (best, base), "%s over the naive port, 1 thread" % best,
+               "%s over 1 at %s" % (counted(threads, "thread"), best),
+               "%s over GLSL (llvmpipe), %s" % (best, counted(threads, "thread"))]
+    return columns, ratios
+
+
+def summary_ratios(run):
+    columns, ratios = headline_ratios(run)
+    if not ratios:
+        return []
+    return ["### Headline speed ratios", "",
+            "%s-%s, default view: median (min-max) of the per-round ratios of rays/s." % (
+                HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS), ""] + md_table(
+        [("heightfield", False)] + [(c, True) for c in columns],
+        [[hf] + [fmt_ratio(s) for s in spreads] for hf, spreads in ratios])
+
+
+def summary_claims(claims):
+    if not claims:
+        return []
+    return ["### The tutorials' claims", "",
+            "Each claim's reading, rule, figures and checks: [claims.md](claims.md); the claims themselves: "
+            "[docs/claims.md](../../docs/claims.md).", ""] + [
+        "- **%s %s**: %s" % (c["id"], c["verdict"], c["claim"]) for c in claims]
+
+
+def section_summary(run, claims):
+    parts = [p for p in (summary_targets(run), summary_ratios(run), summary_claims(claims)) if p]
+    body = []
+    if run.load.get("busy"):  # the speeds below carry it; the warnings after the summary say why
+        body += ["*The machine was busy during this run: speeds and ratios may be disturbed (warnings below the "
+                 "summary). Errors and samples per ray are deterministic and unaffected.*", ""]
+    for p in parts:
+        body += p + [""]
+    return ["## Summary", ""] + (body[:-1] or [NOT_MEASURED])
 
 
 def section_matrix(run):
@@ -411,15 +497,31 @@ def section_threads(run):
                                     ("N threads Mrays/s", True), ("N", True), ("speed-up", True)], cells))
 
 
-def section_gallery(run):
+def cost_image(run_dir, images):
+    """The samples-per-pixel image of a gallery entry: its `cost` field, or cost.png beside error.png
+    (-cost.png beside -error.png); None when the run has none."""
+    if images.get("cost"):
+        return images["cost"]
+    error = images.get("error") or ""
+    for old, new in (("/error.png", "/cost.png"), ("-error.png", "-cost.png")):
+        if error.endswith(old) and os.path.exists(os.path.join(run_dir, error[:-len(old)] + new)):
+            return error[:-len(old)] + new
+    return None
+
+
+def section_gallery(run, run_dir):
     rows = sorted((r for r in run.with_purpose("gallery") if r.get("images")), key=run.order)
     body = []
     for (hf, view), group in groups(rows, lambda r: (r["heightfield"]["label"], view_name(r["view"]))).items():
-        body += ["%s, %s view. Left: shaded render at the technique's uv; right: uv error." % (hf, view), ""]
-        body += md_table([("technique", False), ("render", False), ("error", False), ("uv mean", True), ("p95", True),
-                          ("max", True), ("wrong surface", True)],
-                         [[run.label(r), "![](%s)" % r["images"]["render"], "![](%s)" % r["images"]["error"]] + error_cells(r)
-                          for r in group]) + [""]
+        costs = [cost_image(run_dir, r["images"]) for r in group]
+        with_cost = any(costs)
+        body += ["%s, %s view. Shaded render at the technique's uv; uv error%s." % (
+            hf, view, "; cost: height samples per pixel" if with_cost else ""), ""]
+        body += md_table([("technique", False), ("render", False), ("error", False)] + ([("cost", False)] if with_cost else [])
+                         + [("uv mean", True), ("p95", True), ("max", True), ("wrong surface", True)],
+                         [[run.label(r), "![](%s)" % r["images"]["render"], "![](%s)" % r["images"]["error"]]
+                          + (["![](%s)" % c if c else "-"] if with_cost else []) + error_cells(r)
+                          for r, c in zip(group, costs)]) + [""]
     return section("Gallery", body[:-1])
 
 
@@ -450,7 +552,7 @@ def finish(fig, path, title, axes):
     bottom = 0.02 + 0.035 * legend_rows * 4.0 / fig.get_figheight()
     fig.legend(handles.values(), handles.keys(), loc="lower center", ncol=ncol, fontsize=7, frameon=False)
     fig.tight_layout(rect=(0, bottom, 1, 0.95))
-    fig.savefig(path, dpi=130)
+    fig.savefig(path, dpi=min(130, MAX_PLOT_PIXELS / fig.get_figwidth()))
     plt.close(fig)
 
 
@@ -494,7 +596,8 @@ def plot_error_vs_layers(run, path):
             if run.style[technique]["layered"]:
                 ax.plot([x for x, _ in errors], [y for _, y in errors], label=name, **technique_kw(run, technique))
             elif errors:
-                ax.axhline(errors[0][1], linestyle="--", color=run.style[technique]["color"], label=name)
+                ax.axhline(errors[0][1], linestyle="--", color=run.style[technique]["color"], label=name,
+                           marker=run.style[technique]["marker"], markevery=[0])
         log_axes(ax, xticks=sorted({x for name, errors in series.items() for x, _ in errors
                                     if run.style[name.split(" = ")[0]]["layered"]}))
         ax.set_title("%s (%s)" % (hf, depth_map(rows[0])), fontsize=9)
@@ -532,18 +635,11 @@ def plot_error_vs_angle(run, path):
     return True
 
 
-def cheapest(rows, limit):
-    ok = [r for r in rows if r["errors"]["uv_p95"] < limit]
-    return max(ok, key=lambda r: spread(rays_rounds(r))[0]) if ok else None
-
-
 def plot_error_vs_speed(run, path):
     rows = [r for r in run.matrix if r.get("speed") and r.get("errors")]
     by_hf = groups(sorted(rows, key=run.order), lambda r: r["heightfield"]["label"])
     if not by_hf:
-        return False, []
-    notes = []
-    limits = [(1.0, "tab:orange"), (0.25, "tab:red")]
+        return False
     fig, axes = panel_grid(len(by_hf), 4.6, 3.8)
     for ax, (hf, hf_rows) in zip(axes, by_hf.items()):
         for technique, group in groups(hf_rows, lambda r: r["technique"]).items():
@@ -555,24 +651,28 @@ def plot_error_vs_speed(run, path):
             if run.style[technique]["layered"]:
                 for r, x, y in zip(group, xs, ys):
                     ax.annotate(r["layers"], (x, y), fontsize=5, alpha=0.7, xytext=(2, 2), textcoords="offset points")
-        for limit, color in limits:
-            ax.axhline(limit, color=color, linestyle=":", linewidth=1)
-            best = cheapest(hf_rows, limit)
+        for k, target in enumerate(ERROR_TARGETS):
+            linestyle = TARGET_STYLES[target]
+            ax.axhline(target, color="black", linestyle=linestyle, linewidth=0.8)
+            # the legend names the target's line and ring even where no configuration reaches it
+            ax.plot([], [], color="black", linestyle=linestyle, marker="o", markerfacecolor="none",
+                    label="p95 <= %g texel (ring: cheapest)" % target)
+            best = cheapest(hf_rows, target)
             if best:
-                s = spread(rays_rounds(best))
-                ax.scatter([s[0] / 1e6], [best["errors"]["uv_p95"]], s=160, facecolors="none", edgecolors=color, linewidths=2)
-                notes.append("%s: fastest configuration with p95 < %g texel: **%s** (%s Mrays/s, p95 %.3f)" % (
-                    hf, limit, run.label(best), fmt_spread(s, 1, 1e-6), best["errors"]["uv_p95"]))
-            else:
-                notes.append("%s: no configuration reaches p95 < %g texel" % (hf, limit))
+                x, y = spread(rays_rounds(best))[0] / 1e6, max(best["errors"]["uv_p95"], 1e-4)
+                ax.plot([x], [y], linestyle="none", marker="o", markersize=12 + 4 * k, markerfacecolor="none",
+                        markeredgecolor="black", markeredgewidth=1.4)
+                ax.annotate("%g" % target, (x, y), xytext=(0, -(7 + 2 * k)), textcoords="offset points",
+                            ha="center", va="top", fontsize=6, fontweight="bold",
+                            bbox={"boxstyle": "round,pad=0.1", "facecolor": "white", "edgecolor": "none", "alpha": 0.8})
         log_axes(ax)
         ax.set_title(hf, fontsize=9)
         ax.set_xlabel("Mrays/s, median (bars: min-max)")
         ax.set_ylabel("p95 uv error (texels)")
         ax.grid(True, which="both", alpha=0.3)
     finish(fig, path, "Error against speed (matrix rows; labels: layers)\n"
-                      "circles: fastest with p95 < 1 texel (orange) and < 0.25 texel (red)", axes)
-    return True, notes
+                      "rings: the cheapest configuration (fewest samples/ray) at each p95 target, as in the summary", axes)
+    return True
 
 
 def plot_isa_speedup(run, path):
@@ -669,7 +769,8 @@ def plot_history(run, rows, path):
         pts = sorted((runs.index((r["date"], r["commit"])), [float(r[c]) / 1e6 for c in HISTORY_COLUMNS[-3:]])
                      for r in by_backend[backend])
         ax.errorbar([x for x, _ in pts], [v[0] for _, v in pts], yerr=[[v[0] - v[1] for _, v in pts], [v[2] - v[0] for _, v in pts]],
-                    marker="o", markersize=4, capsize=3, color=colors[backend], label=backend)
+                    marker=BACKEND_MARKERS[list(colors).index(backend) % len(BACKEND_MARKERS)], markersize=4, capsize=3,
+                    color=colors[backend], label=backend)
     ax.set_xticks(range(len(runs)))
     ax.set_xticklabels(["%s\n%s" % (d[:16].replace("T", " "), c) for d, c in runs], fontsize=7)
     log_axes(ax, x=False)
@@ -713,9 +814,8 @@ def section_plots(run, run_dir, history):
         "error against layers", "not measured in this run.")
     add(plot_error_vs_angle(run, os.path.join(plots, "error_vs_angle.png")), "error_vs_angle.png",
         "error against view angle", "not measured in this run.")
-    drawn, notes = plot_error_vs_speed(run, os.path.join(plots, "error_vs_speed.png"))
-    add(drawn, "error_vs_speed.png", "error against speed", "not measured in this run.")
-    body += ["- " + n for n in notes] + ([""] if notes else [])
+    add(plot_error_vs_speed(run, os.path.join(plots, "error_vs_speed.png")), "error_vs_speed.png",
+        "error against speed", "not measured in this run.")
     add(plot_isa_speedup(run, os.path.join(plots, "isa_speedup.png")), "isa_speedup.png",
         "speed-up per ISA", "not measured in this run.")
     if history:
@@ -733,16 +833,18 @@ def main():
         run, claims = load_run(args.run_dir)
         faults = []
         # sections first: the warnings at the top name the faults they find
-        sections = (section_claims(claims) + section_matrix(run) + section_glsl(run) + section_every_backend(run, faults)
-                    + section_threads(run) + section_plots(run, args.run_dir, args.history) + section_gallery(run))
+        summary = section_summary(run, claims)
+        sections = (section_matrix(run) + section_glsl(run) + section_every_backend(run, faults)
+                    + section_threads(run) + section_plots(run, args.run_dir, args.history) + section_gallery(run, args.run_dir))
     except InputError as e:
         print("report.py: %s" % e, file=sys.stderr)
         return 2
     md = ["# heightmarch report", "",
           "Parallax-mapping techniques on the CPU (packet kernels per ISA) and as GLSL (OSMesa llvmpipe), measured "
           "against the exact ray/heightfield intersection. Speeds: median (min-max) of the repetitions; ratios: median "
-          "(min-max) of the per-round ratios. Reproduce with `scripts/main` (see README).", ""]
-    md += section_machine(run) + section_warnings(run, faults) + sections
+          "(min-max) of the per-round ratios. What every measure means: [docs/measures.md](../../docs/measures.md); "
+          "how to reproduce: [docs/reproducing.md](../../docs/reproducing.md).", ""]
+    md += summary + section_warnings(run, faults) + [""] + section_machine(run) + sections
     atomic_write(os.path.join(args.run_dir, "report.md"), "\n".join(md) + "\n")
     print("report: %s" % os.path.join(args.run_dir, "report.md"))
     return 0

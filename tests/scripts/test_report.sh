@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# scripts/report.py on a small synthetic measurements.json (no build needed): speeds and ratios show
-# their spread as `x (a-b)`, a planted roofline fraction above 100% is a fault and not a result, a
-# busy run says so at the top, --history appends rows with the new columns (replacing a rerun's),
-# and a missing measurements.json is a one-line error with exit status 2.
+# scripts/report.py on a small synthetic measurements.json (no build needed): the report opens with
+# its summary (cheapest configuration per error target, headline ratios, claims' verdicts), speeds
+# and ratios show their spread as `x (a-b)`, a planted roofline fraction above 100% is a fault and
+# not a result, a busy run says so at the top, every plot is drawn and no wider than 1600 px, a
+# gallery cost image is shown beside the error image, --history appends rows with the new columns
+# (replacing a rerun's), and a missing measurements.json is a one-line error with exit status 2.
 # Usage: test_report.sh [BUILD_DIR]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -18,7 +20,8 @@ view = {"kind": "default", "width": 64, "height": 64, "theta": None, "phi": None
 rows = []
 
 
-def add(kind, purposes, technique, layers, backend, threads, rates, samples_per_ray=10.0, view=view, uv=0.5):
+def add(kind, purposes, technique, layers, backend, threads, rates, samples_per_ray=10.0, view=view, uv=0.5,
+        images=None):
     rays = view["width"] * view["height"]
     n = int(rays * samples_per_ray)
     speed = None
@@ -37,11 +40,13 @@ def add(kind, purposes, technique, layers, backend, threads, rates, samples_per_
                  "samples_known": backend != "glsl", "samples_per_ray": samples_per_ray, "simd_utilization": 1.0,
                  "errors": None if kind == "roofline" else {"uv_mean": uv, "uv_p95": 2 * uv, "uv_max": 9 * uv,
                                                              "wrong_surface_rate": 0.1},
-                 "speed": speed, "images": None})
+                 "speed": speed, "images": images})
 
 
 add("trace", ["matrix"], "parallax", "1", "avx2", 2, [100e6, 101e6, 99e6, 100e6, 102e6], 1.0, uv=20)
 add("trace", ["matrix", "isa"], "pom", "32", "avx2", 2, [40e6, 41e6, 39e6, 40e6, 42e6])
+# p95 = 2 uv: pom 32 reaches p95 <= 1 exactly; pom 64 (more samples, p95 0.2) is the cheapest for 0.25
+add("trace", ["matrix"], "pom", "64", "avx2", 2, [30e6, 31e6, 29e6, 30e6, 32e6], 20.0, uv=0.1)
 add("trace", ["isa"], "pom", "32", "avx2", 1, [20e6, 21e6, 20e6, 19e6, 20e6])
 add("trace", ["isa"], "pom", "32", "scalar", 1, [5e6, 5e6, 5e6, 5e6, 5e6])
 add("naive", ["naive"], "pom", "32", "naive", 1, [4e6, 4e6, 4e6, 4e6, 4e6])
@@ -52,6 +57,12 @@ add("roofline", ["roofline"], None, "32", "scalar", 1, [10e6, 10e6, 10e6, 10e6, 
 for theta in (0.0, 40.0, 80.0):
     add("trace", ["sweep"], "pom", "32", "avx2", 2, None,
         view={"kind": "sweep", "width": 16, "height": 16, "theta": theta, "phi": 0.0}, uv=0.1 + theta / 100)
+add("trace", ["gallery"], "pom", "32", "avx2", 2, None,
+    images={"render": "gallery/bricks-pom-32-render.png", "error": "gallery/bricks-pom-32-error.png"})
+os.makedirs(os.path.join(run, "gallery"))
+open(os.path.join(run, "gallery", "bricks-pom-32-cost.png"), "w").close()
+json.dump([{"id": "C7", "claim": "POM is much more accurate than steep parallax", "verdict": "holds partly"}],
+          open(os.path.join(run, "claims.json"), "w"))
 techniques = [{"name": "parallax", "layered": False, "color": "#7f7f7f", "marker": "o", "description": "one sample"},
               {"name": "pom", "layered": True, "color": "#d62728", "marker": "s", "description": "interpolated"}]
 data = {"schema": "heightmarch-measurements/1",
@@ -69,8 +80,26 @@ report="$tmp/run/report.md"
 [ "$(stat -c %a "$report")" = 644 ] || fail "report.md is not mode 0644"
 for png in error_vs_layers error_vs_angle error_vs_speed isa_speedup history; do
   [ -s "$tmp/run/plots/$png.png" ] || fail "missing plots/$png.png"
+  width=$(/usr/bin/python3 -c 'import struct, sys; print(struct.unpack(">I", open(sys.argv[1], "rb").read()[16:20])[0])' \
+          "$tmp/run/plots/$png.png")
+  [ "$width" -le 1600 ] || fail "plots/$png.png is $width px wide"
+  grep -q "(plots/$png.png)" "$report" || fail "report.md does not show plots/$png.png"
 done
-echo "ok: report.md (0644) and its plots"
+echo "ok: report.md (0644) and its plots, at most 1600 px wide"
+
+[ "$(grep -m1 '^## ' "$report")" = "## Summary" ] || fail "the first section is not the summary: $(grep -m1 '^## ' "$report")"
+summary="$(sed -n '/^## Summary/,/^## /p' "$report")"
+grep -q '| bricks | \*\*pom 32\*\*: 10.0 samples/ray, 40.0 (39.0-42.0) Mrays/s, p95 1.000 | \*\*pom 64\*\*: 20.0 samples/ray, 30.0 (29.0-32.0) Mrays/s, p95 0.200 | none (best: pom 64, p95 0.200) |' \
+  <<< "$summary" || fail "the summary's cheapest configurations per error target"
+grep -q '| bricks | 4.00x (3.80-4.20) | 5.00x (4.75-5.25) | 2.00x (1.95-2.11) | 4.00x (3.82-4.33) |' <<< "$summary" \
+  || fail "the summary's headline ratios"
+grep -q '^- \*\*C7 holds partly\*\*: POM is much more accurate than steep parallax$' <<< "$summary" \
+  || fail "the summary's claim verdicts"
+echo "ok: the summary comes first: cheapest configuration per target, headline ratios, claims"
+
+grep -q '| pom 32 | !\[\](gallery/bricks-pom-32-render.png) | !\[\](gallery/bricks-pom-32-error.png) | !\[\](gallery/bricks-pom-32-cost.png) |' \
+  "$report" || fail "the gallery's cost image is not beside the error image"
+echo "ok: the gallery shows the cost image beside the error image"
 
 grep -q '| pom | 32 | 40.0 (39.0-42.0) |' "$report" || fail "a speed lacks its spread"
 # per-round ratios: 40/20, 41/21, 39/20, 40/19, 42/20 (not median over median with min over max)
@@ -86,17 +115,17 @@ echo "ok: a roofline fraction above 100% is a measurement fault"
 
 grep -q 'Warning: the machine was busy' "$report" || fail "no busy warning"
 grep -q 'other processes used 25% of the CPU time' "$report" || fail "the busy warning lacks its reasons"
-[ "$(grep -n 'Warning: the machine was busy' "$report" | cut -d: -f1)" -lt "$(grep -n '^## The tutorials' "$report" | cut -d: -f1)" ] \
+[ "$(grep -n 'Warning: the machine was busy' "$report" | cut -d: -f1)" -lt "$(grep -n '^## Machine' "$report" | cut -d: -f1)" ] \
   || fail "the busy warning is not at the top"
 echo "ok: a busy run says so at the top"
 
 columns='date,commit,cpu,backend,threads,heightfield,technique,layers,view,depth_map,rays_per_second_median,rays_per_second_min,rays_per_second_max'
 [ "$(head -1 "$tmp/history.csv")" = "$columns" ] || fail "history columns: $(head -1 "$tmp/history.csv")"
-[ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 8 ] || fail "history rows: expected one per timed row (8)"
+[ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 9 ] || fail "history rows: expected one per timed row (9)"
 grep -q '^2026-01-01T00:00:00Z,abc123,Test CPU,avx2,2,bricks,pom,32,default 64x64,32x32,4e+07,3.9e+07,4.2e+07$' "$tmp/history.csv" \
   || fail "history row of POM-32 at avx2"
 "$root/scripts/report.py" "$tmp/run" --history "$tmp/history.csv" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "rerun failed"; }
-[ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 8 ] || fail "a rerun of the same date and commit was appended, not replaced"
+[ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 9 ] || fail "a rerun of the same date and commit was appended, not replaced"
 echo "ok: --history appends one row per timed row with the new columns"
 
 rm "$tmp/run/measurements.json"
