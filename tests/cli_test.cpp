@@ -151,9 +151,20 @@ TEST(Cli, RaysFileEdgeValuesAreAccepted) {
   for (const std::string& text : {std::string("\xEF\xBB\xBFtx,ty,vx,vy,vz\n0.5,0.5,0,0,1\n"),
                                   std::string("tx,ty,vx,vy,vz\n0.5,0.5,1e-50,0,1\n"),
                                   std::string("tx,ty,vx,vy,vz\n0.5,0.5,0,1,5e-7\n")}) {
-    const auto r = test::run_cli("trace --res 16 --repetitions 1 --json --rays " + write_text(dir, "rays.csv", text));
+    // A small scale keeps the V.z = 5e-7 path within the exact reference's 2^20 cells.
+    const auto r = test::run_cli("trace --res 16 --scale 0.001 --repetitions 1 --json --rays " + write_text(dir, "rays.csv", text));
     EXPECT_EQ(r.status, 0) << text << ": " << r.output.substr(0, 300);
   }
+}
+
+// At the default scale that ray crosses more cells than the exact reference walks: one line.
+TEST(Cli, GrazingRayBeyondTheExactLimitIsRefused) {
+  const std::string dir = test::temp_dir("grazing-rays");
+  const auto r = test::run_cli("trace --scale 1 --repetitions 1 --rays " +
+                               write_text(dir, "rays.csv", "tx,ty,vx,vy,vz\n0.5,0.5,1,0,6e-7\n"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("ray 1 grazes the surface"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("it needs V.z >="), std::string::npos) << r.output;
 }
 
 // HEIGHTMARCH_MEMORY_LIMIT: bytes with K, M, G, T suffixes; anything else is one line, exit 2.
