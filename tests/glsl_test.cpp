@@ -19,10 +19,10 @@ namespace {
 
 using Case = std::tuple<Technique, std::string, Wrap>;
 
-// GLSL against the scalar reference. llvmpipe's GL_LINEAR rounds differently from the SPEC
+// GLSL against the scalar reference. llvmpipe's GL_LINEAR rounds differently from the sampling formula
 // formula in the last bit for a few percent of samples (its lerp is fused), which moves POM's hit
 // depth by an ulp. Every technique but the shadow must then still take identical sample counts on
-// 99.9% of rays. The shadow loop of seed 003 runs while h - k h / N > 0, whose last step lands
+// 99.9% of rays. The shadow loop of the "Parallax Occlusion Mapping in GLSL" tutorial runs while h - k h / N > 0, whose last step lands
 // within an ulp of 0, so its step count flips by one on a few percent of rays (7% on white noise
 // at 4 layers); that step is the k = N one, weighted by 1 - k / N = 0, so it never changes the
 // factor. The shadow is therefore measured by its factor (agreeing within 1e-4 on 99.9% of rays)

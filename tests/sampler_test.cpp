@@ -1,5 +1,5 @@
-// The sampler: the SPEC formula against hand-computed values, and the packet sampler of every
-// ISA against the SPEC formula, bit for bit.
+// The sampler: the sampling formula (docs/conventions.md) against hand-computed values, and the packet sampler of every
+// ISA against the sampling formula (docs/conventions.md), bit for bit.
 #include <gtest/gtest.h>
 
 #include "heightmarch/sampler.hpp"

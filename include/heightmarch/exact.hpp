@@ -1,5 +1,5 @@
 #pragma once
-// The exact ray/heightfield intersection (SPEC section 3), in double precision.
+// The exact ray/heightfield intersection (docs/conventions.md), in double precision.
 #include <cstdint>
 #include <vector>
 
@@ -36,13 +36,13 @@ class ExactIntersector {
   // Smallest t in [0, t_max] with depth(t) >= D(x(t), y(t)).
   PathHit first_hit(const HeightfieldPath& path) const;
 
-  // d* of SPEC section 3 for one ray, and the cells solved.
+  // d* of docs/conventions.md for one ray, and the cells solved.
   PathHit intersect(double tx, double ty, double vx, double vy, double vz, double scale) const;
 
   // Whether the light is visible from the surface point at uv (depth d) along unit L.
   bool visible(double u, double v, double depth, const float light[3], double scale) const;
 
-  // Bilinear depth at texel-space (x, y), in double (the SPEC formula).
+  // Bilinear depth at texel-space (x, y), in double (the sampling formula (docs/conventions.md)).
   double depth_at(double x, double y) const;
 
  private:

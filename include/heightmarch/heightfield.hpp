@@ -1,5 +1,5 @@
 #pragma once
-// Depth maps (SPEC section 1): W x H floats in [0, 1], 0 = top plane, 1 = deepest. Row 0 is v = 0.
+// Depth maps (docs/conventions.md): W x H floats in [0, 1], 0 = top plane, 1 = deepest. Row 0 is v = 0.
 #include <cstddef>
 #include <cstdint>
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// Error and speed measures (SPEC section 5) of a technique's hits against the exact ones.
+// Error and speed measures (docs/measures.md) of a technique's hits against the exact ones.
 #include <cstddef>
 #include <cstdint>
 #include <optional>

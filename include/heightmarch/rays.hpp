@@ -1,5 +1,5 @@
 #pragma once
-// Rays in tangent space (SPEC section 2) and the views that make them, as structure-of-arrays
+// Rays in tangent space (docs/conventions.md) and the views that make them, as structure-of-arrays
 // tile batches: the view is cut into tiles, each tile's rays are stored together, ordered in
 // 4 x 4 pixel blocks so that any packet of 4, 8 or 16 consecutive rays is a compact 2D block.
 #include <cmath>

@@ -12,7 +12,7 @@ struct Provenance;
 // A short human summary of one row, a few lines; speeds as median (min-max).
 std::string summary_text(const Measurement& row);
 
-// One row as a JSON object (SPEC section 5's measures, its configuration and provenance):
+// One row as a JSON object (docs/measures.md's measures, its configuration and provenance):
 // what `trace --json` prints and `--out` writes as metrics.json.
 std::string metrics_json(const Measurement& row);
 

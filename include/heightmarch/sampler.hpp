@@ -1,12 +1,12 @@
 #pragma once
-// GL_LINEAR level-0 sampling of a depth map (SPEC section 1).
+// GL_LINEAR level-0 sampling of a depth map (docs/conventions.md).
 #include "heightmarch/heightfield.hpp"
 
 namespace heightmarch {
 
 enum class Wrap { repeat, clamp };
 
-// The SPEC formula, written plainly with integer wrapping: x = u W - 0.5, i0 = floor(x),
+// The sampling formula of docs/conventions.md, written plainly with integer wrapping: x = u W - 0.5, i0 = floor(x),
 // fx = x - i0, taps wrapped or clamped, blended as a + f (b - a) in x, then in y.
 // The kernels' packet sampler (src/kernels/sampler.hpp) must agree with it bit for bit.
 float sample_depth(const DepthMap& map, Wrap wrap, float u, float v);

@@ -1,5 +1,5 @@
 #pragma once
-// The techniques of SPEC section 4 (one registry, technique_list.hpp) and their parameters.
+// The techniques of docs/techniques.md (one registry, technique_list.hpp) and their parameters.
 #include <array>
 #include <optional>
 #include <string>

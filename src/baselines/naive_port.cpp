@@ -40,7 +40,7 @@ glm::vec2 parallax_mapping(const Texture& depthMap, glm::vec2 texCoords, glm::ve
   glm::vec2 currentTexCoords = texCoords;
   float currentDepthMapValue = depthMap(currentTexCoords);
   samples = 1;
-  // The tutorial's loop is unbounded; its bound here is the SPEC's ceil(N) + 1 steps.
+  // The tutorial's loop is unbounded; its bound here is ceil(N) + 1 steps (docs/techniques.md).
   const int bound = int(std::ceil(numLayers)) + 1;
   for (int step = 0; currentLayerDepth < currentDepthMapValue && step < bound; ++step) {
     currentTexCoords -= deltaTexCoords;

@@ -32,6 +32,6 @@ float layerCount(float cosTheta) {
   return maxLayers * (1.0 - a) + minLayers * a;
 }
 
-// Loop bound of SPEC section 4: at most ceil(N) + 1 layer steps.
+// Loop bound of docs/techniques.md: at most ceil(N) + 1 layer steps.
 int stepBound(float layers) { return int(ceil(layers)) + 1; }
 int maxStepBound() { return int(maxLayers) + 2; }

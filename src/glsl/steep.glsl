@@ -1,5 +1,5 @@
 // Steep parallax (LearnOpenGL's loop), mirroring src/kernels/steep.hpp: march layers of depth
-// 1/N until the first layer below the surface. LIMITED: the step is s V.xy / N (seed 004).
+// 1/N until the first layer below the surface. LIMITED: the step is s V.xy / N (the "Steep Parallax Mapping" tutorial).
 struct LayerMarch {
   vec2 uv;
   vec2 delta;

@@ -14,7 +14,7 @@ vec4 steep(vec2 T, vec3 V, bool limited) {
   return vec4(m.uv, m.currentLayerDepth, 1.0);
 }
 
-// relief.hpp: seed 003's binary search between the last two layers.
+// relief.hpp: the "Parallax Occlusion Mapping in GLSL" tutorial's binary search between the last two layers.
 vec4 relief(vec2 T, vec3 V) {
   LayerMarch m = marchLayers(T, V, false);
   vec2 delta = m.delta / 2.0;
@@ -46,7 +46,7 @@ vec4 pom(vec2 T, vec3 V) {
   return vec4(uv, depth, 1.0);
 }
 
-// shadow.hpp: seed 003's parallaxSoftShadowMultiplier from the POM hit, as the tutorial has it.
+// shadow.hpp: the "Parallax Occlusion Mapping in GLSL" tutorial's parallaxSoftShadowMultiplier from the POM hit, as the tutorial has it.
 vec4 shadow(vec2 T, vec3 V) {
   vec4 hit = pom(T, V);
   vec3 L = lightDirection;

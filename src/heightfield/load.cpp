@@ -1,4 +1,4 @@
-// Depth maps from image files through OpenImageIO (SPEC section 1).
+// Depth maps from image files through OpenImageIO (docs/conventions.md).
 #include <OpenImageIO/imageio.h>
 
 #include <fcntl.h>

@@ -32,7 +32,7 @@ std::vector<std::uint8_t> cost_map(const std::vector<std::uint32_t>& samples, co
 
 // The surface at each pixel's uv, lit by diffuse light along `light` (normals from the depth map's
 // slopes at that uv), on a gridded albedo that makes the parallax shift visible, times the soft
-// shadow factor to the 4th power as seed 003 does. Dark where a pixel has no ray.
+// shadow factor to the 4th power as the "Parallax Occlusion Mapping in GLSL" tutorial does. Dark where a pixel has no ray.
 std::vector<std::uint8_t> shade_render(const DepthMap& map, Wrap wrap, float scale, const std::vector<float>& u,
                                        const std::vector<float>& v, const std::vector<float>& shadow,
                                        const std::vector<std::uint8_t>& has_ray, int width, int height,

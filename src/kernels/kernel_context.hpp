@@ -1,6 +1,6 @@
 #pragma once
 // What every technique kernel works with: one packet of rays, the sampler that counts the
-// samples it takes, and the layer count of SPEC section 4.
+// samples it takes, and the layer count of docs/techniques.md.
 #include "kernels/packet_sampler.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
@@ -49,7 +49,7 @@ class KernelContext {
     return F(params.max_layers) * (F(1.0f) - a) + F(params.min_layers) * a;
   }
 
-  // Loop bound of SPEC section 4: at most ceil(N) + 1 layer steps.
+  // Loop bound of docs/techniques.md: at most ceil(N) + 1 layer steps.
   static I step_bound(F layers) { return to_int(ceil(layers)) + I(1); }
   int max_step_bound() const { return int(params.max_layers) + 2; }
 

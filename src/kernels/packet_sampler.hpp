@@ -1,5 +1,5 @@
 #pragma once
-// The bilinear sampler of SPEC section 1 on packets, written once for every width.
+// The bilinear sampler of docs/conventions.md on packets, written once for every width.
 // Bit-identical to sample_depth() for texel coordinates below 2^23. Wrapping happens before
 // integer conversion or with a mask, so coordinates of any size stay finite and every index
 // stays inside the texture, masked lane or not.

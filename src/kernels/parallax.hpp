@@ -1,5 +1,5 @@
 #pragma once
-// Plain parallax and parallax with offset limiting: one sample at T (LearnOpenGL, seed 003).
+// Plain parallax and parallax with offset limiting: one sample at T (LearnOpenGL, the "Parallax Occlusion Mapping in GLSL" tutorial).
 #include "kernels/kernel_context.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {

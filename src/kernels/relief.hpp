@@ -1,6 +1,6 @@
 #pragma once
 // Relief mapping: steep parallax, then a binary search between the last two layers
-// (seed 003's loop: the step halves before each sample, the last sample only moves the point).
+// (the "Parallax Occlusion Mapping in GLSL" tutorial's loop: the step halves before each sample, the last sample only moves the point).
 #include "kernels/steep.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {

@@ -1,5 +1,5 @@
 #pragma once
-// Soft self-shadowing (seed 003's parallaxSoftShadowMultiplier) from the POM hit, with the
+// Soft self-shadowing (the "Parallax Occlusion Mapping in GLSL" tutorial's parallaxSoftShadowMultiplier) from the POM hit, with the
 // layer spec evaluated at L.z. Kept as the tutorial wrote it, including its texture step of
 // s L.xy / L.z / N while the layer height is the hit depth / N: the samples run ahead of the
 // light ray by a factor 1 / depth. The exact reference shows what that costs.

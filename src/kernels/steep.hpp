@@ -15,7 +15,7 @@ struct LayerMarch {
   vint<W> samples;
 };
 
-// LIMITED: the step is s V.xy / N (seed 004), else s V.xy / V.z / N.
+// LIMITED: the step is s V.xy / N (the "Steep Parallax Mapping" tutorial), else s V.xy / V.z / N.
 template <bool LIMITED, int W, Addressing ADDRESSING>
 LayerMarch<W> march_layers(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   using F = vfloat<W>;
