@@ -52,7 +52,7 @@ vfloat<W> first_crossing(vfloat<W> c0, vfloat<W> c1, vfloat<W> c2, vfloat<W> spa
   const F q = F(-0.5f) * (c1 + select(c1 < zero, zero - root_disc, root_disc));
   const F r1 = q / c2, r2 = c0 / q;
   const F first = min(r1, r2), second = max(r1, r2);
-  const vbool<W> quadratic = !linear & (disc >= zero);
+  const vbool<W> quadratic = (!linear) & (disc >= zero);
   const vbool<W> in_first = quadratic & (first >= zero) & !(first > span);
   const vbool<W> in_second = quadratic & (second >= zero) & !(second > span);
   const F r_linear = (zero - c0) / c1;
@@ -128,8 +128,8 @@ HitPacket<W> maxmip(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
       shallowest = select(in_pyramid, gather(texture.pyramid, select(in_pyramid, entry, I(0))), F(-kInf));
     }
     const B skip = in_pyramid & (t_end < shallowest);  // the path stays above the block
-    const B descend = in_pyramid & !skip & (I(0) < level);
-    const B solve = active & !skip & !descend;
+    const B descend = in_pyramid & (!skip) & (I(0) < level);
+    const B solve = active & (!skip) & (!descend);
 
     B hit = !B::all_true();
     if (any(solve)) {
