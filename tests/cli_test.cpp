@@ -233,7 +233,7 @@ TEST(Cli, SuiteRefusesAnOccupiedRunDirectory) {
 // heightmarch-bench's own flags are checked like the CLI's: one line, exit 2.
 TEST(Cli, BenchFlagsAreChecked) {
   const std::string bench = std::filesystem::path(HEIGHTMARCH_CLI).parent_path().string() + "/heightmarch-bench";
-  if (!std::filesystem::exists(bench)) GTEST_SKIP() << "heightmarch-bench is not built here (HEIGHTMARCH_BUILD_BENCH=OFF)";
+  if (!std::filesystem::exists(bench)) GTEST_SKIP() << "heightmarch-bench is not built here (HEIGHTMARCH_BUILD_BENCHMARKS=OFF)";
   auto run = [&](const std::string& args) {
     return test::run_command(bench + " " + args);
   };
