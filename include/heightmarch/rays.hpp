@@ -51,7 +51,8 @@ inline constexpr int kMaxViewSide = 16384;
 // the exact and reference hits, the error and, with --out, the images' pixels (measured: a
 // 4096 x 4096 --out trace peaks at about 139 bytes a ray).
 inline constexpr double kBytesPerRay = 160.0;
-// And per row of a rays file: its columns as read, and its row of rays.csv written back.
+// And per row of a rays file: its columns as read (its row of rays.csv is written back through a
+// 1 MiB buffer: a 2,000,000-ray file with --out peaks at 331 MB, against 746 MB estimated).
 inline constexpr double kBytesPerRayCsvRow = 180.0;
 
 // Rays a batch holds per ray given, padding included: a tile's rays are padded to a multiple of

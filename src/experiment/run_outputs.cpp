@@ -12,7 +12,8 @@
 namespace heightmarch {
 namespace {
 
-void write_spread(JsonWriter& json, const std::string& key, const std::vector<double>& values, bool with_rounds) {
+void write_spread(JsonWriter& json, const std::string& key, const std::vector<double>& values,
+                  bool with_rounds) {
   const Spread s = spread_of(values);
   json.begin_object(key).value("median", s.median).value("min", s.min).value("max", s.max);
   if (with_rounds) {
@@ -42,7 +43,8 @@ void write_errors(JsonWriter& json, const std::optional<ErrorSummary>& errors) {
   e.within_one_layer_step ? json.value("within_one_layer_step", *e.within_one_layer_step)
                           : json.null("within_one_layer_step");
   if (e.has_shadow)
-    json.value("shadow_error_mean", e.shadow_error_mean).value("shadow_mismatch_rate", e.shadow_mismatch_rate);
+    json.value("shadow_error_mean", e.shadow_error_mean)
+        .value("shadow_mismatch_rate", e.shadow_mismatch_rate);
   else
     json.null("shadow_error_mean").null("shadow_mismatch_rate");
   json.end_object();
@@ -75,7 +77,7 @@ void write_row(JsonWriter& json, const Measurement& m) {
   json.value("refine", c.params.refine_steps).value("backend", c.backend()).value("threads", c.threads);
   json.begin_object("view").value("kind", c.view.kind == ViewSpec::Kind::perspective ? "default"
                                           : c.view.kind == ViewSpec::Kind::sweep     ? "sweep"
-                                                                                      : "rays");
+                                                                                     : "rays");
   if (c.view.kind == ViewSpec::Kind::rays_file)
     json.value("width", std::size_t(m.rays)).value("height", 1).value("file", c.view.rays_path);
   else
@@ -90,10 +92,13 @@ void write_row(JsonWriter& json, const Measurement& m) {
       .value("discard", c.params.discard)
       .value("rays", m.rays);
   if (m.samples_known)
-    json.value("samples", (long long)m.samples).value("samples_known", true).value("samples_per_ray", m.rays ? double(m.samples) / double(m.rays) : 0.0);
+    json.value("samples", (long long)m.samples)
+        .value("samples_known", true)
+        .value("samples_per_ray", m.rays ? double(m.samples) / double(m.rays) : 0.0);
   else
     json.null("samples").value("samples_known", false).null("samples_per_ray");
-  c.kind == RunKind::trace ? json.value("simd_utilization", m.simd_utilization) : json.null("simd_utilization");
+  c.kind == RunKind::trace ? json.value("simd_utilization", m.simd_utilization)
+                           : json.null("simd_utilization");
   write_errors(json, m.errors);
   if (m.seconds.empty()) {
     json.null("speed");
@@ -174,9 +179,11 @@ std::string summary_text(const Measurement& m) {
   const Configuration& c = m.config;
   std::string text;
   char buf[512];
-  const std::string what = c.kind == RunKind::exact ? c.label() : c.label() + " layers " + to_string(c.params.layers);
+  const std::string what =
+      c.kind == RunKind::exact ? c.label() : c.label() + " layers " + to_string(c.params.layers);
   std::snprintf(buf, sizeof buf, "%s on %s (%dx%d depth map), %s: %zu rays\n", what.c_str(),
-                c.heightfield.describe().c_str(), m.depth_map_width, m.depth_map_height, describe(c.view).c_str(), m.rays);
+                c.heightfield.describe().c_str(), m.depth_map_width, m.depth_map_height,
+                describe(c.view).c_str(), m.rays);
   text += buf;
   // Figures not measured for a row (a brought-in shader's samples, SIMD use outside the CPU
   // kernels) read "unknown", never as a made-up 0 or 100%.
@@ -196,11 +203,12 @@ std::string summary_text(const Measurement& m) {
       speed += ", M" + std::string(unit) + "/s unknown";
     }
   }
-  const std::string simd = c.kind == RunKind::trace ? ", SIMD use " + std::to_string(int(100.0 * m.simd_utilization + 0.5)) + "%"
+  const std::string simd = c.kind == RunKind::trace
+                               ? ", SIMD use " + std::to_string(int(100.0 * m.simd_utilization + 0.5)) + "%"
                            : c.kind == RunKind::glsl || c.kind == RunKind::naive ? ", SIMD use unknown"
                                                                                  : "";
-  std::snprintf(buf, sizeof buf, "  %s, %d thread%s: %s, %s%s\n", c.backend().c_str(), c.threads, c.threads == 1 ? "" : "s",
-                speed.c_str(), per_ray.c_str(), simd.c_str());
+  std::snprintf(buf, sizeof buf, "  %s, %d thread%s: %s, %s%s\n", c.backend().c_str(), c.threads,
+                c.threads == 1 ? "" : "s", speed.c_str(), per_ray.c_str(), simd.c_str());
   text += buf;
   if (!m.failure.empty()) return text + "  FAILED: " + m.failure + "\n";
   if (!m.errors) return text;
@@ -208,7 +216,8 @@ std::string summary_text(const Measurement& m) {
   std::snprintf(buf, sizeof buf,
                 "  uv error (texels): mean %.4f  rms %.4f  p50 %.4f  p95 %.4f  p99 %.4f  max %.4f\n"
                 "  wrong surface %.2f%%, depth error mean %.5f, discarded %zu\n",
-                e.mean, e.rms, e.p50, e.p95, e.p99, e.max, 100.0 * e.wrong_surface_rate, e.depth_error_mean, e.discarded);
+                e.mean, e.rms, e.p50, e.p95, e.p99, e.max, 100.0 * e.wrong_surface_rate, e.depth_error_mean,
+                e.discarded);
   text += buf;
   if (e.has_shadow) {
     std::snprintf(buf, sizeof buf, "  shadow: factor vs exact visibility mean |diff| %.4f, mismatch %.2f%%\n",
@@ -250,8 +259,9 @@ void write_images(const std::string& dir, const TracedRow& traced) {
   const std::vector<std::uint8_t> heat = error_heat_map(error, has_ray, w, h, heat_height);
   write_png_rgb8(dir + "/error.png", w, heat_height, heat);
   write_cost_image(dir, traced);
-  write_png_rgb8(dir + "/render.png", w, h,
-                 shade_render(traced.map, c.params.wrap, c.params.scale, u, v, shadow, has_ray, w, h, c.params.light));
+  write_png_rgb8(
+      dir + "/render.png", w, h,
+      shade_render(traced.map, c.params.wrap, c.params.scale, u, v, shadow, has_ray, w, h, c.params.light));
 }
 
 }  // namespace
@@ -271,20 +281,24 @@ void write_run_outputs(const std::string& dir, const TracedRow& traced) {
   // light seen from the exact hit (0 or 1), the shadow's reference, per ray (empty for the other
   // techniques: the exact walk towards the light is only taken for the shadow).
   const bool is_shadow = c.has_technique() && c.params.technique == Technique::shadow;
-  std::string csv = "tx,ty,vx,vy,vz,u,v,depth,samples,exact_u,exact_v,exact_depth,uv_error_texels,shadow,exact_visibility\n";
+  AtomicFile csv(dir + "/rays.csv");
+  csv.append(
+      "tx,ty,vx,vy,vz,u,v,depth,samples,exact_u,exact_v,exact_depth,uv_error_texels,shadow,exact_"
+      "visibility\n");
   std::vector<std::size_t> by_row(rays.ray_count);
   for (std::size_t i = 0; i < rays.size(); ++i)
     if (!rays.is_padding(i)) by_row[rays.origin[i]] = i;
   char line[512];
   for (std::size_t i : by_row) {
-    std::snprintf(line, sizeof line, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%s,%.9g,%.9g,%.9g,%.9g,%.9g,%s\n",
-                  rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], hits.u[i], hits.v[i], hits.depth[i],
-                  traced.row.samples_known ? std::to_string(hits.samples[i]).c_str() : "", exact.u[i], exact.v[i],
-                  exact.depth[i], traced.uv_error[i], is_shadow ? hits.shadow[i] : 1.0f,
-                  is_shadow ? (exact.shadow[i] >= 0.5f ? "1" : "0") : "");
-    csv += line;
+    const int length = std::snprintf(
+        line, sizeof line, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%s,%.9g,%.9g,%.9g,%.9g,%.9g,%s\n",
+        rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], hits.u[i], hits.v[i], hits.depth[i],
+        traced.row.samples_known ? std::to_string(hits.samples[i]).c_str() : "", exact.u[i], exact.v[i],
+        exact.depth[i], traced.uv_error[i], is_shadow ? hits.shadow[i] : 1.0f,
+        is_shadow ? (exact.shadow[i] >= 0.5f ? "1" : "0") : "");
+    csv.append(std::string_view(line, std::size_t(length)));
   }
-  write_file_atomically(dir + "/rays.csv", csv);
+  csv.commit();
 }
 
 std::string measurements_json(const MeasuredPlan& run, const std::string& plan_name) {
@@ -302,7 +316,10 @@ std::string measurements_json(const MeasuredPlan& run, const std::string& plan_n
   for (double l : run.load.before) json.value("", l);
   json.end_array().begin_array("after");
   for (double l : run.load.after) json.value("", l);
-  json.end_array().value("other_cpu_share", run.load.other_cpu_share).value("busy", run.load.busy).begin_array("busy_reasons");
+  json.end_array()
+      .value("other_cpu_share", run.load.other_cpu_share)
+      .value("busy", run.load.busy)
+      .begin_array("busy_reasons");
   for (const std::string& r : run.load.busy_reasons) json.value("", r);
   json.end_array().end_object();
   json.begin_array("techniques");
@@ -330,7 +347,8 @@ std::string measurements_json(const MeasuredPlan& run, const std::string& plan_n
 std::string benchmark_json(const MeasuredPlan& run) {
   const Provenance p = provenance();
   JsonWriter json;
-  json.begin_object().begin_object("context")
+  json.begin_object()
+      .begin_object("context")
       .value("date", p.date)
       .value("num_cpus", p.cores)
       .value("library_build_type", p.build_type == "Release" ? "release" : "debug")
@@ -351,7 +369,9 @@ std::string benchmark_json(const MeasuredPlan& run) {
     view = v;
     map = d;
   }
-  json.value("heightmarch_view", one_view ? view : "mixed").value("heightmarch_depth_map", one_map ? map : "mixed").end_object();
+  json.value("heightmarch_view", one_view ? view : "mixed")
+      .value("heightmarch_depth_map", one_map ? map : "mixed")
+      .end_object();
   json.begin_array("benchmarks");
   for (const Measurement& m : run.rows) {
     if (m.seconds.empty()) continue;
@@ -370,7 +390,9 @@ std::string benchmark_json(const MeasuredPlan& run) {
           .value("cpu_time", m.seconds[r] * 1e3)
           .value("time_unit", "ms")
           .value("rays_per_second", rays[r]);
-      if (m.samples_known) json.value("samples_per_second", samples[r]).value("samples_per_ray", m.rays ? double(m.samples) / double(m.rays) : 0.0);
+      if (m.samples_known)
+        json.value("samples_per_second", samples[r])
+            .value("samples_per_ray", m.rays ? double(m.samples) / double(m.rays) : 0.0);
       if (m.config.kind == RunKind::trace) json.value("simd_utilization", m.simd_utilization);
       if (m.errors)
         for (const auto& [name, value] : error_counters(*m.errors)) json.value(name, value);

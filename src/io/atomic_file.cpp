@@ -12,41 +12,77 @@ namespace heightmarch {
 
 namespace {
 
-// Removes the temporary and throws "PATH: cannot write (WHY)"; `error` is the errno of the call
-// that failed, taken at once (a later call may change errno).
-[[noreturn]] void give_up(const std::string& path, const std::string& temporary, int error) {
-  ::unlink(temporary.c_str());
-  throw std::runtime_error(path + ": cannot write (" + std::strerror(error) + ")");
-}
+constexpr std::size_t kBufferBytes = std::size_t(1) << 20;
 
 }  // namespace
 
 std::string temporary_path(const std::string& path) { return path + ".tmp-" + std::to_string(::getpid()); }
 
-void write_file_atomically(const std::string& path, const std::string& content) {
-  const std::string temporary = temporary_path(path);
-  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw std::runtime_error(path + ": cannot write (" + std::strerror(errno) + ")");
+AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), temporary_(temporary_path(path_)) {
+  fd_ = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw std::runtime_error(path_ + ": cannot write (" + std::strerror(errno) + ")");
+  buffer_.reserve(kBufferBytes);
+}
+
+AtomicFile::~AtomicFile() {
+  if (fd_ < 0) return;
+  ::close(fd_);
+  ::unlink(temporary_.c_str());
+}
+
+// Removes the temporary and throws "PATH: cannot write (WHY)"; `error` is the errno of the call
+// that failed, taken at once (a later call may change errno).
+void AtomicFile::give_up(int error) {
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
+  ::unlink(temporary_.c_str());
+  throw std::runtime_error(path_ + ": cannot write (" + std::strerror(error) + ")");
+}
+
+void AtomicFile::append(std::string_view text) {
+  if (buffer_.size() + text.size() > kBufferBytes) flush();
+  if (text.size() >= kBufferBytes) {
+    buffer_.assign(text);
+    flush();
+  } else {
+    buffer_.append(text);
+  }
+}
+
+void AtomicFile::flush() {
   std::size_t done = 0;
   // Each pass writes at least one byte or gives up (a full disk is ENOSPC here or at fsync).
-  while (done < content.size()) {
-    const ssize_t n = ::write(fd, content.data() + done, content.size() - done);
+  while (done < buffer_.size()) {
+    const ssize_t n = ::write(fd_, buffer_.data() + done, buffer_.size() - done);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const int error = n < 0 ? errno : ENOSPC;
-      ::close(fd);
-      give_up(path, temporary, error);
-    }
+    if (n <= 0) give_up(n < 0 ? errno : ENOSPC);
     done += std::size_t(n);
   }
+  buffer_.clear();
+}
+
+void AtomicFile::commit() {
+  flush();
   // fsync: a file renamed into place is whole even after a crash of the machine.
-  if (::fsync(fd) != 0 && errno != EINVAL) {
+  if (::fsync(fd_) != 0 && errno != EINVAL) give_up(errno);
+  const int fd = fd_;
+  fd_ = -1;
+  if (::close(fd) != 0) {
     const int error = errno;
-    ::close(fd);
-    give_up(path, temporary, error);
+    ::unlink(temporary_.c_str());
+    throw std::runtime_error(path_ + ": cannot write (" + std::strerror(error) + ")");
   }
-  if (::close(fd) != 0) give_up(path, temporary, errno);
-  if (std::rename(temporary.c_str(), path.c_str()) != 0) give_up(path, temporary, errno);
+  if (std::rename(temporary_.c_str(), path_.c_str()) != 0) {
+    const int error = errno;
+    ::unlink(temporary_.c_str());
+    throw std::runtime_error(path_ + ": cannot write (" + std::strerror(error) + ")");
+  }
+}
+
+void write_file_atomically(const std::string& path, const std::string& content) {
+  AtomicFile file(path);
+  file.append(content);
+  file.commit();
 }
 
 }  // namespace heightmarch

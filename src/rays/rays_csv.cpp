@@ -87,7 +87,7 @@ RayBatch load_rays_csv(const std::string& path, int tile_size) {
   try {
     return make_ray_list(columns[0], columns[1], columns[2], columns[3], columns[4], tile_size);
   } catch (const InputError& e) {
-    // make_ray_list counts rays from 0; the file's line is that + 2.
+    // make_ray_list counts rays from 1: ray N is the file's line N + 1.
     throw InputError(path + ": " + e.what());
   }
 }

@@ -84,8 +84,8 @@ void check_tile_size(int tile_size) {
 
 ViewSpec parse_view(const std::string& text, int width, int height) {
   if (width < 1 || height < 1 || width > kMaxViewSide || height > kMaxViewSide)
-    throw InputError("view size " + std::to_string(width) + "x" + std::to_string(height) +
-                     " outside [1, " + std::to_string(kMaxViewSide) + "]");
+    throw InputError("view size " + std::to_string(width) + "x" + std::to_string(height) + " outside [1, " +
+                     std::to_string(kMaxViewSide) + "]");
   ViewSpec view;
   view.width = width;
   view.height = height;
@@ -111,7 +111,8 @@ ViewSpec parse_view(const std::string& text, int width, int height) {
   }
   if (!(view.theta_degrees >= 0.0f && view.theta_degrees <= 89.0f))
     throw InputError("view '" + text + "': THETA must be in [0, 89] degrees");
-  if (!std::isfinite(view.phi_degrees)) throw InputError("view '" + text + "': PHI must be a finite number of degrees");
+  if (!std::isfinite(view.phi_degrees))
+    throw InputError("view '" + text + "': PHI must be a finite number of degrees");
   return view;
 }
 
@@ -139,7 +140,6 @@ std::string describe(const ViewSpec& view) {
   std::snprintf(buf, sizeof buf, "sweep:%g,%g ", view.theta_degrees, view.phi_degrees);
   return buf + size;
 }
-
 
 RayBatch make_view_rays(const ViewSpec& view) {
   if (view.kind == ViewSpec::Kind::rays_file) return load_rays_csv(view.rays_path, view.tile_size);
@@ -181,27 +181,28 @@ RayBatch make_ray_list(const std::vector<float>& tx, const std::vector<float>& t
                        const std::vector<float>& vx, const std::vector<float>& vy,
                        const std::vector<float>& vz, int tile_size) {
   check_tile_size(tile_size);
-  check_memory_budget(kBytesPerRay * padding_factor(tile_size) * double(tx.size()), std::to_string(tx.size()) + " rays");
+  check_memory_budget(kBytesPerRay * padding_factor(tile_size) * double(tx.size()),
+                      std::to_string(tx.size()) + " rays");
   RayBatch batch;
   batch.image_width = int(tx.size());
   batch.image_height = 1;
   BatchBuilder builder(batch);
   const std::size_t per_tile = std::size_t(tile_size) * std::size_t(tile_size);
   for (std::size_t i = 0; i < tx.size(); ++i) {
+    const auto ray = [i] { return "ray " + std::to_string(i + 1); };  // counted from 1, as every message does
     const double len = std::sqrt(double(vx[i]) * vx[i] + double(vy[i]) * vy[i] + double(vz[i]) * vz[i]);
     // Compared as stored (a float): V.z = 5e-7 exactly passes whatever the rounding of |V|.
     const float z = float(vz[i] / len);
     if (!std::isfinite(len) || !std::isfinite(tx[i]) || !std::isfinite(ty[i]))
-      throw InputError("ray " + std::to_string(i) + ": not finite");
-    if (len == 0.0) throw InputError("ray " + std::to_string(i) + ": V is the zero vector");
+      throw InputError(ray() + ": not finite");
+    if (len == 0.0) throw InputError(ray() + ": V is the zero vector");
     if (!(z >= float(kMinViewZ))) {
       char value[32];
       std::snprintf(value, sizeof value, "%.9g", double(z));
-      throw InputError("ray " + std::to_string(i) + ": V.z = " + value +
+      throw InputError(ray() + ": V.z = " + value +
                        " after normalisation, must be >= 5e-7 (a ray from below or grazing the plane)");
     }
-    if (std::fabs(tx[i]) > 1e6f || std::fabs(ty[i]) > 1e6f)
-      throw InputError("ray " + std::to_string(i) + ": |T| beyond 1e6");
+    if (std::fabs(tx[i]) > 1e6f || std::fabs(ty[i]) > 1e6f) throw InputError(ray() + ": |T| beyond 1e6");
     builder.add({true, tx[i], ty[i], float(vx[i] / len), float(vy[i] / len), z}, std::uint32_t(i));
     if ((i + 1) % per_tile == 0) builder.end_tile();
   }

@@ -42,6 +42,16 @@ no_temporaries
 echo "ok: trace --out: exit 1, $(cat "$tmp/trace.out")"
 rm -rf "${tmp:?}/disk/"*
 
+# rays.csv is written through a buffer, piece by piece: the same guarantees.
+{ echo "tx,ty,vx,vy,vz"; for i in $(seq 1 20000); do echo "0.$i,0.5,0.6,0,0.8"; done; } > "$tmp/rays.csv"
+run rays "$build/heightmarch" trace --res 64 --rays "$tmp/rays.csv" --out "$tmp/disk/rays"
+[ "$rc" = 1 ] || fail "trace --rays --out on a full disk exits $rc: $(cat "$tmp/rays.out")"
+grep -q "rays.csv: cannot write" "$tmp/rays.out" && [ "$(wc -l < "$tmp/rays.out")" = 1 ] || fail "rays: not one line: $(cat "$tmp/rays.out")"
+[ ! -e "$tmp/disk/rays/rays.csv" ] || fail "trace --rays left a broken rays.csv"
+no_temporaries
+echo "ok: trace --rays --out: exit 1, $(cat "$tmp/rays.out")"
+rm -rf "${tmp:?}/disk/"*
+
 if [ -x "$build/heightmarch-bench" ]; then
   head -c 90000 /dev/zero > "$tmp/disk/filler" 2> /dev/null || true
   run bench "$build/heightmarch-bench" --hm_size=64 --hm_res=32 --hm_heightfields=bricks --hm_layers=4,8,16,32 \
