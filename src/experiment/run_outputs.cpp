@@ -140,8 +140,11 @@ void write_provenance(JsonWriter& json, const Provenance& p, int threads) {
 
 std::string mrays(const Measurement& m) {
   const Spread s = spread_of(m.rays_per_second());
+  // krays/s below 0.1 Mrays/s (grazing exact rays, tiny ray files): never a printed 0.00.
+  const bool kilo = s.median < 1e5;
+  const double unit = kilo ? 1e3 : 1e6;
   char buf[96];
-  std::snprintf(buf, sizeof buf, "%.2f (%.2f-%.2f) Mrays/s", s.median / 1e6, s.min / 1e6, s.max / 1e6);
+  std::snprintf(buf, sizeof buf, "%.2f (%.2f-%.2f) %srays/s", s.median / unit, s.min / unit, s.max / unit, kilo ? "k" : "M");
   return buf;
 }
 
@@ -197,7 +200,9 @@ std::string summary_text(const Measurement& m) {
   if (!m.seconds.empty()) {
     speed = mrays(m) + " over " + std::to_string(m.seconds.size()) + " repetitions";
     if (m.samples_known) {
-      std::snprintf(buf, sizeof buf, ", %.1f M%s/s", spread_of(m.samples_per_second()).median / 1e6, unit);
+      const double per_second = spread_of(m.samples_per_second()).median;
+      const bool kilo = per_second < 1e5;
+      std::snprintf(buf, sizeof buf, ", %.1f %s%s/s", per_second / (kilo ? 1e3 : 1e6), kilo ? "k" : "M", unit);
       speed += buf;
     } else {
       speed += ", M" + std::string(unit) + "/s unknown";
