@@ -253,4 +253,30 @@ HitPacket<W> maxmip(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   return out;
 }
 
+// The exact reference's float pass: the walk with every test loosened by eta, which bounds what
+// float rounding can change. The walk's positions, exit times and cell offsets are within a few
+// ulps of their exact values: of the texel coordinates (|x0| + |y0|, the cell a point falls in
+// near a side) and of the path's extent (|dx| + |dy|, exit times, slopes and products); the
+// bilinear surface changes by at most |dx| + |dy| texel values (each in [0, 1]) for a move of
+// (dx, dy) texels, so these become depth errors of the same size. eta is 16 times their sum:
+// the lane stops in a cell (depth = its entry) no later than the first cell the exact path
+// touches, or (depth 1) proves the path clear down to depth 1.
+template <int W, Addressing ADDRESSING>
+HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
+  using F = vfloat<W>;
+  const F p_x = ray.vx / ray.vz * F(k.params.scale);
+  const F p_y = ray.vy / ray.vz * F(k.params.scale);
+  const F width(float(k.texture.width)), height(float(k.texture.height));
+  const F x0 = ray.tx * width - F(0.5f), y0 = ray.ty * height - F(0.5f);
+  const F dx = F(0.0f) - p_x * width, dy = F(0.0f) - p_y * height;
+  const F eta = F(0x1p-20f) * (abs(x0) + abs(y0)) + F(0x1p-18f) * (abs(dx) + abs(dy) + F(4.0f));
+  const PyramidWalk<W> walk = walk_pyramid<true>(k, x0, y0, dx, dy, eta);
+  HitPacket<W> out;
+  out.u = ray.tx;
+  out.v = ray.ty;
+  out.depth = select(walk.reached | walk.cut_off, walk.t, F(1.0f));
+  out.samples = walk.samples;
+  return out;
+}
+
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS
