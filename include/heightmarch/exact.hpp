@@ -71,21 +71,38 @@ inline constexpr double kMaxExactPathCells = double(1 << 20);
 // scale s |V.xy| / V.z (W + H) cells, is longer than kMaxExactPathCells.
 void check_exact_path_lengths(const DepthMap& map, const RayBatch& rays, const TechniqueParams& params);
 
-// The exact answer for every ray of a batch, in parallel over its tiles under the current thread
-// limit: uv and d* per ray, the texel cells tested (by the float pass, then solved in double) in
-// `samples`, the discard flag as a technique would set it, and in `shadow` the light's exact
-// visibility (0 or 1) from the exact hit when `visibility` asks for it (a second walk per ray,
-// only the shadow technique needs), else 1. Uses params' scale, wrap, light and discard; not its
-// technique. Checks path lengths first.
-//
-// Each tile goes through a conservative float pass of the pyramid walk at `isa` (maxmip's walk
-// with every test loosened by a bound on its rounding: src/kernels/maxmip.hpp), which stops each
-// ray in the first cell the exact path may touch; the double walk goes on from there. The answer
-// does not depend on `isa` (every ISA's pass is bit-identical to the scalar one).
+// The exact answer for every ray of a batch. Each tile goes through a conservative float pass of
+// the pyramid walk at one ISA (maxmip's walk with every test loosened by a bound on its rounding:
+// src/kernels/maxmip.hpp), which stops each ray in the first cell the exact path may touch; the
+// double walk goes on from there. The answer does not depend on the ISA (every ISA's pass is
+// bit-identical to the scalar one).
 enum class LightVisibility { skip, compute };
 inline LightVisibility visibility_for(Technique technique) {
   return technique == Technique::shadow ? LightVisibility::compute : LightVisibility::skip;
 }
+
+// Built once per depth map (which it keeps a pointer to) and parameters (the pyramid, the float
+// pass's texture), like a Tracer, so that repeated runs time only the tracing. Uses params'
+// scale, wrap, light and discard; not its technique.
+class ExactReference {
+ public:
+  ExactReference(const DepthMap& map, const TechniqueParams& params, Isa isa = best_isa());
+
+  // In parallel over the batch's tiles under the current thread limit: uv and d* per ray, the
+  // texel cells tested (by the float pass, then solved in double) in `samples`, the discard flag
+  // as a technique would set it, and in `shadow` the light's exact visibility (0 or 1) from the
+  // exact hit when `visibility` asks for it (a second walk per ray, only the shadow technique
+  // needs), else 1. Checks path lengths first.
+  void run(const RayBatch& rays, LightVisibility visibility, HitBuffers& hits) const;
+
+ private:
+  const DepthMap* map_;
+  TechniqueParams params_;
+  Isa isa_;
+  ExactIntersector intersector_;
+  SamplerTexture texture_;
+};
+
 HitBuffers exact_hits(const DepthMap& map, const RayBatch& rays, const TechniqueParams& params,
                       LightVisibility visibility, Isa isa = best_isa());
 

@@ -38,29 +38,28 @@ void check_exact_path_lengths(const DepthMap& map, const RayBatch& rays, const T
   }
 }
 
-HitBuffers exact_hits(const DepthMap& map, const RayBatch& rays, const TechniqueParams& params,
-                      LightVisibility visibility, Isa isa) {
-  check_exact_path_lengths(map, rays, params);
-  const ExactIntersector exact(map, params.wrap);
-  // The float pass: maxmip's walk made conservative (src/kernels/maxmip.hpp), at one ISA.
-  const SamplerTexture texture(map, params.wrap);
-  const MinDepthPyramid& pyramid = exact.pyramid();
-  const KernelTexture kernel_texture{texture.texels.data(), texture.width, texture.height, texture.stride, texture.wrap,
-                                     pyramid.data(), pyramid.offsets(), pyramid.blocks_x(), pyramid.levels()};
-  const KernelParams kernel_params{1.0f, 1.0f, 0, params.scale, params.discard,
-                                   {params.light[0], params.light[1], params.light[2]}};
+ExactReference::ExactReference(const DepthMap& map, const TechniqueParams& params, Isa isa)
+    : map_(&map), params_(params), isa_(isa), intersector_(map, params.wrap), texture_(map, params.wrap) {}
+
+void ExactReference::run(const RayBatch& rays, LightVisibility visibility, HitBuffers& hits) const {
+  check_exact_path_lengths(*map_, rays, params_);
+  const MinDepthPyramid& pyramid = intersector_.pyramid();
+  const KernelTexture texture{texture_.texels.data(), texture_.width, texture_.height, texture_.stride, texture_.wrap,
+                              pyramid.data(), pyramid.offsets(), pyramid.blocks_x(), pyramid.levels()};
+  const KernelParams kernel_params{1.0f, 1.0f, 0, params_.scale, params_.discard,
+                                   {params_.light[0], params_.light[1], params_.light[2]}};
   const TraceRangeFn float_pass =
-      kernel_table(isa).exact_bound[int(addressing_of(texture.width, texture.height, texture.wrap))];
+      kernel_table(isa_).exact_bound[int(addressing_of(texture.width, texture.height, texture.wrap))];
   const KernelRays kernel_rays{rays.tx.data(), rays.ty.data(), rays.vx.data(), rays.vy.data(), rays.vz.data()};
-  HitBuffers hits;
   hits.resize(rays.size());
   const KernelHits kernel_hits{hits.u.data(), hits.v.data(), hits.depth.data(), hits.shadow.data(),
                                hits.samples.data(), hits.discarded.data()};
+  const double s = params_.scale;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.tile_count(), 1),
                     [&](const tbb::blocked_range<std::size_t>& tiles) {
     KernelCounters counters;
     for (std::size_t t = tiles.begin(); t != tiles.end(); ++t) {
-      float_pass(kernel_texture, kernel_params, kernel_rays, kernel_hits, rays.tile_offsets[t], rays.tile_offsets[t + 1],
+      float_pass(texture, kernel_params, kernel_rays, kernel_hits, rays.tile_offsets[t], rays.tile_offsets[t + 1],
                  counters);
       for (std::size_t i = rays.tile_offsets[t]; i < rays.tile_offsets[t + 1]; ++i) {
         if (rays.is_padding(i)) {  // a copy of a real ray: not worth a walk in double
@@ -75,21 +74,26 @@ HitBuffers exact_hits(const DepthMap& map, const RayBatch& rays, const Technique
         // In double from where the float pass stopped: the path is clear before it.
         const double vz = rays.vz[i];
         const PathHit hit =
-            exact.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], vz, params.scale, double(hits.depth[i]));
+            intersector_.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], vz, s, double(hits.depth[i]));
         const double d = hit.t;
-        const double u = rays.tx[i] - d * params.scale * rays.vx[i] / vz;
-        const double v = rays.ty[i] - d * params.scale * rays.vy[i] / vz;
+        const double u = rays.tx[i] - d * s * rays.vx[i] / vz;
+        const double v = rays.ty[i] - d * s * rays.vy[i] / vz;
         hits.u[i] = float(u);
         hits.v[i] = float(v);
         hits.depth[i] = float(d);
         hits.samples[i] += hit.cells;
-        hits.shadow[i] = visibility == LightVisibility::compute && !exact.visible(u, v, d, params.light, params.scale)
-                             ? 0.0f
-                             : 1.0f;
-        hits.discarded[i] = params.discard && (u < 0.0 || u > 1.0 || v < 0.0 || v > 1.0);
+        hits.shadow[i] =
+            visibility == LightVisibility::compute && !intersector_.visible(u, v, d, params_.light, s) ? 0.0f : 1.0f;
+        hits.discarded[i] = params_.discard && (u < 0.0 || u > 1.0 || v < 0.0 || v > 1.0);
       }
     }
   });
+}
+
+HitBuffers exact_hits(const DepthMap& map, const RayBatch& rays, const TechniqueParams& params,
+                      LightVisibility visibility, Isa isa) {
+  HitBuffers hits;
+  ExactReference(map, params, isa).run(rays, visibility, hits);
   return hits;
 }
 

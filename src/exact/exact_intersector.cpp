@@ -140,7 +140,9 @@ PathHit ExactIntersector::first_hit(const HeightfieldPath& p, double from) const
     while (level < top && path_cells >= double(1LL << (level + 4))) ++level;
   double t = from;
   for (double pass = 0; pass < bound; ++pass) {
-    if (level >= 0 && interior(cx, w) && interior(cy, h)) {
+    // Walking on from a float pass: its cell at `from` is solved at once (the pass found it may
+    // touch the path).
+    if (level >= 0 && interior(cx, w) && interior(cy, h) && !(pass == 0 && from > 0.0)) {
       const long long size = 1LL << level;
       const long long wx = repeat ? wrap_index(cx, w) : cx, wy = repeat ? wrap_index(cy, h) : cy;
       const long long bx = wx >> level, by = wy >> level;
