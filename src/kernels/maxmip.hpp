@@ -107,14 +107,20 @@ PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloa
   // Start where a block is about an eighth of the path's extent: the levels above it would
   // almost always be descended again, those below it climbed.
   const F extent = abs(dx) + abs(dy);
-  I level(0);
+  I level(0), offset(0);  // offset: where the level's entries start (MinDepthPyramid's layout)
   F size(1.0f), inv_size(1.0f);
   for (int l = 1; l <= top; ++l) {
     const B higher = extent >= F(float(1 << (l + 3)));
     level = select(higher, I(l), level);
+    offset = select(higher, I(texture.level_offsets[l]), offset);
     size = select(higher, F(float(1 << l)), size);
     inv_size = select(higher, F(1.0f / float(1 << l)), inv_size);
   }
+  // A level's blocks a side, ceil(cells / 2^L), from its 1 / 2^L: kept in registers instead of
+  // gathered from the per-level tables on every pass (their latency was on the walk's path).
+  const F last_cell_x(float(kRepeat ? texture.width - 1 : texture.width - 2));
+  const F last_cell_y(float(kRepeat ? texture.height - 1 : texture.height - 2));
+  const auto blocks = [](F last_cell, F inv) { return floor(last_cell * inv) + F(1.0f); };
   B active = B::all_true();
   // Each pass advances t or descends a level: the cells on the path times the levels bound it.
   const F lane_bound = F(float(2 * (top + 2))) * (extent + F(2.0f));
@@ -159,8 +165,7 @@ PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloa
           by = wrap_cell(by, nby, inv_height * size);
         }
       }
-      const I entry = gather(texture.level_offsets, level) + to_int(by) * gather(texture.level_blocks_x, level) +
-                      to_int(bx);
+      const I entry = offset + to_int(by) * to_int(blocks(last_cell_x, inv_size)) + to_int(bx);
       if constexpr (!CONSERVATIVE) k.count(in_pyramid, walk.samples, 1);
       shallowest = select(in_pyramid, gather(texture.pyramid, select(in_pyramid, entry, I(0))), F(-kInf));
     }
@@ -223,6 +228,10 @@ PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloa
     const F side_x = select(high_x, x_hi, x_lo) * half_inv, side_y = select(high_y, y_hi, y_lo) * half_inv;
     const B new_parent = (exit_x & !(floor(side_x) != side_x)) | (exit_y & !(floor(side_y) != side_y));
     const B up = move & new_parent & (level < top_level);
+    const F inv_below = inv_size * F(2.0f);
+    const I entries = to_int(blocks(last_cell_x, inv_size)) * to_int(blocks(last_cell_y, inv_size));
+    const I entries_below = to_int(blocks(last_cell_x, inv_below)) * to_int(blocks(last_cell_y, inv_below));
+    offset = select(up, offset + entries, select(descend, offset - entries_below, offset));
     level = select(up, level + I(1), select(descend, level - I(1), level));
     size = select(up, size * F(2.0f), select(descend, size * F(0.5f), size));
     inv_size = select(up, inv_size * F(0.5f), select(descend, inv_size * F(2.0f), inv_size));
@@ -271,10 +280,15 @@ HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket
   const F dx = F(0.0f) - p_x * width, dy = F(0.0f) - p_y * height;
   const F eta = F(0x1p-20f) * (abs(x0) + abs(y0)) + F(0x1p-18f) * (abs(dx) + abs(dy) + F(4.0f));
   const PyramidWalk<W> walk = walk_pyramid<true>(k, x0, y0, dx, dy, eta);
+  // Where the walk stopped past 0 it had shown depth - D < -eta + (its rounding, < eta / 2);
+  // depth - D changes by at most 1 + |dx| + |dy| per unit depth, so the path is clear a little
+  // further, nu: far enough that the double walk starts in the cell the pass stopped in, not at
+  // the end of the one before (where it would solve a cell again).
+  const F nu = eta / (F(2.0f) * (F(1.0f) + abs(dx) + abs(dy)));
   HitPacket<W> out;
   out.u = ray.tx;
   out.v = ray.ty;
-  out.depth = select(walk.reached | walk.cut_off, walk.t, F(1.0f));
+  out.depth = select(walk.reached | walk.cut_off, select(walk.t > F(0.0f), walk.t + nu, walk.t), F(1.0f));
   out.samples = walk.samples;
   return out;
 }
