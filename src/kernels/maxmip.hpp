@@ -93,9 +93,10 @@ PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloa
   const I top_level(top < 0 ? 0 : top);
   const auto clamp_cell = [&](F c, F n) { return kRepeat ? c : min(max(c, F(-1.0f)), n - F(1.0f)); };
 
-  // A path parallel to an axis exits on the high side at infinity (dx + 0 turns -0 into +0).
+  // A path parallel to an axis (dx = +0: the callers compute 0 - p, never -0) exits on the
+  // high side at infinity.
   const B high_x = !(dx < F(0.0f)), high_y = !(dy < F(0.0f));
-  const F inv_dx = F(1.0f) / (dx + F(0.0f)), inv_dy = F(1.0f) / (dy + F(0.0f));
+  const F inv_dx = F(1.0f) / dx, inv_dy = F(1.0f) / dy;
 
   PyramidWalk<W> walk;
   walk.t = F(0.0f);
