@@ -40,7 +40,8 @@ class ExactIntersector {
   PathHit first_hit(const HeightfieldPath& path, double from = 0.0) const;
 
   // d* of docs/conventions.md for one ray, and the cells solved; `from` as for first_hit.
-  PathHit intersect(double tx, double ty, double vx, double vy, double vz, double scale, double from = 0.0) const;
+  PathHit intersect(double tx, double ty, double vx, double vy, double vz, double scale,
+                    double from = 0.0) const;
 
   // Whether the light is visible from the surface point at uv (depth d) along unit L.
   bool visible(double u, double v, double depth, const float light[3], double scale) const;

@@ -69,7 +69,7 @@ vfloat<W> first_root(vfloat<W> c0, vfloat<W> c1, vfloat<W> c2, vfloat<W> span) {
 template <int W>
 struct PyramidWalk {
   vfloat<W> t;
-  vfloat<W> c0, c1, c2, span;
+  vfloat<W> c0, c1, c2, span;  // not kept by the conservative walk
   vbool<W> reached;  // stopped in a cell it may touch
   vbool<W> cut_off;  // stopped by the bound on passes
   vint<W> samples;
@@ -199,10 +199,12 @@ PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloa
       const F c2 = F(0.0f) - g * dx * dy;
       const F span = t_end - t;
       hit = solve & reaches_patch(c0, c1, c2, span);
-      walk.c0 = select(hit, c0, walk.c0);
-      walk.c1 = select(hit, c1, walk.c1);
-      walk.c2 = select(hit, c2, walk.c2);
-      walk.span = select(hit, span, walk.span);
+      if constexpr (!CONSERVATIVE) {  // the float pass hands on the cell's entry, not its root
+        walk.c0 = select(hit, c0, walk.c0);
+        walk.c1 = select(hit, c1, walk.c1);
+        walk.c2 = select(hit, c2, walk.c2);
+        walk.span = select(hit, span, walk.span);
+      }
       walk.reached = walk.reached | hit;
       active = active & !hit;
     }
@@ -265,12 +267,12 @@ HitPacket<W> maxmip(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
 
 // The exact reference's float pass: the walk with every test loosened by eta, which bounds what
 // float rounding can change. The walk's positions, exit times and cell offsets are within a few
-// ulps of their exact values: of the texel coordinates (|x0| + |y0|, the cell a point falls in
-// near a side) and of the path's extent (|dx| + |dy|, exit times, slopes and products); the
-// bilinear surface changes by at most |dx| + |dy| texel values (each in [0, 1]) for a move of
-// (dx, dy) texels, so these become depth errors of the same size. eta is 16 times their sum:
-// the lane stops in a cell (depth = its entry) no later than the first cell the exact path
-// touches, or (depth 1) proves the path clear down to depth 1.
+// ulps of their exact values: ulps of the texel coordinates (|x0| + |y0|: the origin, the cell a
+// point falls in near a side) and of the path's extent (|dx| + |dy|: exit times, slopes,
+// products). The bilinear surface (texels in [0, 1]) changes by at most |a| + |b| for a move of
+// (a, b) texels, so these become depth errors of the same size; eta is about 16 times their sum
+// (docs/conventions.md, the exact intersection). The lane stops in a cell (depth: its entry) no
+// later than the first cell the exact path touches, or (depth 1) shows the path clear to depth 1.
 template <int W, Addressing ADDRESSING>
 HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   using F = vfloat<W>;
@@ -289,7 +291,8 @@ HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket
   HitPacket<W> out;
   out.u = ray.tx;
   out.v = ray.ty;
-  out.depth = select(walk.reached | walk.cut_off, select(walk.t > F(0.0f), walk.t + nu, walk.t), F(1.0f));
+  const F clear = select(walk.t > F(0.0f), min(walk.t + nu, F(1.0f)), walk.t);  // D <= 1: a hit by 1
+  out.depth = select(walk.reached | walk.cut_off, clear, F(1.0f));
   out.samples = walk.samples;
   return out;
 }
