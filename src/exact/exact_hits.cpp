@@ -75,9 +75,9 @@ void ExactReference::run(const RayBatch& rays, LightVisibility visibility, HitBu
         const double vz = rays.vz[i];
         const PathHit hit =
             intersector_.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], vz, s, double(hits.depth[i]));
-        const double d = hit.t;
-        const double u = rays.tx[i] - d * s * rays.vx[i] / vz;
-        const double v = rays.ty[i] - d * s * rays.vy[i] / vz;
+        const double d = hit.t, offset_per_depth = s / vz;
+        const double u = rays.tx[i] - d * offset_per_depth * rays.vx[i];
+        const double v = rays.ty[i] - d * offset_per_depth * rays.vy[i];
         hits.u[i] = float(u);
         hits.v[i] = float(v);
         hits.depth[i] = float(d);

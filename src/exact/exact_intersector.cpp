@@ -202,8 +202,9 @@ PathHit ExactIntersector::first_hit(const HeightfieldPath& p, double from) const
 PathHit ExactIntersector::intersect(double tx, double ty, double vx, double vy, double vz, double scale,
                                     double from) const {
   const double w = map_->width, h = map_->height;
-  const HeightfieldPath path{tx * w - 0.5, ty * h - 0.5, -scale * vx / vz * w, -scale * vy / vz * h,
-                             0.0, 1.0, 1.0};
+  const double offset_per_depth = scale / vz;  // s / V.z: one division for both axes
+  const HeightfieldPath path{tx * w - 0.5, ty * h - 0.5, -(offset_per_depth * vx) * w,
+                             -(offset_per_depth * vy) * h, 0.0, 1.0, 1.0};
   PathHit hit = first_hit(path, from);
   if (!hit.found) {  // only rounding can get here: D <= 1 guarantees a hit by depth 1
     hit.found = true;
