@@ -45,7 +45,7 @@ struct Configuration {
   HeightfieldSource heightfield;
   ViewSpec view;
   TechniqueParams params;    // the technique is ignored by roofline, exact and brought-in shader runs
-  Isa isa = Isa::scalar;     // trace and roofline runs
+  Isa isa = Isa::scalar;     // trace and roofline runs; exact runs: the ISA of its float pass
   int threads = 1;           // worker threads (never 0: resolved by the plan)
   std::optional<BroughtInShader> shader;  // glsl runs: a brought-in shader instead of the technique
   bool timed = true;         // false: accuracy only (sweeps, gallery)

@@ -6,6 +6,7 @@
 #include "heightmarch/error.hpp"
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/hits.hpp"
+#include "heightmarch/isa.hpp"
 #include "heightmarch/min_depth_pyramid.hpp"
 #include "heightmarch/rays.hpp"
 #include "heightmarch/sampler.hpp"
@@ -28,22 +29,27 @@ struct PathHit {
 };
 
 // Walks the texel cells the path crosses (2D DDA), skipping blocks whose minimum depth lies
-// below the path with a min-depth mip pyramid, and solves each cell's quadratic exactly.
+// below the path with a min-depth mip pyramid, and solves each cell's quadratic in double.
 class ExactIntersector {
  public:
   ExactIntersector(const DepthMap& map, Wrap wrap);
 
-  // Smallest t in [0, t_max] with depth(t) >= D(x(t), y(t)).
-  PathHit first_hit(const HeightfieldPath& path) const;
+  // Smallest t in [from, t_max] with depth(t) >= D(x(t), y(t)). From 0 the walk starts high in
+  // the pyramid; from a later t (where a float pass stopped, the path clear before it) it starts
+  // in that cell.
+  PathHit first_hit(const HeightfieldPath& path, double from = 0.0) const;
 
-  // d* of docs/conventions.md for one ray, and the cells solved.
-  PathHit intersect(double tx, double ty, double vx, double vy, double vz, double scale) const;
+  // d* of docs/conventions.md for one ray, and the cells solved; `from` as for first_hit.
+  PathHit intersect(double tx, double ty, double vx, double vy, double vz, double scale,
+                    double from = 0.0) const;
 
   // Whether the light is visible from the surface point at uv (depth d) along unit L.
   bool visible(double u, double v, double depth, const float light[3], double scale) const;
 
   // Bilinear depth at texel-space (x, y), in double (the sampling formula (docs/conventions.md)).
   double depth_at(double x, double y) const;
+
+  const MinDepthPyramid& pyramid() const { return pyramid_; }
 
  private:
   double texel(long long i, long long j) const;
@@ -66,16 +72,39 @@ inline constexpr double kMaxExactPathCells = double(1 << 20);
 // scale s |V.xy| / V.z (W + H) cells, is longer than kMaxExactPathCells.
 void check_exact_path_lengths(const DepthMap& map, const RayBatch& rays, const TechniqueParams& params);
 
-// The exact answer for every ray of a batch, in parallel over its tiles under the current thread
-// limit: uv and d* per ray, the texel cells solved in `samples`, the discard flag as a technique
-// would set it, and in `shadow` the light's exact visibility (0 or 1) from the exact hit when
-// `visibility` asks for it (a second walk per ray, only the shadow technique needs), else 1.
-// Uses params' scale, wrap, light and discard; not its technique. Checks path lengths first.
+// The exact answer for every ray of a batch. Each tile goes through a conservative float pass of
+// the pyramid walk at one ISA (maxmip's walk with every test loosened by a bound on its rounding:
+// src/kernels/maxmip.hpp), which stops each ray in the first cell the exact path may touch; the
+// double walk goes on from there. The answer does not depend on the ISA (every ISA's pass is
+// bit-identical to the scalar one).
 enum class LightVisibility { skip, compute };
 inline LightVisibility visibility_for(Technique technique) {
   return technique == Technique::shadow ? LightVisibility::compute : LightVisibility::skip;
 }
+
+// Built once per depth map (which it keeps a pointer to) and parameters (the pyramid, the float
+// pass's texture), like a Tracer, so that repeated runs time only the tracing. Uses params'
+// scale, wrap, light and discard; not its technique.
+class ExactReference {
+ public:
+  ExactReference(const DepthMap& map, const TechniqueParams& params, Isa isa = best_isa());
+
+  // In parallel over the batch's tiles under the current thread limit: uv and d* per ray, the
+  // texel cells tested (by the float pass, then solved in double) in `samples`, the discard flag
+  // as a technique would set it, and in `shadow` the light's exact visibility (0 or 1) from the
+  // exact hit when `visibility` asks for it (a second walk per ray, only the shadow technique
+  // needs), else 1. Checks path lengths first.
+  void run(const RayBatch& rays, LightVisibility visibility, HitBuffers& hits) const;
+
+ private:
+  const DepthMap* map_;
+  TechniqueParams params_;
+  Isa isa_;
+  ExactIntersector intersector_;
+  SamplerTexture texture_;
+};
+
 HitBuffers exact_hits(const DepthMap& map, const RayBatch& rays, const TechniqueParams& params,
-                      LightVisibility visibility);
+                      LightVisibility visibility, Isa isa = best_isa());
 
 }  // namespace heightmarch

@@ -6,6 +6,7 @@
 
 #include "heightmarch/error.hpp"
 #include "heightmarch/exact.hpp"
+#include "kernels/kernel_abi.hpp"
 
 namespace heightmarch {
 namespace {
@@ -37,35 +38,62 @@ void check_exact_path_lengths(const DepthMap& map, const RayBatch& rays, const T
   }
 }
 
-HitBuffers exact_hits(const DepthMap& map, const RayBatch& rays, const TechniqueParams& params,
-                      LightVisibility visibility) {
-  check_exact_path_lengths(map, rays, params);
-  const ExactIntersector exact(map, params.wrap);
-  HitBuffers hits;
+ExactReference::ExactReference(const DepthMap& map, const TechniqueParams& params, Isa isa)
+    : map_(&map), params_(params), isa_(isa), intersector_(map, params.wrap), texture_(map, params.wrap) {}
+
+void ExactReference::run(const RayBatch& rays, LightVisibility visibility, HitBuffers& hits) const {
+  check_exact_path_lengths(*map_, rays, params_);
+  const MinDepthPyramid& pyramid = intersector_.pyramid();
+  const KernelTexture texture{texture_.texels.data(), texture_.width, texture_.height, texture_.stride, texture_.wrap,
+                              pyramid.data(), pyramid.offsets(), pyramid.blocks_x(), pyramid.levels()};
+  const KernelParams kernel_params{1.0f, 1.0f, 0, params_.scale, params_.discard,
+                                   {params_.light[0], params_.light[1], params_.light[2]}};
+  const TraceRangeFn float_pass =
+      kernel_table(isa_).exact_bound[int(addressing_of(texture.width, texture.height, texture.wrap))];
+  const KernelRays kernel_rays{rays.tx.data(), rays.ty.data(), rays.vx.data(), rays.vy.data(), rays.vz.data()};
   hits.resize(rays.size());
+  const KernelHits kernel_hits{hits.u.data(), hits.v.data(), hits.depth.data(), hits.shadow.data(),
+                               hits.samples.data(), hits.discarded.data()};
+  const double s = params_.scale;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.tile_count(), 1),
                     [&](const tbb::blocked_range<std::size_t>& tiles) {
-    for (std::size_t t = tiles.begin(); t != tiles.end(); ++t)
+    KernelCounters counters;
+    for (std::size_t t = tiles.begin(); t != tiles.end(); ++t) {
+      float_pass(texture, kernel_params, kernel_rays, kernel_hits, rays.tile_offsets[t], rays.tile_offsets[t + 1],
+                 counters);
       for (std::size_t i = rays.tile_offsets[t]; i < rays.tile_offsets[t + 1]; ++i) {
-        if (rays.is_padding(i)) {  // a copy of a real ray: not worth a second exact walk
+        if (rays.is_padding(i)) {  // a copy of a real ray: not worth a walk in double
           hits.u[i] = rays.tx[i];
           hits.v[i] = rays.ty[i];
+          hits.depth[i] = 0.0f;
+          hits.shadow[i] = 1.0f;
+          hits.samples[i] = 0;
+          hits.discarded[i] = 0;
           continue;
         }
+        // In double from where the float pass stopped: the path is clear before it.
         const double vz = rays.vz[i];
-        const PathHit hit = exact.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], vz, params.scale);
-        const double d = hit.t;
-        const double u = rays.tx[i] - d * params.scale * rays.vx[i] / vz;
-        const double v = rays.ty[i] - d * params.scale * rays.vy[i] / vz;
+        const PathHit hit =
+            intersector_.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], vz, s, double(hits.depth[i]));
+        const double d = hit.t, offset_per_depth = s / vz;
+        const double u = rays.tx[i] - d * offset_per_depth * rays.vx[i];
+        const double v = rays.ty[i] - d * offset_per_depth * rays.vy[i];
         hits.u[i] = float(u);
         hits.v[i] = float(v);
         hits.depth[i] = float(d);
-        hits.samples[i] = hit.cells;
-        if (visibility == LightVisibility::compute)
-          hits.shadow[i] = exact.visible(u, v, d, params.light, params.scale) ? 1.0f : 0.0f;
-        hits.discarded[i] = params.discard && (u < 0.0 || u > 1.0 || v < 0.0 || v > 1.0);
+        hits.samples[i] += hit.cells;
+        hits.shadow[i] =
+            visibility == LightVisibility::compute && !intersector_.visible(u, v, d, params_.light, s) ? 0.0f : 1.0f;
+        hits.discarded[i] = params_.discard && (u < 0.0 || u > 1.0 || v < 0.0 || v > 1.0);
       }
+    }
   });
+}
+
+HitBuffers exact_hits(const DepthMap& map, const RayBatch& rays, const TechniqueParams& params,
+                      LightVisibility visibility, Isa isa) {
+  HitBuffers hits;
+  ExactReference(map, params, isa).run(rays, visibility, hits);
   return hits;
 }
 

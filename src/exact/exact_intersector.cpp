@@ -99,13 +99,13 @@ bool ExactIntersector::cell_first_root(long long ci, long long cj, const Heightf
   return false;
 }
 
-PathHit ExactIntersector::first_hit(const HeightfieldPath& p) const {
+PathHit ExactIntersector::first_hit(const HeightfieldPath& p, double from) const {
   PathHit result;
   const bool repeat = wrap_ == Wrap::repeat;
   const long long w = map_->width, h = map_->height;
   auto clamp_cell = [&](long long c, long long n) { return repeat ? c : std::clamp(c, -1LL, n - 1); };
-  long long cx = clamp_cell(floor_to_cell(p.x0, p.dx), w);
-  long long cy = clamp_cell(floor_to_cell(p.y0, p.dy), h);
+  long long cx = clamp_cell(floor_to_cell(p.x0 + p.dx * from, p.dx), w);
+  long long cy = clamp_cell(floor_to_cell(p.y0 + p.dy * from, p.dy), h);
   // t at which the path leaves the cell range [lo, hi) along one axis (hi exclusive).
   // Divisions dominated the walk: each axis' rate is inverted once per path.
   const double inv_dx = 1.0 / p.dx, inv_dy = 1.0 / p.dy;
@@ -119,17 +119,30 @@ PathHit ExactIntersector::first_hit(const HeightfieldPath& p) const {
   auto cell_lo = [&](long long c) { return !repeat && c == -1 ? -(LLONG_MAX / 4) : c; };
   auto depth = [&](double t) { return p.depth0 + p.ddepth * t; };
   auto interior = [&](long long c, long long n) { return repeat || (c >= 0 && c < n - 1); };
+  // Leaving a block of level L across (x_side, y_side), the walk goes up a level only when it
+  // also leaves the parent: where the crossed side lies on a multiple of 2^(L + 1).
+  auto new_parent = [&](int level, bool across_x, long long x_side, bool across_y, long long y_side) {
+    const long long mask = (2LL << level) - 1;
+    return (across_x && (x_side & mask) == 0) || (across_y && (y_side & mask) == 0);
+  };
 
   // Tevs et al.'s maximum-mipmap walk: `level` goes down while the path may touch a block's
-  // shallowest texel and up after each block or cell the path leaves without a hit, so a pass
+  // shallowest texel and up after the path leaves a block's parent without a hit, so a pass
   // either advances t or descends. Passes are bounded by the cells on the path times the levels.
+  // It starts where a block is about an eighth of the path's extent (the float walk of
+  // src/kernels/maxmip.hpp takes the same steps), or in the cell at `from` when walking on from
+  // where a float pass stopped.
   const int top = pyramid_.levels() - 1;
   const double path_cells = (std::fabs(p.dx) + std::fabs(p.dy)) * p.t_max;
   const double bound = std::min((4.0 * path_cells + 64.0) * double(top + 2), 1e13);
-  int level = top;
-  double t = 0.0;
+  int level = top < 0 ? -1 : 0;
+  if (from == 0.0)
+    while (level < top && path_cells >= double(1LL << (level + 4))) ++level;
+  double t = from;
   for (double pass = 0; pass < bound; ++pass) {
-    if (level >= 0 && interior(cx, w) && interior(cy, h)) {
+    // Walking on from a float pass: its cell at `from` is solved at once (the pass found it may
+    // touch the path).
+    if (level >= 0 && interior(cx, w) && interior(cy, h) && !(pass == 0 && from > 0.0)) {
       const long long size = 1LL << level;
       const long long wx = repeat ? wrap_index(cx, w) : cx, wy = repeat ? wrap_index(cy, h) : cy;
       const long long bx = wx >> level, by = wy >> level;
@@ -145,9 +158,10 @@ PathHit ExactIntersector::first_hit(const HeightfieldPath& p) const {
         t = te;
         // Step across the exited side(s); the other axis' cell comes from the position.
         const long long nx = p.dx > 0 ? x_hi : x_lo - 1, ny = p.dy > 0 ? y_hi : y_lo - 1;
+        const bool up = new_parent(level, tx <= ty, p.dx > 0 ? x_hi : x_lo, ty <= tx, p.dy > 0 ? y_hi : y_lo);
         cx = clamp_cell(tx <= ty ? nx : std::clamp(floor_to_cell(p.x0 + p.dx * t, p.dx), x_lo, x_hi - 1), w);
         cy = clamp_cell(ty <= tx ? ny : std::clamp(floor_to_cell(p.y0 + p.dy * t, p.dy), y_lo, y_hi - 1), h);
-        level = std::min(level + 1, top);
+        if (up) level = std::min(level + 1, top);
         continue;
       }
       if (level > 0) {
@@ -177,19 +191,21 @@ PathHit ExactIntersector::first_hit(const HeightfieldPath& p) const {
     }
     if (te >= p.t_max) return result;
     t = te;
+    const bool up = new_parent(0, tx <= ty, p.dx > 0 ? cx + 1 : cx, ty <= tx, p.dy > 0 ? cy + 1 : cy);
     if (tx <= ty) cx = clamp_cell(cx + (p.dx > 0 ? 1 : -1), w);
     if (ty <= tx) cy = clamp_cell(cy + (p.dy > 0 ? 1 : -1), h);
-    level = std::min(level + 1, top);
+    if (up) level = std::min(level + 1, top);
   }
   return result;
 }
 
-PathHit ExactIntersector::intersect(double tx, double ty, double vx, double vy, double vz,
-                                    double scale) const {
+PathHit ExactIntersector::intersect(double tx, double ty, double vx, double vy, double vz, double scale,
+                                    double from) const {
   const double w = map_->width, h = map_->height;
-  const HeightfieldPath path{tx * w - 0.5, ty * h - 0.5, -scale * vx / vz * w, -scale * vy / vz * h,
-                             0.0, 1.0, 1.0};
-  PathHit hit = first_hit(path);
+  const double offset_per_depth = scale / vz;  // s / V.z: one division for both axes
+  const HeightfieldPath path{tx * w - 0.5, ty * h - 0.5, -(offset_per_depth * vx) * w,
+                             -(offset_per_depth * vy) * h, 0.0, 1.0, 1.0};
+  PathHit hit = first_hit(path, from);
   if (!hit.found) {  // only rounding can get here: D <= 1 guarantees a hit by depth 1
     hit.found = true;
     hit.t = 1.0;

@@ -49,7 +49,7 @@ bool Configuration::same_measurement(const Configuration& o) const {
   const bool same_params = (!has_technique() || a.technique == b.technique) && a.layers == b.layers &&
                            a.refine_steps == b.refine_steps && a.scale == b.scale && a.wrap == b.wrap &&
                            a.discard == b.discard && std::memcmp(a.light, b.light, sizeof a.light) == 0;
-  const bool same_isa = (kind != RunKind::trace && kind != RunKind::roofline) || isa == o.isa;
+  const bool same_isa = (kind != RunKind::trace && kind != RunKind::roofline && kind != RunKind::exact) || isa == o.isa;
   return kind == o.kind && heightfield == o.heightfield && view == o.view && same_params && same_isa &&
          threads == o.threads && shader == o.shader;
 }

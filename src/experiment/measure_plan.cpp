@@ -187,6 +187,7 @@ struct MeasurementSession::State {
   std::vector<std::pair<HeightfieldSource, std::unique_ptr<DepthMap>>> maps;
   std::vector<std::pair<Configuration, std::unique_ptr<SceneRun>>> scenes;  // by heightfield and view
   std::map<const Configuration*, std::unique_ptr<Tracer>> tracers;
+  std::map<const Configuration*, std::unique_ptr<ExactReference>> exact_references;
 
   const DepthMap& depth_map(const HeightfieldSource& source) {
     for (auto& [s, map] : maps)
@@ -209,6 +210,13 @@ struct MeasurementSession::State {
       slot = std::make_unique<Tracer>(scene.map, c.kind == RunKind::roofline ? roofline_params(c.params) : c.params, c.isa);
     return *slot;
   }
+
+  // Likewise the exact reference, its float pass at the configuration's ISA.
+  const ExactReference& exact_reference(SceneRun& scene, const Configuration& c) {
+    auto& slot = exact_references[&c];
+    if (!slot) slot = std::make_unique<ExactReference>(scene.map, c.params, c.isa);
+    return *slot;
+  }
 };
 
 MeasurementSession::MeasurementSession() : state_(std::make_unique<State>()) {}
@@ -216,6 +224,7 @@ MeasurementSession::~MeasurementSession() = default;
 
 void MeasurementSession::forget_scenes() {
   state_->tracers.clear();
+  state_->exact_references.clear();
   state_->scenes.clear();
 }
 
@@ -314,8 +323,10 @@ std::function<double()> MeasurementSession::trace_once(const Configuration& c) {
         naive_pom(scene.map, scene.rays, c.params.layers.min_layers, c.params.layers.max_layers, c.params.scale,
                   scene.scratch);
       });
-    case RunKind::exact:
-      return timed([&scene, c] { scene.scratch = exact_hits(scene.map, scene.rays, c.params, visibility_for(c.params.technique)); });
+    case RunKind::exact: {
+      const ExactReference& r = state_->exact_reference(scene, c);
+      return timed([&r, &scene, c] { r.run(scene.rays, visibility_for(c.params.technique), scene.scratch); });
+    }
   }
   return [] { return 0.0; };
 }

@@ -118,11 +118,6 @@ float floorToCell(float x, float rate) {
   return (f == x && rate < 0.0) ? f - 1.0 : f;
 }
 
-float exitT(float x0, float rate, float invRate, float lo, float hi) {
-  float t = ((rate > 0.0 ? hi : lo) - x0) * invRate;
-  return (rate > 0.0 || rate < 0.0) ? t : kInf;
-}
-
 float wrapCell(float c, float n, float invN) {
   float r = c - n * floor(c * invN);
   r = r < 0.0 ? r + n : r;
@@ -130,21 +125,23 @@ float wrapCell(float c, float n, float invN) {
   return min(max(r, 0.0), n - 1.0);
 }
 
-float firstCrossing(float c0, float c1, float c2, float span, out bool found) {
+// reaches_patch: whether c0 + c1 s + c2 s^2 reaches 0 in [0, span], without division.
+bool reachesPatch(float c0, float c1, float c2, float span) {
+  bool endsBelow = c0 + span * (c1 + span * c2) >= 0.0;
+  bool vertexInside = c2 < 0.0 && c1 > 0.0 && c1 < (0.0 - 2.0 * c2) * span;
+  return c0 >= 0.0 || endsBelow || (vertexInside && c1 * c1 - 4.0 * c2 * c0 >= 0.0);
+}
+
+// first_root: the first root in [0, span] of a patch reachesPatch accepted.
+float firstRoot(float c0, float c1, float c2, float span) {
   bool linear = !(abs(c2) * span > 1e-6 * (abs(c1) + abs(c0) / max(span, 1e-30)));
-  float disc = c1 * c1 - 4.0 * c2 * c0;
-  float rootDisc = sqrt(max(disc, 0.0));
+  float rootDisc = sqrt(max(c1 * c1 - 4.0 * c2 * c0, 0.0));
   float q = -0.5 * (c1 + (c1 < 0.0 ? 0.0 - rootDisc : rootDisc));
   float r1 = q / c2, r2 = c0 / q;
-  float first = r1 < r2 ? r1 : r2, second = r1 > r2 ? r1 : r2;
-  bool quadratic = !linear && disc >= 0.0;
-  bool inFirst = quadratic && first >= 0.0 && !(first > span);
-  bool inSecond = quadratic && second >= 0.0 && !(second > span);
-  float rLinear = (0.0 - c0) / c1;
-  bool inLinear = linear && c1 > 0.0 && rLinear >= 0.0 && !(rLinear > span);
-  bool endsBelow = c0 + span * (c1 + span * c2) >= 0.0;
-  found = inFirst || inSecond || inLinear || endsBelow;
-  return inFirst ? first : (inSecond ? second : (inLinear ? rLinear : span));
+  float lo = r1 < r2 ? r1 : r2, hi = r1 > r2 ? r1 : r2;
+  float quadratic = lo >= 0.0 ? lo : hi;
+  float root = linear ? (0.0 - c0) / c1 : quadratic;
+  return c0 >= 0.0 ? 0.0 : min(max(root, 0.0), span);
 }
 
 float pyramidEntry(int index) {
@@ -163,29 +160,37 @@ vec4 maxmip(vec2 T, vec3 V) {
   float pY = V.y / V.z * heightScale;
   float x0 = T.x * width - 0.5, y0 = T.y * height - 0.5;
   float dx = 0.0 - pX * width, dy = 0.0 - pY * height;
+  bool highX = !(dx < 0.0), highY = !(dy < 0.0);
   float invDx = 1.0 / dx, invDy = 1.0 / dy;
 
-  float t = 0.0, hitT = 1.0;
+  float t = 0.0;
   float cx = floorToCell(x0, dx), cy = floorToCell(y0, dy);
   if (!wrapRepeat) {
     cx = min(max(cx, -1.0), width - 1.0);
     cy = min(max(cy, -1.0), height - 1.0);
   }
-  int level = topLevel;
-  float size = float(1 << topLevel), invSize = 1.0 / float(1 << topLevel);
-  float laneBound = float(2 * (top + 2)) * (abs(dx) + abs(dy) + 2.0);
+  float extent = abs(dx) + abs(dy);
+  int level = 0;
+  float size = 1.0, invSize = 1.0;
+  for (int l = 1; l <= top; ++l) {
+    if (extent >= float(1 << (l + 3))) {
+      level = l;
+      size = float(1 << l);
+      invSize = 1.0 / float(1 << l);
+    }
+  }
+  float laneBound = float(2 * (top + 2)) * (extent + 2.0);
   float pass = 0.0;
-  bool walking = true;
+  bool walking = true, reached = false;
+  float hitC0 = 0.0, hitC1 = 0.0, hitC2 = 0.0, hitSpan = 0.0;
   for (int p = 0; p < (1 << 25) && walking; ++p) {
     pass = pass + 1.0;
     if (pass > laneBound) break;
-    float wx = wrapRepeat ? wrapCell(cx, width, invWidth) : max(cx, 0.0);
-    float wy = wrapRepeat ? wrapCell(cy, height, invHeight) : max(cy, 0.0);
     bool interior = wrapRepeat || (cx >= 0.0 && cx < width - 1.0 && cy >= 0.0 && cy < height - 1.0);
     bool inPyramid = interior && top >= 0;
 
-    float bx = floor(wx * invSize), by = floor(wy * invSize);
-    float xLo = cx - (wx - bx * size), yLo = cy - (wy - by * size);
+    float bxUnwrapped = floor(cx * invSize), byUnwrapped = floor(cy * invSize);
+    float xLo = bxUnwrapped * size, yLo = byUnwrapped * size;
     float xHi = xLo + size, yHi = yLo + size;
     if (!wrapRepeat) {
       xHi = min(xHi, width - 1.0);
@@ -197,18 +202,27 @@ vec4 maxmip(vec2 T, vec3 V) {
         yHi = cy >= height - 1.0 ? kInf : cy + 1.0;
       }
     }
-    float tx = exitT(x0, dx, invDx, xLo, xHi), ty = exitT(y0, dy, invDy, yLo, yHi);
+    float tx = ((highX ? xHi : xLo) - x0) * invDx, ty = ((highY ? yHi : yLo) - y0) * invDy;
     float te = min(tx, ty);
     float tEnd = min(te, 1.0);
 
     float shallowest = -kInf;
-    if (inPyramid) shallowest = pyramidEntry(levelOffsets[level] + int(by) * levelBlocksX[level] + int(bx));
+    if (inPyramid) {
+      float bx = bxUnwrapped, by = byUnwrapped;
+      if (wrapRepeat) {
+        bx = wrapCell(bx, width * invSize, invWidth * size);
+        by = wrapCell(by, height * invSize, invHeight * size);
+      }
+      shallowest = pyramidEntry(levelOffsets[level] + int(by) * levelBlocksX[level] + int(bx));
+    }
     bool skip = inPyramid && tEnd < shallowest;
     bool descend = inPyramid && !skip && level > 0;
     bool solve = !skip && !descend;
 
     bool hit = false;
     if (solve) {
+      float wx = wrapRepeat ? wrapCell(cx, width, invWidth) : max(cx, 0.0);
+      float wy = wrapRepeat ? wrapCell(cy, height, invHeight) : max(cy, 0.0);
       int ix = min(int(wx), mapSize.x - 1), iy = min(int(wy), mapSize.y - 1);
       int ix1 = wrapRepeat ? (ix + 1) % mapSize.x : min(ix + 1, mapSize.x - 1);
       int iy1 = wrapRepeat ? (iy + 1) % mapSize.y : min(iy + 1, mapSize.y - 1);
@@ -226,47 +240,48 @@ vec4 maxmip(vec2 T, vec3 V) {
       float c0 = t - (t00 + e * fx + f * fy + g * fx * fy);
       float c1 = 1.0 - (e * dx + f * dy + g * (fx * dy + fy * dx));
       float c2 = 0.0 - g * dx * dy;
-      bool found;
-      float root = firstCrossing(c0, c1, c2, tEnd - t, found);
-      bool atStart = !(c0 < 0.0);
-      hit = atStart || found;
+      float span = tEnd - t;
+      hit = reachesPatch(c0, c1, c2, span);
       if (hit) {
-        hitT = atStart ? t : t + root;
+        hitC0 = c0;
+        hitC1 = c1;
+        hitC2 = c2;
+        hitSpan = span;
+        reached = true;
         walking = false;
       }
     }
 
     bool leave = skip || (solve && !hit);
     if (leave && !(te < 1.0)) walking = false;
-    if (leave && te < 1.0) {
-      float nextX = dx > 0.0 ? xHi : xLo - 1.0;
-      float nextY = dy > 0.0 ? yHi : yLo - 1.0;
-      float atX = min(max(floorToCell(x0 + dx * te, dx), xLo), xHi - 1.0);
-      float atY = min(max(floorToCell(y0 + dy * te, dy), yLo), yHi - 1.0);
-      cx = !(tx > ty) ? nextX : atX;
-      cy = !(ty > tx) ? nextY : atY;
+    bool move = leave && te < 1.0;
+    if (move || (descend && shallowest > t)) {
+      float tNext = move ? te : min(shallowest, tEnd);
+      float atX = min(max(floorToCell(x0 + dx * tNext, dx), xLo), xHi - 1.0);
+      float atY = min(max(floorToCell(y0 + dy * tNext, dy), yLo), yHi - 1.0);
+      bool exitX = move && !(tx > ty), exitY = move && !(ty > tx);
+      cx = exitX ? (highX ? xHi : xLo - 1.0) : atX;
+      cy = exitY ? (highY ? yHi : yLo - 1.0) : atY;
       if (!wrapRepeat) {
         cx = min(max(cx, -1.0), width - 1.0);
         cy = min(max(cy, -1.0), height - 1.0);
       }
-      t = te;
-      if (level < topLevel) {
-        level += 1;
-        size = size * 2.0;
-        invSize = invSize * 0.5;
+      t = tNext;
+      if (move && level < topLevel) {
+        float sideX = (highX ? xHi : xLo) * (invSize * 0.5), sideY = (highY ? yHi : yLo) * (invSize * 0.5);
+        if ((exitX && floor(sideX) == sideX) || (exitY && floor(sideY) == sideY)) {
+          level += 1;
+          size = size * 2.0;
+          invSize = invSize * 0.5;
+        }
       }
-    } else if (descend) {
-      if (shallowest > t) {
-        float tReach = min(shallowest, tEnd);
-        cx = min(max(floorToCell(x0 + dx * tReach, dx), xLo), xHi - 1.0);
-        cy = min(max(floorToCell(y0 + dy * tReach, dy), yLo), yHi - 1.0);
-        t = tReach;
-      }
+    }
+    if (descend) {
       level -= 1;
       size = size * 0.5;
       invSize = invSize * 2.0;
     }
   }
-  if (walking) hitT = t;
+  float hitT = reached ? t + firstRoot(hitC0, hitC1, hitC2, hitSpan) : (walking ? t : 1.0);
   return vec4(T.x - pX * hitT, T.y - pY * hitT, hitT, 1.0);
 }

@@ -68,6 +68,9 @@ struct KernelTable {
   int packet_width;  // rays per loop iteration
   TraceRangeFn technique[kTechniqueCount][kAddressingCount];
   TraceRangeFn sampler_roofline[kAddressingCount];  // the sampler alone (benchmarks)
+  // The exact reference's float pass (src/exact/exact_hits.cpp): per ray, in depth, how far the
+  // path is certainly clear of the surface; in samples, the cells it tested.
+  TraceRangeFn exact_bound[kAddressingCount];
 };
 
 #define HEIGHTMARCH_ISA_KERNEL_TABLE(id, ...) \

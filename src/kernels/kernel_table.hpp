@@ -53,6 +53,13 @@ struct Kernel_sampler_roofline {
   }
 };
 
+struct Kernel_exact_bound {
+  template <class Context, class Ray>
+  auto operator()(Context& k, const Ray& ray) const {
+    return maxmip_exact_bound(k, ray);
+  }
+};
+
 // The addressing modes in Addressing's order.
 template <int W, class Kernel>
 constexpr void fill_addressing(TraceRangeFn (&row)[kAddressingCount]) {
@@ -70,6 +77,7 @@ constexpr KernelTable make_kernel_table() {
   HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_ROW)
 #undef HEIGHTMARCH_TECHNIQUE_ROW
   fill_addressing<W, Kernel_sampler_roofline>(table.sampler_roofline);
+  fill_addressing<W, Kernel_exact_bound>(table.exact_bound);
   return table;
 }
 

@@ -1,14 +1,16 @@
 #pragma once
 // Maximum-mipmap tracing (Tevs, Ihrke and Seidel 2008; Drobot's quadtree displacement mapping
 // is the same walk): the ray goes down the min-depth pyramid while it may touch a block's
-// shallowest texel and back up after each block it leaves without a hit; in a cell it may touch,
-// it solves the bilinear patch's quadratic in float. Exact up to float rounding, at a cost that
-// grows with the depth features on the ray, not with the resolution.
+// shallowest texel and back up after it leaves a block's parent without a hit; in a cell it may
+// touch, it tests the bilinear patch's quadratic in float. Exact up to float rounding, at a cost
+// that grows with the depth features on the ray, not with the resolution.
 //
 // In texel space x = u W - 0.5 the ray is x(t) = x0 + dx t at depth t (dx = -s V.x / V.z W), as
-// in the exact reference, whose double walk this mirrors lane by lane. Cells and blocks are held
-// as integer-valued floats (exact below 2^24). A sample is one texel read: one per pyramid entry,
-// four per solved cell.
+// in the exact reference, whose double walk (src/exact/exact_intersector.cpp) takes the same
+// steps. Cells and blocks are held as integer-valued floats (exact below 2^24). A sample is one
+// texel read: one per pyramid entry, four per tested cell.
+//
+// The same walk, made conservative, is the exact reference's float pass (maxmip_exact_bound).
 #include <limits>
 
 #include "kernels/kernel_context.hpp"
@@ -19,18 +21,10 @@ namespace heightmarch::HEIGHTMARCH_ISA_NS {
 template <int W>
 vfloat<W> floor_to_cell(vfloat<W> x, vfloat<W> rate) {
   const vfloat<W> f = floor(x);
-  return select(!(f != x) & (rate < vfloat<W>(0.0f)), f - vfloat<W>(1.0f), f);
+  return select((!(f != x)) & (rate < vfloat<W>(0.0f)), f - vfloat<W>(1.0f), f);
 }
 
-// t at which x0 + rate t leaves [lo, hi]; infinite for a path parallel to the axis.
-template <int W>
-vfloat<W> exit_t(vfloat<W> x0, vfloat<W> rate, vfloat<W> inv_rate, vfloat<W> lo, vfloat<W> hi) {
-  using F = vfloat<W>;
-  const F t = (select(rate > F(0.0f), hi, lo) - x0) * inv_rate;
-  return select((rate > F(0.0f)) | (rate < F(0.0f)), t, F(std::numeric_limits<float>::infinity()));
-}
-
-// A cell index wrapped into [0, n - 1] (REPEAT), in float as the sampler wraps.
+// A cell (or block) index wrapped into [0, n - 1] (REPEAT), in float as the sampler wraps.
 template <int W>
 vfloat<W> wrap_cell(vfloat<W> c, vfloat<W> n, vfloat<W> inv_n) {
   using F = vfloat<W>;
@@ -40,30 +34,53 @@ vfloat<W> wrap_cell(vfloat<W> c, vfloat<W> n, vfloat<W> inv_n) {
   return min(max(r, F(0.0f)), n - F(1.0f));
 }
 
-// The first root in [0, span] of c0 + c1 s + c2 s^2 with c0 < 0, where the path crosses into the
-// patch; `found` when there is one or rounding hid it (the path ends the cell at or below).
+// Whether c0 + c1 s + c2 s^2 (c0: the path's depth minus the patch's at the cell entry) reaches
+// 0 in [0, span]: at an end, or (concave) at its vertex inside the span. No division: the root
+// itself is only needed once per ray (first_root).
 template <int W>
-vfloat<W> first_crossing(vfloat<W> c0, vfloat<W> c1, vfloat<W> c2, vfloat<W> span, vbool<W>& found) {
+vbool<W> reaches_patch(vfloat<W> c0, vfloat<W> c1, vfloat<W> c2, vfloat<W> span) {
+  using F = vfloat<W>;
+  const F zero(0.0f);
+  const vbool<W> ends_below = c0 + span * (c1 + span * c2) >= zero;
+  const vbool<W> vertex_inside = (c2 < zero) & (c1 > zero) & (c1 < (zero - F(2.0f) * c2) * span);
+  return (c0 >= zero) | ends_below | (vertex_inside & (c1 * c1 - F(4.0f) * c2 * c0 >= zero));
+}
+
+// The first root in [0, span] of c0 + c1 s + c2 s^2, for a cell reaches_patch() accepted:
+// 0 when it starts at or below the patch, else the crossing (clamped into the span, where
+// rounding put it outside).
+template <int W>
+vfloat<W> first_root(vfloat<W> c0, vfloat<W> c1, vfloat<W> c2, vfloat<W> span) {
   using F = vfloat<W>;
   const F zero(0.0f);
   const vbool<W> linear = !(abs(c2) * span > F(1e-6f) * (abs(c1) + abs(c0) / max(span, F(1e-30f))));
-  const F disc = c1 * c1 - F(4.0f) * c2 * c0;
-  const F root_disc = sqrt(max(disc, zero));
+  const F root_disc = sqrt(max(c1 * c1 - F(4.0f) * c2 * c0, zero));
   const F q = F(-0.5f) * (c1 + select(c1 < zero, zero - root_disc, root_disc));
   const F r1 = q / c2, r2 = c0 / q;
-  const F first = min(r1, r2), second = max(r1, r2);
-  const vbool<W> quadratic = (!linear) & (disc >= zero);
-  const vbool<W> in_first = quadratic & (first >= zero) & !(first > span);
-  const vbool<W> in_second = quadratic & (second >= zero) & !(second > span);
-  const F r_linear = (zero - c0) / c1;
-  const vbool<W> in_linear = linear & (c1 > zero) & (r_linear >= zero) & !(r_linear > span);
-  const vbool<W> ends_below = c0 + span * (c1 + span * c2) >= zero;
-  found = in_first | in_second | in_linear | ends_below;
-  return select(in_first, first, select(in_second, second, select(in_linear, r_linear, span)));
+  // c0 < 0: a concave patch's crossing is its smaller root (both are positive), a convex one's
+  // the positive root.
+  const F quadratic = select(min(r1, r2) >= zero, min(r1, r2), max(r1, r2));
+  const F root = select(linear, (zero - c0) / c1, quadratic);
+  return select(c0 >= zero, zero, min(max(root, zero), span));
 }
 
-template <int W, Addressing ADDRESSING>
-HitPacket<W> maxmip(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
+// The walk's outcome per lane: the depth at which it entered the cell it stopped in (or, cut
+// off by the bound, the depth it had cleared), and that cell's quadratic over its span.
+template <int W>
+struct PyramidWalk {
+  vfloat<W> t;
+  vfloat<W> c0, c1, c2, span;  // not kept by the conservative walk
+  vbool<W> reached;  // stopped in a cell it may touch
+  vbool<W> cut_off;  // stopped by the bound on passes
+  vint<W> samples;
+};
+
+// CONSERVATIVE (the exact reference's float pass): every test is loosened by a margin eta that
+// bounds the walk's rounding, so that a lane stops no later than the first cell the exact path
+// touches (docs/conventions.md, the exact intersection).
+template <bool CONSERVATIVE, int W, Addressing ADDRESSING>
+PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloat<W> y0, vfloat<W> dx,
+                            vfloat<W> dy, vfloat<W> eta) {
   using F = vfloat<W>;
   using I = vint<W>;
   using B = vbool<W>;
@@ -74,39 +91,54 @@ HitPacket<W> maxmip(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   const F inv_width(1.0f / float(texture.width)), inv_height(1.0f / float(texture.height));
   const int top = texture.pyramid_levels - 1;  // -1: no interior cell (CLAMP, one texel wide)
   const I top_level(top < 0 ? 0 : top);
-
-  // uv offset per unit depth, as the layered techniques' P; the path in texel space.
-  const F p_x = ray.vx / ray.vz * F(k.params.scale);
-  const F p_y = ray.vy / ray.vz * F(k.params.scale);
-  const F x0 = ray.tx * width - F(0.5f), y0 = ray.ty * height - F(0.5f);
-  const F dx = F(0.0f) - p_x * width, dy = F(0.0f) - p_y * height;
-  const F inv_dx = F(1.0f) / dx, inv_dy = F(1.0f) / dy;
   const auto clamp_cell = [&](F c, F n) { return kRepeat ? c : min(max(c, F(-1.0f)), n - F(1.0f)); };
 
-  F t(0.0f), hit_t(1.0f);
+  // A path parallel to an axis (dx = +0: the callers compute 0 - p, never -0) exits on the
+  // high side at infinity.
+  const B high_x = !(dx < F(0.0f)), high_y = !(dy < F(0.0f));
+  const F inv_dx = F(1.0f) / dx, inv_dy = F(1.0f) / dy;
+
+  PyramidWalk<W> walk;
+  walk.t = F(0.0f);
+  walk.c0 = walk.c1 = walk.c2 = walk.span = F(0.0f);
+  walk.reached = !B::all_true();
+  walk.samples = I(0);
+  F& t = walk.t;
   F cx = clamp_cell(floor_to_cell(x0, dx), width), cy = clamp_cell(floor_to_cell(y0, dy), height);
-  I level = top_level;
-  F size(float(1 << (top < 0 ? 0 : top))), inv_size(1.0f / float(1 << (top < 0 ? 0 : top)));
-  I samples(0);
+  // Start where a block is about an eighth of the path's extent: the levels above it would
+  // almost always be descended again, those below it climbed.
+  const F extent = abs(dx) + abs(dy);
+  I level(0), offset(0);  // offset: where the level's entries start (MinDepthPyramid's layout)
+  F size(1.0f), inv_size(1.0f);
+  for (int l = 1; l <= top; ++l) {
+    const B higher = extent >= F(float(1 << (l + 3)));
+    level = select(higher, I(l), level);
+    offset = select(higher, I(texture.level_offsets[l]), offset);
+    size = select(higher, F(float(1 << l)), size);
+    inv_size = select(higher, F(1.0f / float(1 << l)), inv_size);
+  }
+  // A level's blocks a side, ceil(cells / 2^L), from its 1 / 2^L: kept in registers instead of
+  // gathered from the per-level tables on every pass (their latency was on the walk's path).
+  const F last_cell_x(float(kRepeat ? texture.width - 1 : texture.width - 2));
+  const F last_cell_y(float(kRepeat ? texture.height - 1 : texture.height - 2));
+  const auto blocks = [](F last_cell, F inv) { return floor(last_cell * inv) + F(1.0f); };
   B active = B::all_true();
   // Each pass advances t or descends a level: the cells on the path times the levels bound it.
-  const F lane_bound = F(float(2 * (top + 2))) * (abs(dx) + abs(dy) + F(2.0f));
+  const F lane_bound = F(float(2 * (top + 2))) * (extent + F(2.0f));
   F pass(0.0f);
   constexpr int kMaxPasses = 1 << 25;
   for (int p = 0; p < kMaxPasses && any(active); ++p) {
     pass = pass + F(1.0f);
     active = active & !(pass > lane_bound);
-    const F wx = kRepeat ? wrap_cell(cx, width, inv_width) : max(cx, F(0.0f));
-    const F wy = kRepeat ? wrap_cell(cy, height, inv_height) : max(cy, F(0.0f));
     B interior = B::all_true();
     if constexpr (!kRepeat)
       interior = (cx >= F(0.0f)) & (cx < width - F(1.0f)) & (cy >= F(0.0f)) & (cy < height - F(1.0f));
     const B in_pyramid = active & interior & (top >= 0 ? B::all_true() : !B::all_true());
 
-    // The lane's box: its block at its level, or (CLAMP edge cells) the cell itself, infinite
-    // on its outer side.
-    const F bx = floor(wx * inv_size), by = floor(wy * inv_size);
-    F x_lo = cx - (wx - bx * size), y_lo = cy - (wy - by * size);
+    // The lane's box: its block at its level (blocks tile the period: REPEAT keeps a level only
+    // while 2^L divides both sides), or (CLAMP edge cells) the cell, infinite on its outer side.
+    const F bx_unwrapped = floor(cx * inv_size), by_unwrapped = floor(cy * inv_size);
+    F x_lo = bx_unwrapped * size, y_lo = by_unwrapped * size;
     F x_hi = x_lo + size, y_hi = y_lo + size;
     if constexpr (!kRepeat) {
       x_hi = min(x_hi, width - F(1.0f));
@@ -116,30 +148,44 @@ HitPacket<W> maxmip(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
       y_lo = select(interior, y_lo, select(cy < F(0.0f), F(-kInf), cy));
       y_hi = select(interior, y_hi, select(cy >= height - F(1.0f), F(kInf), cy + F(1.0f)));
     }
-    const F tx = exit_t(x0, dx, inv_dx, x_lo, x_hi), ty = exit_t(y0, dy, inv_dy, y_lo, y_hi);
+    const F tx = (select(high_x, x_hi, x_lo) - x0) * inv_dx, ty = (select(high_y, y_hi, y_lo) - y0) * inv_dy;
     const F te = min(tx, ty);
     const F t_end = min(te, F(1.0f));
 
     F shallowest(-kInf);
     if (top >= 0) {
-      const I entry = gather(texture.level_offsets, level) +
-                      to_int(by) * gather(texture.level_blocks_x, level) + to_int(bx);
-      k.count(in_pyramid, samples, 1);
+      // The block's entry; REPEAT wraps the block index into the level's nb blocks a side.
+      F bx = bx_unwrapped, by = by_unwrapped;
+      if constexpr (kRepeat) {
+        const F nbx = width * inv_size, nby = height * inv_size;
+        if constexpr (ADDRESSING == Addressing::repeat_pow2) {  // exact in float: no correction
+          bx = bx - nbx * floor(bx * inv_width * size);
+          by = by - nby * floor(by * inv_height * size);
+        } else {
+          bx = wrap_cell(bx, nbx, inv_width * size);
+          by = wrap_cell(by, nby, inv_height * size);
+        }
+      }
+      const I entry = offset + to_int(by) * to_int(blocks(last_cell_x, inv_size)) + to_int(bx);
+      if constexpr (!CONSERVATIVE) k.count(in_pyramid, walk.samples, 1);
       shallowest = select(in_pyramid, gather(texture.pyramid, select(in_pyramid, entry, I(0))), F(-kInf));
     }
-    const B skip = in_pyramid & (t_end < shallowest);  // the path stays above the block
+    const F clear_above = shallowest - eta;  // the path is clear of the block above this depth
+    const B skip = in_pyramid & (t_end < clear_above);
     const B descend = in_pyramid & (!skip) & (I(0) < level);
     const B solve = active & (!skip) & (!descend);
 
     B hit = !B::all_true();
     if (any(solve)) {
       // The cell's four texels (CLAMP's edge cells repeat the edge texels), then its quadratic.
+      const F wx = kRepeat ? wrap_cell(cx, width, inv_width) : max(cx, F(0.0f));
+      const F wy = kRepeat ? wrap_cell(cy, height, inv_height) : max(cy, F(0.0f));
       const I ix = min(to_int(wx), I(texture.width - 1)), iy = min(to_int(wy), I(texture.height - 1));
       const I index = iy * I(texture.stride) + ix;
       F t00, t10, t01, t11;
       gather_pairs(texture.texels, index, t00, t10);
       gather_pairs(texture.texels + texture.stride, index, t01, t11);
-      k.count(solve, samples, 4);
+      k.count(solve, walk.samples, CONSERVATIVE ? 1 : 4);
       if constexpr (!kRepeat) {
         t10 = select(cx < F(0.0f), t00, t10);
         t11 = select(cx < F(0.0f), t01, t11);
@@ -148,51 +194,106 @@ HitPacket<W> maxmip(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
       }
       const F fx = (x0 - cx) + dx * t, fy = (y0 - cy) + dy * t;
       const F e = t10 - t00, f = t01 - t00, g = (t11 - t10) - (t01 - t00);
-      const F c0 = t - (t00 + e * fx + f * fy + g * fx * fy);
+      const F c0 = t - (t00 + e * fx + f * fy + g * fx * fy) + eta;
       const F c1 = F(1.0f) - (e * dx + f * dy + g * (fx * dy + fy * dx));
       const F c2 = F(0.0f) - g * dx * dy;
-      B found;
-      const F root = first_crossing(c0, c1, c2, t_end - t, found);
-      const B at_start = !(c0 < F(0.0f));
-      hit = solve & (at_start | found);
-      hit_t = select(hit, select(at_start, t, t + root), hit_t);
+      const F span = t_end - t;
+      hit = solve & reaches_patch(c0, c1, c2, span);
+      if constexpr (!CONSERVATIVE) {  // the float pass hands on the cell's entry, not its root
+        walk.c0 = select(hit, c0, walk.c0);
+        walk.c1 = select(hit, c1, walk.c1);
+        walk.c2 = select(hit, c2, walk.c2);
+        walk.span = select(hit, span, walk.span);
+      }
+      walk.reached = walk.reached | hit;
       active = active & !hit;
     }
 
-    // Leaving the box without a hit: no hit at all past depth 1, else into the next box, one
-    // level up.
-    const B leave = (skip | (solve & !hit));
+    // Leaving the box without a hit: no hit at all past depth 1, else into the next box.
+    // Descending: nothing in the block is met before the path reaches its shallowest depth.
+    const B leave = skip | (solve & !hit);
     const B beyond = leave & !(te < F(1.0f));
     active = active & !beyond;
     const B move = leave & !beyond;
-    const F next_x = select(dx > F(0.0f), x_hi, x_lo - F(1.0f));
-    const F next_y = select(dy > F(0.0f), y_hi, y_lo - F(1.0f));
-    const F at_x = min(max(floor_to_cell(x0 + dx * te, dx), x_lo), x_hi - F(1.0f));
-    const F at_y = min(max(floor_to_cell(y0 + dy * te, dy), y_lo), y_hi - F(1.0f));
-    F new_cx = clamp_cell(select(!(tx > ty), next_x, at_x), width);
-    F new_cy = clamp_cell(select(!(ty > tx), next_y, at_y), height);
+    const B reach = descend & (clear_above > t);
+    const F t_next = select(move, te, min(clear_above, t_end));
+    const F at_x = min(max(floor_to_cell(x0 + dx * t_next, dx), x_lo), x_hi - F(1.0f));
+    const F at_y = min(max(floor_to_cell(y0 + dy * t_next, dy), y_lo), y_hi - F(1.0f));
+    const B exit_x = move & !(tx > ty), exit_y = move & !(ty > tx);
+    const B step = move | reach;
+    t = select(step, t_next, t);
+    cx = select(step, clamp_cell(select(exit_x, select(high_x, x_hi, x_lo - F(1.0f)), at_x), width), cx);
+    cy = select(step, clamp_cell(select(exit_y, select(high_y, y_hi, y_lo - F(1.0f)), at_y), height), cy);
 
-    // Descending: nothing in the block is met before the path reaches its shallowest depth.
-    const B reach = descend & (shallowest > t);
-    const F t_reach = min(shallowest, t_end);
-    const F reach_x = min(max(floor_to_cell(x0 + dx * t_reach, dx), x_lo), x_hi - F(1.0f));
-    const F reach_y = min(max(floor_to_cell(y0 + dy * t_reach, dy), y_lo), y_hi - F(1.0f));
-
-    t = select(move, te, select(reach, t_reach, t));
-    cx = select(move, new_cx, select(reach, reach_x, cx));
-    cy = select(move, new_cy, select(reach, reach_y, cy));
-    const B up = move & (level < top_level);
+    // Up a level only out of the block's parent: inside it the parent would be descended again.
+    // The parent changes where the crossed side lies on a multiple of twice the block's side.
+    const F half_inv = inv_size * F(0.5f);
+    const F side_x = select(high_x, x_hi, x_lo) * half_inv, side_y = select(high_y, y_hi, y_lo) * half_inv;
+    const B new_parent = (exit_x & !(floor(side_x) != side_x)) | (exit_y & !(floor(side_y) != side_y));
+    const B up = move & new_parent & (level < top_level);
+    const F inv_below = inv_size * F(2.0f);
+    const I entries = to_int(blocks(last_cell_x, inv_size)) * to_int(blocks(last_cell_y, inv_size));
+    const I entries_below = to_int(blocks(last_cell_x, inv_below)) * to_int(blocks(last_cell_y, inv_below));
+    offset = select(up, offset + entries, select(descend, offset - entries_below, offset));
     level = select(up, level + I(1), select(descend, level - I(1), level));
     size = select(up, size * F(2.0f), select(descend, size * F(0.5f), size));
     inv_size = select(up, inv_size * F(0.5f), select(descend, inv_size * F(2.0f), inv_size));
   }
-  hit_t = select(active, t, hit_t);  // cut off by the bound: the deepest point known clear
+  walk.cut_off = active;
+  return walk;
+}
 
+template <int W, Addressing ADDRESSING>
+HitPacket<W> maxmip(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
+  using F = vfloat<W>;
+  // uv offset per unit depth, as the layered techniques' P; the path in texel space.
+  const F p_x = ray.vx / ray.vz * F(k.params.scale);
+  const F p_y = ray.vy / ray.vz * F(k.params.scale);
+  const F width(float(k.texture.width)), height(float(k.texture.height));
+  const F x0 = ray.tx * width - F(0.5f), y0 = ray.ty * height - F(0.5f);
+  const F dx = F(0.0f) - p_x * width, dy = F(0.0f) - p_y * height;
+  const PyramidWalk<W> walk = walk_pyramid<false>(k, x0, y0, dx, dy, F(0.0f));
+  // Reached: the patch's first crossing; cut off by the bound: the deepest point known clear;
+  // else no hit before depth 1.
+  const F hit_t = select(walk.reached, walk.t + first_root(walk.c0, walk.c1, walk.c2, walk.span),
+                         select(walk.cut_off, walk.t, F(1.0f)));
   HitPacket<W> out;
   out.u = ray.tx - p_x * hit_t;
   out.v = ray.ty - p_y * hit_t;
   out.depth = hit_t;
-  out.samples = samples;
+  out.samples = walk.samples;
+  return out;
+}
+
+// The exact reference's float pass: the walk with every test loosened by eta, which bounds what
+// float rounding can change. The walk's positions, exit times and cell offsets are within a few
+// ulps of their exact values: ulps of the texel coordinates (|x0| + |y0|: the origin, the cell a
+// point falls in near a side) and of the path's extent (|dx| + |dy|: exit times, slopes,
+// products). The bilinear surface (texels in [0, 1]) changes by at most |a| + |b| for a move of
+// (a, b) texels, so these become depth errors of the same size; eta is about 16 times their sum
+// (docs/conventions.md, the exact intersection). The lane stops in a cell (depth: its entry) no
+// later than the first cell the exact path touches, or (depth 1) shows the path clear to depth 1.
+template <int W, Addressing ADDRESSING>
+HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
+  using F = vfloat<W>;
+  const F p_x = ray.vx / ray.vz * F(k.params.scale);
+  const F p_y = ray.vy / ray.vz * F(k.params.scale);
+  const F width(float(k.texture.width)), height(float(k.texture.height));
+  const F x0 = ray.tx * width - F(0.5f), y0 = ray.ty * height - F(0.5f);
+  const F dx = F(0.0f) - p_x * width, dy = F(0.0f) - p_y * height;
+  const F eta = F(0x1p-20f) * (abs(x0) + abs(y0)) + F(0x1p-18f) * (abs(dx) + abs(dy) + F(4.0f));
+  const PyramidWalk<W> walk = walk_pyramid<true>(k, x0, y0, dx, dy, eta);
+  // Where the walk stopped past 0 it had shown depth - D < -eta + (its rounding, < eta / 2);
+  // depth - D changes by at most 1 + |dx| + |dy| per unit depth, so the path is clear a little
+  // further, nu: far enough that the double walk starts in the cell the pass stopped in, not at
+  // the end of the one before (where it would solve a cell again).
+  const F nu = eta / (F(2.0f) * (F(1.0f) + abs(dx) + abs(dy)));
+  HitPacket<W> out;
+  out.u = ray.tx;
+  out.v = ray.ty;
+  const F clear = select(walk.t > F(0.0f), min(walk.t + nu, F(1.0f)), walk.t);  // D <= 1: a hit by 1
+  out.depth = select(walk.reached | walk.cut_off, clear, F(1.0f));
+  out.samples = walk.samples;
   return out;
 }
 
