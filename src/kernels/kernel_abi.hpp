@@ -68,11 +68,17 @@ struct KernelTable {
   int packet_width;  // rays per loop iteration
   TraceRangeFn technique[kTechniqueCount][kAddressingCount];
   TraceRangeFn sampler_roofline[kAddressingCount];  // the sampler alone (benchmarks)
+  TraceRangeFn compute_ceiling[kAddressingCount];   // POM on register taps (benchmarks)
+  // The naive port vectorised by the compiler (benchmarks), on a plain REPEAT DepthMap
+  // (stride = width) instead of the sampler's layout.
+  TraceRangeFn autovec_pom;
 };
 
-#define HEIGHTMARCH_ISA_KERNEL_TABLE(id, ...) \
-  namespace isa_##id {                        \
-  const KernelTable& kernel_table();          \
+#define HEIGHTMARCH_ISA_KERNEL_TABLE(id, ...)                                                        \
+  namespace isa_##id {                                                                               \
+  const KernelTable& kernel_table();                                                                 \
+  void autovec_pom(const KernelTexture&, const KernelParams&, const KernelRays&, const KernelHits&, \
+                   std::size_t, std::size_t, KernelCounters&); /* src/isa/autovec_<id>.cpp */        \
   }
 HEIGHTMARCH_ISAS(HEIGHTMARCH_ISA_KERNEL_TABLE)
 #undef HEIGHTMARCH_ISA_KERNEL_TABLE

@@ -18,7 +18,7 @@ struct HitPacket {
   vint<W> samples = vint<W>(0);
 };
 
-template <int W, Addressing ADDRESSING>
+template <int W, Addressing ADDRESSING, Taps TAPS = Taps::memory>
 class KernelContext {
  public:
   using F = vfloat<W>;
@@ -57,7 +57,7 @@ class KernelContext {
   const KernelTexture& texture;
 
  private:
-  PacketSampler<W, ADDRESSING> sampler_;
+  PacketSampler<W, ADDRESSING, TAPS> sampler_;
   KernelCounters& counters_;
 };
 

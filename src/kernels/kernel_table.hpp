@@ -8,13 +8,13 @@
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
 // The loop over packets: loads W rays, runs the technique, stores the hits.
-template <int W, Addressing ADDRESSING, class Kernel>
+template <int W, Addressing ADDRESSING, class Kernel, Taps TAPS = Taps::memory>
 void trace_packets(const KernelTexture& texture, const KernelParams& params, const KernelRays& rays,
                    const KernelHits& hits, std::size_t begin, std::size_t end,
                    KernelCounters& counters) {
   using F = vfloat<W>;
   KernelCounters local;  // in registers, not behind the output pointers (char aliases all)
-  KernelContext<W, ADDRESSING> context(texture, params, local);
+  KernelContext<W, ADDRESSING, TAPS> context(texture, params, local);
   const Kernel kernel;
   for (std::size_t i = begin; i < end; i += W) {
     const RayPacket<W> ray{F::load(rays.tx + i), F::load(rays.ty + i), F::load(rays.vx + i),
@@ -54,11 +54,11 @@ struct Kernel_sampler_roofline {
 };
 
 // The addressing modes in Addressing's order.
-template <int W, class Kernel>
+template <int W, class Kernel, Taps TAPS = Taps::memory>
 constexpr void fill_addressing(TraceRangeFn (&row)[kAddressingCount]) {
-  row[int(Addressing::repeat_pow2)] = &trace_packets<W, Addressing::repeat_pow2, Kernel>;
-  row[int(Addressing::repeat)] = &trace_packets<W, Addressing::repeat, Kernel>;
-  row[int(Addressing::clamp)] = &trace_packets<W, Addressing::clamp, Kernel>;
+  row[int(Addressing::repeat_pow2)] = &trace_packets<W, Addressing::repeat_pow2, Kernel, TAPS>;
+  row[int(Addressing::repeat)] = &trace_packets<W, Addressing::repeat, Kernel, TAPS>;
+  row[int(Addressing::clamp)] = &trace_packets<W, Addressing::clamp, Kernel, TAPS>;
 }
 
 template <int W>
@@ -70,6 +70,8 @@ constexpr KernelTable make_kernel_table() {
   HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_ROW)
 #undef HEIGHTMARCH_TECHNIQUE_ROW
   fill_addressing<W, Kernel_sampler_roofline>(table.sampler_roofline);
+  fill_addressing<W, Kernel_pom, Taps::registers>(table.compute_ceiling);
+  table.autovec_pom = &autovec_pom;
   return table;
 }
 

@@ -7,7 +7,11 @@
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
-template <int W, Addressing ADDRESSING>
+// Where the taps come from: the texture, or registers holding 1.0 (the compute ceiling: the same
+// arithmetic with no memory access; every sample reads depth 1, so every ray marches to its bound).
+enum class Taps { memory, registers };
+
+template <int W, Addressing ADDRESSING, Taps TAPS = Taps::memory>
 class PacketSampler {
  public:
   using F = vfloat<W>;
@@ -25,8 +29,14 @@ class PacketSampler {
     const I iy = texel_coordinate(v, height_, inv_height_, last_y_, fy);
     const I index = iy * I(stride_) + ix;
     F t00, t10, t01, t11;
-    gather_pairs(texels_, index, t00, t10);
-    gather_pairs(texels_ + stride_, index, t01, t11);
+    if constexpr (TAPS == Taps::memory) {
+      gather_pairs(texels_, index, t00, t10);
+      gather_pairs(texels_ + stride_, index, t01, t11);
+    } else {
+      t00 = t10 = t01 = t11 = F(1.0f);
+      register_pairs(index, t00, t10);
+      register_pairs(index, t01, t11);
+    }
     const F top = t00 + fx * (t10 - t00);
     const F bottom = t01 + fx * (t11 - t01);
     return top + fy * (bottom - top);

@@ -76,6 +76,11 @@ inline void gather_pairs(const float* base, vint<2 * HEIGHTMARCH_PAIR_OF> index,
   gather_pairs(base, index.hi, first.hi, second.hi);
 }
 
+inline void register_pairs(vint<2 * HEIGHTMARCH_PAIR_OF> index, vfloat<2 * HEIGHTMARCH_PAIR_OF>& first, vfloat<2 * HEIGHTMARCH_PAIR_OF>& second) {
+  register_pairs(index.lo, first.lo, second.lo);
+  register_pairs(index.hi, first.hi, second.hi);
+}
+
 inline vfloat<2 * HEIGHTMARCH_PAIR_OF> gather(const float* base, vint<2 * HEIGHTMARCH_PAIR_OF> index) {
   return {gather(base, index.lo), gather(base, index.hi)};
 }

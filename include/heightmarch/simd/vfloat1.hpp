@@ -70,6 +70,12 @@ inline void gather_pairs(const float* base, vint<1> index, vfloat<1>& first, vfl
   first = base[index.i];
   second = base[index.i + 1];
 }
+// The compute ceiling's stand-in for gather_pairs: first and second as if read at index, with no
+// memory access. An empty asm the compiler cannot see through keeps the index computed and the
+// taps opaque, so nothing of the bilinear arithmetic is folded or hoisted (zero instructions).
+inline void register_pairs(vint<1> index, vfloat<1>& first, vfloat<1>& second) {
+  asm volatile("" : "+x"(first.f), "+x"(second.f) : "r"(index.i));
+}
 
 // base[index] per lane: the min-depth pyramid's reads and its per-level tables.
 inline vfloat<1> gather(const float* base, vint<1> index) { return base[index.i]; }

@@ -71,6 +71,12 @@ inline void gather_pairs(const float* base, vint<16> index, vfloat<16>& first, v
   first = _mm512_permutex2var_ps(lo, even, hi);
   second = _mm512_permutex2var_ps(lo, odd, hi);
 }
+// The compute ceiling's stand-in for gather_pairs: first and second as if read at index, with no
+// memory access. An empty asm the compiler cannot see through keeps the index computed and the
+// taps opaque, so nothing of the bilinear arithmetic is folded or hoisted (zero instructions).
+inline void register_pairs(vint<16> index, vfloat<16>& first, vfloat<16>& second) {
+  asm volatile("" : "+v"(first.f), "+v"(second.f) : "v"(index.i));
+}
 
 // base[index] per lane.
 inline vfloat<16> gather(const float* base, vint<16> index) { return _mm512_i32gather_ps(index.i, base, 4); }

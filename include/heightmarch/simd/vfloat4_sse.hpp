@@ -81,6 +81,12 @@ inline void gather_pairs(const float* base, vint<4> index, vfloat<4>& first, vfl
   first = _mm_shuffle_ps(p01, p23, _MM_SHUFFLE(2, 0, 2, 0));
   second = _mm_shuffle_ps(p01, p23, _MM_SHUFFLE(3, 1, 3, 1));
 }
+// The compute ceiling's stand-in for gather_pairs: first and second as if read at index, with no
+// memory access. An empty asm the compiler cannot see through keeps the index computed and the
+// taps opaque, so nothing of the bilinear arithmetic is folded or hoisted (zero instructions).
+inline void register_pairs(vint<4> index, vfloat<4>& first, vfloat<4>& second) {
+  asm volatile("" : "+x"(first.f), "+x"(second.f) : "x"(index.i));
+}
 
 // base[index] per lane (no gather on SSE: four scalar loads).
 inline vfloat<4> gather(const float* base, vint<4> index) {

@@ -79,6 +79,12 @@ inline void gather_pairs(const float* base, vint<8> index, vfloat<8>& first, vfl
   first = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0)), order);
   second = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1)), order);
 }
+// The compute ceiling's stand-in for gather_pairs: first and second as if read at index, with no
+// memory access. An empty asm the compiler cannot see through keeps the index computed and the
+// taps opaque, so nothing of the bilinear arithmetic is folded or hoisted (zero instructions).
+inline void register_pairs(vint<8> index, vfloat<8>& first, vfloat<8>& second) {
+  asm volatile("" : "+x"(first.f), "+x"(second.f) : "x"(index.i));
+}
 
 // base[index] per lane.
 inline vfloat<8> gather(const float* base, vint<8> index) { return _mm256_i32gather_ps(base, index.i, 4); }
