@@ -88,5 +88,10 @@ inline vint<2 * HEIGHTMARCH_PAIR_OF> gather(const std::int32_t* base, vint<2 * H
   return {gather(base, index.lo), gather(base, index.hi)};
 }
 inline vfloat<2 * HEIGHTMARCH_PAIR_OF> sqrt(vfloat<2 * HEIGHTMARCH_PAIR_OF> a) { return {sqrt(a.lo), sqrt(a.hi)}; }
+inline std::uint32_t reduce_add(vint<2 * HEIGHTMARCH_PAIR_OF> a) { return reduce_add(a.lo) + reduce_add(a.hi); }
+inline void store_bytes(vint<2 * HEIGHTMARCH_PAIR_OF> a, std::uint8_t* p) {
+  store_bytes(a.lo, p);
+  store_bytes(a.hi, p + HEIGHTMARCH_PAIR_OF);
+}
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

@@ -82,5 +82,11 @@ inline void register_pairs(vint<16> index, vfloat<16>& first, vfloat<16>& second
 inline vfloat<16> gather(const float* base, vint<16> index) { return _mm512_i32gather_ps(index.i, base, 4); }
 inline vint<16> gather(const std::int32_t* base, vint<16> index) { return _mm512_i32gather_epi32(index.i, base, 4); }
 inline vfloat<16> sqrt(vfloat<16> a) { return _mm512_sqrt_ps(a.f); }
+// The sum of the lanes (non-negative counts whose sum fits 32 bits).
+inline std::uint32_t reduce_add(vint<16> a) { return std::uint32_t(_mm512_reduce_add_epi32(a.i)); }
+// Each lane's value (0 to 255) as one byte, to p[0] .. p[W - 1].
+inline void store_bytes(vint<16> a, std::uint8_t* p) {
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(p), _mm512_cvtepi32_epi8(a.i));
+}
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

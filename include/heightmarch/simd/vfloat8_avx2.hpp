@@ -91,6 +91,17 @@ inline vfloat<8> gather(const float* base, vint<8> index) { return _mm256_i32gat
 inline vint<8> gather(const std::int32_t* base, vint<8> index) {
   return _mm256_i32gather_epi32(reinterpret_cast<const int*>(base), index.i, 4);
 }
+// The sum of the lanes (non-negative counts whose sum fits 32 bits).
+inline std::uint32_t reduce_add(vint<8> a) {
+  __m128i s = _mm_add_epi32(_mm256_castsi256_si128(a.i), _mm256_extracti128_si256(a.i, 1));
+  s = _mm_add_epi32(s, _mm_shuffle_epi32(s, _MM_SHUFFLE(1, 0, 3, 2)));
+  return std::uint32_t(_mm_cvtsi128_si32(_mm_add_epi32(s, _mm_shuffle_epi32(s, _MM_SHUFFLE(2, 3, 0, 1)))));
+}
+// Each lane's value (0 to 255) as one byte, to p[0] .. p[W - 1].
+inline void store_bytes(vint<8> a, std::uint8_t* p) {
+  const __m128i words = _mm_packs_epi32(_mm256_castsi256_si128(a.i), _mm256_extracti128_si256(a.i, 1));
+  _mm_storel_epi64(reinterpret_cast<__m128i*>(p), _mm_packus_epi16(words, words));
+}
 inline vfloat<8> sqrt(vfloat<8> a) { return _mm256_sqrt_ps(a.f); }
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS
