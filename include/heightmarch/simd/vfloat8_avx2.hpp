@@ -72,12 +72,14 @@ template <> struct vfloat<8> {
 // the sampler keeps every index inside the texture.
 inline void gather_pairs(const float* base, vint<8> index, vfloat<8>& first, vfloat<8>& second) {
   const long long* pairs = reinterpret_cast<const long long*>(base);
-  const __m256 lo = _mm256_castsi256_ps(_mm256_i32gather_epi64(pairs, _mm256_castsi256_si128(index.i), 4));
-  const __m256 hi = _mm256_castsi256_ps(_mm256_i32gather_epi64(pairs, _mm256_extracti128_si256(index.i, 1), 4));
-  // shuffle_ps works within 128-bit halves: a0 a1 a4 a5 | a2 a3 a6 a7, then fix the order.
-  const __m256i order = _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7);
-  first = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0)), order);
-  second = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1)), order);
+  // Lanes 0 1 4 5 go to the low gather and 2 3 6 7 to the high one, so that shuffle_ps, which
+  // works within 128-bit halves, leaves them in order (one index permute, shared by both rows'
+  // calls, instead of a permute of each result).
+  const __m256i order = _mm256_permute4x64_epi64(index.i, _MM_SHUFFLE(3, 1, 2, 0));
+  const __m256 lo = _mm256_castsi256_ps(_mm256_i32gather_epi64(pairs, _mm256_castsi256_si128(order), 4));
+  const __m256 hi = _mm256_castsi256_ps(_mm256_i32gather_epi64(pairs, _mm256_extracti128_si256(order, 1), 4));
+  first = _mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0));
+  second = _mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1));
 }
 // The compute ceiling's stand-in for gather_pairs: first and second as if read at index, with no
 // memory access. An empty asm the compiler cannot see through keeps the index computed and the
