@@ -29,7 +29,9 @@ from matplotlib.ticker import FuncFormatter  # noqa: E402
 # that the history follows.
 HEADLINE_TECHNIQUE, HEADLINE_LAYERS = "pom", "32"
 NON_ISA_BACKENDS = ("glsl", "naive", "exact")
-KINDS = ("trace", "glsl", "roofline", "naive", "exact")
+KINDS = ("trace", "glsl", "roofline", "ceiling", "naive", "autovec", "exact")
+# Kinds that run an ISA's code without being its packet kernels: their rows name the ISA as backend.
+ANCHOR_KINDS = ("roofline", "ceiling", "autovec")
 SPREAD_LIMIT = 0.20  # (max - min) / median above this is flagged as a disturbed timing
 HISTORY_COLUMNS = ["date", "commit", "cpu", "backend", "threads", "heightfield", "technique", "layers",
                    "view", "depth_map", "rays_per_second_median", "rays_per_second_min",
@@ -242,6 +244,11 @@ class Run:
                                        counted(row["threads"], "thread"), view_name(row["view"]))
 
 
+def backend_label(row):
+    """The backend as a reader tells rows apart: 'avx2', or 'avx2 autovec' for the auto-vectorised port."""
+    return row["backend"] + (" autovec" if row["kind"] == "autovec" else "")
+
+
 def mrays(row):
     return fmt_spread(spread(rays_rounds(row)), 1, 1e-6)
 
@@ -295,7 +302,7 @@ def section_machine(run):
 
 
 def section_warnings(run, faults):
-    """The block under the machine table: a busy machine, disturbed timings, roofline faults."""
+    """The block under the machine table: a busy machine, disturbed timings, roofline and ceiling faults."""
     lines = []
     load = run.load
     if load.get("busy"):
@@ -316,7 +323,7 @@ def section_warnings(run, faults):
         if lines:
             lines.append(">")
         lines.append("> **Warning: %s above 100%%**: timing disturbed, see the measurement faults under %s-%s." % (
-                         counted(len(faults), "roofline fraction"), HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS))
+                         counted(len(faults), "roofline or ceiling fraction"), HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS))
     return [""] + lines if lines else []
 
 
@@ -444,33 +451,43 @@ def section_glsl(run):
 
 
 def section_every_backend(run, faults):
-    """POM-32 at every backend; appends roofline fractions above 100% to `faults`."""
+    """POM-32 at every backend; appends roofline and ceiling fractions above 100% to `faults`."""
     title = "%s, %s layers, every backend" % (HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS)
-    rows = sorted((r for r in run.timed if run.is_headline(r) and r["kind"] in ("trace", "glsl", "naive")), key=run.order)
+    rows = sorted((r for r in run.timed if run.is_headline(r) and r["kind"] in ("trace", "glsl", "naive", "autovec")),
+                  key=run.order)
     if not rows:
         return section(title, [])
     base = run.isas[0] if run.isas else None
-    body = ["Roofline = the backend's bilinear sampler alone at the positions of the same march; fraction = the "
-            "technique's samples/s over it. Every ratio is the median (min-max) of the per-round ratios.", ""]
+    body = ["Roofline = the backend's bilinear sampler alone at the positions of the same march; ceiling = POM's "
+            "march and bilinear arithmetic on taps held in registers, no memory access; each fraction = the "
+            "technique's samples/s over it. x llvmpipe: over GLSL at the same threads; x autovec: over the naive "
+            "port vectorised by the compiler for the same ISA. Every ratio is the median (min-max) of the per-round "
+            "ratios.", ""]
     cells = []
     for r in rows:
-        # the roofline of a trace row: its backend's sampler alone, same scene and threads
-        roof = run.partner(r, kind="roofline", technique=None, layers=ANY) if r["kind"] == "trace" else None
-        fraction = per_round(samples_rounds(r), samples_rounds(roof))
-        if fraction and fraction[0] > 1.0:
-            faults.append("%s: %s" % (run.describe(r), fmt_spread(fraction, 0, 100, "%")))
-            fraction_cell = "fault (>100%: timing disturbed)"
-        else:
-            fraction_cell = fmt_spread(fraction, 0, 100, "%")
-        over = [run.partner(r, kind="trace", backend=base), run.partner(r, kind="naive", backend="naive")]
-        cells.append([r["heightfield"]["label"], r["backend"], r["threads"], mrays(r), msamples(r),
-                      msamples(roof), fraction_cell]
-                     + [fmt_ratio(speedup(r, o)) for o in over])
+        fractions = []
+        for kind in ("roofline", "ceiling"):
+            # a trace row's anchors: its backend's sampler alone, or its arithmetic alone, same scene and threads
+            anchor = run.partner(r, kind=kind, technique=None, layers=ANY) if r["kind"] == "trace" else None
+            fraction = per_round(samples_rounds(r), samples_rounds(anchor))
+            if fraction and fraction[0] > 1.0:
+                faults.append("%s: %s %s" % (run.describe(r), kind, fmt_spread(fraction, 0, 100, "%")))
+                fractions.append("fault (>100%: timing disturbed)")
+            else:
+                fractions.append(fmt_spread(fraction, 0, 100, "%"))
+            if kind == "roofline":
+                fractions.insert(0, msamples(anchor))
+        over = [run.partner(r, kind="trace", backend=base), run.partner(r, kind="naive", backend="naive"),
+                run.partner(r, kind="glsl", backend="glsl"),
+                run.partner(r, kind="autovec") if r["kind"] == "trace" else None]
+        cells.append([r["heightfield"]["label"], backend_label(r), r["threads"], mrays(r), msamples(r)] + fractions
+                     + [fmt_ratio(speedup(r, o)) if o is not r else "-" for o in over])
     body += md_table([("heightfield", False), ("backend", False), ("threads", True), ("Mrays/s", True),
                       ("Msamples/s", True), ("roofline Msamples/s", True), ("roofline fraction", True),
-                      ("x %s" % base, True), ("x naive", True)], cells)
+                      ("ceiling fraction", True), ("x %s" % base, True), ("x naive", True), ("x llvmpipe", True),
+                      ("x autovec", True)], cells)
     if faults:
-        body += ["", "**Measurement faults** (a roofline fraction above 100% means the roofline or the kernel was "
+        body += ["", "**Measurement faults** (a fraction above 100% means the anchor or the kernel was "
                  "timed while the machine was disturbed; not a result):", ""] + ["- " + f for f in faults]
     return section(title, body)
 
@@ -478,7 +495,8 @@ def section_every_backend(run, faults):
 def thread_pairs(run):
     """(1-thread row, most-threads row) of the headline configuration per heightfield and backend."""
     pairs = []
-    for group in groups(sorted((r for r in run.timed if run.is_headline(r) and r["kind"] != "roofline"), key=run.order),
+    for group in groups(sorted((r for r in run.timed if run.is_headline(r) and r["kind"] in ("trace", "glsl", "naive")),
+                               key=run.order),
                         lambda r: (r["heightfield"]["label"], r["backend"], view_name(r["view"]))).values():
         one = [r for r in group if r["threads"] == 1]
         most = max(group, key=lambda r: r["threads"])
@@ -724,7 +742,8 @@ def history_rows(run):
     for r in run.timed:
         s = spread(rays_rounds(r))
         out.append({"date": p.get("date", ""), "commit": p.get("commit", ""), "cpu": p.get("cpu", ""),
-                    "backend": r["backend"], "threads": str(r["threads"]), "heightfield": r["heightfield"]["label"],
+                    "backend": backend_label(r).replace(" ", "-"), "threads": str(r["threads"]),
+                    "heightfield": r["heightfield"]["label"],
                     # rows without a technique (roofline, exact) are named by their kind
                     "technique": r.get("technique") or r["kind"], "layers": r.get("layers") or "",
                     "view": view_name(r["view"]), "depth_map": depth_map(r),

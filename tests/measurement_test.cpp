@@ -109,6 +109,39 @@ TEST(Plan, BenchmarkNamesCarryTheSizes) {
             "BM_Trace/heightfield:bricks/technique:pom/layers:8-32/isa:scalar/threads:1/view:48x40/depth_map:64x64");
   c.kind = RunKind::roofline;
   EXPECT_EQ(benchmark_name(c, 64, 64).rfind("BM_SamplerRoofline/heightfield:bricks/layers:8-32/isa:scalar/", 0), 0u);
+  c.kind = RunKind::ceiling;
+  EXPECT_EQ(benchmark_name(c, 64, 64).rfind("BM_ComputeCeiling/heightfield:bricks/layers:8-32/isa:scalar/", 0), 0u);
+  c.kind = RunKind::autovec;
+  EXPECT_EQ(benchmark_name(c, 64, 64).rfind("BM_AutoVecPort/heightfield:bricks/technique:pom/layers:8-32/isa:scalar/", 0), 0u);
+}
+
+// The anchors of POM-32 at every ISA: the auto-vectorised port takes the naive port's samples and
+// lands within its tolerance of the reference; the ceiling is the same on every ISA and marches
+// every ray to its bound (depth 1 everywhere).
+TEST(Plan, AnchorsAreCheckedAtEveryIsa) {
+  std::vector<Configuration> plan;
+  Configuration naive = small(Technique::pom, "32", kPurposeNaive);
+  naive.kind = RunKind::naive;
+  plan.push_back(naive);
+  for (Isa isa : supported_isas())
+    for (RunKind kind : {RunKind::autovec, RunKind::ceiling}) {
+      Configuration c = small(Technique::pom, "32", kPurposeNaive);
+      c.kind = kind;
+      c.isa = isa;
+      plan.push_back(c);
+    }
+  MeasureOptions options;
+  options.repetitions = 1;
+  options.min_seconds = 0.0;
+  const MeasuredPlan run = measure_plan(plan, options);
+  for (const Measurement& m : run.rows) {
+    EXPECT_TRUE(m.failure.empty()) << m.failure;
+    if (m.config.kind == RunKind::autovec) EXPECT_EQ(m.samples, run.rows[0].samples) << m.config.backend();
+    if (m.config.kind == RunKind::ceiling) {
+      EXPECT_FALSE(m.errors.has_value());
+      EXPECT_GE(m.samples, m.rays * 34) << m.config.backend();  // 1 + ceil(32) + 1 steps + 1
+    }
+  }
 }
 
 // Every ISA exports a kernel for every registry row and addressing mode.
@@ -118,7 +151,11 @@ TEST(Registry, EveryIsaHasEveryKernel) {
     const KernelTable& table = kernel_table(isa);
     for (const TechniqueInfo& t : techniques())
       for (int a = 0; a < kAddressingCount; ++a) EXPECT_NE(table.technique[int(t.id)][a], nullptr) << t.name;
-    for (int a = 0; a < kAddressingCount; ++a) EXPECT_NE(table.sampler_roofline[a], nullptr);
+    for (int a = 0; a < kAddressingCount; ++a) {
+      EXPECT_NE(table.sampler_roofline[a], nullptr);
+      EXPECT_NE(table.compute_ceiling[a], nullptr);
+    }
+    EXPECT_NE(table.autovec_pom, nullptr);
   }
   for (const TechniqueInfo& t : techniques()) {
     EXPECT_EQ(parse_technique(std::string(t.name)), t.id);

@@ -1,5 +1,5 @@
 // The sampler: the sampling formula (docs/conventions.md) against hand-computed values, and the packet sampler of every
-// ISA against the sampling formula (docs/conventions.md), bit for bit.
+// ISA against the sampling formula (docs/conventions.md), bit for bit, on scattered and on clustered packets.
 #include <gtest/gtest.h>
 
 #include "heightmarch/sampler.hpp"
@@ -58,6 +58,39 @@ TEST_P(PacketSamplerTest, BitIdenticalToSpecFormula) {
       vz.push_back(1.0f);
     }
     const RayBatch rays = make_ray_list(tx, ty, vx, vy, vz);
+    for (Wrap wrap : {Wrap::repeat, Wrap::clamp}) {
+      TechniqueParams params;
+      params.technique = Technique::parallax;
+      params.wrap = wrap;
+      HitBuffers hits;
+      Tracer(map, params, isa).run(rays, hits);
+      for (std::size_t i = 0; i < rays.size(); ++i)
+        ASSERT_EQ(hits.depth[i], sample_depth(map, wrap, rays.tx[i], rays.ty[i]))
+            << to_string(isa) << " " << w << "x" << h << " at (" << rays.tx[i] << ", " << rays.ty[i] << ")";
+    }
+  }
+}
+
+// Packets whose taps cluster within a few texels, as a layer step of a pixel block's rays does
+// (the coherent fetch of vfloat16_avx512.hpp), spread from one texel to beyond its window, near
+// every edge of the texture and across the REPEAT seam: the same bits as the formula.
+TEST_P(PacketSamplerTest, BitIdenticalOnClusteredPackets) {
+  const Isa isa = GetParam();
+  if (!cpu_supports(isa)) GTEST_SKIP() << "this CPU lacks " << to_string(isa) << ": not tested here";
+  for (const auto& [w, h] : {std::pair{64, 64}, {37, 9}, {8, 5}, {7, 4}, {512, 3}}) {
+    DepthMap map{w, h, {}};
+    test::Random rng(w * 7 + h);
+    for (int k = 0; k < w * h; ++k) map.texels.push_back(float(rng.uniform()));
+    std::vector<float> tx, ty, zero(32 * 400, 0.0f), one(32 * 400, 1.0f);
+    for (int packet = 0; packet < 400; ++packet) {
+      // a centre anywhere, edges and the seam included, and a spread of 0 to 10 texels
+      const double cu = rng.uniform(-1.1, 2.1), cv = rng.uniform(-1.1, 2.1), spread = 10.0 * rng.uniform() * rng.uniform();
+      for (int lane = 0; lane < 32; ++lane) {
+        tx.push_back(float(cu + spread * rng.uniform(-0.5, 0.5) / w));
+        ty.push_back(float(cv + spread * rng.uniform(-0.5, 0.5) / h));
+      }
+    }
+    const RayBatch rays = make_ray_list(tx, ty, zero, zero, one);
     for (Wrap wrap : {Wrap::repeat, Wrap::clamp}) {
       TechniqueParams params;
       params.technique = Technique::parallax;

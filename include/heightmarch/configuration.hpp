@@ -1,7 +1,8 @@
 #pragma once
 // One measured configuration, as typed values from the plan to every result file: what traces
-// (a technique on a CPU backend, the same as GLSL, the sampler roofline, the naive port or the
-// exact reference), on which heightfield and view, with which parameters and threads.
+// (a technique on a CPU backend, the same as GLSL, the sampler roofline, POM's compute ceiling,
+// the naive port, the naive port vectorised by the compiler or the exact reference), on which
+// heightfield and view, with which parameters and threads.
 #include <optional>
 #include <string>
 
@@ -12,7 +13,9 @@
 
 namespace heightmarch {
 
-enum class RunKind { trace, glsl, roofline, naive, exact };
+// roofline: the sampler alone; ceiling: POM on register taps (no memory); naive: the tutorial's
+// POM ported to scalar C++; autovec: the same port vectorised by the compiler for an ISA.
+enum class RunKind { trace, glsl, roofline, ceiling, naive, autovec, exact };
 std::string to_string(RunKind kind);
 
 // Which consumers of a run asked for a configuration; one configuration serves all of them.
@@ -44,8 +47,8 @@ struct Configuration {
   RunKind kind = RunKind::trace;
   HeightfieldSource heightfield;
   ViewSpec view;
-  TechniqueParams params;    // the technique is ignored by roofline, exact and brought-in shader runs
-  Isa isa = Isa::scalar;     // trace and roofline runs; exact runs: the ISA of its float pass
+  TechniqueParams params;    // the technique is ignored by roofline, ceiling, exact and brought-in shader runs
+  Isa isa = Isa::scalar;     // trace, roofline, ceiling and autovec runs; exact runs: the ISA of its float pass
   int threads = 1;           // worker threads (never 0: resolved by the plan)
   std::optional<BroughtInShader> shader;  // glsl runs: a brought-in shader instead of the technique
   bool timed = true;         // false: accuracy only (sweeps, gallery)
@@ -53,10 +56,16 @@ struct Configuration {
 
   // "avx512", "glsl", "naive", "exact"
   std::string backend() const;
-  // Whether a registry technique is part of the configuration (not for roofline, exact and
-  // brought-in shader runs).
+  // Whether a registry technique is part of the configuration (not for roofline, ceiling, exact
+  // and brought-in shader runs).
   bool has_technique() const {
-    return (kind == RunKind::trace || kind == RunKind::glsl || kind == RunKind::naive) && !shader;
+    return (kind == RunKind::trace || kind == RunKind::glsl || kind == RunKind::naive || kind == RunKind::autovec) &&
+           !shader;
+  }
+  // Whether the configuration runs code built for its ISA.
+  bool on_isa() const {
+    return kind == RunKind::trace || kind == RunKind::roofline || kind == RunKind::ceiling || kind == RunKind::autovec ||
+           kind == RunKind::exact;
   }
   // What traces, for people and result files: the technique ("pom"), the brought-in shader
   // ("shader:mine.glsl"), or the kind ("roofline", "exact").

@@ -44,6 +44,10 @@ class Tracer {
   // all lanes active, no control flow (the samples/s ceiling). hits.depth gets sums.
   TraceStats run_sampler_roofline(const RayBatch& rays, HitBuffers& hits) const;
 
+  // Benchmarks only: POM's march and bilinear arithmetic on taps held in registers (every
+  // sample reads depth 1), no texture access: the compute ceiling of samples/s.
+  TraceStats run_compute_ceiling(const RayBatch& rays, HitBuffers& hits) const;
+
   const TechniqueParams& params() const { return params_; }
   Isa isa() const { return isa_; }
 
@@ -58,6 +62,7 @@ class Tracer {
   std::unique_ptr<MinDepthPyramid> pyramid_;  // built for the techniques that walk it
   KernelFn technique_kernel_;
   KernelFn roofline_kernel_;
+  KernelFn ceiling_kernel_;
 };
 
 // Limits TBB's worker threads while alive; threads <= 0 means all cores.

@@ -6,6 +6,9 @@
 #include <cmath>
 #include <glm/glm.hpp>
 
+#include "heightmarch/error.hpp"
+#include "kernels/kernel_abi.hpp"
+
 namespace heightmarch {
 namespace {
 
@@ -70,6 +73,23 @@ void naive_pom(const DepthMap& map, const RayBatch& rays, float min_layers, floa
         hits.u[i] = uv.x;
         hits.v[i] = uv.y;
       }
+  });
+}
+
+void autovec_pom(const DepthMap& map, const RayBatch& rays, float min_layers, float max_layers, float scale, Isa isa,
+                 HitBuffers& hits) {
+  if (!cpu_supports(isa)) throw InputError("ISA " + to_string(isa) + " is not supported by this CPU");
+  hits.resize(rays.size());
+  const TraceRangeFn kernel = kernel_table(isa).autovec_pom;
+  const KernelTexture texture{map.texels.data(), map.width, map.height, map.width, Wrap::repeat};
+  const KernelParams params{min_layers, max_layers, 0, scale, false, {0.0f, 0.0f, 1.0f}};
+  const KernelRays kernel_rays{rays.tx.data(), rays.ty.data(), rays.vx.data(), rays.vy.data(), rays.vz.data()};
+  const KernelHits kernel_hits{hits.u.data(), hits.v.data(), hits.depth.data(), hits.shadow.data(),
+                               hits.samples.data(), hits.discarded.data()};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.tile_count(), 1), [&](const auto& tiles) {
+    KernelCounters counters;  // the port's samples are read from hits.samples, as the naive port's
+    for (std::size_t t = tiles.begin(); t != tiles.end(); ++t)
+      kernel(texture, params, kernel_rays, kernel_hits, rays.tile_offsets[t], rays.tile_offsets[t + 1], counters);
   });
 }
 

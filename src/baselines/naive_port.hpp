@@ -4,6 +4,7 @@
 // normal flags (no ISA flags), parallel over the same tiles with TBB.
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/hits.hpp"
+#include "heightmarch/isa.hpp"
 #include "heightmarch/rays.hpp"
 
 namespace heightmarch {
@@ -11,5 +12,11 @@ namespace heightmarch {
 // Traces every ray of the batch with the tutorial's POM loop (fixed or dynamic layer count).
 void naive_pom(const DepthMap& map, const RayBatch& rays, float min_layers, float max_layers, float scale,
                HitBuffers& hits);
+
+// The same port vectorised by the compiler over rays (autovec_port.hpp), built with the ISA's
+// flags, over the same tiles. Same u, v and samples as naive_pom. Throws InputError when the CPU
+// lacks the ISA.
+void autovec_pom(const DepthMap& map, const RayBatch& rays, float min_layers, float max_layers, float scale, Isa isa,
+                 HitBuffers& hits);
 
 }  // namespace heightmarch

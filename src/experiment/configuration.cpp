@@ -10,7 +10,9 @@ std::string to_string(RunKind kind) {
     case RunKind::trace: return "trace";
     case RunKind::glsl: return "glsl";
     case RunKind::roofline: return "roofline";
+    case RunKind::ceiling: return "ceiling";
     case RunKind::naive: return "naive";
+    case RunKind::autovec: return "autovec";
     case RunKind::exact: return "exact";
   }
   return "?";
@@ -36,7 +38,9 @@ std::string Configuration::label() const {
 std::string Configuration::backend() const {
   switch (kind) {
     case RunKind::trace:
-    case RunKind::roofline: return to_string(isa);
+    case RunKind::roofline:
+    case RunKind::ceiling:
+    case RunKind::autovec: return to_string(isa);
     case RunKind::glsl: return "glsl";
     case RunKind::naive: return "naive";
     case RunKind::exact: return "exact";
@@ -49,13 +53,14 @@ bool Configuration::same_measurement(const Configuration& o) const {
   const bool same_params = (!has_technique() || a.technique == b.technique) && a.layers == b.layers &&
                            a.refine_steps == b.refine_steps && a.scale == b.scale && a.wrap == b.wrap &&
                            a.discard == b.discard && std::memcmp(a.light, b.light, sizeof a.light) == 0;
-  const bool same_isa = (kind != RunKind::trace && kind != RunKind::roofline && kind != RunKind::exact) || isa == o.isa;
+  const bool same_isa = !on_isa() || isa == o.isa;
   return kind == o.kind && heightfield == o.heightfield && view == o.view && same_params && same_isa &&
          threads == o.threads && shader == o.shader;
 }
 
 std::string benchmark_name(const Configuration& c, int map_width, int map_height) {
-  static const char* const prefixes[] = {"BM_Trace", "BM_GLSL", "BM_SamplerRoofline", "BM_NaivePort", "BM_Exact"};
+  static const char* const prefixes[] = {"BM_Trace",     "BM_GLSL",        "BM_SamplerRoofline", "BM_ComputeCeiling",
+                                         "BM_NaivePort", "BM_AutoVecPort", "BM_Exact"};
   std::string name = std::string(prefixes[int(c.kind)]) + "/heightfield:" + c.heightfield.label();
   if (c.shader) name.append("/").append(c.shader->label());
   if (c.has_technique()) name += "/technique:" + to_string(c.params.technique);

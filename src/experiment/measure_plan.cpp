@@ -114,6 +114,15 @@ long long first_difference(const RayBatch& rays, const HitBuffers& a, const HitB
   return -1;
 }
 
+// What a Tracer runs for a trace, roofline or ceiling configuration.
+TraceStats run_tracer(const Tracer& tracer, RunKind kind, const RayBatch& rays, HitBuffers& hits) {
+  switch (kind) {
+    case RunKind::roofline: return tracer.run_sampler_roofline(rays, hits);
+    case RunKind::ceiling: return tracer.run_compute_ceiling(rays, hits);
+    default: return tracer.run(rays, hits);
+  }
+}
+
 // Everything the configurations of one heightfield and view share.
 class SceneRun {
  public:
@@ -126,13 +135,12 @@ class SceneRun {
     return *slot;
   }
 
-  // The scalar reference of a technique (or of the roofline), computed once.
-  const HitBuffers& reference(const TechniqueParams& params, bool roofline) {
-    auto& slot = references_[params_key(params, !roofline) + (roofline ? "/roofline" : "")];
+  // The scalar reference of a technique (trace), of the roofline or of the ceiling, computed once.
+  const HitBuffers& reference(const TechniqueParams& params, RunKind kind) {
+    auto& slot = references_[params_key(params, kind == RunKind::trace) + "/" + to_string(kind)];
     if (!slot) {
       slot = std::make_unique<HitBuffers>();
-      const Tracer tracer(map, params, Isa::scalar);
-      roofline ? tracer.run_sampler_roofline(rays, *slot) : tracer.run(rays, *slot);
+      run_tracer(Tracer(map, params, Isa::scalar), kind, rays, *slot);
     }
     return *slot;
   }
@@ -170,15 +178,26 @@ void check_finite(const Configuration& c, const RayBatch& rays, const HitBuffers
                      std::to_string(rays.ty[first]) + "); an endless loop ends this way in llvmpipe");
 }
 
-// The naive port blends as glm::mix does and rounds differently: within 0.01 texel of the
-// reference wherever it took the same samples.
-std::string check_naive(const RayBatch& rays, const HitBuffers& hits, const HitBuffers& reference, const DepthMap& map) {
+// The naive port (and its auto-vectorised form) blends as glm::mix does and rounds differently:
+// within 0.01 texel of the reference wherever it took the same samples.
+std::string check_naive(const Configuration& c, const RayBatch& rays, const HitBuffers& hits, const HitBuffers& reference,
+                        const DepthMap& map) {
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const float d = uv_error_texels(hits.u[i], hits.v[i], reference.u[i], reference.v[i], map.width, map.height);
     if (!(d <= 1e-2f) && hits.samples[i] == reference.samples[i])
-      return "naive port differs from the reference by " + std::to_string(d) + " texel at ray " + std::to_string(i);
+      return (c.kind == RunKind::autovec ? c.backend() + " auto-vectorised port" : std::string("naive port")) +
+             " differs from the reference by " + std::to_string(d) + " texel at ray " + std::to_string(i);
   }
   return "";
+}
+
+// The naive port, or its auto-vectorised form for the configuration's ISA.
+void run_port(const Configuration& c, const DepthMap& map, const RayBatch& rays, HitBuffers& hits) {
+  const LayerSpec& l = c.params.layers;
+  if (c.kind == RunKind::autovec)
+    autovec_pom(map, rays, l.min_layers, l.max_layers, c.params.scale, c.isa, hits);
+  else
+    naive_pom(map, rays, l.min_layers, l.max_layers, c.params.scale, hits);
 }
 
 }  // namespace
@@ -245,14 +264,16 @@ Measurement MeasurementSession::measure(const Configuration& c, int id,
       const TraceStats stats = state_->tracer(scene, c).run(scene.rays, hits);
       row.simd_utilization = stats.simd_utilization();
       if (c.isa != Isa::scalar)
-        if (const long long i = first_difference(scene.rays, hits, scene.reference(c.params, false)); i >= 0)
+        if (const long long i = first_difference(scene.rays, hits, scene.reference(c.params, RunKind::trace)); i >= 0)
           row.failure = "output differs from the scalar reference at ray " + std::to_string(i);
       break;
     }
-    case RunKind::roofline: {
-      state_->tracer(scene, c).run_sampler_roofline(scene.rays, hits);
-      if (c.isa != Isa::scalar && first_difference(scene.rays, hits, scene.reference(roofline_params(c.params), true)) >= 0)
-        row.failure = "roofline output differs from the scalar reference";
+    case RunKind::roofline:
+    case RunKind::ceiling: {
+      const Tracer& tracer = state_->tracer(scene, c);
+      run_tracer(tracer, c.kind, scene.rays, hits);
+      if (c.isa != Isa::scalar && first_difference(scene.rays, hits, scene.reference(tracer.params(), c.kind)) >= 0)
+        row.failure = to_string(c.kind) + " output differs from the scalar reference";
       break;
     }
     case RunKind::glsl: {
@@ -273,17 +294,19 @@ Measurement MeasurementSession::measure(const Configuration& c, int id,
       }
       break;
     }
-    case RunKind::naive: {
-      naive_pom(scene.map, scene.rays, c.params.layers.min_layers, c.params.layers.max_layers, c.params.scale, hits);
-      const HitBuffers& reference = scene.reference(c.params, false);
-      row.failure = check_naive(scene.rays, hits, reference, scene.map);
+    case RunKind::naive:
+    case RunKind::autovec: {
+      run_port(c, scene.map, scene.rays, hits);
+      const HitBuffers& reference = scene.reference(c.params, RunKind::trace);
+      row.failure = check_naive(c, scene.rays, hits, reference, scene.map);
       hits.depth = reference.depth;  // the port returns uv only
       break;
     }
     case RunKind::exact: hits = exact; break;
   }
   row.samples = total_samples(scene.rays, hits);
-  if (!row.failure.empty() || c.kind == RunKind::roofline) return row;  // the roofline returns sums, not hits
+  // The roofline returns sums, the ceiling hits on a flat depth 1: neither has an accuracy.
+  if (!row.failure.empty() || c.kind == RunKind::roofline || c.kind == RunKind::ceiling) return row;
   std::vector<float> uv_error;
   ErrorSummary errors = summarize_errors(scene.rays, hits, exact, scene.map.width, scene.map.height,
                                          c.has_technique() && c.params.technique == Technique::shadow, &uv_error);
@@ -305,13 +328,11 @@ std::function<double()> MeasurementSession::trace_once(const Configuration& c) {
     };
   };
   switch (c.kind) {
-    case RunKind::trace: {
+    case RunKind::trace:
+    case RunKind::roofline:
+    case RunKind::ceiling: {
       const Tracer& t = state_->tracer(scene, c);
-      return timed([&t, &scene] { t.run(scene.rays, scene.scratch); });
-    }
-    case RunKind::roofline: {
-      const Tracer& t = state_->tracer(scene, c);
-      return timed([&t, &scene] { t.run_sampler_roofline(scene.rays, scene.scratch); });
+      return timed([&t, &scene, kind = c.kind] { run_tracer(t, kind, scene.rays, scene.scratch); });
     }
     case RunKind::glsl: {
       GlslRunner& runner = GlslRunner::instance(c.threads);
@@ -319,10 +340,7 @@ std::function<double()> MeasurementSession::trace_once(const Configuration& c) {
       return [&runner] { return runner.draw(); };
     }
     case RunKind::naive:
-      return timed([&scene, c] {
-        naive_pom(scene.map, scene.rays, c.params.layers.min_layers, c.params.layers.max_layers, c.params.scale,
-                  scene.scratch);
-      });
+    case RunKind::autovec: return timed([&scene, c] { run_port(c, scene.map, scene.rays, scene.scratch); });
     case RunKind::exact: {
       const ExactReference& r = state_->exact_reference(scene, c);
       return timed([&r, &scene, c] { r.run(scene.rays, visibility_for(c.params.technique), scene.scratch); });

@@ -210,7 +210,7 @@ std::string summary_text(const Measurement& m) {
   }
   const std::string simd = c.kind == RunKind::trace
                                ? ", SIMD use " + std::to_string(int(100.0 * m.simd_utilization + 0.5)) + "%"
-                           : c.kind == RunKind::glsl || c.kind == RunKind::naive ? ", SIMD use unknown"
+                           : c.kind == RunKind::glsl || c.kind == RunKind::naive || c.kind == RunKind::autovec ? ", SIMD use unknown"
                                                                                  : "";
   std::snprintf(buf, sizeof buf, "  %s, %d thread%s: %s, %s%s\n", c.backend().c_str(), c.threads,
                 c.threads == 1 ? "" : "s", speed.c_str(), per_ray.c_str(), simd.c_str());

@@ -94,18 +94,25 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
         add_to_plan(plan, with_technique(on_view(s, hf, RunKind::trace, kPurposeMatrix), t.id, layers));
         if (s.glsl) add_to_plan(plan, with_technique(on_view(s, hf, RunKind::glsl, kPurposeGlsl), t.id, layers));
       }
-    // POM-32 at every ISA and thread count, with its roofline and naive-port anchors.
+    // POM-32 at every ISA and thread count, with its anchors: the roofline and the compute
+    // ceiling, the naive port and its auto-vectorised form.
     for (int threads : thread_counts(s)) {
       for (Isa isa : s.isas) {
         Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeIsa), Technique::pom, pom32);
         c.isa = isa;
         c.threads = threads;
         add_to_plan(plan, c);
-        Configuration roofline = on_view(s, hf, RunKind::roofline, kPurposeRoofline);
-        roofline.isa = isa;
-        roofline.threads = threads;
-        roofline.params.layers = pom32;
-        add_to_plan(plan, roofline);
+        for (RunKind ceiling : {RunKind::roofline, RunKind::ceiling}) {
+          Configuration roofline = on_view(s, hf, ceiling, kPurposeRoofline);
+          roofline.isa = isa;
+          roofline.threads = threads;
+          roofline.params.layers = pom32;
+          add_to_plan(plan, roofline);
+        }
+        Configuration autovec = with_technique(on_view(s, hf, RunKind::autovec, kPurposeNaive), Technique::pom, pom32);
+        autovec.isa = isa;
+        autovec.threads = threads;
+        add_to_plan(plan, autovec);
       }
       for (const char* layers : {"32", "8-32"}) {
         Configuration naive = with_technique(on_view(s, hf, RunKind::naive, kPurposeNaive), Technique::pom,

@@ -71,11 +71,17 @@ struct KernelTable {
   // The exact reference's float pass (src/exact/exact_hits.cpp): per ray, in depth, how far the
   // path is certainly clear of the surface; in samples, the cells it tested.
   TraceRangeFn exact_bound[kAddressingCount];
+  TraceRangeFn compute_ceiling[kAddressingCount];   // POM on register taps (benchmarks)
+  // The naive port vectorised by the compiler (benchmarks), on a plain REPEAT DepthMap
+  // (stride = width) instead of the sampler's layout.
+  TraceRangeFn autovec_pom;
 };
 
-#define HEIGHTMARCH_ISA_KERNEL_TABLE(id, ...) \
-  namespace isa_##id {                        \
-  const KernelTable& kernel_table();          \
+#define HEIGHTMARCH_ISA_KERNEL_TABLE(id, ...)                                                        \
+  namespace isa_##id {                                                                               \
+  const KernelTable& kernel_table();                                                                 \
+  void autovec_pom(const KernelTexture&, const KernelParams&, const KernelRays&, const KernelHits&, \
+                   std::size_t, std::size_t, KernelCounters&); /* src/isa/autovec_<id>.cpp */        \
   }
 HEIGHTMARCH_ISAS(HEIGHTMARCH_ISA_KERNEL_TABLE)
 #undef HEIGHTMARCH_ISA_KERNEL_TABLE

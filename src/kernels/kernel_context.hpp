@@ -18,7 +18,7 @@ struct HitPacket {
   vint<W> samples = vint<W>(0);
 };
 
-template <int W, Addressing ADDRESSING>
+template <int W, Addressing ADDRESSING, Taps TAPS = Taps::memory>
 class KernelContext {
  public:
   using F = vfloat<W>;
@@ -36,9 +36,10 @@ class KernelContext {
   }
 
   // Counts n texel reads for the active lanes, for kernels that read texels themselves.
+  // `samples` must be the lane counts the kernel returns in HitPacket::samples: the packet loop
+  // (kernel_table.hpp) sums them into lane_samples once per packet, not here at every read.
   void count(B active, I& samples, int n) {
     samples = select(active, samples + I(n), samples);
-    counters_.lane_samples += std::uint64_t(n) * std::uint64_t(popcount(active));
     counters_.packet_samples += std::uint64_t(n) * W;
   }
 
@@ -57,7 +58,7 @@ class KernelContext {
   const KernelTexture& texture;
 
  private:
-  PacketSampler<W, ADDRESSING> sampler_;
+  PacketSampler<W, ADDRESSING, TAPS> sampler_;
   KernelCounters& counters_;
 };
 

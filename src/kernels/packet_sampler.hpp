@@ -7,7 +7,11 @@
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
-template <int W, Addressing ADDRESSING>
+// Where the taps come from: the texture, or registers holding 1.0 (the compute ceiling: the same
+// arithmetic with no memory access; every sample reads depth 1, so every ray marches to its bound).
+enum class Taps { memory, registers };
+
+template <int W, Addressing ADDRESSING, Taps TAPS = Taps::memory>
 class PacketSampler {
  public:
   using F = vfloat<W>;
@@ -15,7 +19,7 @@ class PacketSampler {
   using B = vbool<W>;
 
   explicit PacketSampler(const KernelTexture& t)
-      : texels_(t.texels), stride_(t.stride), width_(float(t.width)), height_(float(t.height)),
+      : texels_(t.texels), stride_(t.stride), rows_(t.height + 1), width_(float(t.width)), height_(float(t.height)),
         inv_width_(1.0f / float(t.width)), inv_height_(1.0f / float(t.height)),
         last_x_(t.width - 1), last_y_(t.height - 1) {}
 
@@ -23,10 +27,15 @@ class PacketSampler {
     F fx, fy;
     const I ix = texel_coordinate(u, width_, inv_width_, last_x_, fx);
     const I iy = texel_coordinate(v, height_, inv_height_, last_y_, fy);
-    const I index = iy * I(stride_) + ix;
     F t00, t10, t01, t11;
-    gather_pairs(texels_, index, t00, t10);
-    gather_pairs(texels_ + stride_, index, t01, t11);
+    if constexpr (TAPS == Taps::memory) {
+      fetch_taps(texels_, stride_, rows_, ix, iy, t00, t10, t01, t11);
+    } else {
+      const I index = iy * I(stride_) + ix;
+      t00 = t10 = t01 = t11 = F(1.0f);
+      register_pairs(index, t00, t10);
+      register_pairs(index, t01, t11);
+    }
     const F top = t00 + fx * (t10 - t00);
     const F bottom = t01 + fx * (t11 - t01);
     return top + fy * (bottom - top);
@@ -58,7 +67,7 @@ class PacketSampler {
   }
 
   const float* texels_;
-  std::int32_t stride_;
+  std::int32_t stride_, rows_;
   F width_, height_, inv_width_, inv_height_;
   std::int32_t last_x_, last_y_;
 };

@@ -1,6 +1,8 @@
 #pragma once
 // Steep parallax: march layers of depth 1/N along the ray until the first layer below the
 // surface (LearnOpenGL's loop). Relief, POM and the shadow start from its state.
+#include <cmath>
+
 #include "kernels/kernel_context.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
@@ -16,8 +18,8 @@ struct LayerMarch {
 };
 
 // LIMITED: the step is s V.xy / N (the "Steep Parallax Mapping" tutorial), else s V.xy / V.z / N.
-template <bool LIMITED, int W, Addressing ADDRESSING>
-LayerMarch<W> march_layers(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
+template <bool LIMITED, int W, Addressing ADDRESSING, Taps TAPS>
+LayerMarch<W> march_layers(KernelContext<W, ADDRESSING, TAPS>& k, const RayPacket<W>& ray) {
   using F = vfloat<W>;
   using I = vint<W>;
   using B = vbool<W>;
@@ -36,20 +38,36 @@ LayerMarch<W> march_layers(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& 
 
   // The march itself advances every lane unconditionally, so the sample positions (and the
   // gathers) never wait for the previous comparison; lanes still above the surface record it.
+  // It works on locals: m is the caller's memory, and writing it every step costs stores.
   const I bound = k.step_bound(num_layers);
+  // A fixed layer count gives every lane the same bound: then it is one scalar test.
+  const bool one_bound = k.params.min_layers == k.params.max_layers;
+  const int scalar_bound = int(std::ceil(k.params.max_layers)) + 1;
+  const F delta_u = m.delta_u, delta_v = m.delta_v, layer_depth = m.layer_depth;
   F u = m.u, v = m.v, current_layer_depth = m.current_layer_depth;
-  B active = m.current_layer_depth < m.depth_map_value;
+  F last_u = u, last_v = v, last_value = m.depth_map_value, last_layer_depth = current_layer_depth;
+  I samples = m.samples;
+  B active = current_layer_depth < last_value;
   for (int step = 1; step <= k.max_step_bound() && any(active); ++step) {
-    u = u - m.delta_u;
-    v = v - m.delta_v;
-    const F depth_map_value = k.sample(u, v, active, m.samples);
-    current_layer_depth = current_layer_depth + m.layer_depth;
-    m.u = select(active, u, m.u);
-    m.v = select(active, v, m.v);
-    m.depth_map_value = select(active, depth_map_value, m.depth_map_value);
-    m.current_layer_depth = select(active, current_layer_depth, m.current_layer_depth);
-    active = active & (current_layer_depth < depth_map_value) & (I(step) < bound);
+    u = u - delta_u;
+    v = v - delta_v;
+    const F depth_map_value = k.sample(u, v, active, samples);
+    current_layer_depth = current_layer_depth + layer_depth;
+    last_u = select(active, u, last_u);
+    last_v = select(active, v, last_v);
+    last_value = select(active, depth_map_value, last_value);
+    last_layer_depth = select(active, current_layer_depth, last_layer_depth);
+    active = active & (current_layer_depth < depth_map_value);
+    if (!one_bound)
+      active = active & (I(step) < bound);
+    else if (step >= scalar_bound)
+      break;
   }
+  m.u = last_u;
+  m.v = last_v;
+  m.depth_map_value = last_value;
+  m.current_layer_depth = last_layer_depth;
+  m.samples = samples;
   return m;
 }
 

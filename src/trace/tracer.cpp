@@ -34,6 +34,7 @@ Tracer::Tracer(const DepthMap& map, const TechniqueParams& params, Isa isa)
   const KernelTable& table = kernel_table(isa);
   technique_kernel_ = pick(table.technique[int(params.technique)], texture_);
   roofline_kernel_ = pick(table.sampler_roofline, texture_);
+  ceiling_kernel_ = pick(table.compute_ceiling, texture_);
 }
 
 TraceStats Tracer::run(const RayBatch& rays, HitBuffers& hits) const {
@@ -42,6 +43,10 @@ TraceStats Tracer::run(const RayBatch& rays, HitBuffers& hits) const {
 
 TraceStats Tracer::run_sampler_roofline(const RayBatch& rays, HitBuffers& hits) const {
   return run_kernel(roofline_kernel_, rays, hits);
+}
+
+TraceStats Tracer::run_compute_ceiling(const RayBatch& rays, HitBuffers& hits) const {
+  return run_kernel(ceiling_kernel_, rays, hits);
 }
 
 TraceStats Tracer::run_kernel(TraceRangeFn kernel, const RayBatch& rays, HitBuffers& hits) const {

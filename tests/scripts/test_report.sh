@@ -3,7 +3,8 @@
 # its summary (cheapest configuration per error target, headline ratios, claims' verdicts), speeds
 # and ratios show their spread as `x (a-b)`, a planted roofline fraction above 100% is a fault and
 # not a result, a busy run says so at the top, every plot is drawn and no wider than 1600 px, a
-# gallery cost image is shown beside the error image, --history appends rows with the new columns
+# gallery cost image is shown beside the error image, the POM table shows the compute ceiling's
+# fraction and the ratios to llvmpipe and the auto-vectorised port, --history appends rows with the new columns
 # (replacing a rerun's), and a missing measurements.json is a one-line error with exit status 2.
 # Usage: test_report.sh [BUILD_DIR]
 set -euo pipefail
@@ -54,6 +55,10 @@ add("glsl", ["glsl"], "pom", "32", "glsl", 2, [10e6, 10e6, 9e6, 10e6, 11e6])
 # planted fault: avx2's 1-thread roofline (samples/s) below the kernel's own samples/s
 add("roofline", ["roofline"], None, "32", "avx2", 1, [15e6, 15e6, 15e6, 15e6, 15e6])
 add("roofline", ["roofline"], None, "32", "scalar", 1, [10e6, 10e6, 10e6, 10e6, 10e6])
+# the compute ceiling (samples/s = 10 x rays/s here) and the auto-vectorised port of avx2 at 1 thread
+add("ceiling", ["roofline"], None, "32", "avx2", 1, [40e6, 40e6, 40e6, 40e6, 40e6])
+add("autovec", ["naive"], "pom", "32", "avx2", 1, [8e6, 8e6, 8e6, 8e6, 8e6])
+add("glsl", ["glsl"], "pom", "32", "glsl", 1, [5e6, 5e6, 5e6, 5e6, 5e6])
 for theta in (0.0, 40.0, 80.0):
     add("trace", ["sweep"], "pom", "32", "avx2", 2, None,
         view={"kind": "sweep", "width": 16, "height": 16, "theta": theta, "phi": 0.0}, uv=0.1 + theta / 100)
@@ -113,6 +118,12 @@ grep -q -i 'measurement faults' "$report" || fail "no measurement faults note"
 grep -q '| 50% (50-50) |' "$report" || fail "scalar's roofline fraction is not a result"
 echo "ok: a roofline fraction above 100% is a measurement fault"
 
+# avx2 1 thread: 20 Mrays/s, ceiling 400 Msamples/s (kernel 200: 50%), 2.5x its autovec, 4x llvmpipe
+grep -q '| bricks | avx2 | 1 | 20.0 (19.0-21.0) | 200 (190-210) | 150 (150-150) | fault (>100%: timing disturbed) | 50% (48-52) | 4.00x (3.80-4.20) | 5.00x (4.75-5.25) | 4.00x (3.80-4.20) | 2.50x (2.38-2.62) |' "$report" \
+  || fail "the POM table's ceiling fraction, x llvmpipe and x autovec"
+grep -q '| bricks | avx2 autovec | 1 | 8.0 (8.0-8.0) |' "$report" || fail "the auto-vectorised port's row"
+echo "ok: the POM table shows the ceiling fraction, x llvmpipe and x the auto-vectorised port"
+
 grep -q 'Warning: the machine was busy' "$report" || fail "no busy warning"
 grep -q 'other processes used 25% of the CPU time' "$report" || fail "the busy warning lacks its reasons"
 [ "$(grep -n 'Warning: the machine was busy' "$report" | cut -d: -f1)" -lt "$(grep -n '^## Machine' "$report" | cut -d: -f1)" ] \
@@ -121,11 +132,13 @@ echo "ok: a busy run says so at the top"
 
 columns='date,commit,cpu,backend,threads,heightfield,technique,layers,view,depth_map,rays_per_second_median,rays_per_second_min,rays_per_second_max'
 [ "$(head -1 "$tmp/history.csv")" = "$columns" ] || fail "history columns: $(head -1 "$tmp/history.csv")"
-[ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 9 ] || fail "history rows: expected one per timed row (9)"
+[ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 12 ] || fail "history rows: expected one per timed row (12)"
+grep -q '^2026-01-01T00:00:00Z,abc123,Test CPU,avx2-autovec,1,bricks,pom,32,' "$tmp/history.csv" \
+  || fail "the auto-vectorised port's history row is not told apart from avx2's"
 grep -q '^2026-01-01T00:00:00Z,abc123,Test CPU,avx2,2,bricks,pom,32,default 64x64,32x32,4e+07,3.9e+07,4.2e+07$' "$tmp/history.csv" \
   || fail "history row of POM-32 at avx2"
 "$root/scripts/report.py" "$tmp/run" --history "$tmp/history.csv" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "rerun failed"; }
-[ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 9 ] || fail "a rerun of the same date and commit was appended, not replaced"
+[ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 12 ] || fail "a rerun of the same date and commit was appended, not replaced"
 echo "ok: --history appends one row per timed row with the new columns"
 
 rm "$tmp/run/measurements.json"

@@ -17,4 +17,17 @@ template <int W> struct vfloat;
 template <int W> struct vint;
 template <int W> struct vbool;
 
+// The four bilinear taps of each lane from a texture of `rows` rows of `stride` texels: t00 at
+// (ix, iy), t10 one texel right, t01 one row down, t11 both. This default reads them with two
+// gather_pairs (the ISA's); an ISA header may overload it for its own width with a faster path
+// (vfloat16_avx512.hpp), which must read the very same texels.
+template <int W>
+inline void fetch_taps(const float* texels, std::int32_t stride, std::int32_t rows, vint<W> ix, vint<W> iy,
+                       vfloat<W>& t00, vfloat<W>& t10, vfloat<W>& t01, vfloat<W>& t11) {
+  (void)rows;
+  const vint<W> index = iy * vint<W>(stride) + ix;
+  gather_pairs(texels, index, t00, t10);
+  gather_pairs(texels + stride, index, t01, t11);
+}
+
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

@@ -76,6 +76,20 @@ inline void gather_pairs(const float* base, vint<2 * HEIGHTMARCH_PAIR_OF> index,
   gather_pairs(base, index.hi, first.hi, second.hi);
 }
 
+// Each half by its own path (a coherent half need not wait for the other).
+inline void fetch_taps(const float* texels, std::int32_t stride, std::int32_t rows, vint<2 * HEIGHTMARCH_PAIR_OF> ix,
+                       vint<2 * HEIGHTMARCH_PAIR_OF> iy, vfloat<2 * HEIGHTMARCH_PAIR_OF>& t00,
+                       vfloat<2 * HEIGHTMARCH_PAIR_OF>& t10, vfloat<2 * HEIGHTMARCH_PAIR_OF>& t01,
+                       vfloat<2 * HEIGHTMARCH_PAIR_OF>& t11) {
+  fetch_taps(texels, stride, rows, ix.lo, iy.lo, t00.lo, t10.lo, t01.lo, t11.lo);
+  fetch_taps(texels, stride, rows, ix.hi, iy.hi, t00.hi, t10.hi, t01.hi, t11.hi);
+}
+
+inline void register_pairs(vint<2 * HEIGHTMARCH_PAIR_OF> index, vfloat<2 * HEIGHTMARCH_PAIR_OF>& first, vfloat<2 * HEIGHTMARCH_PAIR_OF>& second) {
+  register_pairs(index.lo, first.lo, second.lo);
+  register_pairs(index.hi, first.hi, second.hi);
+}
+
 inline vfloat<2 * HEIGHTMARCH_PAIR_OF> gather(const float* base, vint<2 * HEIGHTMARCH_PAIR_OF> index) {
   return {gather(base, index.lo), gather(base, index.hi)};
 }
@@ -83,5 +97,10 @@ inline vint<2 * HEIGHTMARCH_PAIR_OF> gather(const std::int32_t* base, vint<2 * H
   return {gather(base, index.lo), gather(base, index.hi)};
 }
 inline vfloat<2 * HEIGHTMARCH_PAIR_OF> sqrt(vfloat<2 * HEIGHTMARCH_PAIR_OF> a) { return {sqrt(a.lo), sqrt(a.hi)}; }
+inline std::uint32_t reduce_add(vint<2 * HEIGHTMARCH_PAIR_OF> a) { return reduce_add(a.lo) + reduce_add(a.hi); }
+inline void store_bytes(vint<2 * HEIGHTMARCH_PAIR_OF> a, std::uint8_t* p) {
+  store_bytes(a.lo, p);
+  store_bytes(a.hi, p + HEIGHTMARCH_PAIR_OF);
+}
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

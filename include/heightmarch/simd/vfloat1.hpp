@@ -70,10 +70,20 @@ inline void gather_pairs(const float* base, vint<1> index, vfloat<1>& first, vfl
   first = base[index.i];
   second = base[index.i + 1];
 }
+// The compute ceiling's stand-in for gather_pairs: first and second as if read at index, with no
+// memory access. An empty asm the compiler cannot see through keeps the index computed and the
+// taps opaque, so nothing of the bilinear arithmetic is folded or hoisted (zero instructions).
+inline void register_pairs(vint<1> index, vfloat<1>& first, vfloat<1>& second) {
+  asm volatile("" : "+x"(first.f), "+x"(second.f) : "r"(index.i));
+}
 
 // base[index] per lane: the min-depth pyramid's reads and its per-level tables.
 inline vfloat<1> gather(const float* base, vint<1> index) { return base[index.i]; }
 inline vint<1> gather(const std::int32_t* base, vint<1> index) { return base[index.i]; }
 inline vfloat<1> sqrt(vfloat<1> a) { return std::sqrt(a.f); }
+// The sum of the lanes (non-negative counts whose sum fits 32 bits).
+inline std::uint32_t reduce_add(vint<1> a) { return std::uint32_t(a.i); }
+// Each lane's value (0 to 255) as one byte, to p[0] .. p[W - 1].
+inline void store_bytes(vint<1> a, std::uint8_t* p) { *p = std::uint8_t(a.i); }
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

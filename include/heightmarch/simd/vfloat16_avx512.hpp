@@ -71,10 +71,57 @@ inline void gather_pairs(const float* base, vint<16> index, vfloat<16>& first, v
   first = _mm512_permutex2var_ps(lo, even, hi);
   second = _mm512_permutex2var_ps(lo, odd, hi);
 }
+// The compute ceiling's stand-in for gather_pairs: first and second as if read at index, with no
+// memory access. An empty asm the compiler cannot see through keeps the index computed and the
+// taps opaque, so nothing of the bilinear arithmetic is folded or hoisted (zero instructions).
+inline void register_pairs(vint<16> index, vfloat<16>& first, vfloat<16>& second) {
+  asm volatile("" : "+v"(first.f), "+v"(second.f) : "v"(index.i));
+}
+
+// fetch_taps (packet.hpp) with a coherent path: when every lane's taps lie in the 8-column x
+// 5-row window around lane 0's (2 columns left, 3 rows up: where a 4 x 4 pixel block's taps fall
+// at one layer step, measured on the default view), the window is read with five row loads and
+// each tap picked by a two-table permute; otherwise the gathers.
+inline void fetch_taps(const float* texels, std::int32_t stride, std::int32_t rows, vint<16> ix, vint<16> iy,
+                       vfloat<16>& t00, vfloat<16>& t10, vfloat<16>& t01, vfloat<16>& t11) {
+  const std::int32_t x0 = _mm_cvtsi128_si32(_mm512_castsi512_si128(ix.i)) - 2;
+  const std::int32_t y0 = _mm_cvtsi128_si32(_mm512_castsi512_si128(iy.i)) - 3;
+  const __m512i dx = _mm512_sub_epi32(ix.i, _mm512_set1_epi32(x0));
+  const __m512i dy = _mm512_sub_epi32(iy.i, _mm512_set1_epi32(y0));
+  // Taps in columns x0 .. x0 + 7 and rows y0 .. y0 + 4, all inside the texture's allocation.
+  const __mmask16 inside =
+      _mm512_cmple_epu32_mask(dx, _mm512_set1_epi32(6)) & _mm512_cmple_epu32_mask(dy, _mm512_set1_epi32(3));
+  if (inside == 0xffff && x0 >= 0 && y0 >= 0 && x0 + 8 <= stride && y0 + 5 <= rows) {
+    const float* row = texels + std::ptrdiff_t(y0) * stride + x0;
+    auto two_rows = [&](int r) {  // rows r and r + 1 of the window, 8 texels each
+      return _mm512_insertf32x8(_mm512_castps256_ps512(_mm256_loadu_ps(row + std::ptrdiff_t(r) * stride)),
+                                _mm256_loadu_ps(row + std::ptrdiff_t(r + 1) * stride), 1);
+    };
+    const __m512 rows01 = two_rows(0), rows23 = two_rows(2), rows12 = two_rows(1), rows34 = two_rows(3);
+    // A lane's tap at (dx, dy) is entry 8 dy + dx of [rows01 | rows23]; the row below it, the same
+    // entry of [rows12 | rows34].
+    const __m512i at = _mm512_add_epi32(_mm512_slli_epi32(dy, 3), dx);
+    const __m512i right = _mm512_add_epi32(at, _mm512_set1_epi32(1));
+    t00 = _mm512_permutex2var_ps(rows01, at, rows23);
+    t10 = _mm512_permutex2var_ps(rows01, right, rows23);
+    t01 = _mm512_permutex2var_ps(rows12, at, rows34);
+    t11 = _mm512_permutex2var_ps(rows12, right, rows34);
+    return;
+  }
+  const vint<16> index = iy * vint<16>(stride) + ix;
+  gather_pairs(texels, index, t00, t10);
+  gather_pairs(texels + stride, index, t01, t11);
+}
 
 // base[index] per lane.
 inline vfloat<16> gather(const float* base, vint<16> index) { return _mm512_i32gather_ps(index.i, base, 4); }
 inline vint<16> gather(const std::int32_t* base, vint<16> index) { return _mm512_i32gather_epi32(index.i, base, 4); }
 inline vfloat<16> sqrt(vfloat<16> a) { return _mm512_sqrt_ps(a.f); }
+// The sum of the lanes (non-negative counts whose sum fits 32 bits).
+inline std::uint32_t reduce_add(vint<16> a) { return std::uint32_t(_mm512_reduce_add_epi32(a.i)); }
+// Each lane's value (0 to 255) as one byte, to p[0] .. p[W - 1].
+inline void store_bytes(vint<16> a, std::uint8_t* p) {
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(p), _mm512_cvtepi32_epi8(a.i));
+}
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

@@ -81,6 +81,12 @@ inline void gather_pairs(const float* base, vint<4> index, vfloat<4>& first, vfl
   first = _mm_shuffle_ps(p01, p23, _MM_SHUFFLE(2, 0, 2, 0));
   second = _mm_shuffle_ps(p01, p23, _MM_SHUFFLE(3, 1, 3, 1));
 }
+// The compute ceiling's stand-in for gather_pairs: first and second as if read at index, with no
+// memory access. An empty asm the compiler cannot see through keeps the index computed and the
+// taps opaque, so nothing of the bilinear arithmetic is folded or hoisted (zero instructions).
+inline void register_pairs(vint<4> index, vfloat<4>& first, vfloat<4>& second) {
+  asm volatile("" : "+x"(first.f), "+x"(second.f) : "x"(index.i));
+}
 
 // base[index] per lane (no gather on SSE: four scalar loads).
 inline vfloat<4> gather(const float* base, vint<4> index) {
@@ -90,6 +96,17 @@ inline vfloat<4> gather(const float* base, vint<4> index) {
 inline vint<4> gather(const std::int32_t* base, vint<4> index) {
   return _mm_setr_epi32(base[_mm_extract_epi32(index.i, 0)], base[_mm_extract_epi32(index.i, 1)],
                         base[_mm_extract_epi32(index.i, 2)], base[_mm_extract_epi32(index.i, 3)]);
+}
+// The sum of the lanes (non-negative counts whose sum fits 32 bits).
+inline std::uint32_t reduce_add(vint<4> a) {
+  const __m128i pairs = _mm_add_epi32(a.i, _mm_shuffle_epi32(a.i, _MM_SHUFFLE(1, 0, 3, 2)));
+  return std::uint32_t(_mm_cvtsi128_si32(_mm_add_epi32(pairs, _mm_shuffle_epi32(pairs, _MM_SHUFFLE(2, 3, 0, 1)))));
+}
+// Each lane's value (0 to 255) as one byte, to p[0] .. p[W - 1].
+inline void store_bytes(vint<4> a, std::uint8_t* p) {
+  const __m128i words = _mm_packs_epi32(a.i, a.i);
+  const std::int32_t bytes = _mm_cvtsi128_si32(_mm_packus_epi16(words, words));
+  std::memcpy(p, &bytes, sizeof bytes);
 }
 inline vfloat<4> sqrt(vfloat<4> a) { return _mm_sqrt_ps(a.f); }
 

@@ -72,18 +72,37 @@ template <> struct vfloat<8> {
 // the sampler keeps every index inside the texture.
 inline void gather_pairs(const float* base, vint<8> index, vfloat<8>& first, vfloat<8>& second) {
   const long long* pairs = reinterpret_cast<const long long*>(base);
-  const __m256 lo = _mm256_castsi256_ps(_mm256_i32gather_epi64(pairs, _mm256_castsi256_si128(index.i), 4));
-  const __m256 hi = _mm256_castsi256_ps(_mm256_i32gather_epi64(pairs, _mm256_extracti128_si256(index.i, 1), 4));
-  // shuffle_ps works within 128-bit halves: a0 a1 a4 a5 | a2 a3 a6 a7, then fix the order.
-  const __m256i order = _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7);
-  first = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0)), order);
-  second = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1)), order);
+  // Lanes 0 1 4 5 go to the low gather and 2 3 6 7 to the high one, so that shuffle_ps, which
+  // works within 128-bit halves, leaves them in order (one index permute, shared by both rows'
+  // calls, instead of a permute of each result).
+  const __m256i order = _mm256_permute4x64_epi64(index.i, _MM_SHUFFLE(3, 1, 2, 0));
+  const __m256 lo = _mm256_castsi256_ps(_mm256_i32gather_epi64(pairs, _mm256_castsi256_si128(order), 4));
+  const __m256 hi = _mm256_castsi256_ps(_mm256_i32gather_epi64(pairs, _mm256_extracti128_si256(order, 1), 4));
+  first = _mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0));
+  second = _mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1));
+}
+// The compute ceiling's stand-in for gather_pairs: first and second as if read at index, with no
+// memory access. An empty asm the compiler cannot see through keeps the index computed and the
+// taps opaque, so nothing of the bilinear arithmetic is folded or hoisted (zero instructions).
+inline void register_pairs(vint<8> index, vfloat<8>& first, vfloat<8>& second) {
+  asm volatile("" : "+x"(first.f), "+x"(second.f) : "x"(index.i));
 }
 
 // base[index] per lane.
 inline vfloat<8> gather(const float* base, vint<8> index) { return _mm256_i32gather_ps(base, index.i, 4); }
 inline vint<8> gather(const std::int32_t* base, vint<8> index) {
   return _mm256_i32gather_epi32(reinterpret_cast<const int*>(base), index.i, 4);
+}
+// The sum of the lanes (non-negative counts whose sum fits 32 bits).
+inline std::uint32_t reduce_add(vint<8> a) {
+  __m128i s = _mm_add_epi32(_mm256_castsi256_si128(a.i), _mm256_extracti128_si256(a.i, 1));
+  s = _mm_add_epi32(s, _mm_shuffle_epi32(s, _MM_SHUFFLE(1, 0, 3, 2)));
+  return std::uint32_t(_mm_cvtsi128_si32(_mm_add_epi32(s, _mm_shuffle_epi32(s, _MM_SHUFFLE(2, 3, 0, 1)))));
+}
+// Each lane's value (0 to 255) as one byte, to p[0] .. p[W - 1].
+inline void store_bytes(vint<8> a, std::uint8_t* p) {
+  const __m128i words = _mm_packs_epi32(_mm256_castsi256_si128(a.i), _mm256_extracti128_si256(a.i, 1));
+  _mm_storel_epi64(reinterpret_cast<__m128i*>(p), _mm_packus_epi16(words, words));
 }
 inline vfloat<8> sqrt(vfloat<8> a) { return _mm256_sqrt_ps(a.f); }
 
