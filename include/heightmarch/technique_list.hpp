@@ -24,12 +24,15 @@
     "parallax occlusion mapping: steep, then linear interpolation between the last two layers") \
   X(secant, "secant", true, secant(k, ray), "secant(T, V)", "#ff7f0e", "X",                      \
     "secant (interval) mapping: steep, then --refine regula falsi steps between the last two layers") \
+  X(cone, "cone", true, cone(k, ray), "cone(T, V)", "#e377c2", "p",                               \
+    "relaxed cone stepping: N steps to the relaxed cone's edge, then --refine halvings of the bracket") \
   X(maxmip, "maxmip", false, maxmip(k, ray), "maxmip(T, V)", "#8c564b", "h",                      \
     "maximum mipmaps: walk down and up the min-depth pyramid, solve each reached cell exactly")  \
   X(shadow, "shadow", true, shadow(k, ray), "shadow(T, V)", "#9467bd", "*",                       \
     "POM's hit, then the tutorial's soft self-shadow factor towards the light")
 
 #ifdef HEIGHTMARCH_ISA_NS  // a kernel translation unit (src/isa/): every technique's kernel
+#include "kernels/cone.hpp"
 #include "kernels/maxmip.hpp"
 #include "kernels/parallax.hpp"
 #include "kernels/pom.hpp"

@@ -230,10 +230,13 @@ Measurement MeasurementSession::measure(const Configuration& c, int id,
   row.rays = scene.rays.ray_count;
   const HitBuffers& exact = scene.exact(c.params);
   HitBuffers hits;
+  // What a tracer precomputes (the cone map) is built before the row's thread limit, in parallel.
+  const Tracer* tracer = c.kind == RunKind::trace || c.kind == RunKind::roofline ? &state_->tracer(scene, c) : nullptr;
+  if (tracer && tracer->cone_map()) row.cone_map_seconds = tracer->cone_map()->build_seconds;
   const ThreadLimit limit(c.threads);
   switch (c.kind) {
     case RunKind::trace: {
-      const TraceStats stats = state_->tracer(scene, c).run(scene.rays, hits);
+      const TraceStats stats = tracer->run(scene.rays, hits);
       row.simd_utilization = stats.simd_utilization();
       if (c.isa != Isa::scalar)
         if (const long long i = first_difference(scene.rays, hits, scene.reference(c.params, false)); i >= 0)
@@ -241,7 +244,7 @@ Measurement MeasurementSession::measure(const Configuration& c, int id,
       break;
     }
     case RunKind::roofline: {
-      state_->tracer(scene, c).run_sampler_roofline(scene.rays, hits);
+      tracer->run_sampler_roofline(scene.rays, hits);
       if (c.isa != Isa::scalar && first_difference(scene.rays, hits, scene.reference(roofline_params(c.params), true)) >= 0)
         row.failure = "roofline output differs from the scalar reference";
       break;

@@ -109,6 +109,43 @@ vec4 secant(vec2 T, vec3 V) {
   return vec4(aUv * w + bUv * oneMinusW, aDepth * w + bDepth * oneMinusW, 1.0);
 }
 
+// cone.hpp: a read this close above the surface ends the stepping (2^-16).
+const float kConeReached = 1.52587890625e-5;
+
+// cone.hpp: steps to the relaxed cone's edge, each one read of (depth, cone ratio) counted as one
+// sample; then the halvings of the bracket between the deepest read above and the end.
+vec4 cone(vec2 T, vec3 V) {
+  float pX = V.x / V.z * heightScale;
+  float pY = V.y / V.z * heightScale;
+  float r = sqrt(pX * pX + pY * pY);
+  int bound = int(ceil(layerCount(V.z)));
+
+  float t = 0.0, above = 0.0;
+  bool marching = 0 < bound;
+  for (int stepIndex = 0; stepIndex < maxStepBound() && marching; ++stepIndex) {
+    vec2 uv = vec2(T.x - pX * t, T.y - pY * t);
+    samples += 1.0;
+    vec2 depthAndCone = textureLod(coneMap, uv, 0.0).rg;
+    float depth = depthAndCone.r, c = depthAndCone.g;
+    bool stepping = depth - t > kConeReached;
+    above = stepping ? t : above;
+    float fraction = r + c > 0.0 ? c / (r + c) : 1.0;
+    float next = t + (depth - t) * fraction;
+    marching = stepping && next > t && stepIndex + 1 < bound;
+    t = stepping ? next : t;
+  }
+
+  float lo = above, hi = t;
+  for (int i = 0; i < refineSteps; ++i) {
+    float mid = (lo + hi) * 0.5;
+    bool below = !(sampleDepth(vec2(T.x - pX * mid, T.y - pY * mid)) > mid);
+    hi = below ? mid : hi;
+    lo = below ? lo : mid;
+  }
+  float hit = (lo + hi) * 0.5;
+  return vec4(T.x - pX * hit, T.y - pY * hit, hit, 1.0);
+}
+
 // maxmip.hpp: the min-depth pyramid walk, one ray per fragment; each packet select of the C++
 // is a branch here. Samples: one per pyramid entry, four per solved cell.
 const float kInf = uintBitsToFloat(0x7F800000u);
