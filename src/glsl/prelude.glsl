@@ -16,9 +16,6 @@ uniform int pyramidLevels;
 uniform int levelOffsets[16];
 uniform int levelBlocksX[16];
 
-// The relaxed cone map (cone only): RG32F (depth, cone ratio), GL_LINEAR, the depth map's wrap.
-uniform sampler2D coneMap;
-
 float samples;  // height samples taken by this fragment
 
 // textureLod, not texture: implicit derivatives inside loops whose trip count differs between

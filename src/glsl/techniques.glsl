@@ -109,11 +109,13 @@ vec4 secant(vec2 T, vec3 V) {
   return vec4(aUv * w + bUv * oneMinusW, aDepth * w + bDepth * oneMinusW, 1.0);
 }
 
-// cone.hpp: a read this close above the surface ends the stepping (2^-16).
+// cone.hpp: the relaxed cone map, RG32F (depth, cone ratio), GL_LINEAR, the depth map's wrap; a
+// read this close above the surface ends the stepping (2^-16).
+uniform sampler2D coneMap;
 const float kConeReached = 1.52587890625e-5;
 
 // cone.hpp: steps to the relaxed cone's edge, each one read of (depth, cone ratio) counted as one
-// sample; then the halvings of the bracket between the deepest read above and the end.
+// sample; then, where a crossing may lie behind the end, the halvings of the bracket.
 vec4 cone(vec2 T, vec3 V) {
   float pX = V.x / V.z * heightScale;
   float pY = V.y / V.z * heightScale;
@@ -122,27 +124,34 @@ vec4 cone(vec2 T, vec3 V) {
 
   float t = 0.0, above = 0.0;
   bool marching = 0 < bound;
+  bool bracketed = false;
   for (int stepIndex = 0; stepIndex < maxStepBound() && marching; ++stepIndex) {
     vec2 uv = vec2(T.x - pX * t, T.y - pY * t);
     samples += 1.0;
     vec2 depthAndCone = textureLod(coneMap, uv, 0.0).rg;
     float depth = depthAndCone.r, c = depthAndCone.g;
     bool stepping = depth - t > kConeReached;
+    bool crossed = depth < t;
     above = stepping ? t : above;
     float fraction = r + c > 0.0 ? c / (r + c) : 1.0;
     float next = t + (depth - t) * fraction;
-    marching = stepping && next > t && stepIndex + 1 < bound;
+    bool moving = stepping && next > t;
+    bool last = !(stepIndex + 1 < bound);
+    bracketed = bracketed || crossed || (moving && last);
+    marching = moving && !last;
     t = stepping ? next : t;
   }
 
   float lo = above, hi = t;
-  for (int i = 0; i < refineSteps; ++i) {
+  bool halving = bracketed && hi - lo > kConeReached;
+  for (int i = 0; i < refineSteps && halving; ++i) {
     float mid = (lo + hi) * 0.5;
     bool below = !(sampleDepth(vec2(T.x - pX * mid, T.y - pY * mid)) > mid);
     hi = below ? mid : hi;
     lo = below ? lo : mid;
+    halving = hi - lo > kConeReached;
   }
-  float hit = (lo + hi) * 0.5;
+  float hit = bracketed ? (lo + hi) * 0.5 : t;
   return vec4(T.x - pX * hit, T.y - pY * hit, hit, 1.0);
 }
 

@@ -36,7 +36,7 @@ void trace_packets(const KernelTexture& texture, const KernelParams& params, con
 }
 
 // Each registry row's CPU call as a kernel type.
-#define HEIGHTMARCH_TECHNIQUE_KERNEL(id, name, layered, cpu_call, ...) \
+#define HEIGHTMARCH_TECHNIQUE_KERNEL(id, name, layered, refine, cpu_call, ...) \
   struct Kernel_##id {                                                  \
     template <class Context, class Ray>                                 \
     auto operator()(Context& k, const Ray& ray) const {                 \
