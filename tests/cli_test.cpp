@@ -330,6 +330,8 @@ std::vector<BadInput> bad_inputs() {
       {"UnknownBuiltin", "trace --heightmap builtin:nope", "nope"},
       {"UnknownTechnique", "trace --technique nope", "unknown technique 'nope'"},
       {"ZeroLayers", "trace --layers 0", "layer spec '0'"},
+      {"ConeZeroLayers", "trace --technique cone --layers 0", "layer spec '0'"},
+      {"ConeNegativeRefine", "trace --technique cone --refine -1", "--refine"},
       {"NegativeLayers", "trace --layers -3", "layer spec '-3'"},
       {"ReversedRange", "trace --layers 32-8", "exceeds maximum"},
       {"OpenRange", "trace --layers 8-", "layer spec '8-'"},

@@ -208,6 +208,68 @@ TEST(Maxmip, StraightDownAndOnAOneTexelWideClampMap) {
   EXPECT_NEAR(slanted.depth[0], exact.intersect(0.5, 0.3, 0.3, 0.5, 0.8, 0.1).t, 1e-5);
 }
 
+TEST(Cone, HandTracedOnAFlatDepth) {
+  // D = 0.5 everywhere: nothing above any texel, every cone kMaxConeRatio = 4. Each step falls
+  // 4 / (r + 4) of the gap (r = s |V.xy| / V.z = 0.075): gaps 0.5, 0.0092, 1.7e-4, 3.1e-6; the
+  // fourth read finds the ray within 2^-16 above the surface and ends there, without halvings.
+  const DepthMap map{8, 8, std::vector<float>(64, 0.5f)};
+  const float vx = 0.6f, vy = 0.0f, vz = 0.8f;
+  const HitBuffers hits = trace_with(map, one_ray(0.5f, 0.5f, vx, vy, vz), params_for(Technique::cone, "16"));
+  EXPECT_EQ(hits.samples[0], 4u);
+  EXPECT_GT(hits.depth[0], 0.5f - 1.52587890625e-5f);
+  EXPECT_LE(hits.depth[0], 0.5f);
+  EXPECT_EQ(hits.u[0], 0.5f - vx / vz * 0.1f * hits.depth[0]);
+  // Straight down the first step lands on the surface: the second read finds it there.
+  const HitBuffers down = trace_with(map, one_ray(0.5f, 0.5f, 0.0f, 0.0f, 1.0f), params_for(Technique::cone, "16"));
+  EXPECT_EQ(down.samples[0], 2u);
+  EXPECT_EQ(down.depth[0], 0.5f);
+}
+
+TEST(Cone, HalvingsStartFromABracketOfTheExactHitOnSmoothMaps) {
+  // On a smooth field the relaxed cones let a ray cross the surface at most once per step, so
+  // the bracket the halvings start from holds the exact hit: with enough halvings every ray that
+  // ended its steps (by crossing the surface or coming within 2^-16 above it) ends on the exact
+  // hit. Rays still stepping after N reads (crawling past a near-tangent slope) are rare.
+  const DepthMap map = make_builtin_heightfield("waves", 128, 2);
+  const RayBatch rays = test::random_rays(4000, 70.0, 31);
+  for (Wrap wrap : {Wrap::repeat, Wrap::clamp}) {
+    const ExactIntersector exact(map, wrap);
+    auto params = params_for(Technique::cone, "64", wrap);
+    params.refine_steps = 0;
+    const HitBuffers reads = trace_with(map, rays, params);  // without halvings: the reads
+    params.refine_steps = 24;
+    const HitBuffers hits = trace_with(map, rays, params);
+    std::size_t still_stepping = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      if (reads.samples[i] == 64) {
+        ++still_stepping;
+        continue;
+      }
+      const double d = exact.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], 0.1).t;
+      ASSERT_NEAR(hits.depth[i], d, 1e-3) << "ray " << i << (wrap == Wrap::repeat ? " repeat" : " clamp");
+    }
+    EXPECT_LE(still_stepping, rays.size() / 500);
+  }
+}
+
+TEST(Cone, AtMostCeilNReadsAndRefineHalvings) {
+  const DepthMap map = make_builtin_heightfield("bricks", 64, 2);
+  const RayBatch rays = test::random_rays(2000, 85.0, 32);
+  for (const char* layers : {"1", "3", "3-9"})
+    for (int refine : {0, 2, 6}) {
+      auto params = params_for(Technique::cone, layers);
+      params.refine_steps = refine;
+      const HitBuffers hits = trace_with(map, rays, params);
+      for (std::size_t i = 0; i < rays.size(); ++i) {
+        const LayerSpec spec = params.layers;
+        const float a = std::fabs(rays.vz[i]);
+        const float n = spec.min_layers == spec.max_layers ? spec.min_layers : spec.max_layers * (1.0f - a) + spec.min_layers * a;
+        ASSERT_LE(hits.samples[i], std::uint32_t(std::ceil(n)) + std::uint32_t(refine)) << layers << " refine " << refine;
+        ASSERT_GE(hits.samples[i], 1u);
+      }
+    }
+}
+
 TEST(DynamicLayers, FollowTheTutorialsMix) {
   // N = mix(32, 8, |V.z|): straight down 8 layers, at V.z = 0.5 twenty.
   const DepthMap map{8, 8, std::vector<float>(64, 1.0f)};

@@ -23,6 +23,9 @@ struct Measurement {
   std::uint64_t samples = 0;   // height samples of one trace (deterministic)
   bool samples_known = true;   // false for a brought-in shader
   double simd_utilization = 1.0;
+  // Seconds the relaxed cone map of a cone row's CPU trace took to build (once per depth map and
+  // wrap, then shared): apart from the trace's time; none for other rows.
+  std::optional<double> cone_map_seconds;
   std::optional<ErrorSummary> errors;  // none for roofline runs
   std::vector<double> seconds;         // per repetition: one trace of the whole batch; empty if untimed
   std::string render_image, error_image, cost_image;  // gallery rows: paths relative to the run directory

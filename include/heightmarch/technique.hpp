@@ -23,6 +23,7 @@ struct TechniqueInfo {
   Technique id;
   std::string_view name;         // on the command line and in results
   bool layered;                  // takes a layer spec; otherwise one sample ("1")
+  int refine;                    // its default --refine (ignored by techniques that do not refine)
   std::string_view glsl_call;    // the GLSL expression the harness evaluates
   std::string_view color, marker;
   std::string_view description;  // one line, for --help and the report
@@ -56,7 +57,8 @@ inline constexpr int kMaxRefineSteps = 64;
 struct TechniqueParams {
   Technique technique = Technique::pom;
   LayerSpec layers;
-  int refine_steps = 5;          // relief's halvings, secant's regula falsi steps
+  int refine_steps = 5;          // relief's halvings, secant's regula falsi steps, cone's halvings
+                                 // (configurations take the technique's default from the registry)
   float scale = 0.1f;            // height scale s
   Wrap wrap = Wrap::repeat;
   bool discard = false;          // the tutorial's discard of a final uv outside [0,1]^2

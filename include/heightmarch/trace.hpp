@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "heightmarch/cone_map.hpp"
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/hits.hpp"
 #include "heightmarch/isa.hpp"
@@ -50,6 +51,8 @@ class Tracer {
 
   const TechniqueParams& params() const { return params_; }
   Isa isa() const { return isa_; }
+  // The relaxed cone map the cone technique reads (shared, cached per map and wrap); else null.
+  const ConeMap* cone_map() const { return cone_map_.get(); }
 
  private:
   using KernelFn = void (*)(const KernelTexture&, const KernelParams&, const KernelRays&,
@@ -60,6 +63,7 @@ class Tracer {
   Isa isa_;
   SamplerTexture texture_;
   std::unique_ptr<MinDepthPyramid> pyramid_;  // built for the techniques that walk it
+  std::shared_ptr<const ConeMap> cone_map_;
   KernelFn technique_kernel_;
   KernelFn roofline_kernel_;
   KernelFn ceiling_kernel_;

@@ -2,6 +2,7 @@
 // The options trace and glsl share (what to trace, how, and where to), declared once on a CLI11
 // command and turned into one typed Configuration.
 #include <CLI/CLI.hpp>
+#include <optional>
 #include <string>
 
 #include "heightmarch/configuration.hpp"
@@ -22,7 +23,7 @@ struct TraceOptions {
   // The technique
   std::string technique = "pom";
   std::string layers = "32";
-  int refine = 5;
+  std::optional<int> refine;  // none: the technique's default (the registry's)
   double scale = 0.1;
   std::string wrap = "repeat";
   bool discard = false;

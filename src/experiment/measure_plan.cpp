@@ -258,10 +258,14 @@ Measurement MeasurementSession::measure(const Configuration& c, int id,
   row.rays = scene.rays.ray_count;
   const HitBuffers& exact = scene.exact(c.params);
   HitBuffers hits;
+  // What a tracer precomputes (the cone map) is built before the row's thread limit, in parallel.
+  const bool traces = c.kind == RunKind::trace || c.kind == RunKind::roofline || c.kind == RunKind::ceiling;
+  const Tracer* tracer = traces ? &state_->tracer(scene, c) : nullptr;
+  if (tracer && tracer->cone_map()) row.cone_map_seconds = tracer->cone_map()->build_seconds;
   const ThreadLimit limit(c.threads);
   switch (c.kind) {
     case RunKind::trace: {
-      const TraceStats stats = state_->tracer(scene, c).run(scene.rays, hits);
+      const TraceStats stats = tracer->run(scene.rays, hits);
       row.simd_utilization = stats.simd_utilization();
       if (c.isa != Isa::scalar)
         if (const long long i = first_difference(scene.rays, hits, scene.reference(c.params, RunKind::trace)); i >= 0)
@@ -270,9 +274,8 @@ Measurement MeasurementSession::measure(const Configuration& c, int id,
     }
     case RunKind::roofline:
     case RunKind::ceiling: {
-      const Tracer& tracer = state_->tracer(scene, c);
-      run_tracer(tracer, c.kind, scene.rays, hits);
-      if (c.isa != Isa::scalar && first_difference(scene.rays, hits, scene.reference(tracer.params(), c.kind)) >= 0)
+      run_tracer(*tracer, c.kind, scene.rays, hits);
+      if (c.isa != Isa::scalar && first_difference(scene.rays, hits, scene.reference(tracer->params(), c.kind)) >= 0)
         row.failure = to_string(c.kind) + " output differs from the scalar reference";
       break;
     }

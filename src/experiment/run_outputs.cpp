@@ -99,6 +99,7 @@ void write_row(JsonWriter& json, const Measurement& m) {
     json.null("samples").value("samples_known", false).null("samples_per_ray");
   c.kind == RunKind::trace ? json.value("simd_utilization", m.simd_utilization)
                            : json.null("simd_utilization");
+  m.cone_map_seconds ? json.value("cone_map_seconds", *m.cone_map_seconds) : json.null("cone_map_seconds");
   write_errors(json, m.errors);
   if (m.seconds.empty()) {
     json.null("speed");
@@ -215,6 +216,10 @@ std::string summary_text(const Measurement& m) {
   std::snprintf(buf, sizeof buf, "  %s, %d thread%s: %s, %s%s\n", c.backend().c_str(), c.threads,
                 c.threads == 1 ? "" : "s", speed.c_str(), per_ray.c_str(), simd.c_str());
   text += buf;
+  if (m.cone_map_seconds) {
+    std::snprintf(buf, sizeof buf, "  cone map built in %.3f s (once per depth map and wrap; not in the rays/s)\n", *m.cone_map_seconds);
+    text += buf;
+  }
   if (!m.failure.empty()) return text + "  FAILED: " + m.failure + "\n";
   if (!m.errors) return text;
   const ErrorSummary& e = *m.errors;

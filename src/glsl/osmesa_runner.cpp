@@ -15,6 +15,7 @@
 #include "glsl/osmesa_runner.hpp"
 #include "glsl/user_shader_text.hpp"
 #include "glsl_sources.hpp"
+#include "heightmarch/cone_map.hpp"
 #include "heightmarch/min_depth_pyramid.hpp"
 #include "heightmarch/error.hpp"
 #include "util/input_file.hpp"
@@ -69,6 +70,8 @@ struct OsmesaRunner::State {
   GLuint vao = 0, framebuffer = 0, program = 0;
   GLuint depth_texture = 0, origin_texture = 0, direction_texture = 0, hit_texture = 0, shadow_texture = 0;
   GLuint pyramid_texture = 0;
+  GLuint cone_texture = 0;
+  int cone_wrap = -1;        // the wrap mode cone_texture was built for; -1: none
   DepthMap map;              // kept for the textures derived from it
   int pyramid_wrap = -1;     // the wrap mode pyramid_texture was built for; -1: none
   int width = 0, height = 0;
@@ -178,6 +181,7 @@ void OsmesaRunner::set_depth_map(const DepthMap& map) {
   s.depth_texture = float_texture(s.depth_texture, GL_R32F, GL_RED, map.width, map.height, map.texels.data(), GL_LINEAR, GL_REPEAT);
   s.map = map;
   s.pyramid_wrap = -1;
+  s.cone_wrap = -1;
   s.has_map = true;
 }
 
@@ -277,6 +281,22 @@ void OsmesaRunner::prepare(const TechniqueParams& params, const std::string& sha
     glUniform1i(uniform("pyramidAtlasWidth"), kPyramidAtlasWidth);
     glUniform1iv(uniform("levelOffsets"), pyramid.levels(), pyramid.offsets());
     glUniform1iv(uniform("levelBlocksX"), pyramid.levels(), pyramid.blocks_x());
+  }
+  if (params.technique == Technique::cone && shader_path.empty()) {
+    glActiveTexture(GL_TEXTURE4);
+    if (s.cone_wrap != int(params.wrap)) {
+      // (depth, cone ratio) interleaved: one GL_LINEAR read gives both, as one CPU sample does.
+      const std::shared_ptr<const ConeMap> cone = cached_cone_map(s.map, params.wrap);
+      std::vector<float> texels(2 * cone->depth.size());
+      for (std::size_t i = 0; i < cone->depth.size(); ++i) {
+        texels[2 * i] = cone->depth[i];
+        texels[2 * i + 1] = cone->ratio[i];
+      }
+      s.cone_texture = float_texture(s.cone_texture, GL_RG32F, GL_RG, cone->width, cone->height, texels.data(), GL_LINEAR, wrap);
+      s.cone_wrap = int(params.wrap);
+    }
+    glBindTexture(GL_TEXTURE_2D, s.cone_texture);
+    glUniform1i(uniform("coneMap"), 4);
   }
   if (glGetError() != GL_NO_ERROR) throw std::runtime_error("OSMesa: GL error while preparing the draw");
 }

@@ -109,6 +109,52 @@ vec4 secant(vec2 T, vec3 V) {
   return vec4(aUv * w + bUv * oneMinusW, aDepth * w + bDepth * oneMinusW, 1.0);
 }
 
+// cone.hpp: the relaxed cone map, RG32F (depth, cone ratio), GL_LINEAR, the depth map's wrap; a
+// read this close above the surface ends the stepping (2^-16).
+uniform sampler2D coneMap;
+const float kConeReached = 1.52587890625e-5;
+
+// cone.hpp: steps to the relaxed cone's edge, each one read of (depth, cone ratio) counted as one
+// sample; then, where a crossing may lie behind the end, the halvings of the bracket.
+vec4 cone(vec2 T, vec3 V) {
+  float pX = V.x / V.z * heightScale;
+  float pY = V.y / V.z * heightScale;
+  float r = sqrt(pX * pX + pY * pY);
+  int bound = int(ceil(layerCount(V.z)));
+
+  float t = 0.0, above = 0.0;
+  bool marching = 0 < bound;
+  bool bracketed = false;
+  for (int stepIndex = 0; stepIndex < maxStepBound() && marching; ++stepIndex) {
+    vec2 uv = vec2(T.x - pX * t, T.y - pY * t);
+    samples += 1.0;
+    vec2 depthAndCone = textureLod(coneMap, uv, 0.0).rg;
+    float depth = depthAndCone.r, c = depthAndCone.g;
+    bool stepping = depth - t > kConeReached;
+    bool crossed = depth < t;
+    above = stepping ? t : above;
+    float fraction = r + c > 0.0 ? c / (r + c) : 1.0;
+    float next = t + (depth - t) * fraction;
+    bool moving = stepping && next > t;
+    bool last = !(stepIndex + 1 < bound);
+    bracketed = bracketed || crossed || (moving && last);
+    marching = moving && !last;
+    t = stepping ? next : t;
+  }
+
+  float lo = above, hi = t;
+  bool halving = bracketed && hi - lo > kConeReached;
+  for (int i = 0; i < refineSteps && halving; ++i) {
+    float mid = (lo + hi) * 0.5;
+    bool below = !(sampleDepth(vec2(T.x - pX * mid, T.y - pY * mid)) > mid);
+    hi = below ? mid : hi;
+    lo = below ? lo : mid;
+    halving = hi - lo > kConeReached;
+  }
+  float hit = bracketed ? (lo + hi) * 0.5 : t;
+  return vec4(T.x - pX * hit, T.y - pY * hit, hit, 1.0);
+}
+
 // maxmip.hpp: the min-depth pyramid walk, one ray per fragment; each packet select of the C++
 // is a branch here. Samples: one per pyramid entry, four per solved cell.
 const float kInf = uintBitsToFloat(0x7F800000u);

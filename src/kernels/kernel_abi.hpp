@@ -21,6 +21,8 @@ struct KernelTexture {
   const std::int32_t* level_offsets = nullptr;
   const std::int32_t* level_blocks_x = nullptr;
   int pyramid_levels = 0;
+  // The relaxed cone map's ratios in the texels' layout (cone only; heightmarch/cone_map.hpp).
+  const float* cone = nullptr;
 };
 
 struct KernelParams {

@@ -42,7 +42,7 @@ template <int W, Addressing ADDRESSING, class Kernel, Taps TAPS = Taps::memory>
 }
 
 // Each registry row's CPU call as a kernel type.
-#define HEIGHTMARCH_TECHNIQUE_KERNEL(id, name, layered, cpu_call, ...) \
+#define HEIGHTMARCH_TECHNIQUE_KERNEL(id, name, layered, refine, cpu_call, ...) \
   struct Kernel_##id {                                                  \
     template <class Context, class Ray>                                 \
     auto operator()(Context& k, const Ray& ray) const {                 \

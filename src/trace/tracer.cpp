@@ -31,6 +31,7 @@ Tracer::Tracer(const DepthMap& map, const TechniqueParams& params, Isa isa)
     : params_(params), isa_(isa), texture_(map, params.wrap) {
   if (!cpu_supports(isa)) throw InputError("ISA " + to_string(isa) + " is not supported by this CPU");
   if (params.technique == Technique::maxmip) pyramid_ = std::make_unique<MinDepthPyramid>(map, params.wrap);
+  if (params.technique == Technique::cone) cone_map_ = cached_cone_map(map, params.wrap);
   const KernelTable& table = kernel_table(isa);
   technique_kernel_ = pick(table.technique[int(params.technique)], texture_);
   roofline_kernel_ = pick(table.sampler_roofline, texture_);
@@ -60,6 +61,7 @@ TraceStats Tracer::run_kernel(TraceRangeFn kernel, const RayBatch& rays, HitBuff
     texture.level_blocks_x = pyramid_->blocks_x();
     texture.pyramid_levels = pyramid_->levels();
   }
+  if (cone_map_) texture.cone = cone_map_->texture.texels.data();
   const KernelParams params{params_.layers.min_layers, params_.layers.max_layers, params_.refine_steps,
                             params_.scale, params_.discard,
                             {params_.light[0], params_.light[1], params_.light[2]}};
