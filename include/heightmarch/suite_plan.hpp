@@ -26,6 +26,7 @@ struct PlanSettings {
   bool glsl = true;
   int repetitions = 5;
   double min_seconds = 0.04;                   // per repetition
+  bool large_maps = true;                      // P2's rows on the builtins at kLargeMapSide
 };
 
 // The default or quick settings; extra files are measured beside the builtins.
