@@ -209,6 +209,68 @@ TEST(Claims, OffsetLimitingAtGrazingAngles) {
 
 // Two consecutive claims computations on the same rows give identical verdict tables, and two
 // measurements of the same small plan too (costs are samples per ray; speeds decide nothing).
+// P1: the cheapest cone configuration matching relief-32 (within 0.05 texel) must take at most
+// half its samples; a cheap cone that does not match does not count.
+TEST(Claims, ConeMatchesReliefWithFarFewerSamples) {
+  ClaimsData d;
+  d.figures.push_back(figure("bricks", "relief", "32", 0.10, 1e7, 0.0, 40.0));
+  d.figures.push_back(figure("bricks", "cone", "8", 0.50, 1e7, 0.0, 12.0));   // cheap but not matching
+  d.figures.push_back(figure("bricks", "cone", "16", 0.14, 1e7, 0.0, 19.0));  // matches: 0.04 texel more
+  d.figures.push_back(figure("bricks", "cone", "32", 0.09, 1e7, 0.0, 30.0));
+  EXPECT_EQ(claim(evaluate_claims(d), "P1").verdict, Verdict::holds);
+  d.figures[2].uv_error_mean = 0.16;  // 0.06 texel more: cone 32 is the cheapest match, 30 > 20 samples
+  EXPECT_EQ(claim(evaluate_claims(d), "P1").verdict, Verdict::refuted);
+  d.figures[3].uv_error_mean = 0.2;  // nothing matches
+  const ClaimResult p1 = claim(evaluate_claims(d), "P1");
+  EXPECT_EQ(p1.verdict, Verdict::refuted);
+  EXPECT_NE(p1.checks.at(0).figures.find("no cone configuration"), std::string::npos);
+}
+
+// P2: exact where p99 <= 1e-3 texel; faster than the linear search of equal accuracy on large
+// maps, or than the most accurate one where none is as accurate, with spreads apart.
+TEST(Claims, MaxmipExactAndFasterOnLargeMaps) {
+  ClaimsData d;
+  ClaimFigure maxmip = figure("terrain", "maxmip", "1", 1e-5, 20e6);
+  maxmip.uv_error_p99 = 2e-4;
+  maxmip.rays_per_second_min = 19e6, maxmip.rays_per_second_max = 21e6;
+  d.figures.push_back(maxmip);
+  d.large_maps.push_back(maxmip);
+  for (const char* layers : {"64", "256", "1024"})
+    for (const char* technique : {"relief", "secant"}) {
+      ClaimFigure f = figure("terrain", technique, layers, 0.1, 40e6 / std::stod(layers));
+      f.uv_error_p99 = 0.5 / std::stod(layers);  // 1024 layers: 4.9e-4, as accurate as maxmip
+      f.rays_per_second_min = 0.9 * f.rays_per_second, f.rays_per_second_max = 1.1 * f.rays_per_second;
+      d.large_maps.push_back(f);
+    }
+  const ClaimResult p2 = claim(evaluate_claims(d), "P2");
+  EXPECT_EQ(p2.verdict, Verdict::holds);
+  ASSERT_EQ(p2.checks.size(), 3u);  // exact at the default size and on the large map, and the speed
+  EXPECT_NE(p2.checks[2].figures.find("1024 (as accurate)"), std::string::npos) << p2.checks[2].figures;
+  // None as accurate: against the most accurate, which here is faster than maxmip.
+  for (ClaimFigure& f : d.large_maps)
+    if (f.technique != "maxmip") f.uv_error_p99 *= 10, f.rays_per_second *= 1000, f.rays_per_second_min *= 1000,
+                                 f.rays_per_second_max *= 1000;
+  const ClaimResult slower = claim(evaluate_claims(d), "P2");
+  EXPECT_EQ(slower.verdict, Verdict::holds_partly);
+  EXPECT_NE(slower.checks[2].figures.find("(the most accurate)"), std::string::npos) << slower.checks[2].figures;
+  // Not exact.
+  d.figures[0].uv_error_p99 = 0.01;
+  EXPECT_FALSE(claim(evaluate_claims(d), "P2").checks[0].passed);
+}
+
+// P3: secant against relief's error curve at the same samples per ray.
+TEST(Claims, SecantAgainstBinaryRefinementAtEqualSamples) {
+  ClaimsData d;
+  d.figures.push_back(figure("waves", "relief", "8", 0.20, 1e7, 0.0, 10.0));
+  d.figures.push_back(figure("waves", "relief", "16", 0.10, 1e7, 0.0, 20.0));
+  d.figures.push_back(figure("waves", "secant", "8", 0.12, 1e7, 0.0, 15.0));  // relief at 15 samples: 0.1333
+  EXPECT_EQ(claim(evaluate_claims(d), "P3").verdict, Verdict::holds);
+  d.figures[2].uv_error_mean = 0.14;
+  EXPECT_EQ(claim(evaluate_claims(d), "P3").verdict, Verdict::refuted);
+  d.figures[2].samples_per_ray = 25.0;  // beyond relief's measured range: no check
+  EXPECT_EQ(claim(evaluate_claims(d), "P3").verdict, Verdict::not_measured);
+}
+
 TEST(Claims, ConsecutiveComputationsGiveIdenticalVerdicts) {
   PlanSettings s = suite_settings(true, {}, 1, false);
   s.heightfields = {parse_heightfield("builtin:bricks", 64), parse_heightfield("builtin:waves", 64)};

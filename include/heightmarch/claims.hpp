@@ -1,8 +1,8 @@
 #pragma once
-// The tutorials' claims C1-C10 (the project's docs/claims.md gives each one's words, source and
-// reading): the figures measured for them, the rule that decides each verdict (fixed here, before
-// any figure is seen) and the verdicts. Adding a claim: one rule function and one row of the
-// table in claims.cpp.
+// The tutorials' claims C1-C10 and the papers' claims P1-P3 (the project's docs/claims.md gives
+// each one's words, source and reading): the figures measured for them, the rule that decides each
+// verdict (fixed here, before any figure is seen) and the verdicts. Adding a claim: one rule
+// function and one row of the table in claims.cpp.
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,7 +13,7 @@ namespace heightmarch {
 struct ClaimFigure {
   std::string heightfield, technique, layers;
   double theta = -1.0;
-  double uv_error_mean = 0, uv_error_p95 = 0, wrong_surface_rate = 0;
+  double uv_error_mean = 0, uv_error_p95 = 0, uv_error_p99 = 0, wrong_surface_rate = 0;
   double samples_per_ray = 0;
   double rays_per_second = 0, rays_per_second_min = 0, rays_per_second_max = 0;  // median and spread; 0: not timed
   double within_one_layer = 0;  // share of rays whose uv error is at most one layer's step
@@ -38,10 +38,25 @@ inline constexpr int kMinFeatureRays = 100;
 
 struct ClaimsData {
   std::vector<ClaimFigure> figures;
+  // P2's rows on large depth maps (the builtins at kLargeMapSide), apart from the others: the
+  // same heightfield names at another size.
+  std::vector<ClaimFigure> large_maps;
   const ClaimFigure* find(const std::string& heightfield, const std::string& technique, const std::string& layers,
                           double theta = -1.0) const;
-  std::vector<std::string> heightfields() const;  // in first-seen order
+  const ClaimFigure* find_on_large_map(const std::string& heightfield, const std::string& technique,
+                                       const std::string& layers) const;
+  std::vector<std::string> heightfields() const;            // in first-seen order
+  std::vector<std::string> large_map_heightfields() const;  // in first-seen order
 };
+
+// P2 (maximum mipmaps on large depth maps): the builtins at this side, on the default view at
+// kLargeMapViewSide, against linear searches with these layer counts (up to about one layer per
+// texel the rays cross there).
+inline constexpr int kLargeMapSide = 2048;
+inline constexpr int kLargeMapViewSide = 512;
+const std::vector<std::string>& claim_large_map_layer_specs();
+// P2: "exact" is a p99 uv error at most this, in texels (float rounding, far below what shows).
+inline constexpr double kExactUvErrorP99 = 1e-3;
 
 enum class Verdict { holds, holds_partly, refuted, not_measured };
 std::string to_string(Verdict verdict);

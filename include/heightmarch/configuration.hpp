@@ -29,8 +29,9 @@ enum Purpose : unsigned {
   kPurposeGallery = 1u << 6,   // renders and error maps
   kPurposeClaims = 1u << 7,    // the tutorials' claims
   kPurposeCommand = 1u << 8,   // asked for on the command line (trace, glsl)
+  kPurposeLargeMaps = 1u << 9, // the papers' claim on large depth maps (P2)
 };
-inline constexpr unsigned kPurposeCount = 9;
+inline constexpr unsigned kPurposeCount = 10;
 std::string purpose_name(unsigned single_purpose_bit);
 
 // A GLSL file brought in with `glsl --shader`, run instead of a registry technique. It is named

@@ -26,6 +26,7 @@ struct PlanSettings {
   bool glsl = true;
   int repetitions = 5;
   double min_seconds = 0.04;                   // per repetition
+  bool large_maps = true;                      // P2's rows on the builtins at kLargeMapSide
 };
 
 // The default or quick settings; extra files are measured beside the builtins.
@@ -35,9 +36,10 @@ PlanSettings suite_settings(bool quick, const std::vector<HeightfieldSource>& ex
 // roofline, the naive port, sweeps, the gallery and the claims' rows.
 std::vector<Configuration> suite_plan(const PlanSettings& settings);
 
-// The claims' rows alone (what `heightmarch claims` runs): every claim technique at the claims'
-// layer specs on the default view, plain and offset-limited parallax on sweep views at the
-// claims' angles, and steep, relief and POM at 8-32 and 32 on near-normal sweep views.
+// The claims' rows alone (what `heightmarch claims` runs): every claim technique (steep, relief,
+// POM, secant, cone; maxmip) at the claims' layer specs on the default view, plain and
+// offset-limited parallax on sweep views at the claims' angles, steep, relief and POM at 8-32 and
+// 32 on near-normal sweep views, and with large_maps P2's rows on the builtins at kLargeMapSide.
 std::vector<Configuration> claims_plan(const PlanSettings& settings);
 
 // The figures the claims' rules read: observe() sees each traced row (the measurement pass's

@@ -18,12 +18,26 @@ const ClaimFigure* ClaimsData::find(const std::string& heightfield, const std::s
   return nullptr;
 }
 
-std::vector<std::string> ClaimsData::heightfields() const {
+const ClaimFigure* ClaimsData::find_on_large_map(const std::string& heightfield, const std::string& technique,
+                                                 const std::string& layers) const {
+  for (const ClaimFigure& f : large_maps)
+    if (f.heightfield == heightfield && f.technique == technique && f.layers == layers) return &f;
+  return nullptr;
+}
+
+namespace {
+
+std::vector<std::string> heightfields_of(const std::vector<ClaimFigure>& figures) {
   std::vector<std::string> names;
   for (const ClaimFigure& f : figures)
     if (std::find(names.begin(), names.end(), f.heightfield) == names.end()) names.push_back(f.heightfield);
   return names;
 }
+
+}  // namespace
+
+std::vector<std::string> ClaimsData::heightfields() const { return heightfields_of(figures); }
+std::vector<std::string> ClaimsData::large_map_heightfields() const { return heightfields_of(large_maps); }
 
 std::string to_string(Verdict verdict) {
   switch (verdict) {
@@ -37,6 +51,11 @@ std::string to_string(Verdict verdict) {
 
 const std::vector<std::string>& claim_layer_specs() {
   static const std::vector<std::string> specs = {"1", "4", "8", "10", "16", "32", "64", "8-32"};
+  return specs;
+}
+
+const std::vector<std::string>& claim_large_map_layer_specs() {
+  static const std::vector<std::string> specs = {"64", "256", "1024"};
   return specs;
 }
 
@@ -340,6 +359,97 @@ ClaimResult claim_c10(const ClaimsData& d) {
   return c.finish();
 }
 
+ClaimResult claim_p1(const ClaimsData& d) {
+  ClaimBuilder c(d, "P1", "relaxed cone stepping matches relief mapping's accuracy with far fewer samples per ray",
+                 "Policarpo and Oliveira, GPU Gems 3 ch. 18 (2007)",
+                 "Per heightfield at the default view, against relief with 32 layers: the cheapest cone configuration "
+                 "(fewest height samples per ray among its measured layer specs) whose mean uv error matches relief-32's "
+                 "(at most relief-32's, or at most 0.05 texel more: no visible difference) takes at most half of "
+                 "relief-32's samples per ray. Fails where no cone configuration matches.");
+  for (const std::string& hf : d.heightfields()) {
+    const ClaimFigure* relief = c.get(hf, "relief", "32");
+    if (!relief) continue;
+    const ClaimFigure* cheapest = nullptr;
+    for (const std::string& layers : claim_layer_specs())
+      if (const ClaimFigure* cone = c.get(hf, "cone", layers);
+          cone && cone->uv_error_mean <= relief->uv_error_mean + 0.05 &&
+          (!cheapest || cone->samples_per_ray < cheapest->samples_per_ray))
+        cheapest = cone;
+    if (cheapest)
+      c.check(hf, fmt("cone %s: %.3f texels at %.2f samples/ray; relief 32: %.3f texels at %.2f samples/ray", cheapest->layers.c_str(),
+                      cheapest->uv_error_mean, cheapest->samples_per_ray, relief->uv_error_mean, relief->samples_per_ray),
+              cheapest->samples_per_ray <= 0.5 * relief->samples_per_ray);
+    else if (c.get(hf, "cone", "32"))
+      c.check(hf, fmt("no cone configuration within 0.05 texel of relief 32's %.3f texels", relief->uv_error_mean), false);
+  }
+  return c.finish();
+}
+
+ClaimResult claim_p2(const ClaimsData& d) {
+  ClaimBuilder c(d, "P2", "maximum-mipmap tracing is exact, and on large depth maps faster than linear search at equal accuracy",
+                 "Tevs, Ihrke and Seidel, I3D 2008",
+                 fmt("Exact: per heightfield, at the default view and on the large map, maxmip's p99 uv error is at most "
+                     "%g texel. Faster: per builtin at %d x %d (view %d x %d), maxmip's rays/s against the linear search "
+                     "of equal accuracy, relief and secant (linear layers, then binary or secant refinement) at 64, 256 "
+                     "and 1024 layers: the fastest of those whose p99 uv error is at most %g texel, or, where none is, "
+                     "the most accurate one (equal accuracy would take it more layers, so more time). Passes when maxmip "
+                     "is faster with spreads apart; a time claim, so speeds decide it, and overlapping spreads fail it.",
+                     kExactUvErrorP99, kLargeMapSide, kLargeMapSide, kLargeMapViewSide, kLargeMapViewSide,
+                     kExactUvErrorP99));
+  auto exact = [&](const std::string& where, const ClaimFigure* f) {
+    if (f)
+      c.check(where + ", exact", fmt("p99 %.2g texel (mean %.2g, wrong surface %.3f%%)", f->uv_error_p99, f->uv_error_mean,
+                                     100 * f->wrong_surface_rate),
+              f->uv_error_p99 <= kExactUvErrorP99);
+  };
+  for (const std::string& hf : d.heightfields()) exact(hf, c.get(hf, "maxmip", "1"));
+  for (const std::string& hf : d.large_map_heightfields()) {
+    const ClaimFigure* maxmip = d.find_on_large_map(hf, "maxmip", "1");
+    const std::string where = hf + fmt(" at %d", kLargeMapSide);
+    exact(where, maxmip);
+    const ClaimFigure *equal = nullptr, *closest = nullptr;
+    for (const std::string& layers : claim_large_map_layer_specs())
+      for (const char* technique : {"relief", "secant"}) {
+        const ClaimFigure* f = d.find_on_large_map(hf, technique, layers);
+        if (!f) continue;
+        if (f->uv_error_p99 <= kExactUvErrorP99 && (!equal || f->rays_per_second > equal->rays_per_second)) equal = f;
+        if (!closest || f->uv_error_p99 < closest->uv_error_p99) closest = f;
+      }
+    const ClaimFigure* linear = equal ? equal : closest;
+    if (!maxmip || !linear) continue;
+    const std::string speeds = compare_speeds(*maxmip, *linear);
+    c.check(where + ", speed",
+            fmt("maxmip %.2f samples/ray, p99 %.2g texel; ", maxmip->samples_per_ray, maxmip->uv_error_p99) + linear->technique +
+                " " + linear->layers + fmt(" (%s): %.2f samples/ray, p99 %.2g texel; maxmip ", equal ? "as accurate" : "the most accurate",
+                                            linear->samples_per_ray, linear->uv_error_p99) +
+                speed(*maxmip) + " vs " + speed(*linear) + ": maxmip " + speeds,
+            speeds == "faster");
+  }
+  return c.finish();
+}
+
+ClaimResult claim_p3(const ClaimsData& d) {
+  ClaimBuilder c(d, "P3", "secant refinement is more accurate than binary refinement at the same number of samples",
+                 "Risser, Shah and Pattanaik, Interval Mapping (2007)",
+                 "Per heightfield at the default view and secant layer count (4, 8, 16, 32; 5 refinement steps each): "
+                 "secant's mean uv error is below relief's (binary refinement, 5 halvings) at the same samples per "
+                 "ray, relief's error there interpolated in 1 / samples between its two measured layer counts around "
+                 "it; no check where secant's samples fall outside relief's measured range.");
+  for (const std::string& hf : d.heightfields())
+    for (const char* layers : {"4", "8", "16", "32"}) {
+      const ClaimFigure* secant = c.get(hf, "secant", layers);
+      if (!secant) continue;
+      std::string between;
+      const double relief = fixed_curve_error(c, hf, "relief", secant->samples_per_ray, between);
+      if (relief >= 0)
+        c.check(hf + ", secant " + layers + " layers",
+                fmt("secant %.4f texels at %.2f samples/ray; relief at the same samples: %.4f texels (between ",
+                    secant->uv_error_mean, secant->samples_per_ray, relief) + between + ")",
+                secant->uv_error_mean < relief);
+    }
+  return c.finish();
+}
+
 // The previous reading (release before this one), kept for one release so that claims.md shows
 // its verdict beside the new one; delete with the next release. It picked heightfields by name.
 namespace previous_reading {
@@ -446,6 +556,7 @@ constexpr ClaimRule kClaimRules[] = {
     {claim_c4, previous_reading::claim_c4}, {claim_c5, previous_reading::claim_c5}, {claim_c6, nullptr},
     {claim_c7, nullptr}, {claim_c8, nullptr}, {claim_c9, previous_reading::claim_c9},
     {claim_c10, previous_reading::claim_c10},
+    {claim_p1, nullptr}, {claim_p2, nullptr}, {claim_p3, nullptr},
 };
 
 }  // namespace
@@ -466,10 +577,10 @@ std::vector<ClaimResult> evaluate_claims(const ClaimsData& data) {
 
 std::string claims_markdown(const std::vector<ClaimResult>& results, const std::string& provenance_line,
                             const std::string& configurations) {
-  std::string md = "# The tutorials' claims, measured\n\n" + provenance_line + "\n\n" + configurations +
+  std::string md = "# The tutorials' and the papers' claims, measured\n\n" + provenance_line + "\n\n" + configurations +
                    "\n\nEach rule was fixed in the source (src/claims/claims.cpp) before any figure was measured; "
-                   "docs/claims.md quotes each claim's words from the tutorials and argues the reading its rule "
-                   "implements. The verdict is *holds* when every check passes, *holds partly* when some do, *refuted* "
+                   "docs/claims.md gives each claim's words and source (the tutorials C1-C10, the papers P1-P3) and "
+                   "argues the reading its rule implements. The verdict is *holds* when every check passes, *holds partly* when some do, *refuted* "
                    "when none do. Where this release changed a reading, the previous reading's verdict on the same "
                    "figures stands beside the new one.\n\n"
                    "| claim | verdict | previous reading's verdict | checks passed |\n|---|---|---|---|\n";
@@ -481,7 +592,7 @@ std::string claims_markdown(const std::vector<ClaimResult>& results, const std::
   }
   for (const ClaimResult& r : results) {
     md += "\n<a id=\"" + r.id + "\"></a>\n## " + r.id + ": " + r.claim + "\n\n";
-    md += "Source: " + r.source + " (docs/claims.md quotes the words and links the pages).\n\nRule: " + r.rule + "\n\n";
+    md += "Source: " + r.source + " (docs/claims.md gives the words and the pages).\n\nRule: " + r.rule + "\n\n";
     if (r.previous_verdict)
       md += "Previous reading (shown this release only): " + r.previous_rule + " Its verdict on these figures: **" +
             to_string(*r.previous_verdict) + "**.\n\n";

@@ -14,6 +14,7 @@ constexpr double kThinDepth = 1.0 / 8.0;  // thinner than one layer at 8 layers
 constexpr int kMaxThicknessSteps = 4096;
 
 bool is_claims_trace(const Configuration& c) { return (c.purposes & kPurposeClaims) && c.kind == RunKind::trace; }
+bool is_large_map_trace(const Configuration& c) { return (c.purposes & kPurposeLargeMaps) && c.kind == RunKind::trace; }
 
 // |grad D| at (u, v) in depth per texel, by central differences one texel apart: a step between
 // two texels reads as 0.5 per texel, a smooth slope as its slope.
@@ -122,7 +123,7 @@ ClaimsData ClaimsCollector::data(const std::vector<Measurement>& rows) const {
   ClaimsData data;
   for (const Measurement& m : rows) {
     const Configuration& c = m.config;
-    if (!is_claims_trace(c) || !m.errors) continue;
+    if (!(is_claims_trace(c) || is_large_map_trace(c)) || !m.errors) continue;
     ClaimFigure f;
     f.heightfield = c.heightfield.label();
     f.technique = to_string(c.params.technique);
@@ -130,6 +131,7 @@ ClaimsData ClaimsCollector::data(const std::vector<Measurement>& rows) const {
     f.theta = c.view.kind == ViewSpec::Kind::sweep ? double(c.view.theta_degrees) : -1.0;
     f.uv_error_mean = m.errors->mean;
     f.uv_error_p95 = m.errors->p95;
+    f.uv_error_p99 = m.errors->p99;
     f.wrong_surface_rate = m.errors->wrong_surface_rate;
     f.samples_per_ray = m.rays ? double(m.samples) / double(m.rays) : 0.0;
     f.within_one_layer = m.errors->within_one_layer_step.value_or(0.0);
@@ -138,7 +140,8 @@ ClaimsData ClaimsCollector::data(const std::vector<Measurement>& rows) const {
     f.rays_per_second_min = speed.min;
     f.rays_per_second_max = speed.max;
     if (const auto it = per_row_.find(m.id); it != per_row_.end()) f.per_ray = it->second;
-    data.figures.push_back(f);
+    if (is_claims_trace(c)) data.figures.push_back(f);
+    if (is_large_map_trace(c)) data.large_maps.push_back(f);
   }
   return data;
 }

@@ -66,12 +66,18 @@ void write_claims(const std::string& dir, const ClaimsData& data, const PlanSett
       std::to_string(settings.view_size) + " pixels (the same rows as the report's tables) for every claim technique at layers 4, 8, 10, "
       "16, 32, 64 and 8-32; sweep views of " + std::to_string(settings.sweep_size) + " x " + std::to_string(settings.sweep_size) +
       " rays at " + degrees(claim_sweep_angles()) + " degrees for the parallax claims and at " +
-      degrees(claim_near_normal_angles()) + " degrees for steep, relief and POM at 8-32 and 32. Errors are uv errors in "
+      degrees(claim_near_normal_angles()) + " degrees for steep, relief and POM at 8-32 and 32" +
+      (settings.large_maps ? "; for P2, the builtins at " + std::to_string(kLargeMapSide) + " x " + std::to_string(kLargeMapSide) +
+                                 " on the default view at " + std::to_string(kLargeMapViewSide) + " x " +
+                                 std::to_string(kLargeMapViewSide) + " pixels: maxmip, and relief and secant at 64, 256 and 1024 layers"
+                           : std::string()) +
+      ". Errors are uv errors in "
       "texels against the exact intersection; sharp depth changes (|grad D| at the exact hit, top decile of the view's "
       "rays against its bottom half) and thin features (the ray leaves the solid again within 1/8 of the depth range) "
       "are measured per ray from each depth map, never from its name. Costs are height samples per ray "
       "(deterministic); speeds are rays/s of the CPU packet kernels, the median (min-max) of " +
-      std::to_string(settings.repetitions) + " interleaved repetitions, shown beside the costs and deciding no verdict.";
+      std::to_string(settings.repetitions) + " interleaved repetitions, shown beside the costs and deciding no verdict but "
+      "P2's, a claim about time.";
   write_file_atomically(dir + "/claims.md", claims_markdown(results, provenance_line, configurations));
   write_file_atomically(dir + "/claims.json", claims_json(results));
   for (const ClaimResult& r : results)

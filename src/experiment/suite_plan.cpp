@@ -55,6 +55,7 @@ PlanSettings suite_settings(bool quick, const std::vector<HeightfieldSource>& ex
   s.threads = threads;
   s.glsl = glsl;
   s.min_seconds = quick ? 0.01 : 0.04;
+  s.large_maps = !quick;
   return s;
 }
 
@@ -64,9 +65,10 @@ std::vector<Configuration> claims_plan(const PlanSettings& s) {
     const Configuration base = on_view(s, hf, RunKind::trace, kPurposeClaims);
     for (Technique t : {Technique::parallax, Technique::parallax_limited})
       add_to_plan(plan, with_technique(base, t, LayerSpec{}));
+    add_to_plan(plan, with_technique(base, Technique::maxmip, LayerSpec{}));
     for (const std::string& layers : claim_layer_specs())
       if (layers != "1")
-        for (Technique t : {Technique::steep, Technique::relief, Technique::pom})
+        for (Technique t : {Technique::steep, Technique::relief, Technique::pom, Technique::secant, Technique::cone})
           add_to_plan(plan, with_technique(base, t, parse_layer_spec(layers)));
     auto on_sweep = [&](double theta, Technique t, const LayerSpec& layers) {
       Configuration c = with_technique(base, t, layers);
@@ -81,6 +83,19 @@ std::vector<Configuration> claims_plan(const PlanSettings& s) {
         for (Technique t : {Technique::steep, Technique::relief, Technique::pom})
           on_sweep(theta, t, parse_layer_spec(layers));
   }
+  // P2: maximum mipmaps against linear searches on the builtins at kLargeMapSide.
+  if (s.large_maps)
+    for (const HeightfieldSource& hf : s.heightfields) {
+      if (hf.builtin.empty()) continue;
+      HeightfieldSource large = hf;
+      large.resolution = kLargeMapSide;
+      Configuration base = on_view(s, large, RunKind::trace, kPurposeLargeMaps);
+      base.view = parse_view("default", kLargeMapViewSide, kLargeMapViewSide);
+      add_to_plan(plan, with_technique(base, Technique::maxmip, LayerSpec{}));
+      for (const std::string& layers : claim_large_map_layer_specs())
+        for (Technique t : {Technique::relief, Technique::secant})
+          add_to_plan(plan, with_technique(base, t, parse_layer_spec(layers)));
+    }
   return plan;
 }
 
