@@ -52,7 +52,6 @@ TraceStats Tracer::run_kernel(TraceRangeFn kernel, const RayBatch& rays, HitBuff
   if (pyramid_) {
     texture.pyramid = pyramid_->data();
     texture.level_offsets = pyramid_->offsets();
-    texture.level_blocks_x = pyramid_->blocks_x();
     texture.pyramid_levels = pyramid_->levels();
   }
   const KernelParams params{params_.layers.min_layers, params_.layers.max_layers, params_.refine_steps,
