@@ -1,6 +1,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -75,11 +76,14 @@ void ExactReference::run(const RayBatch& rays, LightVisibility visibility, HitBu
         // every ray whose light is walked, from the hit in double) go on in the double walk from
         // where it stopped: the path is clear before it.
         const double vz = rays.vz[i], offset_per_depth = s / vz;
+        const bool final = hits.shadow[i] == 1.0f;
         double d = hits.depth[i], u = hits.u[i], v = hits.v[i];
-        if (hits.shadow[i] == 1.0f && visibility == LightVisibility::skip) {
+        if (final && visibility == LightVisibility::skip) {
           hits.samples[i] += 1;
         } else {
-          const PathHit hit = intersector_.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], vz, s, d);
+          // A final ray's depth is its hit rounded to float: the path is clear just above it.
+          const double from = final ? std::max(0.0, d - 0x1p-20) : d;
+          const PathHit hit = intersector_.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], vz, s, from);
           d = hit.t;
           u = rays.tx[i] - d * offset_per_depth * rays.vx[i];
           v = rays.ty[i] - d * offset_per_depth * rays.vy[i];
