@@ -103,8 +103,8 @@ TEST(Exact, AgreesWithBruteForceOnEveryBuiltin) {
 
 // exact_hits (the float pass at each ISA, then the double walk from where it stopped) against
 // the double walk alone from depth 0: every builtin, power-of-two and odd sides, both wraps,
-// rays to 88 degrees entering anywhere (T a little outside [0, 1]^2 too), scales to 1. The hits
-// are the same at every ISA, bit for bit.
+// rays to 88 degrees entering anywhere (T a little outside [0, 1]^2 too), scales to 1; the
+// light's visibility too. The hits are the same at every ISA, bit for bit.
 TEST(Exact, FloatPassThenDoubleAgreesWithTheDoubleWalk) {
   std::size_t rays_checked = 0;
   for (const std::string& name : builtin_heightfield_names())
@@ -134,6 +134,17 @@ TEST(Exact, FloatPassThenDoubleAgreesWithTheDoubleWalk) {
             ASSERT_NEAR(hits.depth[i], d, 1e-6) << name << " " << side << (wrap == Wrap::repeat ? " repeat" : " clamp")
                                                 << " ray " << i << " scale " << scale;
             ++rays_checked;
+          }
+          // With the light walked too (the shadow's reference), from the hit in double.
+          const HitBuffers lit = exact_hits(map, rays, params, LightVisibility::compute);
+          for (std::size_t i = 0; i < rays.size(); ++i) {
+            if (rays.is_padding(i)) continue;
+            const double d = exact.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], scale).t;
+            const double u = rays.tx[i] - d * (double(scale) / rays.vz[i]) * rays.vx[i];
+            const double v = rays.ty[i] - d * (double(scale) / rays.vz[i]) * rays.vy[i];
+            ASSERT_NEAR(lit.depth[i], d, 1e-6) << name << " " << side << " ray " << i << " (light walked)";
+            ASSERT_EQ(lit.shadow[i], exact.visible(u, v, d, params.light, scale) ? 1.0f : 0.0f)
+                << name << " " << side << " ray " << i;
           }
           for (Isa isa : supported_isas()) {
             const HitBuffers at_isa = exact_hits(map, rays, params, LightVisibility::skip, isa);

@@ -30,8 +30,8 @@ class MinDepthPyramid {
                       std::size_t(bx)];
   }
 
-  // The flat layout the packet kernels gather from: level L's block (bx, by) at
-  // offsets()[L] + by * blocks_x()[L] + bx.
+  // The flat layout the packet kernels and the GLSL read: level L's block (bx, by) at
+  // offsets()[L] + by * blocks_x()[L] + bx, with blocks_x()[L] = ceil(cells a side / 2^L).
   const float* data() const { return min_depth_.data(); }
   const std::int32_t* offsets() const { return offsets_.data(); }
   const std::int32_t* blocks_x() const { return blocks_x_.data(); }

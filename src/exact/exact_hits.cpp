@@ -1,6 +1,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -45,7 +46,7 @@ void ExactReference::run(const RayBatch& rays, LightVisibility visibility, HitBu
   check_exact_path_lengths(*map_, rays, params_);
   const MinDepthPyramid& pyramid = intersector_.pyramid();
   const KernelTexture texture{texture_.texels.data(), texture_.width, texture_.height, texture_.stride, texture_.wrap,
-                              pyramid.data(), pyramid.offsets(), pyramid.blocks_x(), pyramid.levels()};
+                              pyramid.data(), pyramid.offsets(), pyramid.levels()};
   const KernelParams kernel_params{1.0f, 1.0f, 0, params_.scale, params_.discard,
                                    {params_.light[0], params_.light[1], params_.light[2]}};
   const TraceRangeFn float_pass =
@@ -71,17 +72,26 @@ void ExactReference::run(const RayBatch& rays, LightVisibility visibility, HitBu
           hits.discarded[i] = 0;
           continue;
         }
-        // In double from where the float pass stopped: the path is clear before it.
-        const double vz = rays.vz[i];
-        const PathHit hit =
-            intersector_.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], vz, s, double(hits.depth[i]));
-        const double d = hit.t, offset_per_depth = s / vz;
-        const double u = rays.tx[i] - d * offset_per_depth * rays.vx[i];
-        const double v = rays.ty[i] - d * offset_per_depth * rays.vy[i];
-        hits.u[i] = float(u);
-        hits.v[i] = float(v);
-        hits.depth[i] = float(d);
-        hits.samples[i] += hit.cells;
+        // Most rays the float pass finished in double in the cell it stopped in; the others (and
+        // every ray whose light is walked, from the hit in double) go on in the double walk from
+        // where it stopped: the path is clear before it.
+        const double vz = rays.vz[i], offset_per_depth = s / vz;
+        const bool final = hits.shadow[i] == 1.0f;
+        double d = hits.depth[i], u = hits.u[i], v = hits.v[i];
+        if (final && visibility == LightVisibility::skip) {
+          hits.samples[i] += 1;
+        } else {
+          // A final ray's depth is its hit rounded to float: the path is clear just above it.
+          const double from = final ? std::max(0.0, d - 0x1p-20) : d;
+          const PathHit hit = intersector_.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], vz, s, from);
+          d = hit.t;
+          u = rays.tx[i] - d * offset_per_depth * rays.vx[i];
+          v = rays.ty[i] - d * offset_per_depth * rays.vy[i];
+          hits.u[i] = float(u);
+          hits.v[i] = float(v);
+          hits.depth[i] = float(d);
+          hits.samples[i] += hit.cells;
+        }
         hits.shadow[i] =
             visibility == LightVisibility::compute && !intersector_.visible(u, v, d, params_.light, s) ? 0.0f : 1.0f;
         hits.discarded[i] = params_.discard && (u < 0.0 || u > 1.0 || v < 0.0 || v > 1.0);

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "heightmarch/exact.hpp"
+#include "exact/cell_quadratic.hpp"
 
 namespace heightmarch {
 namespace {
@@ -51,52 +52,24 @@ double ExactIntersector::depth_at(double x, double y) const {
 // finds its first zero crossing into >= 0 within [t0, t1].
 bool ExactIntersector::cell_first_root(long long ci, long long cj, const HeightfieldPath& p,
                                        double t0, double t1, double& t_hit) const {
-  const double t00 = texel(ci, cj), t10 = texel(ci + 1, cj);
-  const double t01 = texel(ci, cj + 1), t11 = texel(ci + 1, cj + 1);
-  const double e = t10 - t00, f = t01 - t00, g = t11 - t10 - t01 + t00;
-  // Blend weights at t0, and their rates; parametrised by s = t - t0 for precision.
-  const double fx = (p.x0 - double(ci)) + p.dx * t0;
-  const double fy = (p.y0 - double(cj)) + p.dy * t0;
-  const double surface0 = t00 + e * fx + f * fy + g * fx * fy;
-  const double c0 = (p.depth0 + p.ddepth * t0) - surface0;
-  const double c1 = p.ddepth - (e * p.dx + f * p.dy + g * (fx * p.dy + fy * p.dx));
-  const double c2 = -g * p.dx * p.dy;
+  const CellQuadratic q = cell_quadratic(texel(ci, cj), texel(ci + 1, cj), texel(ci, cj + 1), texel(ci + 1, cj + 1),
+                                         double(ci), double(cj), p.x0, p.y0, p.dx, p.dy, p.depth0, p.ddepth, t0);
   const double span = t1 - t0;
-  if (c0 >= 0.0) {
-    t_hit = t0;
-    return true;
-  }
-  auto h = [&](double s) { return c0 + s * (c1 + s * c2); };
-  // Roots of c2 s^2 + c1 s + c0, smallest first; c0 < 0 so the first root in range is the crossing.
-  double roots[2];
-  int count = 0;
-  if (std::fabs(c2) * span <= 1e-14 * (std::fabs(c1) + std::fabs(c0) / std::max(span, 1e-300))) {
-    if (c1 > 0.0) roots[count++] = -c0 / c1;
-  } else {
-    const double disc = c1 * c1 - 4.0 * c2 * c0;
-    if (disc >= 0.0) {
-      const double q = -0.5 * (c1 + std::copysign(std::sqrt(disc), c1));
-      roots[count++] = q / c2;
-      if (q != 0.0) roots[count++] = c0 / q;
-      if (count == 2 && roots[1] < roots[0]) std::swap(roots[0], roots[1]);
-    }
-  }
-  for (int r = 0; r < count; ++r)
-    if (roots[r] >= 0.0 && roots[r] <= span) {
-      t_hit = t0 + roots[r];
-      return true;
-    }
-  if (h(span) >= 0.0) {  // rounding hid the root: bisect the sign change
+  double s;
+  const CellCrossing crossing = first_crossing(q, span, s);
+  if (crossing == kNoCrossing) return false;
+  if (crossing == kHiddenCrossing) {  // bisect the sign change
+    auto h = [&](double x) { return q.c0 + x * (q.c1 + x * q.c2); };
     double lo = 0.0, hi = span;
     for (int it = 0; it < 200 && hi - lo > 0.0; ++it) {
       const double mid = 0.5 * (lo + hi);
       if (mid <= lo || mid >= hi) break;
       (h(mid) >= 0.0 ? hi : lo) = mid;
     }
-    t_hit = t0 + hi;
-    return true;
+    s = hi;
   }
-  return false;
+  t_hit = t0 + s;
+  return true;
 }
 
 PathHit ExactIntersector::first_hit(const HeightfieldPath& p, double from) const {

@@ -16,10 +16,9 @@ struct KernelTexture {
   int width, height, stride;
   Wrap wrap;
   // The min-depth pyramid (MinDepthPyramid's flat layout) for the techniques that walk it;
-  // null with 0 levels otherwise.
+  // null with 0 levels otherwise. A level's blocks a side follow from the map's size.
   const float* pyramid = nullptr;
   const std::int32_t* level_offsets = nullptr;
-  const std::int32_t* level_blocks_x = nullptr;
   int pyramid_levels = 0;
   // The relaxed cone map's ratios in the texels' layout (cone only; heightmarch/cone_map.hpp).
   const float* cone = nullptr;
@@ -70,8 +69,9 @@ struct KernelTable {
   int packet_width;  // rays per loop iteration
   TraceRangeFn technique[kTechniqueCount][kAddressingCount];
   TraceRangeFn sampler_roofline[kAddressingCount];  // the sampler alone (benchmarks)
-  // The exact reference's float pass (src/exact/exact_hits.cpp): per ray, in depth, how far the
-  // path is certainly clear of the surface; in samples, the cells it tested.
+  // The exact reference's float pass (src/exact/exact_hits.cpp): per ray, with shadow 1 the exact
+  // hit (uv, depth), found in double in the cell the pass stopped in; with shadow 0, in depth, how
+  // far the path is certainly clear of the surface. In samples, the cells it tested in float.
   TraceRangeFn exact_bound[kAddressingCount];
   TraceRangeFn compute_ceiling[kAddressingCount];   // POM on register taps (benchmarks)
   // The naive port vectorised by the compiler (benchmarks), on a plain REPEAT DepthMap

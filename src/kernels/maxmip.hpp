@@ -13,6 +13,7 @@
 // The same walk, made conservative, is the exact reference's float pass (maxmip_exact_bound).
 #include <limits>
 
+#include "exact/cell_quadratic.hpp"
 #include "kernels/kernel_context.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
@@ -69,7 +70,9 @@ vfloat<W> first_root(vfloat<W> c0, vfloat<W> c1, vfloat<W> c2, vfloat<W> span) {
 template <int W>
 struct PyramidWalk {
   vfloat<W> t;
-  vfloat<W> c0, c1, c2, span;  // not kept by the conservative walk
+  vfloat<W> cx, cy;              // the cell it stopped in
+  vfloat<W> c0, c1, c2, span;    // its quadratic (not kept by the conservative walk)
+  vfloat<W> t00, t10, t01, t11;  // its texels (kept by the conservative walk only)
   vbool<W> reached;  // stopped in a cell it may touch
   vbool<W> cut_off;  // stopped by the bound on passes
   vint<W> samples;
@@ -101,6 +104,7 @@ PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloa
   PyramidWalk<W> walk;
   walk.t = F(0.0f);
   walk.c0 = walk.c1 = walk.c2 = walk.span = F(0.0f);
+  walk.t00 = walk.t10 = walk.t01 = walk.t11 = F(0.0f);
   walk.reached = !B::all_true();
   walk.samples = I(0);
   F& t = walk.t;
@@ -199,7 +203,12 @@ PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloa
       const F c2 = F(0.0f) - g * dx * dy;
       const F span = t_end - t;
       hit = solve & reaches_patch(c0, c1, c2, span);
-      if constexpr (!CONSERVATIVE) {  // the float pass hands on the cell's entry, not its root
+      if constexpr (CONSERVATIVE) {  // the exact reference solves the cell again in double
+        walk.t00 = select(hit, t00, walk.t00);
+        walk.t10 = select(hit, t10, walk.t10);
+        walk.t01 = select(hit, t01, walk.t01);
+        walk.t11 = select(hit, t11, walk.t11);
+      } else {
         walk.c0 = select(hit, c0, walk.c0);
         walk.c1 = select(hit, c1, walk.c1);
         walk.c2 = select(hit, c2, walk.c2);
@@ -240,6 +249,8 @@ PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloa
     inv_size = select(up, inv_size * F(0.5f), select(descend, inv_size * F(2.0f), inv_size));
   }
   walk.cut_off = active;
+  walk.cx = cx;
+  walk.cy = cy;
   return walk;
 }
 
@@ -288,11 +299,70 @@ HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket
   // further, nu: far enough that the double walk starts in the cell the pass stopped in, not at
   // the end of the one before (where it would solve a cell again).
   const F nu = eta / (F(2.0f) * (F(1.0f) + abs(dx) + abs(dy)));
-  HitPacket<W> out;
-  out.u = ray.tx;
-  out.v = ray.ty;
   const F clear = select(walk.t > F(0.0f), min(walk.t + nu, F(1.0f)), walk.t);  // D <= 1: a hit by 1
-  out.depth = select(walk.reached | walk.cut_off, clear, F(1.0f));
+  const F from = select(walk.reached | walk.cut_off, clear, F(1.0f));
+
+  // The double walk would start in the cell at `from` and solve it first: that step, lane by lane
+  // in double with the walk's own code (src/exact/cell_quadratic.hpp) and the texels the pass
+  // already read, where that cell is the one the pass stopped in. A lane whose cell crosses there is final (shadow = 1: the exact hit); the others
+  // (no crossing in that cell, a root rounding hid, another cell) go on in the double walk from
+  // `from` (shadow = 0).
+  alignas(64) float lane_tx[W], lane_ty[W], lane_vx[W], lane_vy[W], lane_vz[W], lane_from[W], lane_cx[W],
+      lane_cy[W], lane_reached[W], t00[W], t10[W], t01[W], t11[W];
+  alignas(64) float out_u[W], out_v[W], out_depth[W], out_final[W];
+  ray.tx.store(lane_tx);
+  ray.ty.store(lane_ty);
+  ray.vx.store(lane_vx);
+  ray.vy.store(lane_vy);
+  ray.vz.store(lane_vz);
+  from.store(lane_from);
+  walk.cx.store(lane_cx);
+  walk.cy.store(lane_cy);
+  select(walk.reached, F(1.0f), F(0.0f)).store(lane_reached);
+  walk.t00.store(t00);
+  walk.t10.store(t10);
+  walk.t01.store(t01);
+  walk.t11.store(t11);
+  constexpr bool kRepeat = ADDRESSING != Addressing::clamp;
+  constexpr double kFar = double(std::numeric_limits<long long>::max() / 4);  // first_hit's CLAMP edge
+  const double w = k.texture.width, h = k.texture.height, s = k.params.scale;
+  for (int l = 0; l < W; ++l) {
+    const double offset_per_depth = s / double(lane_vz[l]);  // ExactIntersector::intersect's path
+    const double px = double(lane_tx[l]) * w - 0.5, py = double(lane_ty[l]) * h - 0.5;
+    const double pdx = -(offset_per_depth * double(lane_vx[l])) * w, pdy = -(offset_per_depth * double(lane_vy[l])) * h;
+    const double t0 = lane_from[l];
+    // The cell first_hit starts in, and where the path leaves it.
+    const double xt = px + pdx * t0, yt = py + pdy * t0;
+    double ci = std::floor(xt), cj = std::floor(yt);
+    ci = (ci == xt) & (pdx < 0.0) ? ci - 1.0 : ci;
+    cj = (cj == yt) & (pdy < 0.0) ? cj - 1.0 : cj;
+    if constexpr (!kRepeat) {
+      ci = std::min(std::max(ci, -1.0), w - 1.0);
+      cj = std::min(std::max(cj, -1.0), h - 1.0);
+    }
+    const double x_lo = !kRepeat & (ci == -1.0) ? -kFar : ci, x_hi = !kRepeat & (ci == w - 1.0) ? kFar : ci + 1.0;
+    const double y_lo = !kRepeat & (cj == -1.0) ? -kFar : cj, y_hi = !kRepeat & (cj == h - 1.0) ? kFar : cj + 1.0;
+    const double inv_dx = 1.0 / pdx, inv_dy = 1.0 / pdy;
+    const double inf = std::numeric_limits<double>::infinity();
+    const double tx = pdx > 0.0 ? (x_hi - px) * inv_dx : pdx < 0.0 ? (x_lo - px) * inv_dx : inf;
+    const double ty = pdy > 0.0 ? (y_hi - py) * inv_dy : pdy < 0.0 ? (y_lo - py) * inv_dy : inf;
+    const double t1 = std::min(std::max(t0, std::min(tx, ty)), 1.0);
+    const CellQuadratic q =
+        cell_quadratic(t00[l], t10[l], t01[l], t11[l], ci, cj, px, py, pdx, pdy, 0.0, 1.0, t0);
+    double root;
+    const bool crosses = first_crossing(q, t1 - t0, root) == kCrossing;
+    const bool final = (lane_reached[l] != 0.0f) & (ci == double(lane_cx[l])) & (cj == double(lane_cy[l])) & crosses;
+    const double d = t0 + root;
+    out_final[l] = final ? 1.0f : 0.0f;
+    out_depth[l] = final ? float(d) : lane_from[l];
+    out_u[l] = final ? float(double(lane_tx[l]) - d * offset_per_depth * double(lane_vx[l])) : lane_tx[l];
+    out_v[l] = final ? float(double(lane_ty[l]) - d * offset_per_depth * double(lane_vy[l])) : lane_ty[l];
+  }
+  HitPacket<W> out;
+  out.u = F::load(out_u);
+  out.v = F::load(out_v);
+  out.depth = F::load(out_depth);
+  out.shadow = F::load(out_final);
   out.samples = walk.samples;
   return out;
 }

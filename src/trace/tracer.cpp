@@ -58,7 +58,6 @@ TraceStats Tracer::run_kernel(TraceRangeFn kernel, const RayBatch& rays, HitBuff
   if (pyramid_) {
     texture.pyramid = pyramid_->data();
     texture.level_offsets = pyramid_->offsets();
-    texture.level_blocks_x = pyramid_->blocks_x();
     texture.pyramid_levels = pyramid_->levels();
   }
   if (cone_map_) texture.cone = cone_map_->texture.texels.data();
