@@ -21,8 +21,9 @@ struct KernelRays;
 struct KernelHits;
 struct KernelCounters;
 
+// The lanes' counts of one trace; the samples of its real rays are total_samples() of the hits
+// (metrics.hpp), not counted here: a pass over the batch would be part of every timed trace.
 struct TraceStats {
-  std::uint64_t samples = 0;         // height samples of real rays (padding excluded)
   std::uint64_t lane_samples = 0;    // lanes that sampled, padding included
   std::uint64_t packet_samples = 0;  // packet samples x packet width
   double simd_utilization() const {

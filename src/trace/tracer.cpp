@@ -5,7 +5,6 @@
 #include <tbb/parallel_for.h>
 
 #include "heightmarch/error.hpp"
-#include "heightmarch/metrics.hpp"
 #include "heightmarch/trace.hpp"
 #include "kernels/kernel_abi.hpp"
 
@@ -79,7 +78,6 @@ TraceStats Tracer::run_kernel(TraceRangeFn kernel, const RayBatch& rays, HitBuff
     stats.lane_samples += c.lane_samples;
     stats.packet_samples += c.packet_samples;
   });
-  stats.samples = total_samples(rays, hits);
   return stats;
 }
 
