@@ -19,9 +19,14 @@
 //          m_P < S_P maxdist(p, P) of  max(dist(p, P), m_P / S_P) / (D_p - m_P)),
 // and a P touching p bounds it by at least 1 / G_P (the depth climbs at most G_P per uv from p).
 // Distances are in uv; REPEAT counts every image of the periodic surface, CLAMP the edge strips
-// the clamp extends to infinity as cells (their slopes bounded per axis). Built in parallel over
-// texels, each a best-first search of a pyramid of per-side bounds of these terms, with the
-// previous texel's bounding cell tried first.
+// the clamp extends to infinity as cells (their slopes bounded per axis).
+//
+// Built in parallel (TBB) over batches of 4 x 4 texels. A batch walks a pyramid of 2 x 2 blocks
+// of cells depth first, keeping per block and per side of an apex the least m and m / S (S per
+// axis) and the box of the gradient: a block is opened for the texels whose best cone so far it
+// may narrow (its lower bound of the term above, with the support of its gradient box over the
+// arc from the apex), starting from the cells that bounded the batch before it. The result is
+// exactly the least term (tests/cone_map_test.cpp checks it against every cell).
 #include <memory>
 #include <vector>
 

@@ -87,8 +87,8 @@ class ConeGeometry {
   ConeGeometry(const DepthMap& map, Wrap wrap)
       : map_(map), repeat_(wrap == Wrap::repeat), width_(map.width), height_(map.height) {}
 
-  // The bound cell (cx, cy) of `first_`-based cell indices, shifted by whole tiles (REPEAT),
-  // puts on texel (i, j)'s cone: the least over its sub-patches P with m_P < D_p, S_P > 0 and
+  // The bound cell (cx, cy) (corners at texel centres (cx, cy) to (cx + 1, cy + 1)), shifted by
+  // whole tiles (REPEAT), puts on texel (i, j)'s cone: the least over its sub-patches P with m_P < D_p, S_P > 0 and
   // an exit possible within it (m_P < S_P maxdist(p, P), or unbounded) of
   //   max(dist(p, P), m_P / S_P) / (D_p - m_P), at least 1 / G_P when P touches p,
   // S_P the support of P's gradient box over the directions from p to P. Sub-patches that cannot
@@ -103,7 +103,8 @@ class ConeGeometry {
       if (!(s.shallowest < apex)) return;
       const double dx = std::max({0.0, s.x_lo - px, px - s.x_hi}) / width_, dy = std::max({0.0, s.y_lo - py, py - s.y_hi}) / height_;
       const double distance2 = dx * dx + dy * dy;
-      const double reach = best * (apex - s.shallowest);  // the farthest a beating exit may lie
+      // The farthest a beating exit may lie (a hair wider: these tests only skip work).
+      const double reach = best * (apex - s.shallowest) * (1.0 + 1e-9);
       if (!(distance2 < reach * reach)) return;
       // The slope bound per axis is above the support: a cheaper test first.
       const int side_x = px >= s.x_hi ? 1 : 0, side_y = py >= s.y_hi ? 1 : 0;
