@@ -397,7 +397,7 @@ def summary_ratios(run):
 def summary_claims(claims):
     if not claims:
         return []
-    return ["### The tutorials' claims", "",
+    return ["### The claims: the tutorials' (C1-C10) and the papers' (P1-P3)", "",
             "Each claim's reading, rule, figures and checks: [claims.md](claims.md); the claims themselves: "
             "[docs/claims.md](../../docs/claims.md).", ""] + [
         "- **%s %s**: %s" % (c["id"], c["verdict"], c["claim"]) for c in claims]
