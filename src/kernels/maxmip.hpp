@@ -280,9 +280,10 @@ HitPacket<W> maxmip(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
 // float rounding can change. The walk's positions, exit times and cell offsets are within a few
 // ulps of their exact values: ulps of the texel coordinates (|x0| + |y0|: the origin, the cell a
 // point falls in near a side) and of the path's extent (|dx| + |dy|: exit times, slopes,
-// products). The bilinear surface (texels in [0, 1]) changes by at most |a| + |b| for a move of
-// (a, b) texels, so these become depth errors of the same size; eta is about 16 times their sum
-// (docs/conventions.md, the exact intersection). The lane stops in a cell (depth: its entry) no
+// products; about 1.5 and 11 ulps per axis, counting each rounding at its worst). The bilinear
+// surface (texels in [0, 1]) changes by at most |a| + |b| for a move of (a, b) texels, so these
+// become depth errors of the same size; eta is at least 5 times their sum (docs/conventions.md,
+// the exact intersection). The lane stops in a cell (depth: its entry) no
 // later than the first cell the exact path touches, or (depth 1) shows the path clear to depth 1.
 template <int W, Addressing ADDRESSING>
 HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
