@@ -20,7 +20,6 @@ template <> struct vbool<2 * HEIGHTMARCH_PAIR_OF> {
   friend bool any(vbool a) { return any(a.lo | a.hi); }
   friend bool all(vbool a) { return all(a.lo & a.hi); }
   friend bool none(vbool a) { return none(a.lo | a.hi); }
-  friend int popcount(vbool a) { return popcount(a.lo) + popcount(a.hi); }
   static vbool all_true() { return {vbool<HEIGHTMARCH_PAIR_OF>::all_true(), vbool<HEIGHTMARCH_PAIR_OF>::all_true()}; }
 };
 

@@ -15,7 +15,6 @@ template <> struct vbool<1> {
   friend bool any(vbool a) { return a.b; }
   friend bool all(vbool a) { return a.b; }
   friend bool none(vbool a) { return !a.b; }
-  friend int popcount(vbool a) { return a.b ? 1 : 0; }
   static vbool all_true() { return {true}; }
 };
 

@@ -14,7 +14,6 @@ template <> struct vbool<16> {
   friend bool any(vbool a) { return a.m != 0; }
   friend bool all(vbool a) { return a.m == 0xffff; }
   friend bool none(vbool a) { return a.m == 0; }
-  friend int popcount(vbool a) { return __builtin_popcount(unsigned(a.m)); }
   static vbool all_true() { return {__mmask16(0xffff)}; }
 };
 

@@ -16,7 +16,6 @@ template <> struct vbool<4> {
   friend bool any(vbool a) { return _mm_movemask_ps(a.m) != 0; }
   friend bool all(vbool a) { return _mm_movemask_ps(a.m) == 0xf; }
   friend bool none(vbool a) { return _mm_movemask_ps(a.m) == 0; }
-  friend int popcount(vbool a) { return __builtin_popcount(unsigned(_mm_movemask_ps(a.m))); }
   static vbool all_true() { return {_mm_castsi128_ps(_mm_set1_epi32(-1))}; }
 };
 

@@ -16,7 +16,6 @@ template <> struct vbool<8> {
   friend bool any(vbool a) { return _mm256_movemask_ps(a.m) != 0; }
   friend bool all(vbool a) { return _mm256_movemask_ps(a.m) == 0xff; }
   friend bool none(vbool a) { return _mm256_movemask_ps(a.m) == 0; }
-  friend int popcount(vbool a) { return __builtin_popcount(unsigned(_mm256_movemask_ps(a.m))); }
   static vbool all_true() { return {_mm256_castsi256_ps(_mm256_set1_epi32(-1))}; }
 };
 
