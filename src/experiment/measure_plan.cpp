@@ -231,7 +231,8 @@ Measurement MeasurementSession::measure(const Configuration& c, int id,
   const HitBuffers& exact = scene.exact(c.params);
   HitBuffers hits;
   // What a tracer precomputes (the cone map) is built before the row's thread limit, in parallel.
-  const Tracer* tracer = c.kind == RunKind::trace || c.kind == RunKind::roofline ? &state_->tracer(scene, c) : nullptr;
+  const Tracer* tracer =
+      c.kind == RunKind::trace || c.kind == RunKind::roofline ? &state_->tracer(scene, c) : nullptr;
   if (tracer && tracer->cone_map()) row.cone_map_seconds = tracer->cone_map()->build_seconds;
   const ThreadLimit limit(c.threads);
   switch (c.kind) {

@@ -9,15 +9,15 @@
 #include <vector>
 
 #define GL_GLEXT_PROTOTYPES
-#include <GL/osmesa.h>
 #include <GL/glext.h>
+#include <GL/osmesa.h>
 
 #include "glsl/osmesa_runner.hpp"
 #include "glsl/user_shader_text.hpp"
 #include "glsl_sources.hpp"
 #include "heightmarch/cone_map.hpp"
-#include "heightmarch/min_depth_pyramid.hpp"
 #include "heightmarch/error.hpp"
+#include "heightmarch/min_depth_pyramid.hpp"
 #include "util/input_file.hpp"
 
 // GL entry points come from libOSMesa itself; linking libGL or libOpenGL as well would route
@@ -292,7 +292,8 @@ void OsmesaRunner::prepare(const TechniqueParams& params, const std::string& sha
         texels[2 * i] = cone->depth[i];
         texels[2 * i + 1] = cone->ratio[i];
       }
-      s.cone_texture = float_texture(s.cone_texture, GL_RG32F, GL_RG, cone->width, cone->height, texels.data(), GL_LINEAR, wrap);
+      s.cone_texture = float_texture(s.cone_texture, GL_RG32F, GL_RG, cone->width, cone->height,
+                                     texels.data(), GL_LINEAR, wrap);
       s.cone_wrap = int(params.wrap);
     }
     glBindTexture(GL_TEXTURE_2D, s.cone_texture);

@@ -37,11 +37,11 @@ void trace_packets(const KernelTexture& texture, const KernelParams& params, con
 
 // Each registry row's CPU call as a kernel type.
 #define HEIGHTMARCH_TECHNIQUE_KERNEL(id, name, layered, refine, cpu_call, ...) \
-  struct Kernel_##id {                                                  \
-    template <class Context, class Ray>                                 \
-    auto operator()(Context& k, const Ray& ray) const {                 \
-      return cpu_call;                                                  \
-    }                                                                   \
+  struct Kernel_##id {                                                         \
+    template <class Context, class Ray>                                        \
+    auto operator()(Context& k, const Ray& ray) const {                        \
+      return cpu_call;                                                         \
+    }                                                                          \
   };
 HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_KERNEL)
 #undef HEIGHTMARCH_TECHNIQUE_KERNEL
