@@ -9,15 +9,15 @@
 #include <vector>
 
 #define GL_GLEXT_PROTOTYPES
-#include <GL/glext.h>
 #include <GL/osmesa.h>
+#include <GL/glext.h>
 
 #include "glsl/osmesa_runner.hpp"
 #include "glsl/user_shader_text.hpp"
 #include "glsl_sources.hpp"
 #include "heightmarch/cone_map.hpp"
-#include "heightmarch/error.hpp"
 #include "heightmarch/min_depth_pyramid.hpp"
+#include "heightmarch/error.hpp"
 #include "util/input_file.hpp"
 
 // GL entry points come from libOSMesa itself; linking libGL or libOpenGL as well would route
