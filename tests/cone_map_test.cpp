@@ -1,13 +1,14 @@
 // The relaxed cone map: the pyramid search finds the least of the definition's cell bounds (every
 // cell, brute force), and that definition is conservative, never wider than the chapter's
 // relaxed cone built by marching rays from the top of each texel's axis.
+#include "heightmarch/cone_map.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "heightmarch/cone_map.hpp"
 #include "heightmarch/exact.hpp"
 #include "test_support.hpp"
 
@@ -45,8 +46,10 @@ float rounded_down(double x) {
 // within the widest cone's reach) and kMaxConeRatio.
 double brute_force_ratio(const DepthMap& map, Wrap wrap, int i, int j) {
   const int images = wrap == Wrap::repeat ? int(kMaxConeRatio) + 1 : 0;
-  const int x0 = wrap == Wrap::repeat ? -images * map.width : -1, x1 = wrap == Wrap::repeat ? (images + 1) * map.width : map.width;
-  const int y0 = wrap == Wrap::repeat ? -images * map.height : -1, y1 = wrap == Wrap::repeat ? (images + 1) * map.height : map.height;
+  const int x0 = wrap == Wrap::repeat ? -images * map.width : -1,
+            x1 = wrap == Wrap::repeat ? (images + 1) * map.width : map.width;
+  const int y0 = wrap == Wrap::repeat ? -images * map.height : -1,
+            y1 = wrap == Wrap::repeat ? (images + 1) * map.height : map.height;
   double best = kMaxConeRatio;
   for (int cy = y0; cy < y1; ++cy)
     for (int cx = x0; cx < x1; ++cx) best = std::min(best, cone_cell_bound(map, wrap, i, j, cx, cy));
@@ -89,7 +92,8 @@ double chapter_ratio(const ExactIntersector& surface, const DepthMap& map, Wrap 
       };
       bool was_inside = inside(texels_q - step);
       // Past rho / apex >= best no leaving point narrows the cone further.
-      for (double texels = texels_q; dq * texels / texels_q < apex && rho_q * texels / texels_q < best * apex; texels += step) {
+      for (double texels = texels_q; dq * texels / texels_q < apex && rho_q * texels / texels_q < best * apex;
+           texels += step) {
         const bool is_inside = inside(texels);
         if (was_inside && !is_inside) {
           const double rho = rho_q * texels / texels_q;

@@ -220,7 +220,8 @@ TEST(Cone, HandTracedOnAFlatDepth) {
   EXPECT_LE(hits.depth[0], 0.5f);
   EXPECT_EQ(hits.u[0], 0.5f - vx / vz * 0.1f * hits.depth[0]);
   // Straight down the first step lands on the surface: the second read finds it there.
-  const HitBuffers down = trace_with(map, one_ray(0.5f, 0.5f, 0.0f, 0.0f, 1.0f), params_for(Technique::cone, "16"));
+  const HitBuffers down =
+      trace_with(map, one_ray(0.5f, 0.5f, 0.0f, 0.0f, 1.0f), params_for(Technique::cone, "16"));
   EXPECT_EQ(down.samples[0], 2u);
   EXPECT_EQ(down.depth[0], 0.5f);
 }
@@ -263,8 +264,11 @@ TEST(Cone, AtMostCeilNReadsAndRefineHalvings) {
       for (std::size_t i = 0; i < rays.size(); ++i) {
         const LayerSpec spec = params.layers;
         const float a = std::fabs(rays.vz[i]);
-        const float n = spec.min_layers == spec.max_layers ? spec.min_layers : spec.max_layers * (1.0f - a) + spec.min_layers * a;
-        ASSERT_LE(hits.samples[i], std::uint32_t(std::ceil(n)) + std::uint32_t(refine)) << layers << " refine " << refine;
+        const float n = spec.min_layers == spec.max_layers
+                            ? spec.min_layers
+                            : spec.max_layers * (1.0f - a) + spec.min_layers * a;
+        ASSERT_LE(hits.samples[i], std::uint32_t(std::ceil(n)) + std::uint32_t(refine))
+            << layers << " refine " << refine;
         ASSERT_GE(hits.samples[i], 1u);
       }
     }

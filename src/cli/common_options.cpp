@@ -35,8 +35,10 @@ void add_trace_options(CLI::App& app, TraceOptions& o, bool exact_allowed) {
   app.add_option("--technique", o.technique, technique_names() + (exact_allowed ? ", or exact (the reference itself)" : ""))
       ->capture_default_str();
   app.add_option("--layers", o.layers, "layer count N, or dynamic range A-B")->capture_default_str();
-  app.add_option("--refine", o.refine, "refinement steps: relief's halvings, secant's regula falsi steps, cone's halvings "
-                 "(default: the technique's, 5; cone 4)")->check(CLI::Range(0, kMaxRefineSteps));
+  app.add_option("--refine", o.refine,
+                 "refinement steps: relief's halvings, secant's regula falsi steps, cone's halvings "
+                 "(default: the technique's, 5; cone 4)")
+      ->check(CLI::Range(0, kMaxRefineSteps));
   app.add_option("--scale", o.scale, "height scale s, in [0, 1]")->capture_default_str();
   app.add_option("--wrap", o.wrap, "repeat or clamp")->check(CLI::IsMember({"repeat", "clamp"}))->capture_default_str();
   app.add_flag("--discard", o.discard, "discard rays whose final uv leaves [0,1]^2");

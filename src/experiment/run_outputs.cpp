@@ -217,7 +217,9 @@ std::string summary_text(const Measurement& m) {
                 c.threads == 1 ? "" : "s", speed.c_str(), per_ray.c_str(), simd.c_str());
   text += buf;
   if (m.cone_map_seconds) {
-    std::snprintf(buf, sizeof buf, "  cone map built in %.3f s (once per depth map and wrap; not in the rays/s)\n", *m.cone_map_seconds);
+    std::snprintf(buf, sizeof buf,
+                  "  cone map built in %.3f s (once per depth map and wrap; not in the rays/s)\n",
+                  *m.cone_map_seconds);
     text += buf;
   }
   if (!m.failure.empty()) return text + "  FAILED: " + m.failure + "\n";

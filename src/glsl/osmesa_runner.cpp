@@ -292,7 +292,8 @@ void OsmesaRunner::prepare(const TechniqueParams& params, const std::string& sha
         texels[2 * i] = cone->depth[i];
         texels[2 * i + 1] = cone->ratio[i];
       }
-      s.cone_texture = float_texture(s.cone_texture, GL_RG32F, GL_RG, cone->width, cone->height, texels.data(), GL_LINEAR, wrap);
+      s.cone_texture = float_texture(s.cone_texture, GL_RG32F, GL_RG, cone->width, cone->height,
+                                     texels.data(), GL_LINEAR, wrap);
       s.cone_wrap = int(params.wrap);
     }
     glBindTexture(GL_TEXTURE_2D, s.cone_texture);

@@ -43,11 +43,11 @@ template <int W, Addressing ADDRESSING, class Kernel, Taps TAPS = Taps::memory>
 
 // Each registry row's CPU call as a kernel type.
 #define HEIGHTMARCH_TECHNIQUE_KERNEL(id, name, layered, refine, cpu_call, ...) \
-  struct Kernel_##id {                                                  \
-    template <class Context, class Ray>                                 \
-    auto operator()(Context& k, const Ray& ray) const {                 \
-      return cpu_call;                                                  \
-    }                                                                   \
+  struct Kernel_##id {                                                         \
+    template <class Context, class Ray>                                        \
+    auto operator()(Context& k, const Ray& ray) const {                        \
+      return cpu_call;                                                         \
+    }                                                                          \
   };
 HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_KERNEL)
 #undef HEIGHTMARCH_TECHNIQUE_KERNEL

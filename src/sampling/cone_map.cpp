@@ -5,9 +5,9 @@
 
 #include <algorithm>
 #include <bit>
-#include <cstdint>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <mutex>
 
@@ -40,7 +40,8 @@ struct SubPatch {
 
 // A bound of |grad D| on the sub-patch.
 double gradient_bound(const SubPatch& s) {
-  const double gx = std::max(std::fabs(s.gx_lo), std::fabs(s.gx_hi)), gy = std::max(std::fabs(s.gy_lo), std::fabs(s.gy_hi));
+  const double gx = std::max(std::fabs(s.gx_lo), std::fabs(s.gx_hi)),
+               gy = std::max(std::fabs(s.gy_lo), std::fabs(s.gy_hi));
   return std::sqrt(gx * gx + gy * gy);
 }
 
@@ -88,8 +89,8 @@ class ConeGeometry {
       : map_(map), repeat_(wrap == Wrap::repeat), width_(map.width), height_(map.height) {}
 
   // The bound cell (cx, cy) (corners at texel centres (cx, cy) to (cx + 1, cy + 1)), shifted by
-  // whole tiles (REPEAT), puts on texel (i, j)'s cone: the least over its sub-patches P with m_P < D_p, S_P > 0 and
-  // an exit possible within it (m_P < S_P maxdist(p, P), or unbounded) of
+  // whole tiles (REPEAT), puts on texel (i, j)'s cone: the least over its sub-patches P with
+  // m_P < D_p, S_P > 0 and an exit possible within it (m_P < S_P maxdist(p, P), or unbounded) of
   //   max(dist(p, P), m_P / S_P) / (D_p - m_P), at least 1 / G_P when P touches p,
   // S_P the support of P's gradient box over the directions from p to P. Sub-patches that cannot
   // go below `cutoff` are skipped: the result is exact below it, else kNone.
@@ -101,7 +102,8 @@ class ConeGeometry {
     double best = cutoff;
     for_each_sub_patch(cx, cy, [&](const SubPatch& s) {
       if (!(s.shallowest < apex)) return;
-      const double dx = std::max({0.0, s.x_lo - px, px - s.x_hi}) / width_, dy = std::max({0.0, s.y_lo - py, py - s.y_hi}) / height_;
+      const double dx = std::max({0.0, s.x_lo - px, px - s.x_hi}) / width_,
+                   dy = std::max({0.0, s.y_lo - py, py - s.y_hi}) / height_;
       const double distance2 = dx * dx + dy * dy;
       // The farthest a beating exit may lie (a hair wider: these tests only skip work).
       const double reach = best * (apex - s.shallowest) * (1.0 + 1e-9);
@@ -114,7 +116,8 @@ class ConeGeometry {
       const double slope = unbounded ? clipped : support_slope(s, px, py);
       if (!(slope > 0.0)) return;
       const double rise = s.shallowest / slope;
-      const double far_x = std::max(px - s.x_lo, s.x_hi - px) / width_, far_y = std::max(py - s.y_lo, s.y_hi - py) / height_;
+      const double far_x = std::max(px - s.x_lo, s.x_hi - px) / width_,
+                   far_y = std::max(py - s.y_lo, s.y_hi - py) / height_;
       if (!unbounded && !(rise * rise < far_x * far_x + far_y * far_y)) return;
       const double distance = std::sqrt(distance2);
       double bound = std::max(distance, rise) / (apex - s.shallowest);
@@ -138,7 +141,8 @@ class ConeGeometry {
   // coordinates: corners (cx, cy) to (cx + 1, cy + 1)).
   template <class F>
   void for_each_sub_patch(int cx, int cy, F&& f) const {
-    const double t00 = texel(cx, cy), t10 = texel(cx + 1, cy), t01 = texel(cx, cy + 1), t11 = texel(cx + 1, cy + 1);
+    const double t00 = texel(cx, cy), t10 = texel(cx + 1, cy), t01 = texel(cx, cy + 1),
+                 t11 = texel(cx + 1, cy + 1);
     constexpr int n = kConeCellSplit;
     double depth[n + 1][n + 1];  // at the sub-patches' corners, [y][x]
     for (int b = 0; b <= n; ++b)
@@ -149,9 +153,11 @@ class ConeGeometry {
     const double w = width_ * double(n), h = height_ * double(n);  // per uv, across a sub-patch
     for (int b = 0; b < n; ++b)
       for (int a = 0; a < n; ++a) {
-        const double s00 = depth[b][a], s10 = depth[b][a + 1], s01 = depth[b + 1][a], s11 = depth[b + 1][a + 1];
+        const double s00 = depth[b][a], s10 = depth[b][a + 1], s01 = depth[b + 1][a],
+                     s11 = depth[b + 1][a + 1];
         SubPatch s;
-        s.x_lo = cx + double(a) / n, s.x_hi = cx + double(a + 1) / n, s.y_lo = cy + double(b) / n, s.y_hi = cy + double(b + 1) / n;
+        s.x_lo = cx + double(a) / n, s.x_hi = cx + double(a + 1) / n, s.y_lo = cy + double(b) / n,
+        s.y_hi = cy + double(b + 1) / n;
         s.shallowest = std::min({s00, s10, s01, s11});
         s.gx_lo = (s10 - s00) * w, s.gx_hi = (s11 - s01) * w;
         s.gy_lo = (s01 - s00) * h, s.gy_hi = (s11 - s10) * h;
@@ -171,7 +177,8 @@ class ConeGeometry {
     for (double gx : {s.gx_lo, s.gx_hi})
       for (double gy : {s.gy_lo, s.gy_hi}) {
         const bool inside = ax * gy - ay * gx >= 0.0 && gx * by - gy * bx >= 0.0;
-        support = std::max(support, inside ? std::sqrt(gx * gx + gy * gy) : std::max(ax * gx + ay * gy, bx * gx + by * gy));
+        support = std::max(
+            support, inside ? std::sqrt(gx * gx + gy * gy) : std::max(ax * gx + ay * gy, bx * gx + by * gy));
       }
     return support;
   }
@@ -222,9 +229,14 @@ class ConeGeometry {
 class ConeBuilder {
  public:
   ConeBuilder(const DepthMap& map, Wrap wrap)
-      : geometry_(map, wrap), map_(map), repeat_(wrap == Wrap::repeat), first_(repeat_ ? 0 : -1),
-        cells_x_(repeat_ ? map.width : map.width + 1), cells_y_(repeat_ ? map.height : map.height + 1),
-        width_(map.width), height_(map.height) {
+      : geometry_(map, wrap),
+        map_(map),
+        repeat_(wrap == Wrap::repeat),
+        first_(repeat_ ? 0 : -1),
+        cells_x_(repeat_ ? map.width : map.width + 1),
+        cells_y_(repeat_ ? map.height : map.height + 1),
+        width_(map.width),
+        height_(map.height) {
     build_cells();
     build_levels();
   }
@@ -241,8 +253,10 @@ class ConeBuilder {
       all |= 1u << k;
       if (a.argmin.level != 0) continue;
       const double bound = cell_bound(a, a.argmin);
-      if (bound < a.best) a.best = bound;
-      else a.argmin.level = -2;
+      if (bound < a.best)
+        a.best = bound;
+      else
+        a.argmin.level = -2;
     }
     if (!all) return;
     stack.clear();
@@ -250,7 +264,8 @@ class ConeBuilder {
     if (repeat_) stack.push_back({{-1, 0, 0, 1, 0}, all});
     stack.push_back({{top, 0, 0, 0, 0}, all});
     // The batch's centre, to open the nearest children first.
-    const double centre_x = 0.5 * (apexes[0].i + apexes[count - 1].i), centre_y = 0.5 * (apexes[0].j + apexes[count - 1].j);
+    const double centre_x = 0.5 * (apexes[0].i + apexes[count - 1].i),
+                 centre_y = 0.5 * (apexes[0].j + apexes[count - 1].j);
     while (!stack.empty()) {
       const Entry entry = stack.back();
       stack.pop_back();
@@ -260,7 +275,8 @@ class ConeBuilder {
       for (std::uint32_t m = entry.mask; m; m &= m - 1) {
         const Apex& a = apexes[std::countr_zero(m)];
         // REPEAT: the images k tiles away are at least k - 1 uv from the apex, in tile 0.
-        const bool open = node.level < 0 ? node.image_x - 1 < a.best * (a.depth - shallowest_) : may_beat(block, a);
+        const bool open =
+            node.level < 0 ? node.image_x - 1 < a.best * (a.depth - shallowest_) : may_beat(block, a);
         if (open) mask |= m & (~m + 1);
       }
       if (!mask) continue;
@@ -268,7 +284,8 @@ class ConeBuilder {
         const int k = node.image_x;
         stack.push_back({{-1, 0, 0, k + 1, 0}, mask});
         for (int y = -k; y <= k; ++y)
-          for (int x = -k; x <= k; x += (y == -k || y == k) ? 1 : 2 * k) stack.push_back({{top, 0, 0, x, y}, mask});
+          for (int x = -k; x <= k; x += (y == -k || y == k) ? 1 : 2 * k)
+            stack.push_back({{top, 0, 0, x, y}, mask});
       } else if (node.level == 0) {
         for (std::uint32_t m = mask; m; m &= m - 1) {
           Apex& a = apexes[std::countr_zero(m)];
@@ -280,7 +297,8 @@ class ConeBuilder {
         }
       } else {
         const int level = node.level - 1, size = 1 << level;
-        const int blocks_x = level_blocks_x_[std::size_t(level)], blocks_y = level_blocks_y_[std::size_t(level)];
+        const int blocks_x = level_blocks_x_[std::size_t(level)],
+                  blocks_y = level_blocks_y_[std::size_t(level)];
         Entry children[4];
         double distance[4];
         int n = 0;
@@ -289,7 +307,8 @@ class ConeBuilder {
             const double x = first_ + (cx + 0.5) * size + double(node.image_x) * width_ - centre_x;
             const double y = first_ + (cy + 0.5) * size + double(node.image_y) * height_ - centre_y;
             int at = n++;
-            for (; at > 0 && distance[at - 1] < x * x + y * y; --at) children[at] = children[at - 1], distance[at] = distance[at - 1];
+            for (; at > 0 && distance[at - 1] < x * x + y * y; --at)
+              children[at] = children[at - 1], distance[at] = distance[at - 1];
             children[at] = {{level, cx, cy, node.image_x, node.image_y}, mask};
             distance[at] = x * x + y * y;
           }
@@ -299,7 +318,9 @@ class ConeBuilder {
   }
 
  private:
-  bool is_unbounded(int cx0, int cx1, int cy0, int cy1) const { return geometry_.is_unbounded(cx0, cx1, cy0, cy1); }
+  bool is_unbounded(int cx0, int cx1, int cy0, int cy1) const {
+    return geometry_.is_unbounded(cx0, cx1, cy0, cy1);
+  }
 
   void build_cells() {
     cells_.resize(std::size_t(cells_x_) * std::size_t(cells_y_));
@@ -320,7 +341,8 @@ class ConeBuilder {
             c.rise[q] = std::min(c.rise[q], rounded_down(s.shallowest / slope));
           }
         });
-        c.gx_lo = rounded_down(gx_lo), c.gx_hi = rounded_up(gx_hi), c.gy_lo = rounded_down(gy_lo), c.gy_hi = rounded_up(gy_hi);
+        c.gx_lo = rounded_down(gx_lo), c.gx_hi = rounded_up(gx_hi), c.gy_lo = rounded_down(gy_lo),
+        c.gy_hi = rounded_up(gy_hi);
       }
     });
   }
@@ -366,7 +388,8 @@ class ConeBuilder {
   // The exact bound of a cell (`first_`-based grid indices in the node) on an apex's cone, where
   // below its best so far (else kNone).
   double cell_bound(const Apex& a, const Node& cell) const {
-    return geometry_.cell_bound(a.i, a.j, first_ + cell.bx, first_ + cell.by, cell.image_x, cell.image_y, a.best);
+    return geometry_.cell_bound(a.i, a.j, first_ + cell.bx, first_ + cell.by, cell.image_x, cell.image_y,
+                                a.best);
   }
 
   // A block (or cell) in one image of the tile, as the tests of every texel of a batch see it.
@@ -381,18 +404,22 @@ class ConeBuilder {
     const int cx0 = node.bx * size, cx1 = std::min(cx0 + size, cells_x_);
     const int cy0 = node.by * size, cy1 = std::min(cy0 + size, cells_y_);
     BlockView v;
-    v.bound = node.level == 0 ? &cells_[std::size_t(cy0) * std::size_t(cells_x_) + std::size_t(cx0)]
-                              : &levels_[std::size_t(node.level - 1)][std::size_t(node.by) * std::size_t(level_blocks_x_[std::size_t(node.level)]) +
-                                                                     std::size_t(node.bx)];
-    v.x_lo = first_ + cx0 + double(node.image_x) * width_, v.x_hi = first_ + cx1 + double(node.image_x) * width_;
-    v.y_lo = first_ + cy0 + double(node.image_y) * height_, v.y_hi = first_ + cy1 + double(node.image_y) * height_;
+    v.bound = node.level == 0
+                  ? &cells_[std::size_t(cy0) * std::size_t(cells_x_) + std::size_t(cx0)]
+                  : &levels_[std::size_t(node.level - 1)]
+                            [std::size_t(node.by) * std::size_t(level_blocks_x_[std::size_t(node.level)]) +
+                             std::size_t(node.bx)];
+    v.x_lo = first_ + cx0 + double(node.image_x) * width_,
+    v.x_hi = first_ + cx1 + double(node.image_x) * width_;
+    v.y_lo = first_ + cy0 + double(node.image_y) * height_,
+    v.y_hi = first_ + cy1 + double(node.image_y) * height_;
     v.unbounded = is_unbounded(first_ + cx0, first_ + cx1, first_ + cy0, first_ + cy1);
     return v;
   }
 
   // Whether a block (or cell) may hold a cell bounding the apex's cone below its best: the
-  // pyramid's lower bound max(dist, m / S) / (D_p - m) against the best, compared squared; S per axis, then along the directions from the apex
-  // into the block (the support of its gradient box over their arc).
+  // pyramid's lower bound max(dist, m / S) / (D_p - m) against the best, compared squared; S per axis, then
+  // along the directions from the apex into the block (the support of its gradient box over their arc).
   bool may_beat(const BlockView& v, const Apex& a) const {
     const BlockBound& b = *v.bound;
     // The sides of the apex the block's cells lie on.
@@ -405,10 +432,12 @@ class ConeBuilder {
         rise = std::min(rise, double(b.rise[2 * sx + sy]));
       }
     if (!(shallowest < a.depth)) return false;
-    const double far_x = std::max(a.i - v.x_lo, v.x_hi - a.i) * inv_width_, far_y = std::max(a.j - v.y_lo, v.y_hi - a.j) * inv_height_;
+    const double far_x = std::max(a.i - v.x_lo, v.x_hi - a.i) * inv_width_,
+                 far_y = std::max(a.j - v.y_lo, v.y_hi - a.j) * inv_height_;
     const double far2 = far_x * far_x + far_y * far_y;
     if (!v.unbounded && !(rise * rise < far2 * (1.0 + 1e-9))) return false;
-    const double dx = std::max({0.0, v.x_lo - a.i, a.i - v.x_hi}) * inv_width_, dy = std::max({0.0, v.y_lo - a.j, a.j - v.y_hi}) * inv_height_;
+    const double dx = std::max({0.0, v.x_lo - a.i, a.i - v.x_hi}) * inv_width_,
+                 dy = std::max({0.0, v.y_lo - a.j, a.j - v.y_hi}) * inv_height_;
     const double distance2 = dx * dx + dy * dy;
     const double reach = a.best * (a.depth - shallowest);  // the farthest a beating exit may lie
     // A hair of slack: rounding in the squares never prunes a cell the division would keep.
@@ -420,7 +449,9 @@ class ConeBuilder {
     if ((beside || corner) && !v.unbounded) {
       // m / S below both the reach and the farthest point: S^2 above m^2 / min(reach^2, far^2).
       const SubPatch box{v.x_lo, v.x_hi, v.y_lo, v.y_hi, shallowest, b.gx_lo, b.gx_hi, b.gy_lo, b.gy_hi};
-      if (!geometry_.support_exceeds(box, a.i, a.j, shallowest * shallowest / (std::min(reach2, far2) * (1.0 + 1e-9)))) return false;
+      if (!geometry_.support_exceeds(box, a.i, a.j,
+                                     shallowest * shallowest / (std::min(reach2, far2) * (1.0 + 1e-9))))
+        return false;
     }
     return true;
   }
@@ -453,26 +484,29 @@ ConeMap build_cone_map(const DepthMap& map, Wrap wrap) {
   // Batches of kBatchSide x kBatchSide texels, each starting from the cells that bounded the
   // batch before it in the row.
   constexpr int kBatchSide = 4;
-  tbb::parallel_for(tbb::blocked_range<int>(0, (map.height + kBatchSide - 1) / kBatchSide), [&](const tbb::blocked_range<int>& rows) {
-    std::vector<Entry> stack;
-    Apex apexes[kBatchSide * kBatchSide];
-    for (int row = rows.begin(); row != rows.end(); ++row) {
-      for (Apex& a : apexes) a.argmin.level = -2;
-      const int j0 = row * kBatchSide, j1 = std::min(j0 + kBatchSide, map.height);
-      for (int i0 = 0; i0 < map.width; i0 += kBatchSide) {
-        const int i1 = std::min(i0 + kBatchSide, map.width);
-        int count = 0;
-        for (int j = j0; j < j1; ++j)
-          for (int i = i0; i < i1; ++i) {
-            Apex& a = apexes[count++];
-            a.i = i, a.j = j, a.depth = map.at(i, j);
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, (map.height + kBatchSide - 1) / kBatchSide),
+      [&](const tbb::blocked_range<int>& rows) {
+        std::vector<Entry> stack;
+        Apex apexes[kBatchSide * kBatchSide];
+        for (int row = rows.begin(); row != rows.end(); ++row) {
+          for (Apex& a : apexes) a.argmin.level = -2;
+          const int j0 = row * kBatchSide, j1 = std::min(j0 + kBatchSide, map.height);
+          for (int i0 = 0; i0 < map.width; i0 += kBatchSide) {
+            const int i1 = std::min(i0 + kBatchSide, map.width);
+            int count = 0;
+            for (int j = j0; j < j1; ++j)
+              for (int i = i0; i < i1; ++i) {
+                Apex& a = apexes[count++];
+                a.i = i, a.j = j, a.depth = map.at(i, j);
+              }
+            builder.ratios(apexes, count, stack);
+            for (int k = 0; k < count; ++k)
+              cone.ratio[std::size_t(apexes[k].j) * std::size_t(map.width) + std::size_t(apexes[k].i)] =
+                  rounded_down(apexes[k].best);
           }
-        builder.ratios(apexes, count, stack);
-        for (int k = 0; k < count; ++k)
-          cone.ratio[std::size_t(apexes[k].j) * std::size_t(map.width) + std::size_t(apexes[k].i)] = rounded_down(apexes[k].best);
-      }
-    }
-  });
+        }
+      });
   cone.texture = SamplerTexture(DepthMap{map.width, map.height, cone.ratio}, wrap);
   cone.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return cone;
@@ -481,7 +515,8 @@ ConeMap build_cone_map(const DepthMap& map, Wrap wrap) {
 double cone_cell_bound(const DepthMap& map, Wrap wrap, int i, int j, int cell_x, int cell_y) {
   const int tile_x = wrap == Wrap::repeat ? int(std::floor(double(cell_x) / map.width)) : 0;
   const int tile_y = wrap == Wrap::repeat ? int(std::floor(double(cell_y) / map.height)) : 0;
-  return ConeGeometry(map, wrap).cell_bound(i, j, cell_x - tile_x * map.width, cell_y - tile_y * map.height, tile_x, tile_y);
+  return ConeGeometry(map, wrap).cell_bound(i, j, cell_x - tile_x * map.width, cell_y - tile_y * map.height,
+                                            tile_x, tile_y);
 }
 
 std::shared_ptr<const ConeMap> cached_cone_map(const DepthMap& map, Wrap wrap) {
@@ -489,7 +524,8 @@ std::shared_ptr<const ConeMap> cached_cone_map(const DepthMap& map, Wrap wrap) {
   static std::vector<std::shared_ptr<const ConeMap>> cache;
   const std::lock_guard<std::mutex> lock(mutex);
   for (const auto& cone : cache)
-    if (cone->wrap == wrap && cone->width == map.width && cone->height == map.height && cone->depth == map.texels)
+    if (cone->wrap == wrap && cone->width == map.width && cone->height == map.height &&
+        cone->depth == map.texels)
       return cone;
   cache.push_back(std::make_shared<const ConeMap>(build_cone_map(map, wrap)));
   return cache.back();

@@ -8,7 +8,8 @@
 namespace heightmarch {
 
 const std::array<TechniqueInfo, kTechniqueCount>& techniques() {
-#define HEIGHTMARCH_TECHNIQUE_INFO(id, name, layered, refine, cpu_call, glsl_call, color, marker, description) \
+#define HEIGHTMARCH_TECHNIQUE_INFO(id, name, layered, refine, cpu_call, glsl_call, color, marker, \
+                                   description)                                                   \
   TechniqueInfo{Technique::id, name, layered, refine, glsl_call, color, marker, description},
   static const std::array<TechniqueInfo, kTechniqueCount> rows = {
       HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_INFO)};
