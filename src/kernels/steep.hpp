@@ -1,8 +1,6 @@
 #pragma once
 // Steep parallax: march layers of depth 1/N along the ray until the first layer below the
 // surface (LearnOpenGL's loop). Relief, POM and the shadow start from its state.
-#include <cmath>
-
 #include "kernels/kernel_context.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
@@ -40,9 +38,6 @@ LayerMarch<W> march_layers(KernelContext<W, ADDRESSING, TAPS>& k, const RayPacke
   // gathers) never wait for the previous comparison; lanes still above the surface record it.
   // It works on locals: m is the caller's memory, and writing it every step costs stores.
   const I bound = k.step_bound(num_layers);
-  // A fixed layer count gives every lane the same bound: then it is one scalar test.
-  const bool one_bound = k.params.min_layers == k.params.max_layers;
-  const int scalar_bound = int(std::ceil(k.params.max_layers)) + 1;
   const F delta_u = m.delta_u, delta_v = m.delta_v, layer_depth = m.layer_depth;
   F u = m.u, v = m.v, current_layer_depth = m.current_layer_depth;
   F last_u = u, last_v = v, last_value = m.depth_map_value, last_layer_depth = current_layer_depth;
@@ -57,11 +52,7 @@ LayerMarch<W> march_layers(KernelContext<W, ADDRESSING, TAPS>& k, const RayPacke
     last_v = select(active, v, last_v);
     last_value = select(active, depth_map_value, last_value);
     last_layer_depth = select(active, current_layer_depth, last_layer_depth);
-    active = active & (current_layer_depth < depth_map_value);
-    if (!one_bound)
-      active = active & (I(step) < bound);
-    else if (step >= scalar_bound)
-      break;
+    active = active & (current_layer_depth < depth_map_value) & (I(step) < bound);
   }
   m.u = last_u;
   m.v = last_v;
