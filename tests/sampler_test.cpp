@@ -42,6 +42,21 @@ TEST(Sampler, HandComputedBlends) {
 // The packet sampler is reached through the parallax kernel: its depth output is one sample at T.
 class PacketSamplerTest : public ::testing::TestWithParam<Isa> {};
 
+// Plain parallax's depth is one read of D at T: the packet sampler's bits against the formula's,
+// in both wraps.
+void expect_parallax_reads_the_formula(const DepthMap& map, const RayBatch& rays, Isa isa) {
+  for (Wrap wrap : {Wrap::repeat, Wrap::clamp}) {
+    TechniqueParams params;
+    params.technique = Technique::parallax;
+    params.wrap = wrap;
+    HitBuffers hits;
+    Tracer(map, params, isa).run(rays, hits);
+    for (std::size_t i = 0; i < rays.size(); ++i)
+      ASSERT_EQ(hits.depth[i], sample_depth(map, wrap, rays.tx[i], rays.ty[i]))
+          << to_string(isa) << " " << map.width << "x" << map.height << " at (" << rays.tx[i] << ", " << rays.ty[i] << ")";
+  }
+}
+
 TEST_P(PacketSamplerTest, BitIdenticalToSpecFormula) {
   const Isa isa = GetParam();
   if (!cpu_supports(isa)) GTEST_SKIP() << "this CPU lacks " << to_string(isa) << ": not tested here";
@@ -58,16 +73,7 @@ TEST_P(PacketSamplerTest, BitIdenticalToSpecFormula) {
       vz.push_back(1.0f);
     }
     const RayBatch rays = make_ray_list(tx, ty, vx, vy, vz);
-    for (Wrap wrap : {Wrap::repeat, Wrap::clamp}) {
-      TechniqueParams params;
-      params.technique = Technique::parallax;
-      params.wrap = wrap;
-      HitBuffers hits;
-      Tracer(map, params, isa).run(rays, hits);
-      for (std::size_t i = 0; i < rays.size(); ++i)
-        ASSERT_EQ(hits.depth[i], sample_depth(map, wrap, rays.tx[i], rays.ty[i]))
-            << to_string(isa) << " " << w << "x" << h << " at (" << rays.tx[i] << ", " << rays.ty[i] << ")";
-    }
+    expect_parallax_reads_the_formula(map, rays, isa);
   }
 }
 
@@ -91,16 +97,7 @@ TEST_P(PacketSamplerTest, BitIdenticalOnClusteredPackets) {
       }
     }
     const RayBatch rays = make_ray_list(tx, ty, zero, zero, one);
-    for (Wrap wrap : {Wrap::repeat, Wrap::clamp}) {
-      TechniqueParams params;
-      params.technique = Technique::parallax;
-      params.wrap = wrap;
-      HitBuffers hits;
-      Tracer(map, params, isa).run(rays, hits);
-      for (std::size_t i = 0; i < rays.size(); ++i)
-        ASSERT_EQ(hits.depth[i], sample_depth(map, wrap, rays.tx[i], rays.ty[i]))
-            << to_string(isa) << " " << w << "x" << h << " at (" << rays.tx[i] << ", " << rays.ty[i] << ")";
-    }
+    expect_parallax_reads_the_formula(map, rays, isa);
   }
 }
 

@@ -254,15 +254,32 @@ PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloa
   return walk;
 }
 
+// A ray's path: P = s V.xy / V.z, its uv offset per unit depth (as the layered techniques'), and
+// in texel space its start (x0, y0) and its offset per unit depth (dx, dy).
+template <int W>
+struct TexelPath {
+  vfloat<W> p_x, p_y, x0, y0, dx, dy;
+};
+
+template <int W, Addressing ADDRESSING>
+TexelPath<W> texel_path(const KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
+  using F = vfloat<W>;
+  TexelPath<W> path;
+  path.p_x = ray.vx / ray.vz * F(k.params.scale);
+  path.p_y = ray.vy / ray.vz * F(k.params.scale);
+  const F width(float(k.texture.width)), height(float(k.texture.height));
+  path.x0 = ray.tx * width - F(0.5f);
+  path.y0 = ray.ty * height - F(0.5f);
+  path.dx = F(0.0f) - path.p_x * width;
+  path.dy = F(0.0f) - path.p_y * height;
+  return path;
+}
+
 template <int W, Addressing ADDRESSING>
 HitPacket<W> maxmip(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   using F = vfloat<W>;
-  // uv offset per unit depth, as the layered techniques' P; the path in texel space.
-  const F p_x = ray.vx / ray.vz * F(k.params.scale);
-  const F p_y = ray.vy / ray.vz * F(k.params.scale);
-  const F width(float(k.texture.width)), height(float(k.texture.height));
-  const F x0 = ray.tx * width - F(0.5f), y0 = ray.ty * height - F(0.5f);
-  const F dx = F(0.0f) - p_x * width, dy = F(0.0f) - p_y * height;
+  const TexelPath<W> path = texel_path(k, ray);
+  const F &p_x = path.p_x, &p_y = path.p_y, &x0 = path.x0, &y0 = path.y0, &dx = path.dx, &dy = path.dy;
   const PyramidWalk<W> walk = walk_pyramid<false>(k, x0, y0, dx, dy, F(0.0f));
   // Reached: the patch's first crossing; cut off by the bound: the deepest point known clear;
   // else no hit before depth 1.
@@ -288,11 +305,8 @@ HitPacket<W> maxmip(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
 template <int W, Addressing ADDRESSING>
 HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   using F = vfloat<W>;
-  const F p_x = ray.vx / ray.vz * F(k.params.scale);
-  const F p_y = ray.vy / ray.vz * F(k.params.scale);
-  const F width(float(k.texture.width)), height(float(k.texture.height));
-  const F x0 = ray.tx * width - F(0.5f), y0 = ray.ty * height - F(0.5f);
-  const F dx = F(0.0f) - p_x * width, dy = F(0.0f) - p_y * height;
+  const TexelPath<W> path = texel_path(k, ray);
+  const F &x0 = path.x0, &y0 = path.y0, &dx = path.dx, &dy = path.dy;
   const F eta = F(0x1p-20f) * (abs(x0) + abs(y0)) + F(0x1p-18f) * (abs(dx) + abs(dy) + F(4.0f));
   const PyramidWalk<W> walk = walk_pyramid<true>(k, x0, y0, dx, dy, eta);
   // Where the walk stopped past 0 it had shown depth - D < -eta + (its rounding, < eta / 2);
