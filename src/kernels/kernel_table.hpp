@@ -11,8 +11,15 @@ namespace heightmarch::HEIGHTMARCH_ISA_NS {
 // call inside is inlined, since a call in a kernel spills every vector register (all are
 // caller-saved) and passes packets through memory; GCC otherwise left the sampler of the first
 // and last samples out of line (measured: 11% of POM-32's time on AVX-512).
+// Sanitizer builds skip it: their instrumented code is not timed, and flattening it multiplies
+// their compile time.
+#ifdef HEIGHTMARCH_SANITIZED
+#define HEIGHTMARCH_FLATTEN
+#else
+#define HEIGHTMARCH_FLATTEN [[gnu::flatten]]
+#endif
 template <int W, Addressing ADDRESSING, class Kernel, Taps TAPS = Taps::memory>
-[[gnu::flatten]] void trace_packets(const KernelTexture& texture, const KernelParams& params, const KernelRays& rays,
+HEIGHTMARCH_FLATTEN void trace_packets(const KernelTexture& texture, const KernelParams& params, const KernelRays& rays,
                    const KernelHits& hits, std::size_t begin, std::size_t end,
                    KernelCounters& counters) {
   using F = vfloat<W>;
