@@ -139,13 +139,19 @@ void write_provenance(JsonWriter& json, const Provenance& p, int threads) {
   json.end_object();
 }
 
+// k below 0.1 M (grazing exact rays, tiny ray files), else M: never a printed 0.00.
+struct RateUnit {
+  double scale;
+  const char* prefix;
+};
+RateUnit rate_unit(double per_second) { return per_second < 1e5 ? RateUnit{1e3, "k"} : RateUnit{1e6, "M"}; }
+
 std::string mrays(const Measurement& m) {
   const Spread s = spread_of(m.rays_per_second());
-  // krays/s below 0.1 Mrays/s (grazing exact rays, tiny ray files): never a printed 0.00.
-  const bool kilo = s.median < 1e5;
-  const double unit = kilo ? 1e3 : 1e6;
+  const RateUnit unit = rate_unit(s.median);
   char buf[96];
-  std::snprintf(buf, sizeof buf, "%.2f (%.2f-%.2f) %srays/s", s.median / unit, s.min / unit, s.max / unit, kilo ? "k" : "M");
+  std::snprintf(buf, sizeof buf, "%.2f (%.2f-%.2f) %srays/s", s.median / unit.scale, s.min / unit.scale,
+                s.max / unit.scale, unit.prefix);
   return buf;
 }
 
@@ -202,8 +208,8 @@ std::string summary_text(const Measurement& m) {
     speed = mrays(m) + " over " + std::to_string(m.seconds.size()) + " repetitions";
     if (m.samples_known) {
       const double per_second = spread_of(m.samples_per_second()).median;
-      const bool kilo = per_second < 1e5;
-      std::snprintf(buf, sizeof buf, ", %.1f %s%s/s", per_second / (kilo ? 1e3 : 1e6), kilo ? "k" : "M", unit);
+      const RateUnit rate = rate_unit(per_second);
+      std::snprintf(buf, sizeof buf, ", %.1f %s%s/s", per_second / rate.scale, rate.prefix, unit);
       speed += buf;
     } else {
       speed += ", M" + std::string(unit) + "/s unknown";

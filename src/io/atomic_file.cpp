@@ -66,17 +66,9 @@ void AtomicFile::commit() {
   // fsync: a file renamed into place is whole even after a crash of the machine.
   if (::fsync(fd_) != 0 && errno != EINVAL) give_up(errno);
   const int fd = fd_;
-  fd_ = -1;
-  if (::close(fd) != 0) {
-    const int error = errno;
-    ::unlink(temporary_.c_str());
-    throw std::runtime_error(path_ + ": cannot write (" + std::strerror(error) + ")");
-  }
-  if (std::rename(temporary_.c_str(), path_.c_str()) != 0) {
-    const int error = errno;
-    ::unlink(temporary_.c_str());
-    throw std::runtime_error(path_ + ": cannot write (" + std::strerror(error) + ")");
-  }
+  fd_ = -1;  // closed below whatever close says
+  if (::close(fd) != 0) give_up(errno);
+  if (std::rename(temporary_.c_str(), path_.c_str()) != 0) give_up(errno);
 }
 
 void write_file_atomically(const std::string& path, const std::string& content) {
