@@ -74,9 +74,9 @@ assert any(n.startswith("BM_GLSL/heightfield:bricks/technique:pom/layers:32/isa:
 assert len(bench["benchmarks"]) == sum(r["speed"]["repetitions"] for r in rows if r["speed"])
 assert bench["context"]["heightmarch_view"] == "256x256" and bench["context"]["heightmarch_build_type"]
 claims = json.load(open(run + "/claims.json"))
-assert [c["id"] for c in claims] == ["C%d" % i for i in range(1, 11)], [c["id"] for c in claims]
+assert [c["id"] for c in claims] == ["C%d" % i for i in range(1, 11)] + ["P1", "P2", "P3"], [c["id"] for c in claims]
 assert all(c["verdict"] in ("holds", "holds partly", "refuted", "not measured") for c in claims)
-print("ok: %d rows (%d timed, each with >= 5 repetitions and its spread), bench.json of %d repetitions, claims C1-C10"
+print("ok: %d rows (%d timed, each with >= 5 repetitions and its spread), bench.json of %d repetitions, claims C1-C10 and P1-P3"
       % (len(rows), len(timed), len(bench["benchmarks"])))
 PY
 
