@@ -33,6 +33,14 @@ TEST(Claims, NoFiguresMeansNotMeasured) {
   for (const ClaimResult& r : evaluate_claims(ClaimsData{})) EXPECT_EQ(r.verdict, Verdict::not_measured) << r.id;
 }
 
+// P2's rule once came out cut at 240 characters, mid-word.
+TEST(Claims, RulesAreWholeSentences) {
+  for (const ClaimResult& r : evaluate_claims(ClaimsData{})) {
+    ASSERT_FALSE(r.rule.empty()) << r.id;
+    EXPECT_EQ(r.rule.back(), '.') << r.id << ": " << r.rule;
+  }
+}
+
 TEST(Claims, PomMuchMoreAccurateThanSteep) {
   ClaimsData d;
   for (const char* layers : {"8", "16", "32"}) {

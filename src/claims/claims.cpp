@@ -72,13 +72,16 @@ const std::vector<double>& claim_near_normal_angles() {
 namespace {
 
 std::string fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));
-std::string fmt(const char* format, ...) {
-  char buf[240];
-  va_list args;
+std::string fmt(const char* format, ...) {  // any length: a rule runs to several hundred characters
+  va_list args, again;
   va_start(args, format);
-  std::vsnprintf(buf, sizeof buf, format, args);
+  va_copy(again, args);
+  const int length = std::vsnprintf(nullptr, 0, format, args);
   va_end(args);
-  return buf;
+  std::string text(std::size_t(std::max(length, 0)), '\0');
+  std::vsnprintf(text.data(), text.size() + 1, format, again);
+  va_end(again);
+  return text;
 }
 
 // A speed as median (min-max) Mrays/s over the timed repetitions, or "not timed".
