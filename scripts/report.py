@@ -492,6 +492,51 @@ def section_every_backend(run, faults):
     return section(title, body)
 
 
+def section_layered_per_isa(run):
+    """The tutorial's three layered searches at 32 layers at every ISA, each against llvmpipe."""
+    techniques = [t for t in ("steep", "relief", "pom") if t in run.techniques]
+    rows = sorted((r for r in run.timed if "isa" in r.get("purposes", []) and r["kind"] == "trace"
+                   and r.get("technique") in techniques and r.get("layers") == HEADLINE_LAYERS), key=run.order)
+    title = "Steep, relief and POM at %s layers per ISA, against llvmpipe" % HEADLINE_LAYERS
+    if not rows:
+        return section(title, [])
+    cells = []
+    for (hf, backend, threads), group in groups(rows, lambda r: (r["heightfield"]["label"], r["backend"],
+                                                                  r["threads"])).items():
+        by_technique = {r["technique"]: r for r in group}
+        cells.append([hf, backend, threads] + [
+            cell for t in techniques for cell in (
+                (mrays(by_technique[t]), fmt_ratio(speedup(by_technique[t], run.partner(by_technique[t], kind="glsl",
+                                                                                       backend="glsl"))))
+                if t in by_technique else ("-", "-"))])
+    body = ["Mrays/s: median (min-max); x llvmpipe: over the same technique as GLSL at the same threads, "
+            "median (min-max) of the per-round ratios.", ""]
+    body += md_table([("heightfield", False), ("ISA", False), ("threads", True)] + [
+        column for t in techniques for column in (("%s-%s Mrays/s" % (t, HEADLINE_LAYERS), True),
+                                                  ("x llvmpipe", True))], cells)
+    return section(title, body)
+
+
+def section_exact_speed(run):
+    """The exact reference's own speed, against POM-32 on the same rays, ISA and threads."""
+    rows = sorted((r for r in run.timed if r["kind"] == "exact"), key=run.order)
+    title = "The exact reference's speed"
+    if not rows:
+        return section(title, [])
+    body = ["The exact intersection of every ray (conservative float pass of the min-depth pyramid walk at "
+            "%s, each hit cell solved in double): Mrays/s median (min-max); cells/ray: texel cells tested in "
+            "the float pass, then solved in double; x POM-32: the median (min-max) of the per-round ratios over POM-32 at the "
+            "same ISA and threads." % run.best_isa, ""]
+    cells = []
+    for r in rows:
+        pom = run.partner(r, kind="trace", backend=run.best_isa, technique=HEADLINE_TECHNIQUE, layers=HEADLINE_LAYERS)
+        cells.append([r["heightfield"]["label"], r["threads"], mrays(r), fmt(r.get("samples_per_ray"), 2),
+                      fmt_ratio(speedup(r, pom))])
+    body += md_table([("heightfield", False), ("threads", True), ("Mrays/s", True), ("cells/ray", True),
+                      ("x POM-32", True)], cells)
+    return section(title, body)
+
+
 def thread_pairs(run):
     """(1-thread row, most-threads row) of the headline configuration per heightfield and backend."""
     pairs = []
@@ -854,7 +899,7 @@ def main():
         # sections first: the warnings at the top name the faults they find
         summary = section_summary(run, claims)
         sections = (section_matrix(run) + section_glsl(run) + section_every_backend(run, faults)
-                    + section_threads(run) + section_plots(run, args.run_dir, args.history) + section_gallery(run, args.run_dir))
+                    + section_layered_per_isa(run) + section_exact_speed(run) + section_threads(run) + section_plots(run, args.run_dir, args.history) + section_gallery(run, args.run_dir))
     except InputError as e:
         print("report.py: %s" % e, file=sys.stderr)
         return 2

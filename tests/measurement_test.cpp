@@ -136,7 +136,9 @@ TEST(Plan, AnchorsAreCheckedAtEveryIsa) {
   const MeasuredPlan run = measure_plan(plan, options);
   for (const Measurement& m : run.rows) {
     EXPECT_TRUE(m.failure.empty()) << m.failure;
-    if (m.config.kind == RunKind::autovec) EXPECT_EQ(m.samples, run.rows[0].samples) << m.config.backend();
+    if (m.config.kind == RunKind::autovec) {
+      EXPECT_EQ(m.samples, run.rows[0].samples) << m.config.backend();
+    }
     if (m.config.kind == RunKind::ceiling) {
       EXPECT_FALSE(m.errors.has_value());
       EXPECT_GE(m.samples, m.rays * 34) << m.config.backend();  // 1 + ceil(32) + 1 steps + 1

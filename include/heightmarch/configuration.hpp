@@ -21,7 +21,7 @@ std::string to_string(RunKind kind);
 // Which consumers of a run asked for a configuration; one configuration serves all of them.
 enum Purpose : unsigned {
   kPurposeMatrix = 1u << 0,    // technique x layers per heightfield
-  kPurposeIsa = 1u << 1,       // POM-32 at every ISA and thread count
+  kPurposeIsa = 1u << 1,       // the layered tutorial techniques at 32 layers at every ISA and thread count
   kPurposeGlsl = 1u << 2,      // the same techniques as GLSL
   kPurposeRoofline = 1u << 3,  // the sampler alone
   kPurposeNaive = 1u << 4,     // the naive port of the tutorial's shader
@@ -30,8 +30,9 @@ enum Purpose : unsigned {
   kPurposeClaims = 1u << 7,    // the tutorials' claims
   kPurposeCommand = 1u << 8,   // asked for on the command line (trace, glsl)
   kPurposeLargeMaps = 1u << 9, // the papers' claim on large depth maps (P2)
+  kPurposeExact = 1u << 10,    // the exact reference's own speed
 };
-inline constexpr unsigned kPurposeCount = 10;
+inline constexpr unsigned kPurposeCount = 11;
 std::string purpose_name(unsigned single_purpose_bit);
 
 // A GLSL file brought in with `glsl --shader`, run instead of a registry technique. It is named

@@ -20,7 +20,8 @@ std::string to_string(RunKind kind) {
 
 std::string purpose_name(unsigned bit) {
   static const char* const names[kPurposeCount] = {"matrix", "isa",     "glsl",   "roofline", "naive",
-                                                   "sweep",  "gallery", "claims", "command", "large-maps"};
+                                                   "sweep",  "gallery", "claims", "command", "large-maps",
+                                                   "exact"};
   for (unsigned i = 0; i < kPurposeCount; ++i)
     if (bit == (1u << i)) return names[i];
   return "?";

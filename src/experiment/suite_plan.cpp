@@ -110,14 +110,17 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
         add_to_plan(plan, with_technique(on_view(s, hf, RunKind::trace, kPurposeMatrix), t.id, layers));
         if (s.glsl) add_to_plan(plan, with_technique(on_view(s, hf, RunKind::glsl, kPurposeGlsl), t.id, layers));
       }
-    // POM-32 at every ISA and thread count, with its anchors: the roofline and the compute
-    // ceiling, the naive port and its auto-vectorised form.
+    // The tutorial's three layered searches at 32 layers at every ISA and thread count (each
+    // against llvmpipe), POM-32 with its anchors: the roofline and the compute ceiling, the naive
+    // port and its auto-vectorised form; and the exact reference at the best ISA.
     for (int threads : thread_counts(s)) {
       for (Isa isa : s.isas) {
-        Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeIsa), Technique::pom, pom32);
-        c.isa = isa;
-        c.threads = threads;
-        add_to_plan(plan, c);
+        for (Technique t : {Technique::steep, Technique::relief, Technique::pom}) {
+          Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeIsa), t, pom32);
+          c.isa = isa;
+          c.threads = threads;
+          add_to_plan(plan, c);
+        }
         for (RunKind ceiling : {RunKind::roofline, RunKind::ceiling}) {
           Configuration roofline = on_view(s, hf, ceiling, kPurposeRoofline);
           roofline.isa = isa;
@@ -130,6 +133,9 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
         autovec.threads = threads;
         add_to_plan(plan, autovec);
       }
+      Configuration exact = with_technique(on_view(s, hf, RunKind::exact, kPurposeExact), Technique::pom, pom32);
+      exact.threads = threads;
+      add_to_plan(plan, exact);
       for (const char* layers : {"32", "8-32"}) {
         Configuration naive = with_technique(on_view(s, hf, RunKind::naive, kPurposeNaive), Technique::pom,
                                              parse_layer_spec(layers));

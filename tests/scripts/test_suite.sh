@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The suite's plumbing on its quick plan: one typed row per configuration in measurements.json
-# (every technique on the CPU and as GLSL, roofline, naive port, sweeps, gallery, claims), every
+# (every technique on the CPU and as GLSL, steep/relief/POM-32 at every ISA, roofline, naive port,
+# the exact reference timed, sweeps, gallery, claims), every
 # timed row with at least 5 repetitions and its spread, bench.json named as heightmarch-bench
 # names, the claims, the report with spreads, and a run directory that is fresh and locked; a
 # quick run neither moves results/latest nor writes results/history.csv.
@@ -43,6 +44,12 @@ for hf in ("bricks", "terrain"):
     for layers in ("8", "32", "8-32"):
         assert any(r["kind"] == "trace" and r["technique"] == "pom" and r["layers"] == layers for r in sel), (hf, layers)
     assert any(r["kind"] == "roofline" for r in sel) and any(r["kind"] == "naive" for r in sel), hf
+    isas = [b for b in m["backends"] if b not in ("glsl", "naive", "exact")]
+    for t in ("steep", "relief", "pom"):
+        for isa in isas:
+            assert any(r["kind"] == "trace" and r["technique"] == t and r["layers"] == "32" and r["backend"] == isa
+                       and "isa" in r["purposes"] and r["speed"] for r in sel), (hf, t, isa)
+    assert any(r["kind"] == "exact" and "exact" in r["purposes"] and r["speed"] for r in sel), hf
     assert len({r["view"]["theta"] for r in sel if r["view"]["kind"] == "sweep"}) == 18, hf
 assert any("gallery" in r["purposes"] and r["images"] for r in rows)
 for r in rows:
