@@ -130,10 +130,14 @@ PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloa
   // Each pass advances t or descends a level: the cells on the path times the levels bound it.
   const F lane_bound = F(float(2 * (top + 2))) * (extent + F(2.0f));
   F pass(0.0f);
+  B cut_off = !B::all_true();
   constexpr int kMaxPasses = 1 << 25;
   for (int p = 0; p < kMaxPasses && any(active); ++p) {
     pass = pass + F(1.0f);
-    active = active & !(pass > lane_bound);
+    // Past its bound a lane stops where it is, its path clear down to t (cut off).
+    const B over = active & (pass > lane_bound);
+    cut_off = cut_off | over;
+    active = active & !over;
     B interior = B::all_true();
     if constexpr (!kRepeat)
       interior = (cx >= F(0.0f)) & (cx < width - F(1.0f)) & (cy >= F(0.0f)) & (cy < height - F(1.0f));
@@ -248,7 +252,7 @@ PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloa
     size = select(up, size * F(2.0f), select(descend, size * F(0.5f), size));
     inv_size = select(up, inv_size * F(0.5f), select(descend, inv_size * F(2.0f), inv_size));
   }
-  walk.cut_off = active;
+  walk.cut_off = cut_off | active;
   walk.cx = cx;
   walk.cy = cy;
   return walk;
