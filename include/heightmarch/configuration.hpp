@@ -21,7 +21,7 @@ std::string to_string(RunKind kind);
 // Which consumers of a run asked for a configuration; one configuration serves all of them.
 enum Purpose : unsigned {
   kPurposeMatrix = 1u << 0,    // technique x layers per heightfield
-  kPurposeIsa = 1u << 1,       // the layered tutorial techniques at 32 layers at every ISA and thread count
+  kPurposeIsa = 1u << 1,       // the searches at 32 layers at every ISA and thread count
   kPurposeGlsl = 1u << 2,      // the same techniques as GLSL
   kPurposeRoofline = 1u << 3,  // the sampler alone
   kPurposeNaive = 1u << 4,     // the naive port of the tutorial's shader

@@ -110,12 +110,14 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
         add_to_plan(plan, with_technique(on_view(s, hf, RunKind::trace, kPurposeMatrix), t.id, layers));
         if (s.glsl) add_to_plan(plan, with_technique(on_view(s, hf, RunKind::glsl, kPurposeGlsl), t.id, layers));
       }
-    // The tutorial's three layered searches at 32 layers at every ISA and thread count (each
-    // against llvmpipe), POM-32 with its anchors: the roofline and the compute ceiling, the naive
-    // port and its auto-vectorised form; and the exact reference at the best ISA.
+    // The searches at 32 layers at every ISA and thread count (each against llvmpipe): the
+    // tutorial's three and the papers' three; POM-32 with its anchors: the roofline and the
+    // compute ceiling, the naive port and its auto-vectorised form; and the exact reference at
+    // the best ISA.
     for (int threads : thread_counts(s)) {
       for (Isa isa : s.isas) {
-        for (Technique t : {Technique::steep, Technique::relief, Technique::pom}) {
+        for (Technique t : {Technique::steep, Technique::relief, Technique::pom, Technique::secant, Technique::cone,
+                            Technique::maxmip}) {
           Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeIsa), t, pom32);
           c.isa = isa;
           c.threads = threads;
@@ -144,12 +146,12 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
       }
       if (s.glsl && threads != s.threads)  // llvmpipe at one thread too, for a few layer specs
         for (const TechniqueInfo& t : techniques())
-          if (t.layered)
-            for (const char* layers : {"8", "32", "8-32"}) {
-              Configuration g = with_technique(on_view(s, hf, RunKind::glsl, kPurposeGlsl), t.id, parse_layer_spec(layers));
-              g.threads = threads;
-              add_to_plan(plan, g);
-            }
+          for (const char* layers : {"8", "32", "8-32"}) {
+            Configuration g = with_technique(on_view(s, hf, RunKind::glsl, kPurposeGlsl), t.id, parse_layer_spec(layers));
+            g.threads = threads;
+            add_to_plan(plan, g);
+            if (!t.layered) break;
+          }
     }
     // Error against view angle: accuracy only.
     for (double theta : s.sweep_angles)

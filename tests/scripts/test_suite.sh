@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The suite's plumbing on its quick plan: one typed row per configuration in measurements.json
-# (every technique on the CPU and as GLSL, steep/relief/POM-32 at every ISA, roofline, naive port,
+# (every technique on the CPU and as GLSL, the searches at every ISA, roofline, naive port,
 # the exact reference timed, sweeps, gallery, claims), every
 # timed row with at least 5 repetitions and its spread, bench.json named as heightmarch-bench
 # names, the claims, the report with spreads, and a run directory that is fresh and locked; a
@@ -45,9 +45,9 @@ for hf in ("bricks", "terrain"):
         assert any(r["kind"] == "trace" and r["technique"] == "pom" and r["layers"] == layers for r in sel), (hf, layers)
     assert any(r["kind"] == "roofline" for r in sel) and any(r["kind"] == "naive" for r in sel), hf
     isas = [b for b in m["backends"] if b not in ("glsl", "naive", "exact")]
-    for t in ("steep", "relief", "pom"):
+    for t in ("steep", "relief", "pom", "secant", "cone", "maxmip"):
         for isa in isas:
-            assert any(r["kind"] == "trace" and r["technique"] == t and r["layers"] == "32" and r["backend"] == isa
+            assert any(r["kind"] == "trace" and r["technique"] == t and r["layers"] in ("32", "1") and r["backend"] == isa
                        and "isa" in r["purposes"] and r["speed"] for r in sel), (hf, t, isa)
     assert any(r["kind"] == "exact" and "exact" in r["purposes"] and r["speed"] for r in sel), hf
     assert len({r["view"]["theta"] for r in sel if r["view"]["kind"] == "sweep"}) == 18, hf
