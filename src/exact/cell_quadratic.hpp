@@ -1,7 +1,10 @@
 #pragma once
 // A texel cell's bilinear patch along a path, as a quadratic in double, and its first crossing:
-// shared by the double walk (exact_intersector.cpp) and the exact reference's refinement of the
-// cell its float pass stopped in (src/kernels/maxmip.hpp), which so solves it as the walk does.
+// shared by the double walk (exact_intersector.cpp, T = double) and the exact reference's
+// refinement of the cell its float pass stopped in (src/kernels/maxmip.hpp, T = vdouble<D>, D
+// lanes at once), which so solves it as the walk does, bit for bit: the packet ops round and
+// pick as the scalar ones (heightmarch/simd/packet.hpp), and -ffp-contract=off keeps every
+// product apart. Unqualified calls take std:: for double and the packet's overloads by ADL.
 // Internal linkage: each ISA's translation unit (compiled with its own flags) keeps its own copy.
 #include <algorithm>
 #include <cmath>
@@ -9,45 +12,62 @@
 namespace heightmarch {
 namespace {
 
+// m ? a : c, as the packets' select.
+inline double select(bool m, double a, double c) { return m ? a : c; }
+
+// A number type's mask: bool for double, vboold<D> for vdouble<D>.
+template <class T>
+using MaskOf = decltype(T() < T());
+
 // depth(t) - D(x(t), y(t)) in cell (ci, cj) with texels t00, t10, t01, t11, as
 // c0 + c1 s + c2 s^2 with s = t - t0 (parametrised from t0 for precision).
+template <class T>
 struct CellQuadratic {
-  double c0, c1, c2;
+  T c0, c1, c2;
 };
 
-inline CellQuadratic cell_quadratic(double t00, double t10, double t01, double t11, double ci, double cj,
-                                    double x0, double y0, double dx, double dy, double depth0, double ddepth,
-                                    double t0) {
-  const double e = t10 - t00, f = t01 - t00, g = t11 - t10 - t01 + t00;
-  const double fx = (x0 - ci) + dx * t0;  // blend weights at t0
-  const double fy = (y0 - cj) + dy * t0;
-  const double surface0 = t00 + e * fx + f * fy + g * fx * fy;
+template <class T>
+CellQuadratic<T> cell_quadratic(T t00, T t10, T t01, T t11, T ci, T cj, T x0, T y0, T dx, T dy, T depth0, T ddepth,
+                                T t0) {
+  const T e = t10 - t00, f = t01 - t00, g = t11 - t10 - t01 + t00;
+  const T fx = (x0 - ci) + dx * t0;  // blend weights at t0
+  const T fy = (y0 - cj) + dy * t0;
+  const T surface0 = t00 + e * fx + f * fy + g * fx * fy;
   return {(depth0 + ddepth * t0) - surface0, ddepth - (e * dx + f * dy + g * (fx * dy + fy * dx)), -g * dx * dy};
 }
 
-enum CellCrossing { kNoCrossing, kCrossing, kHiddenCrossing };
+// Where a cell's quadratic first crosses into >= 0 within [0, span]: `crosses` with the crossing
+// at s (0 if it starts there); `hidden` when no root shows but it ends at or above 0 (rounding
+// hid the root: the caller bisects); neither: no crossing.
+template <class T>
+struct CellCrossing {
+  MaskOf<T> crosses, hidden;
+  T s;
+};
 
-// The first s in [0, span] where the quadratic crosses into >= 0 (0 if it starts there):
-// kCrossing with s; kHiddenCrossing when no root shows but it ends at or above 0 (rounding hid
-// the root: the caller bisects); else kNoCrossing.
-inline CellCrossing first_crossing(const CellQuadratic& q, double span, double& s) {
-  const double c0 = q.c0, c1 = q.c1, c2 = q.c2;
+template <class T>
+CellCrossing<T> first_crossing(const CellQuadratic<T>& q, T span) {
+  using std::abs, std::copysign, std::max, std::sqrt;
+  using M = MaskOf<T>;
+  const T zero(0.0);
+  const T c0 = q.c0, c1 = q.c1, c2 = q.c2;
   // Roots of c2 s^2 + c1 s + c0, smallest first; c0 < 0 so the first root in range is the crossing.
-  const bool linear = std::fabs(c2) * span <= 1e-14 * (std::fabs(c1) + std::fabs(c0) / std::max(span, 1e-300));
-  const double r_linear = -c0 / c1;
-  const double disc = c1 * c1 - 4.0 * c2 * c0;
-  const double qq = -0.5 * (c1 + std::copysign(std::sqrt(std::max(disc, 0.0)), c1));
-  const double r1 = qq / c2, r2 = c0 / qq;
-  const bool two = qq != 0.0;
-  const double lo = two && r2 < r1 ? r2 : r1, hi = two && r2 < r1 ? r1 : r2;
-  const bool linear_in = linear & (c1 > 0.0) & (r_linear >= 0.0) & (r_linear <= span);
-  const bool quadratic = !linear & (disc >= 0.0);
-  const bool lo_in = quadratic & (lo >= 0.0) & (lo <= span);
-  const bool hi_in = quadratic & two & (hi >= 0.0) & (hi <= span);
-  s = c0 >= 0.0 ? 0.0 : linear ? r_linear : lo_in ? lo : hi;
-  const bool crosses = (c0 >= 0.0) | linear_in | lo_in | hi_in;
-  const bool ends_above = c0 + span * (c1 + span * c2) >= 0.0;
-  return crosses ? kCrossing : ends_above ? kHiddenCrossing : kNoCrossing;
+  const M linear = abs(c2) * span <= T(1e-14) * (abs(c1) + abs(c0) / max(span, T(1e-300)));
+  const T r_linear = -c0 / c1;
+  const T disc = c1 * c1 - T(4.0) * c2 * c0;
+  const T qq = T(-0.5) * (c1 + copysign(sqrt(max(disc, zero)), c1));
+  const T r1 = qq / c2, r2 = c0 / qq;
+  const M two = qq != zero;
+  const M swap = two & (r2 < r1);
+  const T lo = select(swap, r2, r1), hi = select(swap, r1, r2);
+  const M linear_in = linear & (c1 > zero) & (r_linear >= zero) & (r_linear <= span);
+  const M quadratic = (!linear) & (disc >= zero);
+  const M lo_in = quadratic & (lo >= zero) & (lo <= span);
+  const M hi_in = quadratic & two & (hi >= zero) & (hi <= span);
+  const M starts_above = c0 >= zero;
+  const M crosses = starts_above | linear_in | lo_in | hi_in;
+  const M hidden = (!crosses) & (c0 + span * (c1 + span * c2) >= zero);  // ends at or above 0
+  return {crosses, hidden, select(starts_above, zero, select(linear, r_linear, select(lo_in, lo, hi)))};
 }
 
 }  // namespace

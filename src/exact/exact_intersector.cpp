@@ -52,13 +52,14 @@ double ExactIntersector::depth_at(double x, double y) const {
 // finds its first zero crossing into >= 0 within [t0, t1].
 bool ExactIntersector::cell_first_root(long long ci, long long cj, const HeightfieldPath& p,
                                        double t0, double t1, double& t_hit) const {
-  const CellQuadratic q = cell_quadratic(texel(ci, cj), texel(ci + 1, cj), texel(ci, cj + 1), texel(ci + 1, cj + 1),
-                                         double(ci), double(cj), p.x0, p.y0, p.dx, p.dy, p.depth0, p.ddepth, t0);
+  const CellQuadratic<double> q =
+      cell_quadratic(texel(ci, cj), texel(ci + 1, cj), texel(ci, cj + 1), texel(ci + 1, cj + 1), double(ci),
+                     double(cj), p.x0, p.y0, p.dx, p.dy, p.depth0, p.ddepth, t0);
   const double span = t1 - t0;
-  double s;
-  const CellCrossing crossing = first_crossing(q, span, s);
-  if (crossing == kNoCrossing) return false;
-  if (crossing == kHiddenCrossing) {  // bisect the sign change
+  const CellCrossing<double> crossing = first_crossing(q, span);
+  double s = crossing.s;
+  if (!crossing.crosses && !crossing.hidden) return false;
+  if (crossing.hidden) {  // bisect the sign change
     auto h = [&](double x) { return q.c0 + x * (q.c1 + x * q.c2); };
     double lo = 0.0, hi = span;
     for (int it = 0; it < 200 && hi - lo > 0.0; ++it) {

@@ -321,11 +321,11 @@ HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket
   const F clear = select(walk.t > F(0.0f), min(walk.t + nu, F(1.0f)), walk.t);  // D <= 1: a hit by 1
   const F from = select(walk.reached | walk.cut_off, clear, F(1.0f));
 
-  // The double walk would start in the cell at `from` and solve it first: that step, lane by lane
-  // in double with the walk's own code (src/exact/cell_quadratic.hpp) and the texels the pass
-  // already read, where that cell is the one the pass stopped in. A lane whose cell crosses there is final (shadow = 1: the exact hit); the others
-  // (no crossing in that cell, a root rounding hid, another cell) go on in the double walk from
-  // `from` (shadow = 0).
+  // The double walk would start in the cell at `from` and solve it first: that step in double, D
+  // lanes at a time, with the walk's own code (src/exact/cell_quadratic.hpp) and the texels the
+  // pass already read, where that cell is the one the pass stopped in. A lane whose cell crosses
+  // there is final (shadow = 1: the exact hit); the others (no crossing in that cell, a root
+  // rounding hid, another cell) go on in the double walk from `from` (shadow = 0).
   alignas(64) float lane_tx[W], lane_ty[W], lane_vx[W], lane_vy[W], lane_vz[W], lane_from[W], lane_cx[W],
       lane_cy[W], lane_reached[W], t00[W], t10[W], t01[W], t11[W];
   alignas(64) float out_u[W], out_v[W], out_depth[W], out_final[W];
@@ -342,40 +342,47 @@ HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket
   walk.t10.store(t10);
   walk.t01.store(t01);
   walk.t11.store(t11);
+  constexpr int D = W < kDoubleWidth ? W : kDoubleWidth;
+  using Dv = vdouble<D>;
   constexpr bool kRepeat = ADDRESSING != Addressing::clamp;
   constexpr double kFar = double(std::numeric_limits<long long>::max() / 4);  // first_hit's CLAMP edge
-  const double w = k.texture.width, h = k.texture.height, s = k.params.scale;
-  for (int l = 0; l < W; ++l) {
-    const double offset_per_depth = s / double(lane_vz[l]);  // ExactIntersector::intersect's path
-    const double px = double(lane_tx[l]) * w - 0.5, py = double(lane_ty[l]) * h - 0.5;
-    const double pdx = -(offset_per_depth * double(lane_vx[l])) * w, pdy = -(offset_per_depth * double(lane_vy[l])) * h;
-    const double t0 = lane_from[l];
+  const Dv w(double(k.texture.width)), h(double(k.texture.height)), s(double(k.params.scale));
+  const Dv zero(0.0), one(1.0), inf(std::numeric_limits<double>::infinity());
+  for (int l = 0; l < W; l += D) {
+    const Dv tx = Dv::load(lane_tx + l), ty = Dv::load(lane_ty + l);
+    const Dv vx = Dv::load(lane_vx + l), vy = Dv::load(lane_vy + l);
+    const Dv offset_per_depth = s / Dv::load(lane_vz + l);  // ExactIntersector::intersect's path
+    const Dv px = tx * w - Dv(0.5), py = ty * h - Dv(0.5);
+    const Dv pdx = -(offset_per_depth * vx) * w, pdy = -(offset_per_depth * vy) * h;
+    const Dv t0 = Dv::load(lane_from + l);
     // The cell first_hit starts in, and where the path leaves it.
-    const double xt = px + pdx * t0, yt = py + pdy * t0;
-    double ci = std::floor(xt), cj = std::floor(yt);
-    ci = (ci == xt) & (pdx < 0.0) ? ci - 1.0 : ci;
-    cj = (cj == yt) & (pdy < 0.0) ? cj - 1.0 : cj;
+    const Dv xt = px + pdx * t0, yt = py + pdy * t0;
+    Dv ci = floor(xt), cj = floor(yt);
+    ci = select((ci == xt) & (pdx < zero), ci - one, ci);
+    cj = select((cj == yt) & (pdy < zero), cj - one, cj);
+    Dv x_lo = ci, x_hi = ci + one, y_lo = cj, y_hi = cj + one;
     if constexpr (!kRepeat) {
-      ci = std::min(std::max(ci, -1.0), w - 1.0);
-      cj = std::min(std::max(cj, -1.0), h - 1.0);
+      ci = min(max(ci, -one), w - one);
+      cj = min(max(cj, -one), h - one);
+      x_lo = select(ci == -one, Dv(-kFar), ci);
+      x_hi = select(ci == w - one, Dv(kFar), ci + one);
+      y_lo = select(cj == -one, Dv(-kFar), cj);
+      y_hi = select(cj == h - one, Dv(kFar), cj + one);
     }
-    const double x_lo = !kRepeat & (ci == -1.0) ? -kFar : ci, x_hi = !kRepeat & (ci == w - 1.0) ? kFar : ci + 1.0;
-    const double y_lo = !kRepeat & (cj == -1.0) ? -kFar : cj, y_hi = !kRepeat & (cj == h - 1.0) ? kFar : cj + 1.0;
-    const double inv_dx = 1.0 / pdx, inv_dy = 1.0 / pdy;
-    const double inf = std::numeric_limits<double>::infinity();
-    const double tx = pdx > 0.0 ? (x_hi - px) * inv_dx : pdx < 0.0 ? (x_lo - px) * inv_dx : inf;
-    const double ty = pdy > 0.0 ? (y_hi - py) * inv_dy : pdy < 0.0 ? (y_lo - py) * inv_dy : inf;
-    const double t1 = std::min(std::max(t0, std::min(tx, ty)), 1.0);
-    const CellQuadratic q =
-        cell_quadratic(t00[l], t10[l], t01[l], t11[l], ci, cj, px, py, pdx, pdy, 0.0, 1.0, t0);
-    double root;
-    const bool crosses = first_crossing(q, t1 - t0, root) == kCrossing;
-    const bool final = (lane_reached[l] != 0.0f) & (ci == double(lane_cx[l])) & (cj == double(lane_cy[l])) & crosses;
-    const double d = t0 + root;
-    out_final[l] = final ? 1.0f : 0.0f;
-    out_depth[l] = final ? float(d) : lane_from[l];
-    out_u[l] = final ? float(double(lane_tx[l]) - d * offset_per_depth * double(lane_vx[l])) : lane_tx[l];
-    out_v[l] = final ? float(double(lane_ty[l]) - d * offset_per_depth * double(lane_vy[l])) : lane_ty[l];
+    const Dv inv_dx = one / pdx, inv_dy = one / pdy;
+    const Dv exit_x = select(pdx > zero, (x_hi - px) * inv_dx, select(pdx < zero, (x_lo - px) * inv_dx, inf));
+    const Dv exit_y = select(pdy > zero, (y_hi - py) * inv_dy, select(pdy < zero, (y_lo - py) * inv_dy, inf));
+    const Dv t1 = min(max(t0, min(exit_x, exit_y)), one);
+    const CellQuadratic<Dv> q = cell_quadratic(Dv::load(t00 + l), Dv::load(t10 + l), Dv::load(t01 + l),
+                                               Dv::load(t11 + l), ci, cj, px, py, pdx, pdy, zero, one, t0);
+    const CellCrossing<Dv> crossing = first_crossing(q, t1 - t0);
+    const auto final = (Dv::load(lane_reached + l) != zero) & (ci == Dv::load(lane_cx + l)) &
+                       (cj == Dv::load(lane_cy + l)) & crossing.crosses;
+    const Dv d = t0 + crossing.s;
+    select(final, one, zero).store(out_final + l);
+    select(final, d, t0).store(out_depth + l);
+    select(final, tx - d * offset_per_depth * vx, tx).store(out_u + l);
+    select(final, ty - d * offset_per_depth * vy, ty).store(out_v + l);
   }
   HitPacket<W> out;
   out.u = F::load(out_u);

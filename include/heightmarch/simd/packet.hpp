@@ -2,6 +2,12 @@
 // Packet types vfloat<W>, vint<W>, vbool<W>: one ray per lane. Each ISA's header specialises
 // them for its width; the kernels are written once against this interface.
 //
+// vdouble<D>, vboold<D>: D lanes of double (D = kDoubleWidth, the ISA's register of doubles),
+// for the exact reference's solve in double (src/exact/cell_quadratic.hpp). Only what that
+// needs; each op rounds as the scalar double op does (IEEE, no contraction), min and max pick
+// as std::min and std::max do (the first operand on NaN or equal values), so a template over
+// the number type gives the same bits at T = double and T = vdouble<D>.
+//
 // Every header of this folder opens namespace heightmarch::HEIGHTMARCH_ISA_NS, which the
 // including translation unit defines (isa_scalar, isa_sse42, ...), so that inline functions
 // compiled with one ISA's flags can never be linked into code running on another ISA.
@@ -16,6 +22,8 @@ namespace heightmarch::HEIGHTMARCH_ISA_NS {
 template <int W> struct vfloat;
 template <int W> struct vint;
 template <int W> struct vbool;
+template <int D> struct vdouble;
+template <int D> struct vboold;
 
 // The four bilinear taps of each lane from a texture of `rows` rows of `stride` texels: t00 at
 // (ix, iy), t10 one texel right, t01 one row down, t11 both. This default reads them with two

@@ -63,6 +63,41 @@ template <> struct vfloat<1> {
   friend vfloat to_float(vint<1> a) { return {static_cast<float>(a.i)}; }
 };
 
+inline constexpr int kDoubleWidth = 1;
+
+template <> struct vboold<1> {
+  bool b;
+  friend vboold operator&(vboold a, vboold c) { return {a.b && c.b}; }
+  friend vboold operator|(vboold a, vboold c) { return {a.b || c.b}; }
+  friend vboold operator!(vboold a) { return {!a.b}; }
+};
+
+template <> struct vdouble<1> {
+  double d;
+  vdouble() = default;
+  vdouble(double x) : d(x) {}
+  static vdouble load(const float* p) { return {double(*p)}; }
+  void store(float* p) const { *p = float(d); }
+  friend vdouble operator+(vdouble a, vdouble c) { return {a.d + c.d}; }
+  friend vdouble operator-(vdouble a, vdouble c) { return {a.d - c.d}; }
+  friend vdouble operator*(vdouble a, vdouble c) { return {a.d * c.d}; }
+  friend vdouble operator/(vdouble a, vdouble c) { return {a.d / c.d}; }
+  friend vdouble operator-(vdouble a) { return {-a.d}; }
+  friend vboold<1> operator<(vdouble a, vdouble c) { return {a.d < c.d}; }
+  friend vboold<1> operator<=(vdouble a, vdouble c) { return {a.d <= c.d}; }
+  friend vboold<1> operator>(vdouble a, vdouble c) { return {a.d > c.d}; }
+  friend vboold<1> operator>=(vdouble a, vdouble c) { return {a.d >= c.d}; }
+  friend vboold<1> operator==(vdouble a, vdouble c) { return {a.d == c.d}; }
+  friend vboold<1> operator!=(vdouble a, vdouble c) { return {a.d != c.d}; }
+  friend vdouble min(vdouble a, vdouble c) { return {c.d < a.d ? c.d : a.d}; }
+  friend vdouble max(vdouble a, vdouble c) { return {a.d < c.d ? c.d : a.d}; }
+  friend vdouble abs(vdouble a) { return {std::fabs(a.d)}; }
+  friend vdouble floor(vdouble a) { return {std::floor(a.d)}; }
+  friend vdouble sqrt(vdouble a) { return {std::sqrt(a.d)}; }
+  friend vdouble copysign(vdouble a, vdouble c) { return {std::copysign(a.d, c.d)}; }
+  friend vdouble select(vboold<1> m, vdouble a, vdouble c) { return m.b ? a : c; }
+};
+
 // base[index] and base[index + 1] of each lane: two horizontally adjacent texels. All lanes load
 // (the sampler keeps every index inside the texture).
 inline void gather_pairs(const float* base, vint<1> index, vfloat<1>& first, vfloat<1>& second) {

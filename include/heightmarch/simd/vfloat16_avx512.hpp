@@ -59,6 +59,46 @@ template <> struct vfloat<16> {
   friend vfloat to_float(vint<16> a) { return _mm512_cvtepi32_ps(a.i); }
 };
 
+inline constexpr int kDoubleWidth = 8;
+
+template <> struct vboold<8> {
+  __mmask8 m;
+  friend vboold operator&(vboold a, vboold c) { return {__mmask8(a.m & c.m)}; }
+  friend vboold operator|(vboold a, vboold c) { return {__mmask8(a.m | c.m)}; }
+  friend vboold operator!(vboold a) { return {__mmask8(~a.m)}; }
+};
+
+template <> struct vdouble<8> {
+  __m512d d;
+  vdouble() = default;
+  vdouble(__m512d x) : d(x) {}
+  vdouble(double x) : d(_mm512_set1_pd(x)) {}
+  static vdouble load(const float* p) { return _mm512_cvtps_pd(_mm256_loadu_ps(p)); }
+  void store(float* p) const { _mm256_storeu_ps(p, _mm512_cvtpd_ps(d)); }
+  friend vdouble operator+(vdouble a, vdouble c) { return _mm512_add_pd(a.d, c.d); }
+  friend vdouble operator-(vdouble a, vdouble c) { return _mm512_sub_pd(a.d, c.d); }
+  friend vdouble operator*(vdouble a, vdouble c) { return _mm512_mul_pd(a.d, c.d); }
+  friend vdouble operator/(vdouble a, vdouble c) { return _mm512_div_pd(a.d, c.d); }
+  friend vdouble operator-(vdouble a) { return _mm512_xor_pd(a.d, _mm512_set1_pd(-0.0)); }
+  friend vboold<8> operator<(vdouble a, vdouble c) { return {_mm512_cmp_pd_mask(a.d, c.d, _CMP_LT_OQ)}; }
+  friend vboold<8> operator<=(vdouble a, vdouble c) { return {_mm512_cmp_pd_mask(a.d, c.d, _CMP_LE_OQ)}; }
+  friend vboold<8> operator>(vdouble a, vdouble c) { return {_mm512_cmp_pd_mask(a.d, c.d, _CMP_GT_OQ)}; }
+  friend vboold<8> operator>=(vdouble a, vdouble c) { return {_mm512_cmp_pd_mask(a.d, c.d, _CMP_GE_OQ)}; }
+  friend vboold<8> operator==(vdouble a, vdouble c) { return {_mm512_cmp_pd_mask(a.d, c.d, _CMP_EQ_OQ)}; }
+  friend vboold<8> operator!=(vdouble a, vdouble c) { return {_mm512_cmp_pd_mask(a.d, c.d, _CMP_NEQ_UQ)}; }
+  // minpd/maxpd return their second operand on NaN or equal values: swapped, std::min/max's pick.
+  friend vdouble min(vdouble a, vdouble c) { return _mm512_min_pd(c.d, a.d); }
+  friend vdouble max(vdouble a, vdouble c) { return _mm512_max_pd(c.d, a.d); }
+  friend vdouble abs(vdouble a) { return _mm512_abs_pd(a.d); }
+  friend vdouble floor(vdouble a) { return _mm512_roundscale_pd(a.d, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
+  friend vdouble sqrt(vdouble a) { return _mm512_sqrt_pd(a.d); }
+  friend vdouble copysign(vdouble a, vdouble c) {
+    const __m512d sign = _mm512_set1_pd(-0.0);
+    return _mm512_or_pd(_mm512_andnot_pd(sign, a.d), _mm512_and_pd(sign, c.d));
+  }
+  friend vdouble select(vboold<8> m, vdouble a, vdouble c) { return _mm512_mask_blend_pd(m.m, c.d, a.d); }
+};
+
 // base[index] and base[index + 1] of each lane: two 64-bit gathers of texel pairs instead of two
 // 32-bit gathers of single texels (half the gathered elements), then deinterleaved. Unmasked:
 // the sampler keeps every index inside the texture.

@@ -63,6 +63,48 @@ template <> struct vfloat<4> {
   friend vfloat to_float(vint<4> a) { return _mm_cvtepi32_ps(a.i); }
 };
 
+inline constexpr int kDoubleWidth = 2;
+
+template <> struct vboold<2> {
+  __m128d m;  // all-ones lanes are true
+  friend vboold operator&(vboold a, vboold c) { return {_mm_and_pd(a.m, c.m)}; }
+  friend vboold operator|(vboold a, vboold c) { return {_mm_or_pd(a.m, c.m)}; }
+  friend vboold operator!(vboold a) { return {_mm_xor_pd(a.m, _mm_castsi128_pd(_mm_set1_epi32(-1)))}; }
+};
+
+template <> struct vdouble<2> {
+  __m128d d;
+  vdouble() = default;
+  vdouble(__m128d x) : d(x) {}
+  vdouble(double x) : d(_mm_set1_pd(x)) {}
+  static vdouble load(const float* p) {
+    return _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p))));
+  }
+  void store(float* p) const { _mm_storel_epi64(reinterpret_cast<__m128i*>(p), _mm_castps_si128(_mm_cvtpd_ps(d))); }
+  friend vdouble operator+(vdouble a, vdouble c) { return _mm_add_pd(a.d, c.d); }
+  friend vdouble operator-(vdouble a, vdouble c) { return _mm_sub_pd(a.d, c.d); }
+  friend vdouble operator*(vdouble a, vdouble c) { return _mm_mul_pd(a.d, c.d); }
+  friend vdouble operator/(vdouble a, vdouble c) { return _mm_div_pd(a.d, c.d); }
+  friend vdouble operator-(vdouble a) { return _mm_xor_pd(a.d, _mm_set1_pd(-0.0)); }
+  friend vboold<2> operator<(vdouble a, vdouble c) { return {_mm_cmplt_pd(a.d, c.d)}; }
+  friend vboold<2> operator<=(vdouble a, vdouble c) { return {_mm_cmple_pd(a.d, c.d)}; }
+  friend vboold<2> operator>(vdouble a, vdouble c) { return {_mm_cmpgt_pd(a.d, c.d)}; }
+  friend vboold<2> operator>=(vdouble a, vdouble c) { return {_mm_cmpge_pd(a.d, c.d)}; }
+  friend vboold<2> operator==(vdouble a, vdouble c) { return {_mm_cmpeq_pd(a.d, c.d)}; }
+  friend vboold<2> operator!=(vdouble a, vdouble c) { return {_mm_cmpneq_pd(a.d, c.d)}; }
+  // minpd/maxpd return their second operand on NaN or equal values: swapped, std::min/max's pick.
+  friend vdouble min(vdouble a, vdouble c) { return _mm_min_pd(c.d, a.d); }
+  friend vdouble max(vdouble a, vdouble c) { return _mm_max_pd(c.d, a.d); }
+  friend vdouble abs(vdouble a) { return _mm_andnot_pd(_mm_set1_pd(-0.0), a.d); }
+  friend vdouble floor(vdouble a) { return _mm_floor_pd(a.d); }
+  friend vdouble sqrt(vdouble a) { return _mm_sqrt_pd(a.d); }
+  friend vdouble copysign(vdouble a, vdouble c) {
+    const __m128d sign = _mm_set1_pd(-0.0);
+    return _mm_or_pd(_mm_andnot_pd(sign, a.d), _mm_and_pd(sign, c.d));
+  }
+  friend vdouble select(vboold<2> m, vdouble a, vdouble c) { return _mm_blendv_pd(c.d, a.d, m.m); }
+};
+
 // base[index] and base[index + 1] of each lane. SSE has no gather: one 64-bit load per lane
 // fetches both texels, then two shuffles deinterleave them (half the loads of four scalar
 // gathers).

@@ -66,6 +66,46 @@ template <> struct vfloat<8> {
   friend vfloat to_float(vint<8> a) { return _mm256_cvtepi32_ps(a.i); }
 };
 
+inline constexpr int kDoubleWidth = 4;
+
+template <> struct vboold<4> {
+  __m256d m;  // all-ones lanes are true
+  friend vboold operator&(vboold a, vboold c) { return {_mm256_and_pd(a.m, c.m)}; }
+  friend vboold operator|(vboold a, vboold c) { return {_mm256_or_pd(a.m, c.m)}; }
+  friend vboold operator!(vboold a) { return {_mm256_xor_pd(a.m, _mm256_castsi256_pd(_mm256_set1_epi32(-1)))}; }
+};
+
+template <> struct vdouble<4> {
+  __m256d d;
+  vdouble() = default;
+  vdouble(__m256d x) : d(x) {}
+  vdouble(double x) : d(_mm256_set1_pd(x)) {}
+  static vdouble load(const float* p) { return _mm256_cvtps_pd(_mm_loadu_ps(p)); }
+  void store(float* p) const { _mm_storeu_ps(p, _mm256_cvtpd_ps(d)); }
+  friend vdouble operator+(vdouble a, vdouble c) { return _mm256_add_pd(a.d, c.d); }
+  friend vdouble operator-(vdouble a, vdouble c) { return _mm256_sub_pd(a.d, c.d); }
+  friend vdouble operator*(vdouble a, vdouble c) { return _mm256_mul_pd(a.d, c.d); }
+  friend vdouble operator/(vdouble a, vdouble c) { return _mm256_div_pd(a.d, c.d); }
+  friend vdouble operator-(vdouble a) { return _mm256_xor_pd(a.d, _mm256_set1_pd(-0.0)); }
+  friend vboold<4> operator<(vdouble a, vdouble c) { return {_mm256_cmp_pd(a.d, c.d, _CMP_LT_OQ)}; }
+  friend vboold<4> operator<=(vdouble a, vdouble c) { return {_mm256_cmp_pd(a.d, c.d, _CMP_LE_OQ)}; }
+  friend vboold<4> operator>(vdouble a, vdouble c) { return {_mm256_cmp_pd(a.d, c.d, _CMP_GT_OQ)}; }
+  friend vboold<4> operator>=(vdouble a, vdouble c) { return {_mm256_cmp_pd(a.d, c.d, _CMP_GE_OQ)}; }
+  friend vboold<4> operator==(vdouble a, vdouble c) { return {_mm256_cmp_pd(a.d, c.d, _CMP_EQ_OQ)}; }
+  friend vboold<4> operator!=(vdouble a, vdouble c) { return {_mm256_cmp_pd(a.d, c.d, _CMP_NEQ_UQ)}; }
+  // minpd/maxpd return their second operand on NaN or equal values: swapped, std::min/max's pick.
+  friend vdouble min(vdouble a, vdouble c) { return _mm256_min_pd(c.d, a.d); }
+  friend vdouble max(vdouble a, vdouble c) { return _mm256_max_pd(c.d, a.d); }
+  friend vdouble abs(vdouble a) { return _mm256_andnot_pd(_mm256_set1_pd(-0.0), a.d); }
+  friend vdouble floor(vdouble a) { return _mm256_floor_pd(a.d); }
+  friend vdouble sqrt(vdouble a) { return _mm256_sqrt_pd(a.d); }
+  friend vdouble copysign(vdouble a, vdouble c) {
+    const __m256d sign = _mm256_set1_pd(-0.0);
+    return _mm256_or_pd(_mm256_andnot_pd(sign, a.d), _mm256_and_pd(sign, c.d));
+  }
+  friend vdouble select(vboold<4> m, vdouble a, vdouble c) { return _mm256_blendv_pd(c.d, a.d, m.m); }
+};
+
 // base[index] and base[index + 1] of each lane: two 64-bit gathers of texel pairs instead of two
 // 32-bit gathers of single texels (half the gathered elements), then deinterleaved. Unmasked:
 // the sampler keeps every index inside the texture.
