@@ -72,26 +72,25 @@ void ExactReference::run(const RayBatch& rays, LightVisibility visibility, HitBu
           hits.discarded[i] = 0;
           continue;
         }
-        // Most rays the float pass finished in double in the cell it stopped in; the others (and
-        // every ray whose light is walked, from the hit in double) go on in the double walk from
-        // where it stopped: the path is clear before it.
-        const double vz = rays.vz[i], offset_per_depth = s / vz;
+        // Most rays the float pass finished in double in the cell it stopped in or the next; the
+        // others (and every ray whose light is walked, from the hit in double) go on in the double
+        // walk from where it stopped: the path is clear before it.
         const bool final = hits.shadow[i] == 1.0f;
-        double d = hits.depth[i], u = hits.u[i], v = hits.v[i];
-        if (final && visibility == LightVisibility::skip) {
+        if (final && visibility == LightVisibility::skip) {  // the float pass wrote the rest
           hits.samples[i] += 1;
-        } else {
-          // A final ray's depth is its hit rounded to float: the path is clear just above it.
-          const double from = final ? std::max(0.0, d - 0x1p-20) : d;
-          const PathHit hit = intersector_.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], vz, s, from);
-          d = hit.t;
-          u = rays.tx[i] - d * offset_per_depth * rays.vx[i];
-          v = rays.ty[i] - d * offset_per_depth * rays.vy[i];
-          hits.u[i] = float(u);
-          hits.v[i] = float(v);
-          hits.depth[i] = float(d);
-          hits.samples[i] += hit.cells;
+          continue;
         }
+        // A final ray's depth is its hit rounded to float: the path is clear just above it.
+        const double vz = rays.vz[i], offset_per_depth = s / vz;
+        const double from = final ? std::max(0.0, double(hits.depth[i]) - 0x1p-20) : double(hits.depth[i]);
+        const PathHit hit = intersector_.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], vz, s, from);
+        const double d = hit.t;
+        const double u = rays.tx[i] - d * offset_per_depth * rays.vx[i];
+        const double v = rays.ty[i] - d * offset_per_depth * rays.vy[i];
+        hits.u[i] = float(u);
+        hits.v[i] = float(v);
+        hits.depth[i] = float(d);
+        hits.samples[i] += hit.cells;
         hits.shadow[i] =
             visibility == LightVisibility::compute && !intersector_.visible(u, v, d, params_.light, s) ? 0.0f : 1.0f;
         hits.discarded[i] = params_.discard && (u < 0.0 || u > 1.0 || v < 0.0 || v > 1.0);

@@ -65,6 +65,28 @@ vfloat<W> first_root(vfloat<W> c0, vfloat<W> c1, vfloat<W> c2, vfloat<W> span) {
   return select(c0 >= zero, zero, min(max(root, zero), span));
 }
 
+// The four texels of cell (cx, cy) (CLAMP's edge cells repeat the edge texels).
+template <Addressing ADDRESSING, int W>
+void cell_texels(const KernelTexture& texture, vfloat<W> cx, vfloat<W> cy, vfloat<W>& t00, vfloat<W>& t10,
+                 vfloat<W>& t01, vfloat<W>& t11) {
+  using F = vfloat<W>;
+  using I = vint<W>;
+  constexpr bool kRepeat = ADDRESSING != Addressing::clamp;
+  const F width(float(texture.width)), height(float(texture.height));
+  const F wx = kRepeat ? wrap_cell(cx, width, F(1.0f / float(texture.width))) : max(cx, F(0.0f));
+  const F wy = kRepeat ? wrap_cell(cy, height, F(1.0f / float(texture.height))) : max(cy, F(0.0f));
+  const I ix = min(to_int(wx), I(texture.width - 1)), iy = min(to_int(wy), I(texture.height - 1));
+  const I index = iy * I(texture.stride) + ix;
+  gather_pairs(texture.texels, index, t00, t10);
+  gather_pairs(texture.texels + texture.stride, index, t01, t11);
+  if constexpr (!kRepeat) {
+    t10 = select(cx < F(0.0f), t00, t10);
+    t11 = select(cx < F(0.0f), t01, t11);
+    t01 = select(cy < F(0.0f), t00, t01);
+    t11 = select(cy < F(0.0f), t10, t11);
+  }
+}
+
 // The walk's outcome per lane: the depth at which it entered the cell it stopped in (or, cut
 // off by the bound, the depth it had cleared), and that cell's quadratic over its span.
 template <int W>
@@ -185,21 +207,9 @@ PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloa
 
     B hit = !B::all_true();
     if (any(solve)) {
-      // The cell's four texels (CLAMP's edge cells repeat the edge texels), then its quadratic.
-      const F wx = kRepeat ? wrap_cell(cx, width, inv_width) : max(cx, F(0.0f));
-      const F wy = kRepeat ? wrap_cell(cy, height, inv_height) : max(cy, F(0.0f));
-      const I ix = min(to_int(wx), I(texture.width - 1)), iy = min(to_int(wy), I(texture.height - 1));
-      const I index = iy * I(texture.stride) + ix;
       F t00, t10, t01, t11;
-      gather_pairs(texture.texels, index, t00, t10);
-      gather_pairs(texture.texels + texture.stride, index, t01, t11);
+      cell_texels<ADDRESSING>(texture, cx, cy, t00, t10, t01, t11);
       k.count(solve, walk.samples, CONSERVATIVE ? 1 : 4);
-      if constexpr (!kRepeat) {
-        t10 = select(cx < F(0.0f), t00, t10);
-        t11 = select(cx < F(0.0f), t01, t11);
-        t01 = select(cy < F(0.0f), t00, t01);
-        t11 = select(cy < F(0.0f), t10, t11);
-      }
       const F fx = (x0 - cx) + dx * t, fy = (y0 - cy) + dy * t;
       const F e = t10 - t00, f = t01 - t00, g = (t11 - t10) - (t01 - t00);
       const F c0 = t - (t00 + e * fx + f * fy + g * fx * fy) + eta;
@@ -324,11 +334,15 @@ HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket
   // The double walk would start in the cell at `from` and solve it first: that step in double, D
   // lanes at a time, with the walk's own code (src/exact/cell_quadratic.hpp) and the texels the
   // pass already read, where that cell is the one the pass stopped in. A lane whose cell crosses
-  // there is final (shadow = 1: the exact hit); the others (no crossing in that cell, a root
-  // rounding hid, another cell) go on in the double walk from `from` (shadow = 0).
+  // there is final (shadow = 1: the exact hit). Where it shows the path clear through that cell
+  // (the margin's false alarms: most of the rest), the next cell the path enters is solved too,
+  // as the walk's step at level 0 goes: its first crossing there is the first of the path. The
+  // others (a root rounding hid, another cell, no crossing in either) go on in the double walk
+  // from `from` (shadow = 0).
   alignas(64) float lane_tx[W], lane_ty[W], lane_vx[W], lane_vy[W], lane_vz[W], lane_from[W], lane_cx[W],
       lane_cy[W], lane_reached[W], t00[W], t10[W], t01[W], t11[W];
-  alignas(64) float out_u[W], out_v[W], out_depth[W], out_final[W];
+  alignas(64) float out_u[W], out_v[W], out_depth[W], out_final[W], next[W], next_cx[W], next_cy[W];
+  alignas(64) double next_t[W];
   ray.tx.store(lane_tx);
   ray.ty.store(lane_ty);
   ray.vx.store(lane_vx);
@@ -344,52 +358,113 @@ HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket
   walk.t11.store(t11);
   constexpr int D = W < kDoubleWidth ? W : kDoubleWidth;
   using Dv = vdouble<D>;
+  using Dm = vboold<D>;
   constexpr bool kRepeat = ADDRESSING != Addressing::clamp;
   constexpr double kFar = double(std::numeric_limits<long long>::max() / 4);  // first_hit's CLAMP edge
   const Dv w(double(k.texture.width)), h(double(k.texture.height)), s(double(k.params.scale));
   const Dv zero(0.0), one(1.0), inf(std::numeric_limits<double>::infinity());
-  for (int l = 0; l < W; l += D) {
-    const Dv tx = Dv::load(lane_tx + l), ty = Dv::load(lane_ty + l);
-    const Dv vx = Dv::load(lane_vx + l), vy = Dv::load(lane_vy + l);
-    const Dv offset_per_depth = s / Dv::load(lane_vz + l);  // ExactIntersector::intersect's path
-    const Dv px = tx * w - Dv(0.5), py = ty * h - Dv(0.5);
-    const Dv pdx = -(offset_per_depth * vx) * w, pdy = -(offset_per_depth * vy) * h;
-    const Dv t0 = Dv::load(lane_from + l);
-    // The cell first_hit starts in, and where the path leaves it.
-    const Dv xt = px + pdx * t0, yt = py + pdy * t0;
-    Dv ci = floor(xt), cj = floor(yt);
-    ci = select((ci == xt) & (pdx < zero), ci - one, ci);
-    cj = select((cj == yt) & (pdy < zero), cj - one, cj);
+  // Lanes l .. l + D - 1's path, as ExactIntersector::intersect makes it.
+  struct DoublePath {
+    Dv tx, ty, vx, vy, offset_per_depth, px, py, pdx, pdy;
+  };
+  const auto path_at = [&](int l) {
+    DoublePath p;
+    p.tx = Dv::load(lane_tx + l);
+    p.ty = Dv::load(lane_ty + l);
+    p.vx = Dv::load(lane_vx + l);
+    p.vy = Dv::load(lane_vy + l);
+    p.offset_per_depth = s / Dv::load(lane_vz + l);
+    p.px = p.tx * w - Dv(0.5);
+    p.py = p.ty * h - Dv(0.5);
+    p.pdx = -(p.offset_per_depth * p.vx) * w;
+    p.pdy = -(p.offset_per_depth * p.vy) * h;
+    return p;
+  };
+  // Cell (ci, cj) entered at t0, solved as first_hit's step at level 0: where the path leaves it
+  // along each axis (CLAMP's edge cells reach to infinity outside) and its first crossing.
+  struct CellStep {
+    Dv exit_x, exit_y, te, s;  // s: the crossing, from t0
+    Dm crosses, hidden;        // first_crossing's
+  };
+  const auto solve_cell = [&](const DoublePath& p, Dv ci, Dv cj, Dv t0, const float* texels_00,
+                              const float* texels_10, const float* texels_01, const float* texels_11, int l) {
     Dv x_lo = ci, x_hi = ci + one, y_lo = cj, y_hi = cj + one;
     if constexpr (!kRepeat) {
-      ci = min(max(ci, -one), w - one);
-      cj = min(max(cj, -one), h - one);
-      x_lo = select(ci == -one, Dv(-kFar), ci);
-      x_hi = select(ci == w - one, Dv(kFar), ci + one);
-      y_lo = select(cj == -one, Dv(-kFar), cj);
-      y_hi = select(cj == h - one, Dv(kFar), cj + one);
+      x_lo = select(ci == -one, Dv(-kFar), x_lo);
+      x_hi = select(ci == w - one, Dv(kFar), x_hi);
+      y_lo = select(cj == -one, Dv(-kFar), y_lo);
+      y_hi = select(cj == h - one, Dv(kFar), y_hi);
     }
-    const Dv inv_dx = one / pdx, inv_dy = one / pdy;
-    const Dv exit_x = select(pdx > zero, (x_hi - px) * inv_dx, select(pdx < zero, (x_lo - px) * inv_dx, inf));
-    const Dv exit_y = select(pdy > zero, (y_hi - py) * inv_dy, select(pdy < zero, (y_lo - py) * inv_dy, inf));
-    const Dv t1 = min(max(t0, min(exit_x, exit_y)), one);
-    const CellQuadratic<Dv> q = cell_quadratic(Dv::load(t00 + l), Dv::load(t10 + l), Dv::load(t01 + l),
-                                               Dv::load(t11 + l), ci, cj, px, py, pdx, pdy, zero, one, t0);
-    const CellCrossing<Dv> crossing = first_crossing(q, t1 - t0);
-    const auto final = (Dv::load(lane_reached + l) != zero) & (ci == Dv::load(lane_cx + l)) &
-                       (cj == Dv::load(lane_cy + l)) & crossing.crosses;
-    const Dv d = t0 + crossing.s;
+    const Dv inv_dx = one / p.pdx, inv_dy = one / p.pdy;
+    CellStep step;
+    step.exit_x = select(p.pdx > zero, (x_hi - p.px) * inv_dx, select(p.pdx < zero, (x_lo - p.px) * inv_dx, inf));
+    step.exit_y = select(p.pdy > zero, (y_hi - p.py) * inv_dy, select(p.pdy < zero, (y_lo - p.py) * inv_dy, inf));
+    step.te = max(t0, min(step.exit_x, step.exit_y));
+    const CellQuadratic<Dv> q =
+        cell_quadratic(Dv::load(texels_00 + l), Dv::load(texels_10 + l), Dv::load(texels_01 + l),
+                       Dv::load(texels_11 + l), ci, cj, p.px, p.py, p.pdx, p.pdy, zero, one, t0);
+    const CellCrossing<Dv> crossing = first_crossing(q, min(step.te, one) - t0);
+    step.s = crossing.s;
+    step.crosses = crossing.crosses;
+    step.hidden = crossing.hidden;
+    return step;
+  };
+  const auto clamp_cell = [&](Dv c, Dv n) { return kRepeat ? c : min(max(c, -one), n - one); };
+  for (int l = 0; l < W; l += D) {
+    const DoublePath p = path_at(l);
+    const Dv t0 = Dv::load(lane_from + l);
+    // The cell first_hit starts in.
+    const Dv xt = p.px + p.pdx * t0, yt = p.py + p.pdy * t0;
+    Dv ci = floor(xt), cj = floor(yt);
+    ci = clamp_cell(select((ci == xt) & (p.pdx < zero), ci - one, ci), w);
+    cj = clamp_cell(select((cj == yt) & (p.pdy < zero), cj - one, cj), h);
+    const CellStep step = solve_cell(p, ci, cj, t0, t00, t10, t01, t11, l);
+    const Dm same_cell = (Dv::load(lane_reached + l) != zero) & (ci == Dv::load(lane_cx + l)) &
+                         (cj == Dv::load(lane_cy + l));
+    const Dm final = same_cell & step.crosses;
+    const Dv d = t0 + step.s;
     select(final, one, zero).store(out_final + l);
     select(final, d, t0).store(out_depth + l);
-    select(final, tx - d * offset_per_depth * vx, tx).store(out_u + l);
-    select(final, ty - d * offset_per_depth * vy, ty).store(out_v + l);
+    select(final, p.tx - d * p.offset_per_depth * p.vx, p.tx).store(out_u + l);
+    select(final, p.ty - d * p.offset_per_depth * p.vy, p.ty).store(out_v + l);
+    // Clear through the cell, and not at depth 1 on leaving it: across the side(s) it leaves by.
+    const Dm go_on = same_cell & !(step.crosses | step.hidden) & (step.te < one);
+    const Dv across_x = select(p.pdx > zero, ci + one, ci - one), across_y = select(p.pdy > zero, cj + one, cj - one);
+    select(go_on, one, zero).store(next + l);
+    select(go_on & (step.exit_x <= step.exit_y), clamp_cell(across_x, w), ci).store(next_cx + l);
+    select(go_on & (step.exit_y <= step.exit_x), clamp_cell(across_y, h), cj).store(next_cy + l);
+    step.te.store(next_t + l);
+  }
+  F samples_added(0.0f);
+  if (any(F::load(next) != F(0.0f))) {
+    const F cx = F::load(next_cx), cy = F::load(next_cy);
+    F n00, n10, n01, n11;
+    cell_texels<ADDRESSING>(k.texture, cx, cy, n00, n10, n01, n11);
+    n00.store(t00);
+    n10.store(t10);
+    n01.store(t01);
+    n11.store(t11);
+    for (int l = 0; l < W; l += D) {
+      const DoublePath p = path_at(l);
+      const Dv t0 = Dv::load(next_t + l);
+      const CellStep step = solve_cell(p, Dv::load(next_cx + l), Dv::load(next_cy + l), t0, t00, t10, t01, t11, l);
+      const Dm final = (Dv::load(next + l) != zero) & step.crosses;
+      const Dv d = t0 + step.s;
+      select(final, one, Dv::load(out_final + l)).store(out_final + l);
+      select(final, d, Dv::load(out_depth + l)).store(out_depth + l);
+      select(final, p.tx - d * p.offset_per_depth * p.vx, Dv::load(out_u + l)).store(out_u + l);
+      select(final, p.ty - d * p.offset_per_depth * p.vy, Dv::load(out_v + l)).store(out_v + l);
+      select(final, one, zero).store(next + l);
+    }
+    samples_added = F::load(next);
   }
   HitPacket<W> out;
   out.u = F::load(out_u);
   out.v = F::load(out_v);
   out.depth = F::load(out_depth);
   out.shadow = F::load(out_final);
-  out.samples = walk.samples;
+  // A cell solved in double is a sample; the first's the caller counts (as the double walk's).
+  out.samples = walk.samples + select(samples_added != F(0.0f), vint<W>(1), vint<W>(0));
   return out;
 }
 

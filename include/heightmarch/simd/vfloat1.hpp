@@ -78,6 +78,8 @@ template <> struct vdouble<1> {
   vdouble(double x) : d(x) {}
   static vdouble load(const float* p) { return {double(*p)}; }
   void store(float* p) const { *p = float(d); }
+  static vdouble load(const double* p) { return {*p}; }
+  void store(double* p) const { *p = d; }
   friend vdouble operator+(vdouble a, vdouble c) { return {a.d + c.d}; }
   friend vdouble operator-(vdouble a, vdouble c) { return {a.d - c.d}; }
   friend vdouble operator*(vdouble a, vdouble c) { return {a.d * c.d}; }

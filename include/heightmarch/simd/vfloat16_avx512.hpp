@@ -75,6 +75,8 @@ template <> struct vdouble<8> {
   vdouble(double x) : d(_mm512_set1_pd(x)) {}
   static vdouble load(const float* p) { return _mm512_cvtps_pd(_mm256_loadu_ps(p)); }
   void store(float* p) const { _mm256_storeu_ps(p, _mm512_cvtpd_ps(d)); }
+  static vdouble load(const double* p) { return _mm512_loadu_pd(p); }
+  void store(double* p) const { _mm512_storeu_pd(p, d); }
   friend vdouble operator+(vdouble a, vdouble c) { return _mm512_add_pd(a.d, c.d); }
   friend vdouble operator-(vdouble a, vdouble c) { return _mm512_sub_pd(a.d, c.d); }
   friend vdouble operator*(vdouble a, vdouble c) { return _mm512_mul_pd(a.d, c.d); }

@@ -82,6 +82,8 @@ template <> struct vdouble<4> {
   vdouble(double x) : d(_mm256_set1_pd(x)) {}
   static vdouble load(const float* p) { return _mm256_cvtps_pd(_mm_loadu_ps(p)); }
   void store(float* p) const { _mm_storeu_ps(p, _mm256_cvtpd_ps(d)); }
+  static vdouble load(const double* p) { return _mm256_loadu_pd(p); }
+  void store(double* p) const { _mm256_storeu_pd(p, d); }
   friend vdouble operator+(vdouble a, vdouble c) { return _mm256_add_pd(a.d, c.d); }
   friend vdouble operator-(vdouble a, vdouble c) { return _mm256_sub_pd(a.d, c.d); }
   friend vdouble operator*(vdouble a, vdouble c) { return _mm256_mul_pd(a.d, c.d); }
