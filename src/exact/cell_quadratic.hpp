@@ -27,13 +27,14 @@ struct CellQuadratic {
 };
 
 template <class T>
-CellQuadratic<T> cell_quadratic(T t00, T t10, T t01, T t11, T ci, T cj, T x0, T y0, T dx, T dy, T depth0, T ddepth,
-                                T t0) {
+CellQuadratic<T> cell_quadratic(T t00, T t10, T t01, T t11, T ci, T cj, T x0, T y0, T dx, T dy, T depth0,
+                                T ddepth, T t0) {
   const T e = t10 - t00, f = t01 - t00, g = t11 - t10 - t01 + t00;
   const T fx = (x0 - ci) + dx * t0;  // blend weights at t0
   const T fy = (y0 - cj) + dy * t0;
   const T surface0 = t00 + e * fx + f * fy + g * fx * fy;
-  return {(depth0 + ddepth * t0) - surface0, ddepth - (e * dx + f * dy + g * (fx * dy + fy * dx)), -g * dx * dy};
+  return {(depth0 + ddepth * t0) - surface0, ddepth - (e * dx + f * dy + g * (fx * dy + fy * dx)),
+          -g * dx * dy};
 }
 
 // Where a cell's quadratic first crosses into >= 0 within [0, span]: `crosses` with the crossing

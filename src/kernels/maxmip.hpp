@@ -341,8 +341,15 @@ HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket
   // from `from` (shadow = 0).
   alignas(64) float lane_tx[W], lane_ty[W], lane_vx[W], lane_vy[W], lane_vz[W], lane_from[W], lane_cx[W],
       lane_cy[W], lane_reached[W], t00[W], t10[W], t01[W], t11[W];
-  alignas(64) float out_u[W], out_v[W], out_depth[W], out_final[W], next[W], next_cx[W], next_cy[W];
+  alignas(64) float out_u[W], out_v[W], out_depth[W], out_final[W];
+  alignas(64) float next[W], next_cx[W], next_cy[W], in_next[W];  // the next cell's lanes
   alignas(64) double next_t[W];
+  // Until settled: not final, at `from`.
+  ray.tx.store(out_u);
+  ray.ty.store(out_v);
+  from.store(out_depth);
+  F(0.0f).store(out_final);
+  F(0.0f).store(in_next);
   ray.tx.store(lane_tx);
   ray.ty.store(lane_ty);
   ray.vx.store(lane_vx);
@@ -397,8 +404,10 @@ HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket
     }
     const Dv inv_dx = one / p.pdx, inv_dy = one / p.pdy;
     CellStep step;
-    step.exit_x = select(p.pdx > zero, (x_hi - p.px) * inv_dx, select(p.pdx < zero, (x_lo - p.px) * inv_dx, inf));
-    step.exit_y = select(p.pdy > zero, (y_hi - p.py) * inv_dy, select(p.pdy < zero, (y_lo - p.py) * inv_dy, inf));
+    step.exit_x =
+        select(p.pdx > zero, (x_hi - p.px) * inv_dx, select(p.pdx < zero, (x_lo - p.px) * inv_dx, inf));
+    step.exit_y =
+        select(p.pdy > zero, (y_hi - p.py) * inv_dy, select(p.pdy < zero, (y_lo - p.py) * inv_dy, inf));
     step.te = max(t0, min(step.exit_x, step.exit_y));
     const CellQuadratic<Dv> q =
         cell_quadratic(Dv::load(texels_00 + l), Dv::load(texels_10 + l), Dv::load(texels_01 + l),
@@ -410,6 +419,13 @@ HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket
     return step;
   };
   const auto clamp_cell = [&](Dv c, Dv n) { return kRepeat ? c : min(max(c, -one), n - one); };
+  // The final lanes' hit at depth d.
+  const auto settle = [&](const DoublePath& p, Dm final, Dv d, int l) {
+    select(final, one, Dv::load(out_final + l)).store(out_final + l);
+    select(final, d, Dv::load(out_depth + l)).store(out_depth + l);
+    select(final, p.tx - d * p.offset_per_depth * p.vx, Dv::load(out_u + l)).store(out_u + l);
+    select(final, p.ty - d * p.offset_per_depth * p.vy, Dv::load(out_v + l)).store(out_v + l);
+  };
   for (int l = 0; l < W; l += D) {
     const DoublePath p = path_at(l);
     const Dv t0 = Dv::load(lane_from + l);
@@ -421,21 +437,16 @@ HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket
     const CellStep step = solve_cell(p, ci, cj, t0, t00, t10, t01, t11, l);
     const Dm same_cell = (Dv::load(lane_reached + l) != zero) & (ci == Dv::load(lane_cx + l)) &
                          (cj == Dv::load(lane_cy + l));
-    const Dm final = same_cell & step.crosses;
-    const Dv d = t0 + step.s;
-    select(final, one, zero).store(out_final + l);
-    select(final, d, t0).store(out_depth + l);
-    select(final, p.tx - d * p.offset_per_depth * p.vx, p.tx).store(out_u + l);
-    select(final, p.ty - d * p.offset_per_depth * p.vy, p.ty).store(out_v + l);
+    settle(p, same_cell & step.crosses, t0 + step.s, l);
     // Clear through the cell, and not at depth 1 on leaving it: across the side(s) it leaves by.
     const Dm go_on = same_cell & !(step.crosses | step.hidden) & (step.te < one);
-    const Dv across_x = select(p.pdx > zero, ci + one, ci - one), across_y = select(p.pdy > zero, cj + one, cj - one);
+    const Dv across_x = select(p.pdx > zero, ci + one, ci - one);
+    const Dv across_y = select(p.pdy > zero, cj + one, cj - one);
     select(go_on, one, zero).store(next + l);
     select(go_on & (step.exit_x <= step.exit_y), clamp_cell(across_x, w), ci).store(next_cx + l);
     select(go_on & (step.exit_y <= step.exit_x), clamp_cell(across_y, h), cj).store(next_cy + l);
     step.te.store(next_t + l);
   }
-  F samples_added(0.0f);
   if (any(F::load(next) != F(0.0f))) {
     const F cx = F::load(next_cx), cy = F::load(next_cy);
     F n00, n10, n01, n11;
@@ -447,16 +458,12 @@ HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket
     for (int l = 0; l < W; l += D) {
       const DoublePath p = path_at(l);
       const Dv t0 = Dv::load(next_t + l);
-      const CellStep step = solve_cell(p, Dv::load(next_cx + l), Dv::load(next_cy + l), t0, t00, t10, t01, t11, l);
+      const CellStep step =
+          solve_cell(p, Dv::load(next_cx + l), Dv::load(next_cy + l), t0, t00, t10, t01, t11, l);
       const Dm final = (Dv::load(next + l) != zero) & step.crosses;
-      const Dv d = t0 + step.s;
-      select(final, one, Dv::load(out_final + l)).store(out_final + l);
-      select(final, d, Dv::load(out_depth + l)).store(out_depth + l);
-      select(final, p.tx - d * p.offset_per_depth * p.vx, Dv::load(out_u + l)).store(out_u + l);
-      select(final, p.ty - d * p.offset_per_depth * p.vy, Dv::load(out_v + l)).store(out_v + l);
-      select(final, one, zero).store(next + l);
+      settle(p, final, t0 + step.s, l);
+      select(final, one, zero).store(in_next + l);
     }
-    samples_added = F::load(next);
   }
   HitPacket<W> out;
   out.u = F::load(out_u);
@@ -464,7 +471,7 @@ HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket
   out.depth = F::load(out_depth);
   out.shadow = F::load(out_final);
   // A cell solved in double is a sample; the first's the caller counts (as the double walk's).
-  out.samples = walk.samples + select(samples_added != F(0.0f), vint<W>(1), vint<W>(0));
+  out.samples = walk.samples + select(F::load(in_next) != F(0.0f), vint<W>(1), vint<W>(0));
   return out;
 }
 

@@ -92,7 +92,9 @@ template <> struct vdouble<8> {
   friend vdouble min(vdouble a, vdouble c) { return _mm512_min_pd(c.d, a.d); }
   friend vdouble max(vdouble a, vdouble c) { return _mm512_max_pd(c.d, a.d); }
   friend vdouble abs(vdouble a) { return _mm512_abs_pd(a.d); }
-  friend vdouble floor(vdouble a) { return _mm512_roundscale_pd(a.d, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
+  friend vdouble floor(vdouble a) {
+    return _mm512_roundscale_pd(a.d, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+  }
   friend vdouble sqrt(vdouble a) { return _mm512_sqrt_pd(a.d); }
   friend vdouble copysign(vdouble a, vdouble c) {
     const __m512d sign = _mm512_set1_pd(-0.0);

@@ -80,7 +80,9 @@ template <> struct vdouble<2> {
   static vdouble load(const float* p) {
     return _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p))));
   }
-  void store(float* p) const { _mm_storel_epi64(reinterpret_cast<__m128i*>(p), _mm_castps_si128(_mm_cvtpd_ps(d))); }
+  void store(float* p) const {
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(p), _mm_castps_si128(_mm_cvtpd_ps(d)));
+  }
   static vdouble load(const double* p) { return _mm_loadu_pd(p); }
   void store(double* p) const { _mm_storeu_pd(p, d); }
   friend vdouble operator+(vdouble a, vdouble c) { return _mm_add_pd(a.d, c.d); }

@@ -72,7 +72,9 @@ template <> struct vboold<4> {
   __m256d m;  // all-ones lanes are true
   friend vboold operator&(vboold a, vboold c) { return {_mm256_and_pd(a.m, c.m)}; }
   friend vboold operator|(vboold a, vboold c) { return {_mm256_or_pd(a.m, c.m)}; }
-  friend vboold operator!(vboold a) { return {_mm256_xor_pd(a.m, _mm256_castsi256_pd(_mm256_set1_epi32(-1)))}; }
+  friend vboold operator!(vboold a) {
+    return {_mm256_xor_pd(a.m, _mm256_castsi256_pd(_mm256_set1_epi32(-1)))};
+  }
 };
 
 template <> struct vdouble<4> {
