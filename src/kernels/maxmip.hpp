@@ -456,11 +456,13 @@ HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket
     n01.store(t01);
     n11.store(t11);
     for (int l = 0; l < W; l += D) {
+      const Dm wanted = Dv::load(next + l) != zero;
+      if (!any(wanted)) continue;  // about half the chunks on waves: a tenth of the lanes go on
       const DoublePath p = path_at(l);
       const Dv t0 = Dv::load(next_t + l);
       const CellStep step =
           solve_cell(p, Dv::load(next_cx + l), Dv::load(next_cy + l), t0, t00, t10, t01, t11, l);
-      const Dm final = (Dv::load(next + l) != zero) & step.crosses;
+      const Dm final = wanted & step.crosses;
       settle(p, final, t0 + step.s, l);
       select(final, one, zero).store(in_next + l);
     }

@@ -70,6 +70,7 @@ template <> struct vboold<1> {
   friend vboold operator&(vboold a, vboold c) { return {a.b && c.b}; }
   friend vboold operator|(vboold a, vboold c) { return {a.b || c.b}; }
   friend vboold operator!(vboold a) { return {!a.b}; }
+  friend bool any(vboold a) { return a.b; }
 };
 
 template <> struct vdouble<1> {

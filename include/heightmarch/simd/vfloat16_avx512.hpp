@@ -66,6 +66,7 @@ template <> struct vboold<8> {
   friend vboold operator&(vboold a, vboold c) { return {__mmask8(a.m & c.m)}; }
   friend vboold operator|(vboold a, vboold c) { return {__mmask8(a.m | c.m)}; }
   friend vboold operator!(vboold a) { return {__mmask8(~a.m)}; }
+  friend bool any(vboold a) { return a.m != 0; }
 };
 
 template <> struct vdouble<8> {

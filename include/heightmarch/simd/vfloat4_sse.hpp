@@ -70,6 +70,7 @@ template <> struct vboold<2> {
   friend vboold operator&(vboold a, vboold c) { return {_mm_and_pd(a.m, c.m)}; }
   friend vboold operator|(vboold a, vboold c) { return {_mm_or_pd(a.m, c.m)}; }
   friend vboold operator!(vboold a) { return {_mm_xor_pd(a.m, _mm_castsi128_pd(_mm_set1_epi32(-1)))}; }
+  friend bool any(vboold a) { return _mm_movemask_pd(a.m) != 0; }
 };
 
 template <> struct vdouble<2> {

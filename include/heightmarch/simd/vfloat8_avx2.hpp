@@ -75,6 +75,7 @@ template <> struct vboold<4> {
   friend vboold operator!(vboold a) {
     return {_mm256_xor_pd(a.m, _mm256_castsi256_pd(_mm256_set1_epi32(-1)))};
   }
+  friend bool any(vboold a) { return _mm256_movemask_pd(a.m) != 0; }
 };
 
 template <> struct vdouble<4> {
