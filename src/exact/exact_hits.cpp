@@ -25,9 +25,12 @@ void check_exact_path_lengths(const DepthMap& map, const RayBatch& rays, const T
   if (path_cells(map, s * L[0] / L[2], s * L[1] / L[2]) > kMaxExactPathCells)
     throw InputError("the light (z = " + std::to_string(L[2]) + ") grazes the surface: its path crosses more than " +
                      std::to_string(long(kMaxExactPathCells)) + " texel cells, the exact reference's limit");
+  // A ray's path crosses s (|V.x| W + |V.y| H) / V.z cells (V.z > 0), compared here without the
+  // division: this loop runs over every ray of every exact trace (4% of one, with it).
+  const double sw = s * map.width, sh = s * map.height;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const double vz = rays.vz[i];
-    if (path_cells(map, s * rays.vx[i] / vz, s * rays.vy[i] / vz) <= kMaxExactPathCells) continue;
+    if (std::fabs(double(rays.vx[i])) * sw + std::fabs(double(rays.vy[i])) * sh <= kMaxExactPathCells * vz) continue;
     const double xy = std::hypot(double(rays.vx[i]), double(rays.vy[i]));
     const double min_vz = s * xy * (map.width + map.height) / kMaxExactPathCells;
     char text[256];
