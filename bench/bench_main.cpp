@@ -90,7 +90,6 @@ std::vector<Configuration> bench_plan(const BenchOptions& o) {
       c.kind = kind;
       c.params.technique = technique;
       c.params.layers = layers_for(technique, layers);
-      c.params.refine_steps = info(technique).refine;
       c.isa = isa;
       c.threads = t;
       add_to_plan(plan, c);

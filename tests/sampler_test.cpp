@@ -103,7 +103,7 @@ TEST_P(PacketSamplerTest, BitIdenticalOnClusteredPackets) {
 
 INSTANTIATE_TEST_SUITE_P(AllIsas, PacketSamplerTest,
                          ::testing::ValuesIn(all_isas()),
-                         [](const auto& info) { return to_string(info.param) == "sse4.2" ? std::string("sse42") : to_string(info.param); });
+                         [](const auto& info) { return std::string(isa_id(info.param)); });
 
 }  // namespace
 }  // namespace heightmarch

@@ -99,7 +99,7 @@ TEST(Relief, WithinTheFinalBracket) {
   const RayBatch rays = test::random_rays(400, 75.0, 6);
   for (int refine : {0, 3, 5, 8}) {
     auto params = params_for(Technique::relief, "8", Wrap::clamp);
-    params.refine_steps = refine;
+    params.refine = refine;
     const HitBuffers hits = trace_with(map, rays, params);
     for (std::size_t i = 0; i < rays.size(); ++i) {
       const double d = exact.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], 0.1).t;
@@ -140,7 +140,7 @@ TEST(Secant, WithoutIterationsItIsPom) {
   const DepthMap map = make_builtin_heightfield("bricks", 128, 2);
   const RayBatch rays = test::random_rays(1000, 80.0, 21);
   auto params = params_for(Technique::secant, "10");
-  params.refine_steps = 0;
+  params.refine = 0;
   const HitBuffers secant = trace_with(map, rays, params);
   const HitBuffers pom = trace_with(map, rays, params_for(Technique::pom, "10"));
   for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -161,10 +161,10 @@ TEST(Secant, HitStaysBetweenItsLayersAndConvergesOnTheExactHit) {
   double error_sum[2] = {0.0, 0.0};
   for (int n = 0; n < 2; ++n) {
     auto params = params_for(Technique::secant, "16");
-    params.refine_steps = n == 0 ? 1 : 6;
+    params.refine = n == 0 ? 1 : 6;
     const HitBuffers hits = trace_with(map, rays, params);
     for (std::size_t i = 0; i < rays.size(); ++i) {
-      ASSERT_EQ(hits.samples[i], steep.samples[i] + 1 + std::uint32_t(params.refine_steps));
+      ASSERT_EQ(hits.samples[i], steep.samples[i] + 1 + std::uint32_t(params.refine_steps()));
       if (steep.samples[i] == 1) continue;
       ASSERT_GE(hits.depth[i], steep.depth[i] - 1.0f / 16.0f - 1e-6f);
       ASSERT_LE(hits.depth[i], steep.depth[i] + 1e-6f);
@@ -236,9 +236,9 @@ TEST(Cone, HalvingsStartFromABracketOfTheExactHitOnSmoothMaps) {
   for (Wrap wrap : {Wrap::repeat, Wrap::clamp}) {
     const ExactIntersector exact(map, wrap);
     auto params = params_for(Technique::cone, "64", wrap);
-    params.refine_steps = 0;
+    params.refine = 0;
     const HitBuffers reads = trace_with(map, rays, params);  // without halvings: the reads
-    params.refine_steps = 24;
+    params.refine = 24;
     const HitBuffers hits = trace_with(map, rays, params);
     std::size_t still_stepping = 0;
     for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -259,7 +259,7 @@ TEST(Cone, AtMostCeilNReadsAndRefineHalvings) {
   for (const char* layers : {"1", "3", "3-9"})
     for (int refine : {0, 2, 6}) {
       auto params = params_for(Technique::cone, layers);
-      params.refine_steps = refine;
+      params.refine = refine;
       const HitBuffers hits = trace_with(map, rays, params);
       for (std::size_t i = 0; i < rays.size(); ++i) {
         const LayerSpec spec = params.layers;

@@ -74,7 +74,7 @@ void check_exact_path_lengths(const DepthMap& map, const RayBatch& rays, const T
 
 // The exact answer for every ray of a batch. Each tile goes through a conservative float pass of
 // the pyramid walk at one ISA (maxmip's walk with every test loosened by a bound on its rounding:
-// src/kernels/maxmip.hpp), which stops each ray in the first cell the exact path may touch and
+// src/exact/exact_bound.hpp), which stops each ray in the first cell the exact path may touch and
 // solves that cell (and, where the path is clear through it, the next) in double; the double
 // walk goes on from there for the rays it does not settle. The answer does not depend on the ISA (every ISA's pass is
 // bit-identical to the scalar one).

@@ -1,26 +1,15 @@
 #pragma once
-// Instruction sets the packet kernels are compiled for: one list, detected once at start-up.
+// Instruction sets the packet kernels are compiled for: one list per architecture
+// (cmake/isa_list.cmake, generated into heightmarch/isa_list.hpp), detected once at start-up.
 //
-// Adding an ISA: its packet header (include/heightmarch/simd/), its kernel translation unit
-// (src/isa/kernels_<id>.cpp), one row here, and its compiler flags in CMakeLists.txt.
+// Adding an ISA: one row in cmake/isa_list.cmake, and its packet header in src/simd/ if no
+// existing one fits its width and instructions.
 #include <array>
 #include <string>
 #include <string_view>
 #include <vector>
 
-// X(id, name, CPU check): narrowest first; each CPU check is an expression over
-// __builtin_cpu_supports that says whether this CPU runs the ISA's kernels.
-#define HEIGHTMARCH_ISAS(X)                                                                     \
-  X(scalar, "scalar", true)                                                                    \
-  X(sse42, "sse4.2", __builtin_cpu_supports("sse4.2"))                                         \
-  X(avx2, "avx2",                                                                              \
-    __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&                         \
-        __builtin_cpu_supports("bmi2"))                                                        \
-  X(avx512, "avx512",                                                                          \
-    __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&                         \
-        __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("avx512f") &&                 \
-        __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq") &&            \
-        __builtin_cpu_supports("avx512vl"))
+#include "heightmarch/isa_list.hpp"
 
 namespace heightmarch {
 
@@ -33,7 +22,8 @@ inline constexpr int kIsaCount = 0 HEIGHTMARCH_ISAS(HEIGHTMARCH_ISA_COUNT);
 #undef HEIGHTMARCH_ISA_COUNT
 
 const std::array<Isa, kIsaCount>& all_isas();  // narrowest first
-std::string to_string(Isa isa);                // scalar, sse4.2, avx2, avx512
+std::string to_string(Isa isa);                // its name: scalar, sse4.2, avx2, avx512
+std::string_view isa_id(Isa isa);              // an identifier: scalar, sse42, avx2, avx512
 bool cpu_supports(Isa isa);
 Isa best_isa();                           // the widest the CPU runs
 std::vector<Isa> supported_isas();        // narrowest first

@@ -1,6 +1,7 @@
 #pragma once
 // The techniques of docs/techniques.md (one registry, technique_list.hpp) and their parameters.
 #include <array>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -9,6 +10,20 @@
 #include "heightmarch/technique_list.hpp"
 
 namespace heightmarch {
+
+// What a technique reads besides the depth map: precomputed textures, built once per depth map
+// and wrap mode by one builder for the CPU and GLSL alike (flags, combinable).
+enum class Needs : unsigned { nothing = 0, min_depth_pyramid = 1u << 0, cone_map = 1u << 1 };
+constexpr Needs operator|(Needs a, Needs b) { return Needs(unsigned(a) | unsigned(b)); }
+constexpr bool has(Needs set, Needs one) { return (unsigned(set) & unsigned(one)) != 0; }
+
+// What a technique writes: its hit (uv, depth, samples), and for some a shadow factor towards the
+// light, measured against the exact visibility of the light from the exact hit.
+enum class Writes { hit, hit_and_shadow };
+
+// How an ISA packs a technique's rays: a layered march runs well as two native packets in flight
+// where the ISA says so (isa_list); a divergent walk with a large state per lane runs as one.
+enum class KernelShape { march, walk };
 
 #define HEIGHTMARCH_TECHNIQUE_ENUM(id, ...) id,
 enum class Technique { HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_ENUM) };
@@ -24,12 +39,17 @@ struct TechniqueInfo {
   std::string_view name;         // on the command line and in results
   bool layered;                  // takes a layer spec; otherwise one sample ("1")
   int refine;                    // its default --refine (ignored by techniques that do not refine)
+  Needs needs;                   // precomputed textures it reads
+  Writes writes;
+  bool search;                   // one of the searches timed at every ISA and thread count
+  KernelShape shape;
   std::string_view glsl_call;    // the GLSL expression the harness evaluates
   std::string_view color, marker;
   std::string_view description;  // one line, for --help and the report
 };
 
 const std::array<TechniqueInfo, kTechniqueCount>& techniques();
+inline bool writes_shadow(const TechniqueInfo& t) { return t.writes == Writes::hit_and_shadow; }
 const TechniqueInfo& info(Technique technique);
 std::string to_string(Technique technique);
 
@@ -52,17 +72,31 @@ std::string to_string(const LayerSpec& layers);
 // What a technique runs with: the spec for a layered one, "1" (one sample) otherwise.
 LayerSpec layers_for(Technique technique, const LayerSpec& spec);
 
+// The tutorial's layer count for a ray of view cosine cos_theta (V.z): N, or for a dynamic spec
+// mix(max, min, |cos_theta|) = max (1 - |cos|) + min |cos|. Not rounded. The one formula for the
+// packet kernels (F = vfloat<W>) and scalar code (F = float); the GLSL prelude has its twin.
+template <class F>
+F layer_count(float min_layers, float max_layers, F cos_theta) {
+  using std::abs;
+  if (min_layers == max_layers) return F(max_layers);
+  const F a = abs(cos_theta);
+  return F(max_layers) * (F(1.0f) - a) + F(min_layers) * a;
+}
+
 inline constexpr int kMaxRefineSteps = 64;
 
 struct TechniqueParams {
   Technique technique = Technique::pom;
   LayerSpec layers;
-  int refine_steps = 5;          // relief's halvings, secant's regula falsi steps, cone's halvings
-                                 // (configurations take the technique's default from the registry)
+  // relief's halvings, secant's regula falsi steps, cone's halvings; none: the technique's
+  // registry default (refine_steps() resolves it)
+  std::optional<int> refine;
   float scale = 0.1f;            // height scale s
   Wrap wrap = Wrap::repeat;
   bool discard = false;          // the tutorial's discard of a final uv outside [0,1]^2
   float light[3] = {0.5773503f, 0.5773503f, 0.5773503f};  // unit vector towards the light
+
+  int refine_steps() const { return refine.value_or(info(technique).refine); }
 };
 
 // Throws InputError for a scale outside [0, 1] (NaN included), bad refine counts, a light below

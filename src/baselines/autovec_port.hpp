@@ -2,11 +2,11 @@
 // The naive POM port (naive_port.cpp) as a user would vectorise it with the compiler alone: the
 // same lines and the same arithmetic, over arrays of rays, one `#pragma omp simd` loop per layer
 // step, the tutorial's loop condition turned into a per-ray flag and its branches into selects.
-// No packet types, no intrinsics: what -O3 makes of it with this ISA's flags (CMakeLists.txt:
+// No packet types, no intrinsics: what -O3 makes of it with this ISA's flags (cmake/isa_list.cmake:
 // -fopenmp-simd, and -fno-trapping-math, without which GCC 12 if-converts nothing; neither
 // changes a result). GCC 12 vectorised these loops only with their reduction clauses (the
 // flag of rays still going, the samples taken), checked with -fopt-info-vec. Included once per
-// ISA by src/isa/autovec_<isa>.cpp.
+// ISA by its generated translation unit (src/isa/autovec.cpp.in).
 #include <algorithm>
 #include <cmath>
 

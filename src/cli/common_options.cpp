@@ -118,7 +118,7 @@ Configuration trace_configuration(const TraceOptions& o, RunKind kind) {
     p.technique = parse_technique(o.technique, kind == RunKind::trace ? "exact" : "");
     p.layers = layers_for(p.technique, parse_layer_spec(o.layers));
   }
-  p.refine_steps = o.refine.value_or(info(p.technique).refine);
+  p.refine = o.refine;
   if (!std::isfinite(o.scale)) throw InputError("--scale " + std::to_string(o.scale) + " is not a finite number");
   p.scale = float(o.scale);
   p.wrap = o.wrap == "repeat" ? Wrap::repeat : Wrap::clamp;

@@ -151,7 +151,7 @@ Command add_glsl_command(CLI::App& app) {
         cpu.isa = select_isa("");
         cpu.params.technique = technique;
         cpu.params.layers = layers_for(technique, parse_layer_spec(o->trace.layers));  // the layers asked for
-        cpu.params.refine_steps = o->trace.refine.value_or(info(technique).refine);
+        cpu.params.refine = o->trace.refine;
         plan.push_back(cpu);
       }
     HitBuffers glsl_hits;  // row 0's (traced first), for the conformance of the CPU rows after it

@@ -1,9 +1,9 @@
 #pragma once
 // A texel cell's bilinear patch along a path, as a quadratic in double, and its first crossing:
 // shared by the double walk (exact_intersector.cpp, T = double) and the exact reference's
-// refinement of the cell its float pass stopped in (src/kernels/maxmip.hpp, T = vdouble<D>, D
+// refinement of the cell its float pass stopped in (src/exact/exact_bound.hpp, T = vdouble<D>, D
 // lanes at once), which so solves it as the walk does, bit for bit: the packet ops round and
-// pick as the scalar ones (heightmarch/simd/packet.hpp), and -ffp-contract=off keeps every
+// pick as the scalar ones (src/simd/packet.hpp), and -ffp-contract=off keeps every
 // product apart. Unqualified calls take std:: for double and the packet's overloads by ADL.
 // Internal linkage: each ISA's translation unit (compiled with its own flags) keeps its own copy.
 #include <algorithm>

@@ -104,7 +104,7 @@ PathHit ExactIntersector::first_hit(const HeightfieldPath& p, double from) const
   // shallowest texel and up after the path leaves a block's parent without a hit, so a pass
   // either advances t or descends. Passes are bounded by the cells on the path times the levels.
   // It starts where a block is about an eighth of the path's extent (the float walk of
-  // src/kernels/maxmip.hpp takes the same steps), or in the cell at `from` when walking on from
+  // src/kernels/pyramid_walk.hpp takes the same steps), or in the cell at `from` when walking on from
   // where a float pass stopped.
   const int top = pyramid_.levels() - 1;
   const double path_cells = (std::fabs(p.dx) + std::fabs(p.dy)) * p.t_max;

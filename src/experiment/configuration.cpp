@@ -52,7 +52,7 @@ std::string Configuration::backend() const {
 bool Configuration::same_measurement(const Configuration& o) const {
   const TechniqueParams &a = params, &b = o.params;
   const bool same_params = (!has_technique() || a.technique == b.technique) && a.layers == b.layers &&
-                           a.refine_steps == b.refine_steps && a.scale == b.scale && a.wrap == b.wrap &&
+                           a.refine_steps() == b.refine_steps() && a.scale == b.scale && a.wrap == b.wrap &&
                            a.discard == b.discard && std::memcmp(a.light, b.light, sizeof a.light) == 0;
   const bool same_isa = !on_isa() || isa == o.isa;
   return kind == o.kind && heightfield == o.heightfield && view == o.view && same_params && same_isa &&

@@ -101,7 +101,7 @@ void read_load_average(double (&load)[3]) {
 std::string params_key(const TechniqueParams& p, bool with_technique) {
   char buf[256];
   std::snprintf(buf, sizeof buf, "%d/%g/%g/%d/%a/%d/%d/%a/%a/%a", with_technique ? int(p.technique) : -1,
-                p.layers.min_layers, p.layers.max_layers, p.refine_steps, p.scale, int(p.wrap), int(p.discard),
+                p.layers.min_layers, p.layers.max_layers, p.refine_steps(), p.scale, int(p.wrap), int(p.discard),
                 p.light[0], p.light[1], p.light[2]);
   return buf;
 }

@@ -74,7 +74,7 @@ void write_row(JsonWriter& json, const Measurement& m) {
     json.value("layers", to_string(c.params.layers))
         .value("min_layers", double(c.params.layers.min_layers))
         .value("max_layers", double(c.params.layers.max_layers));
-  json.value("refine", c.params.refine_steps).value("backend", c.backend()).value("threads", c.threads);
+  json.value("refine", c.params.refine_steps()).value("backend", c.backend()).value("threads", c.threads);
   json.begin_object("view").value("kind", c.view.kind == ViewSpec::Kind::perspective ? "default"
                                           : c.view.kind == ViewSpec::Kind::sweep     ? "sweep"
                                                                                      : "rays");

@@ -24,7 +24,6 @@ Configuration on_view(const PlanSettings& s, const HeightfieldSource& hf, RunKin
 Configuration with_technique(Configuration c, Technique technique, const LayerSpec& layers) {
   c.params.technique = technique;
   c.params.layers = layers_for(technique, layers);
-  c.params.refine_steps = info(technique).refine;
   return c;
 }
 

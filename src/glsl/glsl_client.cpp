@@ -43,7 +43,7 @@ constexpr double kDrawFloorSeconds = 10.0;
 constexpr double kDrawSecondsPerSample = 100e-9;
 
 double draw_bound_seconds(const TechniqueParams& params, std::size_t rays) {
-  const double samples_per_ray = 2.0 * double(params.layers.max_layers) + double(params.refine_steps) + 8.0;
+  const double samples_per_ray = 2.0 * double(params.layers.max_layers) + double(params.refine_steps()) + 8.0;
   return kDrawFloorSeconds + double(rays) * samples_per_ray * kDrawSecondsPerSample;
 }
 

@@ -267,7 +267,7 @@ void OsmesaRunner::prepare(const TechniqueParams& params, const std::string& sha
   glUniform1f(uniform("heightScale"), params.scale);
   glUniform1f(uniform("minLayers"), params.layers.min_layers);
   glUniform1f(uniform("maxLayers"), params.layers.max_layers);
-  glUniform1i(uniform("refineSteps"), params.refine_steps);
+  glUniform1i(uniform("refineSteps"), params.refine_steps());
   glUniform3f(uniform("lightDirection"), params.light[0], params.light[1], params.light[2]);
   glUniform1i(uniform("wrapRepeat"), params.wrap == Wrap::repeat ? 1 : 0);
   if (params.technique == Technique::maxmip && shader_path.empty()) {

@@ -19,7 +19,6 @@ void params_fields(Io& io, Params& params) {
   io.value(params.technique);
   io.value(params.layers.min_layers);
   io.value(params.layers.max_layers);
-  io.value(params.refine_steps);
   io.value(params.scale);
   io.value(params.wrap);
   io.value(params.discard);
@@ -28,9 +27,18 @@ void params_fields(Io& io, Params& params) {
 
 }  // namespace
 
-void write(Writer& w, const TechniqueParams& params) { params_fields(w, params); }
+// The refine count travels resolved (the registry's default where none was given).
+void write(Writer& w, const TechniqueParams& params) {
+  params_fields(w, params);
+  w.value(params.refine_steps());
+}
 
-void read(Reader& r, TechniqueParams& params) { params_fields(r, params); }
+void read(Reader& r, TechniqueParams& params) {
+  params_fields(r, params);
+  int refine = 0;
+  r.value(refine);
+  params.refine = refine;
+}
 
 void write(Writer& w, const DepthMap& map) {
   w.value(map.width);

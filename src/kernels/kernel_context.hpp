@@ -18,6 +18,11 @@ struct HitPacket {
   vint<W> samples = vint<W>(0);
 };
 
+// A technique's kernel as a callable type: k (the KernelContext) and a RayPacket in, a HitPacket
+// out. Each header of src/kernels/techniques/ specialises it for its registry rows.
+template <Technique T>
+struct TechniqueKernel;
+
 template <int W, Addressing ADDRESSING, Taps TAPS = Taps::memory>
 class KernelContext {
  public:
@@ -37,17 +42,15 @@ class KernelContext {
 
   // Counts n texel reads for the active lanes, for kernels that read texels themselves.
   // `samples` must be the lane counts the kernel returns in HitPacket::samples: the packet loop
-  // (kernel_table.hpp) sums them into lane_samples once per packet, not here at every read.
+  // (src/isa/kernel_table.hpp) sums them into lane_samples once per packet, not here at every read.
   void count(B active, I& samples, int n) {
     samples = select(active, samples + I(n), samples);
     counters_.packet_samples += std::uint64_t(n) * W;
   }
 
-  // The tutorial's layer count: N, or mix(max, min, |cos|) for a dynamic spec. Not rounded.
+  // The tutorial's layer count (heightmarch::layer_count, technique.hpp).
   F layer_count(F cos_theta) const {
-    if (params.min_layers == params.max_layers) return F(params.min_layers);
-    const F a = abs(cos_theta);
-    return F(params.max_layers) * (F(1.0f) - a) + F(params.min_layers) * a;
+    return heightmarch::layer_count(params.min_layers, params.max_layers, cos_theta);
   }
 
   // Loop bound of docs/techniques.md: at most ceil(N) + 1 layer steps.

@@ -21,9 +21,19 @@ std::string to_string(Isa isa) {
   return "?";
 }
 
+std::string_view isa_id(Isa isa) {
+#define HEIGHTMARCH_ISA_ID_NAME(id, ...) \
+  if (isa == Isa::id) return #id;
+  HEIGHTMARCH_ISAS(HEIGHTMARCH_ISA_ID_NAME)
+#undef HEIGHTMARCH_ISA_ID_NAME
+  return "?";
+}
+
 bool cpu_supports(Isa isa) {
-  __builtin_cpu_init();
-#define HEIGHTMARCH_ISA_CHECK(id, name, check) \
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_cpu_init();  // the x86 list's checks call __builtin_cpu_supports
+#endif
+#define HEIGHTMARCH_ISA_CHECK(id, name, width, march_width, walk_width, check) \
   if (isa == Isa::id) return check;
   HEIGHTMARCH_ISAS(HEIGHTMARCH_ISA_CHECK)
 #undef HEIGHTMARCH_ISA_CHECK

@@ -8,9 +8,10 @@
 namespace heightmarch {
 
 const std::array<TechniqueInfo, kTechniqueCount>& techniques() {
-#define HEIGHTMARCH_TECHNIQUE_INFO(id, name, layered, refine, cpu_call, glsl_call, color, marker, \
-                                   description)                                                   \
-  TechniqueInfo{Technique::id, name, layered, refine, glsl_call, color, marker, description},
+#define HEIGHTMARCH_TECHNIQUE_INFO(id, name, layered, refine, needs, writes, search, shape, glsl_call, color, \
+                                   marker, description)                                                    \
+  TechniqueInfo{Technique::id, name,  layered,   refine, needs, writes, search, shape, glsl_call, color, marker, \
+                description},
   static const std::array<TechniqueInfo, kTechniqueCount> rows = {
       HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_INFO)};
 #undef HEIGHTMARCH_TECHNIQUE_INFO
@@ -73,8 +74,8 @@ LayerSpec layers_for(Technique technique, const LayerSpec& spec) {
 void validate(TechniqueParams& params) {
   if (!(params.scale >= 0.0f && params.scale <= 1.0f))
     throw InputError("scale " + std::to_string(params.scale) + " is outside [0, 1]");
-  if (params.refine_steps < 0 || params.refine_steps > kMaxRefineSteps)
-    throw InputError("refine steps " + std::to_string(params.refine_steps) + " outside [0, " +
+  if (params.refine_steps() < 0 || params.refine_steps() > kMaxRefineSteps)
+    throw InputError("refine steps " + std::to_string(params.refine_steps()) + " outside [0, " +
                      std::to_string(kMaxRefineSteps) + "]");
   const float* l = params.light;
   const float length = std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);

@@ -60,7 +60,7 @@ TraceStats Tracer::run_kernel(TraceRangeFn kernel, const RayBatch& rays, HitBuff
     texture.pyramid_levels = pyramid_->levels();
   }
   if (cone_map_) texture.cone = cone_map_->texture.texels.data();
-  const KernelParams params{params_.layers.min_layers, params_.layers.max_layers, params_.refine_steps,
+  const KernelParams params{params_.layers.min_layers, params_.layers.max_layers, params_.refine_steps(),
                             params_.scale, params_.discard,
                             {params_.light[0], params_.light[1], params_.light[2]}};
   const KernelRays kernel_rays{rays.tx.data(), rays.ty.data(), rays.vx.data(), rays.vy.data(),

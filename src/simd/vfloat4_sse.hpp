@@ -4,7 +4,7 @@
 
 #include <cstring>
 
-#include "heightmarch/simd/packet.hpp"
+#include "simd/packet.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 

@@ -12,7 +12,7 @@
 // including translation unit defines (isa_scalar, isa_sse42, ...), so that inline functions
 // compiled with one ISA's flags can never be linked into code running on another ISA.
 #ifndef HEIGHTMARCH_ISA_NS
-#error "define HEIGHTMARCH_ISA_NS before including a heightmarch/simd header"
+#error "define HEIGHTMARCH_ISA_NS before including a simd/ header"
 #endif
 
 #include <cstdint>

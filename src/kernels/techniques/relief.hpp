@@ -1,7 +1,7 @@
 #pragma once
 // Relief mapping: steep parallax, then a binary search between the last two layers
 // (the "Parallax Occlusion Mapping in GLSL" tutorial's loop: the step halves before each sample, the last sample only moves the point).
-#include "kernels/steep.hpp"
+#include "kernels/layer_march.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
@@ -27,5 +27,13 @@ HitPacket<W> relief(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   }
   return {u, v, depth, F(1.0f), m.samples};
 }
+
+template <>
+struct TechniqueKernel<Technique::relief> {
+  template <class Context, class Ray>
+  auto operator()(Context& k, const Ray& ray) const {
+    return relief(k, ray);
+  }
+};
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

@@ -8,7 +8,7 @@
 #ifndef HEIGHTMARCH_PAIR_OF
 #error "define HEIGHTMARCH_PAIR_OF (the native packet width) before including packet_pair.hpp"
 #endif
-#include "heightmarch/simd/packet.hpp"
+#include "simd/packet.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 

@@ -2,7 +2,7 @@
 // Width 8: AVX2 (+ FMA available, though the kernels do not contract; see src/isa/README.md).
 #include <immintrin.h>
 
-#include "heightmarch/simd/packet.hpp"
+#include "simd/packet.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 

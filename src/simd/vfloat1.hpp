@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "heightmarch/simd/packet.hpp"
+#include "simd/packet.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 

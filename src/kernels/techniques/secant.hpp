@@ -3,7 +3,7 @@
 // surface and the first below it. Each iteration samples at the bracket's linear interpolation
 // (POM's weight) and keeps the side where the ray's depth minus the surface's changes sign; the
 // result is one more interpolation without a sample. With no iterations it is POM.
-#include "kernels/steep.hpp"
+#include "kernels/layer_march.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
@@ -49,5 +49,13 @@ HitPacket<W> secant(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   hit.samples = m.samples;
   return hit;
 }
+
+template <>
+struct TechniqueKernel<Technique::secant> {
+  template <class Context, class Ray>
+  auto operator()(Context& k, const Ray& ray) const {
+    return secant(k, ray);
+  }
+};
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

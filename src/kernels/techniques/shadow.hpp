@@ -3,7 +3,7 @@
 // layer spec evaluated at L.z. Kept as the tutorial wrote it, including its texture step of
 // s L.xy / L.z / N while the layer height is the hit depth / N: the samples run ahead of the
 // light ray by a factor 1 / depth. The exact reference shows what that costs.
-#include "kernels/pom.hpp"
+#include "kernels/techniques/pom.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
@@ -42,5 +42,13 @@ HitPacket<W> shadow(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   hit.shadow = select(under_surface, F(1.0f) - shadow_multiplier, F(1.0f));
   return hit;
 }
+
+template <>
+struct TechniqueKernel<Technique::shadow> {
+  template <class Context, class Ray>
+  auto operator()(Context& k, const Ray& ray) const {
+    return shadow(k, ray);
+  }
+};
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

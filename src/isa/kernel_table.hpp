@@ -1,7 +1,10 @@
 #pragma once
-// One ISA's kernel table: every technique of the registry (technique_list.hpp) x every
-// addressing mode, each the packet loop below around the technique's kernel. Included once per
-// ISA by src/isa/kernels_<isa>.cpp inside its own namespace.
+// One ISA's kernel table: every technique of the registry (technique_list.hpp) x every addressing
+// mode, each the packet loop below around the technique's kernel, beside the exact reference's
+// float pass and the benchmarks' anchors. Included once per ISA by its generated translation unit
+// (src/isa/kernels.cpp.in) inside the ISA's own namespace.
+#include "all_techniques.hpp"  // generated: every header of src/kernels/techniques/
+#include "exact/exact_bound.hpp"
 #include "heightmarch/technique_list.hpp"
 #include "kernels/roofline.hpp"
 
@@ -48,25 +51,14 @@ HEIGHTMARCH_FLATTEN void trace_packets(const KernelTexture& texture, const Kerne
   counters.packet_samples += local.packet_samples;
 }
 
-// Each registry row's CPU call as a kernel type.
-#define HEIGHTMARCH_TECHNIQUE_KERNEL(id, name, layered, refine, cpu_call, ...) \
-  struct Kernel_##id {                                                         \
-    template <class Context, class Ray>                                        \
-    auto operator()(Context& k, const Ray& ray) const {                        \
-      return cpu_call;                                                         \
-    }                                                                          \
-  };
-HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_KERNEL)
-#undef HEIGHTMARCH_TECHNIQUE_KERNEL
-
-struct Kernel_sampler_roofline {
+struct SamplerRooflineKernel {
   template <class Context, class Ray>
   auto operator()(Context& k, const Ray& ray) const {
     return sampler_roofline(k, ray);
   }
 };
 
-struct Kernel_exact_bound {
+struct ExactBoundKernel {
   template <class Context, class Ray>
   auto operator()(Context& k, const Ray& ray) const {
     return maxmip_exact_bound(k, ray);
@@ -81,22 +73,22 @@ constexpr void fill_addressing(TraceRangeFn (&row)[kAddressingCount]) {
   row[int(Addressing::clamp)] = &trace_packets<W, Addressing::clamp, Kernel, TAPS>;
 }
 
-// maxmip carries a whole pyramid walk per lane: an ISA whose W is a pair of native packets may
-// run it at MAXMIP_W, one native packet, where the pair spills (AVX-512: 23% of the pair's
-// instructions touched the stack; one 16-wide packet measured 7-18% faster, while SSE's pair
-// of 4 stays faster than 4 and every other technique is faster as a pair).
-template <int W, int MAXMIP_W = W>
+// MARCH_W and WALK_W: the packet widths of the ISA's list (cmake/isa_list.cmake) for each
+// KernelShape of the registry; tiles are padded to the wider, which the other divides.
+template <int MARCH_W, int WALK_W>
 constexpr KernelTable make_kernel_table() {
-  static_assert(W % MAXMIP_W == 0, "tiles are padded to W rays, which MAXMIP_W must divide");
+  constexpr int W = MARCH_W > WALK_W ? MARCH_W : WALK_W;
+  static_assert(W % MARCH_W == 0 && W % WALK_W == 0, "tiles are padded to the wider packet");
   KernelTable table{};
   table.packet_width = W;
-#define HEIGHTMARCH_TECHNIQUE_ROW(id, ...) \
-  fill_addressing<Technique::id == Technique::maxmip ? MAXMIP_W : W, Kernel_##id>(table.technique[int(Technique::id)]);
+#define HEIGHTMARCH_TECHNIQUE_ROW(id, name, layered, refine, needs, writes, search, shape, ...)       \
+  fill_addressing<shape == KernelShape::walk ? WALK_W : MARCH_W, TechniqueKernel<Technique::id>>( \
+      table.technique[int(Technique::id)]);
   HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_ROW)
 #undef HEIGHTMARCH_TECHNIQUE_ROW
-  fill_addressing<W, Kernel_sampler_roofline>(table.sampler_roofline);
-  fill_addressing<W, Kernel_exact_bound>(table.exact_bound);
-  fill_addressing<W, Kernel_pom, Taps::registers>(table.compute_ceiling);
+  fill_addressing<MARCH_W, SamplerRooflineKernel>(table.sampler_roofline);
+  fill_addressing<MARCH_W, ExactBoundKernel>(table.exact_bound);
+  fill_addressing<MARCH_W, TechniqueKernel<Technique::pom>, Taps::registers>(table.compute_ceiling);
   table.autovec_pom = &autovec_pom;
   return table;
 }

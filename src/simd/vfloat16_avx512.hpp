@@ -2,7 +2,7 @@
 // Width 16: AVX-512F/BW/DQ/VL. Masks are k-registers.
 #include <immintrin.h>
 
-#include "heightmarch/simd/packet.hpp"
+#include "simd/packet.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 

@@ -1,6 +1,6 @@
 #pragma once
-// Steep parallax: march layers of depth 1/N along the ray until the first layer below the
-// surface (LearnOpenGL's loop). Relief, POM and the shadow start from its state.
+// The layer march of steep parallax (LearnOpenGL's loop): layers of depth 1/N along the ray until
+// the first layer below the surface. Steep, relief, POM, secant and the shadow start from its state.
 #include "kernels/kernel_context.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
@@ -60,12 +60,6 @@ LayerMarch<W> march_layers(KernelContext<W, ADDRESSING, TAPS>& k, const RayPacke
   m.current_layer_depth = last_layer_depth;
   m.samples = samples;
   return m;
-}
-
-template <bool LIMITED, int W, Addressing ADDRESSING>
-HitPacket<W> steep(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
-  const LayerMarch<W> m = march_layers<LIMITED>(k, ray);
-  return {m.u, m.v, m.current_layer_depth, vfloat<W>(1.0f), m.samples};
 }
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

@@ -75,4 +75,12 @@ HitPacket<W> cone(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   return out;
 }
 
+template <>
+struct TechniqueKernel<Technique::cone> {
+  template <class Context, class Ray>
+  auto operator()(Context& k, const Ray& ray) const {
+    return cone(k, ray);
+  }
+};
+
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

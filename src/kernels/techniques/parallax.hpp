@@ -19,4 +19,20 @@ HitPacket<W> parallax(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) 
   return hit;
 }
 
+template <>
+struct TechniqueKernel<Technique::parallax> {
+  template <class Context, class Ray>
+  auto operator()(Context& k, const Ray& ray) const {
+    return parallax<false>(k, ray);
+  }
+};
+
+template <>
+struct TechniqueKernel<Technique::parallax_limited> {
+  template <class Context, class Ray>
+  auto operator()(Context& k, const Ray& ray) const {
+    return parallax<true>(k, ray);
+  }
+};
+
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

@@ -1,0 +1,29 @@
+#pragma once
+// Steep parallax: the layer march alone; its hit is the first layer below the surface.
+#include "kernels/layer_march.hpp"
+
+namespace heightmarch::HEIGHTMARCH_ISA_NS {
+
+template <bool LIMITED, int W, Addressing ADDRESSING>
+HitPacket<W> steep(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
+  const LayerMarch<W> m = march_layers<LIMITED>(k, ray);
+  return {m.u, m.v, m.current_layer_depth, vfloat<W>(1.0f), m.samples};
+}
+
+template <>
+struct TechniqueKernel<Technique::steep> {
+  template <class Context, class Ray>
+  auto operator()(Context& k, const Ray& ray) const {
+    return steep<false>(k, ray);
+  }
+};
+
+template <>
+struct TechniqueKernel<Technique::steep_limited> {
+  template <class Context, class Ray>
+  auto operator()(Context& k, const Ray& ray) const {
+    return steep<true>(k, ray);
+  }
+};
+
+}  // namespace heightmarch::HEIGHTMARCH_ISA_NS
