@@ -48,7 +48,7 @@ void set_counters(benchmark::State& state, const Measurement& m) {
   state.counters["samples_per_second"] = benchmark::Counter(double(m.samples) * iterations, benchmark::Counter::kIsRate);
   state.counters["samples_per_ray"] = m.rays ? double(m.samples) / double(m.rays) : 0.0;
   if (m.config.kind == RunKind::trace) state.counters["simd_utilization"] = m.simd_utilization;
-  if (m.cone_map_seconds) state.counters["cone_map_seconds"] = *m.cone_map_seconds;  // not in the rates
+  if (m.precompute_seconds) state.counters["precompute_seconds"] = *m.precompute_seconds;  // not in the rates
   if (!m.errors) return;
   for (const auto& [name, value] : error_counters(*m.errors)) state.counters[name] = value;
 }

@@ -1,18 +1,43 @@
 #pragma once
 // The tutorials' claims C1-C10 and the papers' claims P1-P3 (the project's docs/claims.md gives
-// each one's words, source and reading): the figures measured for them, the rule that decides each
-// verdict (fixed here, before any figure is seen) and the verdicts. Adding a claim: one rule
-// function and one row of the table in claims.cpp.
+// each one's words, source and reading): the rows each claim reads, declared as typed values
+// (the claims' plan is made of them), the rule that decides each verdict (fixed here, before any
+// figure is seen) and the verdicts. Adding a claim: one entry of the table in claims.cpp (its
+// words, rows and rule) and its reading in docs/claims.md.
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "heightmarch/technique.hpp"
+
 namespace heightmarch {
 
-// One measured configuration. theta < 0: the default perspective view; else a sweep view.
+// Where a claim's row is measured: the default perspective view, a sweep view (one fixed angle
+// theta from the normal over a grid of entry points), or for P2 the default view of a builtin
+// at kLargeMapSide.
+enum class ClaimView { default_view, sweep, large_map };
+
+// One row a claim reads on each heightfield: a technique at a layer spec on a view.
+struct ClaimRow {
+  Technique technique = Technique::pom;
+  LayerSpec layers;   // as the technique runs it (layers_for: "1" for one-sample techniques)
+  ClaimView view = ClaimView::default_view;
+  double theta = 0;   // sweep views: degrees from the normal
+  friend bool operator==(const ClaimRow&, const ClaimRow&) = default;
+};
+std::string describe(const ClaimRow& row);  // "pom 32", "parallax 1 at 70 deg", "relief 64 on the large map"
+
+// P2 (maximum mipmaps on large depth maps): the builtins at this side, on the default view at
+// kLargeMapViewSide.
+inline constexpr int kLargeMapSide = 2048;
+inline constexpr int kLargeMapViewSide = 512;
+// P2: "exact" is a p99 uv error at most this, in texels (float rounding, far below what shows).
+inline constexpr double kExactUvErrorP99 = 1e-3;
+
+// One measured row of a claim on one heightfield.
 struct ClaimFigure {
-  std::string heightfield, technique, layers;
-  double theta = -1.0;
+  std::string heightfield;
+  ClaimRow row;
   double uv_error_mean = 0, uv_error_p95 = 0, uv_error_p99 = 0, wrong_surface_rate = 0;
   double samples_per_ray = 0;
   double rays_per_second = 0, rays_per_second_min = 0, rays_per_second_max = 0;  // median and spread; 0: not timed
@@ -37,26 +62,13 @@ struct ClaimFigure {
 inline constexpr int kMinFeatureRays = 100;
 
 struct ClaimsData {
-  std::vector<ClaimFigure> figures;
-  // P2's rows on large depth maps (the builtins at kLargeMapSide), apart from the others: the
-  // same heightfield names at another size.
-  std::vector<ClaimFigure> large_maps;
-  const ClaimFigure* find(const std::string& heightfield, const std::string& technique, const std::string& layers,
-                          double theta = -1.0) const;
-  const ClaimFigure* find_on_large_map(const std::string& heightfield, const std::string& technique,
-                                       const std::string& layers) const;
-  std::vector<std::string> heightfields() const;            // in first-seen order
-  std::vector<std::string> large_map_heightfields() const;  // in first-seen order
+  std::vector<ClaimFigure> figures;  // every view's, the large maps' included
+  const ClaimFigure* find(const std::string& heightfield, const ClaimRow& row) const;
+  // The heightfields with figures, in first-seen order: at their own size (default and sweep
+  // views), or with large_maps those of the large maps (builtins at kLargeMapSide, named as at
+  // their own size).
+  std::vector<std::string> heightfields(bool large_maps = false) const;
 };
-
-// P2 (maximum mipmaps on large depth maps): the builtins at this side, on the default view at
-// kLargeMapViewSide, against linear searches with these layer counts (up to about one layer per
-// texel the rays cross there).
-inline constexpr int kLargeMapSide = 2048;
-inline constexpr int kLargeMapViewSide = 512;
-const std::vector<std::string>& claim_large_map_layer_specs();
-// P2: "exact" is a p99 uv error at most this, in texels (float rounding, far below what shows).
-inline constexpr double kExactUvErrorP99 = 1e-3;
 
 enum class Verdict { holds, holds_partly, refuted, not_measured };
 std::string to_string(Verdict verdict);
@@ -71,21 +83,22 @@ struct ClaimResult {
   std::string id, claim, source, rule;
   std::vector<ClaimCheck> checks;
   Verdict verdict = Verdict::not_measured;
-  // This release only: the rule of the previous reading and its verdict on the same figures,
-  // where the reading changed.
-  std::string previous_rule;
-  std::optional<Verdict> previous_verdict;
 };
+
+// A claim: its words and source, the rule it implements (fixed before any figure is seen), the
+// rows it reads on every heightfield (large-map rows only on the builtins) and what decides it.
+struct Claim {
+  std::string id, claim, source, rule;
+  std::vector<ClaimRow> rows;
+  ClaimResult (*evaluate)(const Claim& claim, const ClaimsData& data);
+};
+// C1-C10 and P1-P3, in order.
+const std::vector<Claim>& claims();
 
 // Applies every claim's rule to the figures: holds when every check passes, holds partly when
 // some do, refuted when none do, not measured without checks. Deterministic: the same figures
-// give the same results (speeds never decide a verdict).
+// give the same results (speeds never decide a verdict but P2's, a claim about time).
 std::vector<ClaimResult> evaluate_claims(const ClaimsData& data);
-
-// The layer specs and angles the rules look at, so measurement and rules agree.
-const std::vector<std::string>& claim_layer_specs();
-const std::vector<double>& claim_sweep_angles();          // plain and offset-limited parallax
-const std::vector<double>& claim_near_normal_angles();    // layered techniques at 8-32 and 32 (C5)
 
 // "faster", "slower" or "not distinguishable (spreads overlap)": a's speed against b's, from
 // median and min-max of the timed repetitions; "not timed" without timings.

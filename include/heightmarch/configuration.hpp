@@ -5,6 +5,8 @@
 // heightfield and view, with which parameters and threads.
 #include <optional>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/isa.hpp"
@@ -13,9 +15,36 @@
 
 namespace heightmarch {
 
-// roofline: the sampler alone; ceiling: POM on register taps (no memory); naive: the tutorial's
-// POM ported to scalar C++; autovec: the same port vectorised by the compiler for an ISA.
-enum class RunKind { trace, glsl, roofline, ceiling, naive, autovec, exact };
+// What traces a configuration: one row each, and the only list of them. Each kind has one
+// backend in the measurement pass (src/experiment/backends.cpp).
+// X(id, name, benchmark prefix, traces a technique, runs at an ISA, backend label, benchmark ISA label)
+// - traces a technique: the configuration's technique is part of it (its name, its parameters);
+// - runs at an ISA: code compiled for the configuration's ISA runs;
+// - backend label: what results call the backend, "" for the ISA's name.
+#define HEIGHTMARCH_RUN_KINDS(X)                                                                  \
+  X(trace, "trace", "BM_Trace", true, true, "", "")          /* a technique's packet kernel */   \
+  X(glsl, "glsl", "BM_GLSL", true, false, "glsl", "glsl")    /* the same as GLSL in llvmpipe */   \
+  X(roofline, "roofline", "BM_SamplerRoofline", false, true, "", "") /* the sampler alone */     \
+  X(ceiling, "ceiling", "BM_ComputeCeiling", false, true, "", "") /* POM on register taps */     \
+  X(naive, "naive", "BM_NaivePort", true, false, "naive", "scalar-naive") /* the tutorial's POM in C++ */ \
+  X(autovec, "autovec", "BM_AutoVecPort", true, true, "", "") /* that port vectorised by the compiler */ \
+  X(exact, "exact", "BM_Exact", false, true, "exact", "exact") /* the exact reference */
+
+#define HEIGHTMARCH_RUN_KIND_ENUM(id, ...) id,
+enum class RunKind { HEIGHTMARCH_RUN_KINDS(HEIGHTMARCH_RUN_KIND_ENUM) };
+#undef HEIGHTMARCH_RUN_KIND_ENUM
+
+#define HEIGHTMARCH_RUN_KIND_COUNT(...) +1
+inline constexpr int kRunKindCount = 0 HEIGHTMARCH_RUN_KINDS(HEIGHTMARCH_RUN_KIND_COUNT);
+#undef HEIGHTMARCH_RUN_KIND_COUNT
+
+struct RunKindInfo {
+  RunKind id;
+  std::string_view name, benchmark_prefix;
+  bool traces_technique, runs_at_isa;
+  std::string_view backend_label, benchmark_isa_label;
+};
+const RunKindInfo& info(RunKind kind);
 std::string to_string(RunKind kind);
 
 // Which consumers of a run asked for a configuration; one configuration serves all of them.
@@ -58,17 +87,11 @@ struct Configuration {
 
   // "avx512", "glsl", "naive", "exact"
   std::string backend() const;
-  // Whether a registry technique is part of the configuration (not for roofline, ceiling, exact
-  // and brought-in shader runs).
-  bool has_technique() const {
-    return (kind == RunKind::trace || kind == RunKind::glsl || kind == RunKind::naive || kind == RunKind::autovec) &&
-           !shader;
-  }
+  // Whether a registry technique is part of the configuration (its run kind traces one, and it
+  // is not a brought-in shader).
+  bool has_technique() const { return info(kind).traces_technique && !shader; }
   // Whether the configuration runs code built for its ISA.
-  bool on_isa() const {
-    return kind == RunKind::trace || kind == RunKind::roofline || kind == RunKind::ceiling || kind == RunKind::autovec ||
-           kind == RunKind::exact;
-  }
+  bool on_isa() const { return info(kind).runs_at_isa; }
   // What traces, for people and result files: the technique ("pom"), the brought-in shader
   // ("shader:mine.glsl"), or the kind ("roofline", "exact").
   std::string label() const;
@@ -77,6 +100,10 @@ struct Configuration {
   // The same measurement: equal in everything but timed and purposes.
   bool same_measurement(const Configuration& other) const;
 };
+
+// Adds a configuration to a plan, or merges it into the same measurement already there
+// (purposes join; timed if either is).
+void add_to_plan(std::vector<Configuration>& plan, const Configuration& config);
 
 // The Google Benchmark name of a configuration, the same in heightmarch-bench and in a suite's
 // bench.json: BM_Trace/heightfield:bricks/technique:pom/layers:32/isa:avx512/threads:2/

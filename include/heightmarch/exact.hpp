@@ -80,7 +80,7 @@ void check_exact_path_lengths(const DepthMap& map, const RayBatch& rays, const T
 // bit-identical to the scalar one).
 enum class LightVisibility { skip, compute };
 inline LightVisibility visibility_for(Technique technique) {
-  return technique == Technique::shadow ? LightVisibility::compute : LightVisibility::skip;
+  return writes_shadow(info(technique)) ? LightVisibility::compute : LightVisibility::skip;
 }
 
 // Built once per depth map (which it keeps a pointer to) and parameters (the pyramid, the float

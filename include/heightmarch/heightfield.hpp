@@ -31,7 +31,15 @@ DepthMap load_depth_map(const std::string& path, Convention convention, int chan
 int parse_channel(const std::string& text);
 
 // Procedural heightfields, deterministic for a given resolution and seed.
-const std::vector<std::string>& builtin_heightfield_names();
+// A builtin heightfield: its name (builtin:NAME), how it is made, and which suite plans take it.
+struct BuiltinHeightfield {
+  enum Use { test_only, in_suite, in_quick_suite };  // in_quick_suite: the quick plan and the default one
+  const char* name;
+  DepthMap (*make)(int resolution, std::uint64_t seed);
+  Use use;
+};
+const std::vector<BuiltinHeightfield>& builtin_heightfields();
+std::vector<std::string> builtin_heightfield_names();
 DepthMap make_builtin_heightfield(const std::string& name, int resolution, std::uint64_t seed);
 
 // Where a depth map comes from: a builtin (with its resolution and seed) or an image file (with

@@ -23,9 +23,10 @@ struct Measurement {
   std::uint64_t samples = 0;   // height samples of one trace (deterministic)
   bool samples_known = true;   // false for a brought-in shader
   double simd_utilization = 1.0;
-  // Seconds the relaxed cone map of a cone row's CPU trace took to build (once per depth map and
-  // wrap, then shared): apart from the trace's time; none for other rows.
-  std::optional<double> cone_map_seconds;
+  // Seconds the precomputed textures of the row's technique (its registry row's needs: the cone
+  // map, the min-depth pyramid) took to build, once per depth map and wrap: apart from the
+  // trace's time; none for techniques that need none, and for rows without a technique.
+  std::optional<double> precompute_seconds;
   std::optional<ErrorSummary> errors;  // none for roofline runs
   std::vector<double> seconds;         // per repetition: one trace of the whole batch; empty if untimed
   std::string render_image, error_image, cost_image;  // gallery rows: paths relative to the run directory
@@ -98,10 +99,6 @@ class MeasurementSession {
   struct State;
   std::unique_ptr<State> state_;
 };
-
-// Adds a configuration to a plan, or merges it into the same measurement already there
-// (purposes join; timed if either is).
-void add_to_plan(std::vector<Configuration>& plan, const Configuration& config);
 
 // Runs the plan. Configurations that share a heightfield and view share one scene and one set
 // of exact hits; round r times each timed configuration of a scene before round r + 1 starts.

@@ -45,8 +45,18 @@ ErrorSummary summarize_errors(const RayBatch& rays, const HitBuffers& hits, cons
                               int map_width, int map_height, bool shadow,
                               std::vector<float>* per_ray_error = nullptr);
 
+// The texture step of one layer along a ray, in texels: s V.xy / V.z / N scaled by the map's
+// size, with N the layer count at V.z (layer_count, technique.hpp).
+double layer_step_texels(const LayerSpec& layers, float scale, float vx, float vy, float vz, int map_width,
+                         int map_height);
+
+// Whether a uv error is beyond one layer step (with a relative and an absolute slack for rounding).
+inline bool beyond_one_layer_step(double uv_error, double layer_step) {
+  return uv_error > layer_step * (1.0 + 1e-4) + 1e-6;
+}
+
 // Share of measured rays whose uv error is at most the texture step of one layer along their own
-// ray (s V.xy / V.z / N in texels, N from the layer spec at that V.z): stair-stepping's bound.
+// ray: stair-stepping's bound.
 double share_within_one_layer_step(const RayBatch& rays, const HitBuffers& hits,
                                    const std::vector<float>& uv_error, const TechniqueParams& params,
                                    int map_width, int map_height);

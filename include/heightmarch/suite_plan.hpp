@@ -1,8 +1,6 @@
 #pragma once
 // What a suite run (or a claims run) measures, as one typed plan of configurations: the default
 // plan, the quick one, and the claims' part of either.
-#include <cstdint>
-#include <map>
 #include <string>
 #include <vector>
 
@@ -36,33 +34,9 @@ PlanSettings suite_settings(bool quick, const std::vector<HeightfieldSource>& ex
 // roofline, the naive port, sweeps, the gallery and the claims' rows.
 std::vector<Configuration> suite_plan(const PlanSettings& settings);
 
-// The claims' rows alone (what `heightmarch claims` runs): every claim technique (steep, relief,
-// POM, secant, cone; maxmip) at the claims' layer specs on the default view, plain and
-// offset-limited parallax on sweep views at the claims' angles, steep, relief and POM at 8-32 and
-// 32 on near-normal sweep views, and with large_maps P2's rows on the builtins at kLargeMapSide.
+// The claims' rows alone (what `heightmarch claims` runs): every row each claim declares
+// (claims.hpp) on every heightfield, sweeps untimed, and with large_maps the large-map rows on
+// the builtins at kLargeMapSide.
 std::vector<Configuration> claims_plan(const PlanSettings& settings);
-
-// The figures the claims' rules read: observe() sees each traced row (the measurement pass's
-// on_traced) and keeps the per-ray figures of the rows with the claims purpose; data() joins them
-// to the rows' summaries and speeds.
-class ClaimsCollector {
- public:
-  void observe(const TracedRow& traced);
-  ClaimsData data(const std::vector<Measurement>& rows) const;
-
- private:
-  // What the rows of one scene (heightfield, view, scale, wrap) share: which rays hit where the
-  // depth map changes sharply (top decile of |grad D|), smoothly (bottom half), or on a thin feature.
-  struct SceneFeatures {
-    HeightfieldSource heightfield;
-    ViewSpec view;
-    float scale = 0;
-    Wrap wrap = Wrap::repeat;
-    std::vector<std::uint8_t> sharp, smooth, thin;
-    bool has_spread = false;  // the top decile's |grad D| exceeds the bottom half's
-  };
-  SceneFeatures features_;
-  std::map<int, ClaimFigure::PerRay> per_row_;  // by the row's id (its position in the plan)
-};
 
 }  // namespace heightmarch

@@ -3,11 +3,10 @@
 #include <cstdint>
 #include <memory>
 
-#include "heightmarch/cone_map.hpp"
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/hits.hpp"
 #include "heightmarch/isa.hpp"
-#include "heightmarch/min_depth_pyramid.hpp"
+#include "heightmarch/precomputed.hpp"
 #include "heightmarch/rays.hpp"
 #include "heightmarch/sampler.hpp"
 #include "heightmarch/technique.hpp"
@@ -52,8 +51,8 @@ class Tracer {
 
   const TechniqueParams& params() const { return params_; }
   Isa isa() const { return isa_; }
-  // The relaxed cone map the cone technique reads (shared, cached per map and wrap); else null.
-  const ConeMap* cone_map() const { return cone_map_.get(); }
+  // What the technique reads besides the depth map (its registry row's needs).
+  const PrecomputedTextures& precomputed() const { return precomputed_; }
 
  private:
   using KernelFn = void (*)(const KernelTexture&, const KernelParams&, const KernelRays&,
@@ -63,8 +62,7 @@ class Tracer {
   TechniqueParams params_;
   Isa isa_;
   SamplerTexture texture_;
-  std::unique_ptr<MinDepthPyramid> pyramid_;  // built for the techniques that walk it
-  std::shared_ptr<const ConeMap> cone_map_;
+  PrecomputedTextures precomputed_;
   KernelFn technique_kernel_;
   KernelFn roofline_kernel_;
   KernelFn ceiling_kernel_;

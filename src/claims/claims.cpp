@@ -4,40 +4,26 @@
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
+#include <stdexcept>
 
 #include "io/json_writer.hpp"
 
 namespace heightmarch {
 
-const ClaimFigure* ClaimsData::find(const std::string& heightfield, const std::string& technique,
-                                    const std::string& layers, double theta) const {
+const ClaimFigure* ClaimsData::find(const std::string& heightfield, const ClaimRow& row) const {
   for (const ClaimFigure& f : figures)
-    if (f.heightfield == heightfield && f.technique == technique && f.layers == layers &&
-        std::fabs(f.theta - theta) < 1e-9)
-      return &f;
+    if (f.heightfield == heightfield && f.row == row) return &f;
   return nullptr;
 }
 
-const ClaimFigure* ClaimsData::find_on_large_map(const std::string& heightfield, const std::string& technique,
-                                                 const std::string& layers) const {
-  for (const ClaimFigure& f : large_maps)
-    if (f.heightfield == heightfield && f.technique == technique && f.layers == layers) return &f;
-  return nullptr;
-}
-
-namespace {
-
-std::vector<std::string> heightfields_of(const std::vector<ClaimFigure>& figures) {
+std::vector<std::string> ClaimsData::heightfields(bool large_maps) const {
   std::vector<std::string> names;
   for (const ClaimFigure& f : figures)
-    if (std::find(names.begin(), names.end(), f.heightfield) == names.end()) names.push_back(f.heightfield);
+    if ((f.row.view == ClaimView::large_map) == large_maps &&
+        std::find(names.begin(), names.end(), f.heightfield) == names.end())
+      names.push_back(f.heightfield);
   return names;
 }
-
-}  // namespace
-
-std::vector<std::string> ClaimsData::heightfields() const { return heightfields_of(figures); }
-std::vector<std::string> ClaimsData::large_map_heightfields() const { return heightfields_of(large_maps); }
 
 std::string to_string(Verdict verdict) {
   switch (verdict) {
@@ -49,24 +35,11 @@ std::string to_string(Verdict verdict) {
   return "?";
 }
 
-const std::vector<std::string>& claim_layer_specs() {
-  static const std::vector<std::string> specs = {"1", "4", "8", "10", "16", "32", "64", "8-32"};
-  return specs;
-}
-
-const std::vector<std::string>& claim_large_map_layer_specs() {
-  static const std::vector<std::string> specs = {"64", "256", "1024"};
-  return specs;
-}
-
-const std::vector<double>& claim_sweep_angles() {
-  static const std::vector<double> angles = {20.0, 30.0, 70.0, 80.0};
-  return angles;
-}
-
-const std::vector<double>& claim_near_normal_angles() {
-  static const std::vector<double> angles = {0.0, 10.0, 20.0, 30.0};
-  return angles;
+std::string describe(const ClaimRow& row) {
+  std::string text = to_string(row.technique) + " " + to_string(row.layers);
+  if (row.view == ClaimView::sweep) text += " at " + std::to_string(int(row.theta)) + " deg";
+  if (row.view == ClaimView::large_map) text += " on the large map";
+  return text;
 }
 
 namespace {
@@ -102,19 +75,54 @@ std::string compare_speeds(const ClaimFigure& a, const ClaimFigure& b) {
 
 namespace {
 
+using T = Technique;
+
+// The rows as the rules name them: a technique at a layer spec on the default view, a sweep view
+// at theta, or the large map.
+ClaimRow at(Technique t, const char* layers) { return {t, layers_for(t, parse_layer_spec(layers)), ClaimView::default_view, 0}; }
+ClaimRow swept(Technique t, const char* layers, double theta) {
+  return {t, layers_for(t, parse_layer_spec(layers)), ClaimView::sweep, theta};
+}
+ClaimRow on_large_map(Technique t, const char* layers) {
+  return {t, layers_for(t, parse_layer_spec(layers)), ClaimView::large_map, 0};
+}
+
+// Every technique at every layer spec (at every angle, on sweeps): a claim's declared rows.
+std::vector<ClaimRow> rows(std::initializer_list<Technique> techniques, std::initializer_list<const char*> layers,
+                           ClaimView view = ClaimView::default_view, std::initializer_list<double> thetas = {0.0}) {
+  std::vector<ClaimRow> out;
+  for (Technique t : techniques)
+    for (const char* l : layers)
+      for (double theta : thetas)
+        out.push_back(view == ClaimView::sweep ? swept(t, l, theta) : ClaimRow{t, layers_for(t, parse_layer_spec(l)), view, 0});
+  return out;
+}
+std::vector<ClaimRow> operator+(std::vector<ClaimRow> a, const std::vector<ClaimRow>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+// The lists the rules walk, declared once for rows and rules alike.
+constexpr const char* kCurveLayers[] = {"4", "8", "10", "16", "32", "64"};  // a fixed-count curve
+constexpr double kNearNormal[] = {0.0, 10.0, 20.0, 30.0};  // where the tutorial places 8-32's saving (C5)
+constexpr const char* kLargeMapLayers[] = {"64", "256", "1024"};  // P2: up to about one layer per texel crossed
+
 class ClaimBuilder {
  public:
-  ClaimBuilder(const ClaimsData& data, std::string id, std::string claim, std::string source, std::string rule)
-      : data_(data) {
-    result_.id = std::move(id);
-    result_.claim = std::move(claim);
-    result_.source = std::move(source);
-    result_.rule = std::move(rule);
+  ClaimBuilder(const Claim& claim, const ClaimsData& data) : claim_(claim), data_(data) {
+    result_.id = claim.id;
+    result_.claim = claim.claim;
+    result_.source = claim.source;
+    result_.rule = claim.rule;
   }
-  const ClaimFigure* get(const std::string& hf, const std::string& technique, const std::string& layers,
-                         double theta = -1.0) const {
-    return data_.find(hf, technique, layers, theta);
+  // A row's figure on a heightfield, or null where it was not measured. A rule reads only the
+  // rows its claim declares: the plan measures nothing else.
+  const ClaimFigure* get(const std::string& hf, const ClaimRow& row) const {
+    if (std::find(claim_.rows.begin(), claim_.rows.end(), row) == claim_.rows.end())
+      throw std::logic_error(claim_.id + " reads " + describe(row) + ", a row it does not declare");
+    return data_.find(hf, row);
   }
+  std::vector<std::string> heightfields(bool large_maps = false) const { return data_.heightfields(large_maps); }
   void check(std::string where, std::string figures, bool passed) {
     result_.checks.push_back({std::move(where), std::move(figures), passed});
   }
@@ -130,6 +138,7 @@ class ClaimBuilder {
   }
 
  private:
+  const Claim& claim_;
   const ClaimsData& data_;
   ClaimResult result_;
 };
@@ -143,16 +152,11 @@ bool close_in_quality(double error, double reference, double ratio) {
 // Plain parallax's relative error: its uv error against the offset it has to find, |T - T*|.
 double relative_error(const ClaimFigure& f) { return f.per_ray.offset_mean > 0 ? f.uv_error_mean / f.per_ray.offset_mean : 0.0; }
 
-ClaimResult claim_c1(const ClaimsData& d) {
-  ClaimBuilder c(d, "C1", "plain parallax is a rough approximation that breaks at steep view angles and sharp depth changes",
-                 "LearnOpenGL",
-                 "Per heightfield. Steep angles: plain parallax's relative error (mean uv error / mean |T - T*|, both in "
-                 "texels, on sweep views) at 70 and 80 degrees is at least 2x that at 20 and 30 degrees. Sharp depth "
-                 "changes: at the default view, its mean uv error on the rays whose |grad D| at the exact hit is in the "
-                 "field's top decile is at least 2x that on the rays in the field's bottom half.");
-  for (const std::string& hf : d.heightfields()) {
-    const ClaimFigure *a20 = c.get(hf, "parallax", "1", 20), *a30 = c.get(hf, "parallax", "1", 30);
-    const ClaimFigure *a70 = c.get(hf, "parallax", "1", 70), *a80 = c.get(hf, "parallax", "1", 80);
+ClaimResult claim_c1(const Claim& claim, const ClaimsData& d) {
+  ClaimBuilder c(claim, d);
+  for (const std::string& hf : c.heightfields()) {
+    const ClaimFigure *a20 = c.get(hf, swept(T::parallax, "1", 20)), *a30 = c.get(hf, swept(T::parallax, "1", 30));
+    const ClaimFigure *a70 = c.get(hf, swept(T::parallax, "1", 70)), *a80 = c.get(hf, swept(T::parallax, "1", 80));
     if (a20 && a30 && a70 && a80 && a20->per_ray.offset_mean > 0 && a30->per_ray.offset_mean > 0) {
       const double low = std::max(relative_error(*a20), relative_error(*a30));
       const double high = std::min(relative_error(*a70), relative_error(*a80));
@@ -161,7 +165,7 @@ ClaimResult claim_c1(const ClaimsData& d) {
                   std::min(a70->uv_error_mean, a80->uv_error_mean), std::max(a20->uv_error_mean, a30->uv_error_mean)),
               high >= 2 * low);
     }
-    if (const ClaimFigure* f = c.get(hf, "parallax", "1"); f && f->per_ray.sharp_error_mean >= 0)
+    if (const ClaimFigure* f = c.get(hf, at(T::parallax, "1")); f && f->per_ray.sharp_error_mean >= 0)
       c.check(hf + ", sharp depth changes",
               fmt("error %.3f texels where |grad D| is in the top decile vs %.3f in the bottom half", f->per_ray.sharp_error_mean,
                   f->per_ray.smooth_error_mean),
@@ -170,13 +174,12 @@ ClaimResult claim_c1(const ClaimsData& d) {
   return c.finish();
 }
 
-ClaimResult claim_c2(const ClaimsData& d) {
-  ClaimBuilder c(d, "C2", "offset limiting gives better results than plain parallax at grazing angles", "LearnOpenGL; POM in GLSL",
-                 "Per heightfield and grazing angle (70, 80 degrees): parallax-limited's mean uv error is below plain "
-                 "parallax's.");
-  for (const std::string& hf : d.heightfields())
+ClaimResult claim_c2(const Claim& claim, const ClaimsData& d) {
+  ClaimBuilder c(claim, d);
+  for (const std::string& hf : c.heightfields())
     for (double theta : {70.0, 80.0}) {
-      const ClaimFigure *plain = c.get(hf, "parallax", "1", theta), *limited = c.get(hf, "parallax-limited", "1", theta);
+      const ClaimFigure *plain = c.get(hf, swept(T::parallax, "1", theta)),
+                        *limited = c.get(hf, swept(T::parallax_limited, "1", theta));
       if (plain && limited)
         c.check(hf + fmt(", %.0f deg", theta), fmt("limited %.3f vs plain %.3f texels", limited->uv_error_mean, plain->uv_error_mean),
                 limited->uv_error_mean < plain->uv_error_mean);
@@ -184,13 +187,12 @@ ClaimResult claim_c2(const ClaimsData& d) {
   return c.finish();
 }
 
-ClaimResult claim_c3(const ClaimsData& d) {
-  ClaimBuilder c(d, "C3", "steep parallax's accuracy grows with the number of layers", "LearnOpenGL; Steep PM notes",
-                 "Per heightfield and each doubling 4 -> 8 -> 16 -> 32 -> 64: steep's mean uv error decreases.");
-  const std::vector<std::string> counts = {"4", "8", "16", "32", "64"};
-  for (const std::string& hf : d.heightfields())
+ClaimResult claim_c3(const Claim& claim, const ClaimsData& d) {
+  ClaimBuilder c(claim, d);
+  const std::vector<const char*> counts = {"4", "8", "16", "32", "64"};
+  for (const std::string& hf : c.heightfields())
     for (std::size_t i = 0; i + 1 < counts.size(); ++i) {
-      const ClaimFigure *fewer = c.get(hf, "steep", counts[i]), *more = c.get(hf, "steep", counts[i + 1]);
+      const ClaimFigure *fewer = c.get(hf, at(T::steep, counts[i])), *more = c.get(hf, at(T::steep, counts[i + 1]));
       if (fewer && more)
         c.check(hf + ", " + counts[i] + " -> " + counts[i + 1] + " layers",
                 fmt("%.3f -> %.3f texels", fewer->uv_error_mean, more->uv_error_mean),
@@ -199,15 +201,10 @@ ClaimResult claim_c3(const ClaimsData& d) {
   return c.finish();
 }
 
-ClaimResult claim_c4(const ClaimsData& d) {
-  ClaimBuilder c(d, "C4", "about 10 layers already make steep parallax look far more correct than plain parallax",
-                 "LearnOpenGL",
-                 "Per heightfield at the default view: steep with 10 layers has at most half of plain parallax's mean uv "
-                 "error and at most half of its p95 uv error (the typical ray and the visible outliers; not the share "
-                 "over one texel, which steep's expected stair-stepping of several texels per layer at 10 layers "
-                 "would decide).");
-  for (const std::string& hf : d.heightfields()) {
-    const ClaimFigure *plain = c.get(hf, "parallax", "1"), *steep = c.get(hf, "steep", "10");
+ClaimResult claim_c4(const Claim& claim, const ClaimsData& d) {
+  ClaimBuilder c(claim, d);
+  for (const std::string& hf : c.heightfields()) {
+    const ClaimFigure *plain = c.get(hf, at(T::parallax, "1")), *steep = c.get(hf, at(T::steep, "10"));
     if (plain && steep)
       c.check(hf, fmt("mean %.3f vs %.3f texels, p95 %.3f vs %.3f texels", steep->uv_error_mean, plain->uv_error_mean,
                       steep->uv_error_p95, plain->uv_error_p95),
@@ -219,11 +216,11 @@ ClaimResult claim_c4(const ClaimsData& d) {
 // The fixed-count curve's mean uv error at a number of samples per ray, interpolated linearly in
 // 1 / samples between the two measured fixed counts around it (a layered error falls as 1 / N);
 // negative outside the measured range.
-double fixed_curve_error(const ClaimBuilder& c, const std::string& hf, const std::string& technique, double samples,
+double fixed_curve_error(const ClaimBuilder& c, const std::string& hf, Technique technique, double samples,
                          std::string& between) {
   std::vector<const ClaimFigure*> fixed;
-  for (const char* layers : {"4", "8", "10", "16", "32", "64"})
-    if (const ClaimFigure* f = c.get(hf, technique, layers)) fixed.push_back(f);
+  for (const char* layers : kCurveLayers)
+    if (const ClaimFigure* f = c.get(hf, at(technique, layers))) fixed.push_back(f);
   std::sort(fixed.begin(), fixed.end(), [](auto* a, auto* b) { return a->samples_per_ray < b->samples_per_ray; });
   for (std::size_t i = 0; i + 1 < fixed.size(); ++i) {
     const ClaimFigure &lo = *fixed[i], &hi = *fixed[i + 1];
@@ -231,35 +228,31 @@ double fixed_curve_error(const ClaimBuilder& c, const std::string& hf, const std
     const double t = hi.samples_per_ray > lo.samples_per_ray
                          ? (1 / samples - 1 / lo.samples_per_ray) / (1 / hi.samples_per_ray - 1 / lo.samples_per_ray)
                          : 0.0;
-    between = lo.layers + " and " + hi.layers + " layers";
+    between = to_string(lo.row.layers) + " and " + to_string(hi.row.layers) + " layers";
     return lo.uv_error_mean + t * (hi.uv_error_mean - lo.uv_error_mean);
   }
   return -1.0;
 }
 
-ClaimResult claim_c5(const ClaimsData& d) {
-  ClaimBuilder c(d, "C5", "view-dependent layer counts (8-32) save samples where few are needed, at little cost in accuracy",
-                 "LearnOpenGL; Steep PM notes",
-                 "Per heightfield and layered technique (steep, relief, POM). Pareto, at the default view: 8-32's mean uv "
-                 "error is at most that of the fixed layer counts' curve at the same samples per ray (interpolated in "
-                 "1 / samples between the two measured counts around it). Near-normal views (sweeps at 0, 10, 20, 30 "
-                 "degrees), where the tutorial places the saving: 8-32 takes at most 80% of the samples per ray of a "
-                 "fixed 32, and its mean uv error is close to 32's (at most 1.25x, or at most a quarter texel more).");
-  for (const std::string& hf : d.heightfields())
-    for (const char* technique : {"steep", "relief", "pom"}) {
-      if (const ClaimFigure* dynamic = c.get(hf, technique, "8-32")) {
+ClaimResult claim_c5(const Claim& claim, const ClaimsData& d) {
+  ClaimBuilder c(claim, d);
+  for (const std::string& hf : c.heightfields())
+    for (Technique technique : {T::steep, T::relief, T::pom}) {
+      const std::string name = to_string(technique);
+      if (const ClaimFigure* dynamic = c.get(hf, at(technique, "8-32"))) {
         std::string between;
         const double curve = fixed_curve_error(c, hf, technique, dynamic->samples_per_ray, between);
         if (curve >= 0)
-          c.check(hf + ", " + technique + ", default view",
+          c.check(hf + ", " + name + ", default view",
                   fmt("8-32: %.3f texels at %.2f samples/ray; fixed counts at the same samples: %.3f texels (between ",
                       dynamic->uv_error_mean, dynamic->samples_per_ray, curve) + between + ")",
                   dynamic->uv_error_mean <= curve);
       }
-      for (double theta : claim_near_normal_angles()) {
-        const ClaimFigure *dynamic = c.get(hf, technique, "8-32", theta), *fixed = c.get(hf, technique, "32", theta);
+      for (double theta : kNearNormal) {
+        const ClaimFigure *dynamic = c.get(hf, swept(technique, "8-32", theta)),
+                          *fixed = c.get(hf, swept(technique, "32", theta));
         if (dynamic && fixed)
-          c.check(hf + ", " + technique + fmt(", %.0f deg", theta),
+          c.check(hf + ", " + name + fmt(", %.0f deg", theta),
                   fmt("%.2f vs %.2f samples/ray, error %.3f vs %.3f texels", dynamic->samples_per_ray,
                       fixed->samples_per_ray, dynamic->uv_error_mean, fixed->uv_error_mean),
                   dynamic->samples_per_ray <= 0.8 * fixed->samples_per_ray &&
@@ -269,24 +262,21 @@ ClaimResult claim_c5(const ClaimsData& d) {
   return c.finish();
 }
 
-ClaimResult claim_c6(const ClaimsData& d) {
-  ClaimBuilder c(d, "C6", "steep parallax shows stair-stepping: its error is bounded by about one layer", "LearnOpenGL; Steep PM notes",
-                 "Per heightfield and layer count (8, 16, 32): at least 99% of steep's rays have a uv error no larger "
-                 "than the texture step of one layer along their own ray.");
-  for (const std::string& hf : d.heightfields())
+ClaimResult claim_c6(const Claim& claim, const ClaimsData& d) {
+  ClaimBuilder c(claim, d);
+  for (const std::string& hf : c.heightfields())
     for (const char* layers : {"8", "16", "32"})
-      if (const ClaimFigure* f = c.get(hf, "steep", layers))
+      if (const ClaimFigure* f = c.get(hf, at(T::steep, layers)))
         c.check(hf + ", " + layers + " layers", fmt("%.2f%% of rays within one layer", 100 * f->within_one_layer),
                 f->within_one_layer >= 0.99);
   return c.finish();
 }
 
-ClaimResult claim_c7(const ClaimsData& d) {
-  ClaimBuilder c(d, "C7", "POM is much more accurate than steep parallax at the same layer count", "LearnOpenGL; POM in GLSL",
-                 "Per heightfield and layer count (8, 16, 32): POM's mean uv error is at most half of steep's.");
-  for (const std::string& hf : d.heightfields())
+ClaimResult claim_c7(const Claim& claim, const ClaimsData& d) {
+  ClaimBuilder c(claim, d);
+  for (const std::string& hf : c.heightfields())
     for (const char* layers : {"8", "16", "32"}) {
-      const ClaimFigure *pom = c.get(hf, "pom", layers), *steep = c.get(hf, "steep", layers);
+      const ClaimFigure *pom = c.get(hf, at(T::pom, layers)), *steep = c.get(hf, at(T::steep, layers));
       if (pom && steep)
         c.check(hf + ", " + layers + " layers", fmt("POM %.3f vs steep %.3f texels", pom->uv_error_mean, steep->uv_error_mean),
                 pom->uv_error_mean <= 0.5 * steep->uv_error_mean);
@@ -294,16 +284,12 @@ ClaimResult claim_c7(const ClaimsData& d) {
   return c.finish();
 }
 
-ClaimResult claim_c8(const ClaimsData& d) {
-  ClaimBuilder c(d, "C8", "relief mapping gives the most accurate results of the layered methods, at a somewhat higher cost than POM",
-                 "LearnOpenGL; POM in GLSL; Steep PM notes",
-                 "Per heightfield and layer count (8, 16, 32): relief's mean uv error is the lowest of steep, POM and "
-                 "relief, and relief's cost, in height samples per ray (deterministic; the speeds are shown as median "
-                 "(min-max) beside it, and decide nothing), is above POM's but at most twice it.");
-  for (const std::string& hf : d.heightfields())
+ClaimResult claim_c8(const Claim& claim, const ClaimsData& d) {
+  ClaimBuilder c(claim, d);
+  for (const std::string& hf : c.heightfields())
     for (const char* layers : {"8", "16", "32"}) {
-      const ClaimFigure *relief = c.get(hf, "relief", layers), *pom = c.get(hf, "pom", layers),
-                        *steep = c.get(hf, "steep", layers);
+      const ClaimFigure *relief = c.get(hf, at(T::relief, layers)), *pom = c.get(hf, at(T::pom, layers)),
+                        *steep = c.get(hf, at(T::steep, layers));
       if (!relief || !pom || !steep) continue;
       c.check(hf + ", " + layers + " layers, accuracy",
               fmt("relief %.3f, POM %.3f, steep %.3f texels", relief->uv_error_mean, pom->uv_error_mean, steep->uv_error_mean),
@@ -316,14 +302,11 @@ ClaimResult claim_c8(const ClaimsData& d) {
   return c.finish();
 }
 
-ClaimResult claim_c9(const ClaimsData& d) {
-  ClaimBuilder c(d, "C9", "POM is close to relief mapping in quality and faster, hence the more common choice", "LearnOpenGL; Steep PM notes",
-                 "Per heightfield and layer count (8, 16, 32): POM's mean uv error is close to relief's (at most 1.5x, "
-                 "or at most a quarter texel more) and POM takes fewer height samples per ray than relief "
-                 "(deterministic; the speeds are shown as median (min-max) beside it, and decide nothing).");
-  for (const std::string& hf : d.heightfields())
+ClaimResult claim_c9(const Claim& claim, const ClaimsData& d) {
+  ClaimBuilder c(claim, d);
+  for (const std::string& hf : c.heightfields())
     for (const char* layers : {"8", "16", "32"}) {
-      const ClaimFigure *relief = c.get(hf, "relief", layers), *pom = c.get(hf, "pom", layers);
+      const ClaimFigure *relief = c.get(hf, at(T::relief, layers)), *pom = c.get(hf, at(T::pom, layers));
       if (relief && pom)
         c.check(hf + ", " + layers + " layers",
                 fmt("error POM %.3f vs relief %.3f texels, ", pom->uv_error_mean, relief->uv_error_mean) +
@@ -335,85 +318,68 @@ ClaimResult claim_c9(const ClaimsData& d) {
   return c.finish();
 }
 
-ClaimResult claim_c10(const ClaimsData& d) {
-  ClaimBuilder c(d, "C10", "too few layers miss thin features and steep height changes", "LearnOpenGL; POM in GLSL",
-                 "Per heightfield, for steep and POM with 4 and 8 layers against 64: among the rays whose exact hit lies "
-                 "on a thin feature (the ray leaves the solid again within 1/8 of the depth range) and, separately, "
-                 "among the rays whose |grad D| at the exact hit is in the field's top decile, the share of rays off by "
-                 "more than one layer step (tunnelling: the layer search stepped over the first surface) is at least 2x "
-                 "that with 64 layers and at least 1 percentage point above it. A field without at least 100 such "
-                 "rays does not take part in that check.");
-  for (const std::string& hf : d.heightfields())
-    for (const char* technique : {"steep", "pom"})
+ClaimResult claim_c10(const Claim& claim, const ClaimsData& d) {
+  ClaimBuilder c(claim, d);
+  for (const std::string& hf : c.heightfields())
+    for (Technique technique : {T::steep, T::pom})
       for (const char* layers : {"4", "8"}) {
-        const ClaimFigure *few = c.get(hf, technique, layers), *many = c.get(hf, technique, "64");
+        const ClaimFigure *few = c.get(hf, at(technique, layers)), *many = c.get(hf, at(technique, "64"));
         if (!few || !many) continue;
-        auto tunnelling = [&](const char* what, double a, double b) {
+        auto tunnelling = [&](const std::string& what, double a, double b) {
           if (a < 0 || b < 0) return;
-          c.check(hf + ", " + technique + " " + layers + " vs 64 layers, " + what,
+          c.check(hf + ", " + to_string(technique) + " " + layers + " vs 64 layers, " + what,
                   fmt("%.2f%% vs %.2f%% beyond one layer step (all rays: %.2f%% vs %.2f%%)", 100 * a, 100 * b,
                       100 * few->per_ray.beyond_one_layer, 100 * many->per_ray.beyond_one_layer),
                   a >= 2 * b && a >= b + 0.01);
         };
-        tunnelling(fmt("thin features (%.1f%% of rays)", 100 * few->per_ray.thin_share).c_str(), few->per_ray.thin_beyond_one_layer,
+        tunnelling(fmt("thin features (%.1f%% of rays)", 100 * few->per_ray.thin_share), few->per_ray.thin_beyond_one_layer,
                    many->per_ray.thin_beyond_one_layer);
         tunnelling("sharp depth changes", few->per_ray.sharp_beyond_one_layer, many->per_ray.sharp_beyond_one_layer);
       }
   return c.finish();
 }
 
-ClaimResult claim_p1(const ClaimsData& d) {
-  ClaimBuilder c(d, "P1", "relaxed cone stepping matches relief mapping's accuracy with far fewer samples per ray",
-                 "Policarpo and Oliveira, GPU Gems 3 ch. 18 (2007)",
-                 "Per heightfield at the default view, against relief with 32 layers: the cheapest cone configuration "
-                 "(fewest height samples per ray among its measured layer specs) whose mean uv error matches relief-32's "
-                 "(at most relief-32's, or at most 0.05 texel more: no visible difference) takes at most half of "
-                 "relief-32's samples per ray. Fails where no cone configuration matches.");
-  for (const std::string& hf : d.heightfields()) {
-    const ClaimFigure* relief = c.get(hf, "relief", "32");
+constexpr const char* kConeLayers[] = {"4", "8", "10", "16", "32", "64", "8-32"};
+
+ClaimResult claim_p1(const Claim& claim, const ClaimsData& d) {
+  ClaimBuilder c(claim, d);
+  for (const std::string& hf : c.heightfields()) {
+    const ClaimFigure* relief = c.get(hf, at(T::relief, "32"));
     if (!relief) continue;
     const ClaimFigure* cheapest = nullptr;
-    for (const std::string& layers : claim_layer_specs())
-      if (const ClaimFigure* cone = c.get(hf, "cone", layers);
+    for (const char* layers : kConeLayers)
+      if (const ClaimFigure* cone = c.get(hf, at(T::cone, layers));
           cone && cone->uv_error_mean <= relief->uv_error_mean + 0.05 &&
           (!cheapest || cone->samples_per_ray < cheapest->samples_per_ray))
         cheapest = cone;
     if (cheapest)
-      c.check(hf, fmt("cone %s: %.3f texels at %.2f samples/ray; relief 32: %.3f texels at %.2f samples/ray", cheapest->layers.c_str(),
-                      cheapest->uv_error_mean, cheapest->samples_per_ray, relief->uv_error_mean, relief->samples_per_ray),
+      c.check(hf, fmt("cone %s: %.3f texels at %.2f samples/ray; relief 32: %.3f texels at %.2f samples/ray",
+                      to_string(cheapest->row.layers).c_str(), cheapest->uv_error_mean, cheapest->samples_per_ray,
+                      relief->uv_error_mean, relief->samples_per_ray),
               cheapest->samples_per_ray <= 0.5 * relief->samples_per_ray);
-    else if (c.get(hf, "cone", "32"))
+    else if (c.get(hf, at(T::cone, "32")))
       c.check(hf, fmt("no cone configuration within 0.05 texel of relief 32's %.3f texels", relief->uv_error_mean), false);
   }
   return c.finish();
 }
 
-ClaimResult claim_p2(const ClaimsData& d) {
-  ClaimBuilder c(d, "P2", "maximum-mipmap tracing is exact, and on large depth maps faster than linear search at equal accuracy",
-                 "Tevs, Ihrke and Seidel, I3D 2008",
-                 fmt("Exact: per heightfield, at the default view and on the large map, maxmip's p99 uv error is at most "
-                     "%g texel. Faster: per builtin at %d x %d (view %d x %d), maxmip's rays/s against the linear search "
-                     "of equal accuracy, relief and secant (linear layers, then binary or secant refinement) at 64, 256 "
-                     "and 1024 layers: the fastest of those whose p99 uv error is at most %g texel, or, where none is, "
-                     "the most accurate one (equal accuracy would take it more layers, so more time). Passes when maxmip "
-                     "is faster with spreads apart; a time claim, so speeds decide it, and overlapping spreads fail it.",
-                     kExactUvErrorP99, kLargeMapSide, kLargeMapSide, kLargeMapViewSide, kLargeMapViewSide,
-                     kExactUvErrorP99));
+ClaimResult claim_p2(const Claim& claim, const ClaimsData& d) {
+  ClaimBuilder c(claim, d);
   auto exact = [&](const std::string& where, const ClaimFigure* f) {
     if (f)
       c.check(where + ", exact", fmt("p99 %.2g texel (mean %.2g, wrong surface %.3f%%)", f->uv_error_p99, f->uv_error_mean,
                                      100 * f->wrong_surface_rate),
               f->uv_error_p99 <= kExactUvErrorP99);
   };
-  for (const std::string& hf : d.heightfields()) exact(hf, c.get(hf, "maxmip", "1"));
-  for (const std::string& hf : d.large_map_heightfields()) {
-    const ClaimFigure* maxmip = d.find_on_large_map(hf, "maxmip", "1");
+  for (const std::string& hf : c.heightfields()) exact(hf, c.get(hf, at(T::maxmip, "1")));
+  for (const std::string& hf : c.heightfields(true)) {
+    const ClaimFigure* maxmip = c.get(hf, on_large_map(T::maxmip, "1"));
     const std::string where = hf + fmt(" at %d", kLargeMapSide);
     exact(where, maxmip);
     const ClaimFigure *equal = nullptr, *closest = nullptr;
-    for (const std::string& layers : claim_large_map_layer_specs())
-      for (const char* technique : {"relief", "secant"}) {
-        const ClaimFigure* f = d.find_on_large_map(hf, technique, layers);
+    for (const char* layers : kLargeMapLayers)
+      for (Technique technique : {T::relief, T::secant}) {
+        const ClaimFigure* f = c.get(hf, on_large_map(technique, layers));
         if (!f) continue;
         if (f->uv_error_p99 <= kExactUvErrorP99 && (!equal || f->rays_per_second > equal->rays_per_second)) equal = f;
         if (!closest || f->uv_error_p99 < closest->uv_error_p99) closest = f;
@@ -422,28 +388,24 @@ ClaimResult claim_p2(const ClaimsData& d) {
     if (!maxmip || !linear) continue;
     const std::string speeds = compare_speeds(*maxmip, *linear);
     c.check(where + ", speed",
-            fmt("maxmip %.2f samples/ray, p99 %.2g texel; ", maxmip->samples_per_ray, maxmip->uv_error_p99) + linear->technique +
-                " " + linear->layers + fmt(" (%s): %.2f samples/ray, p99 %.2g texel; maxmip ", equal ? "as accurate" : "the most accurate",
-                                            linear->samples_per_ray, linear->uv_error_p99) +
+            fmt("maxmip %.2f samples/ray, p99 %.2g texel; ", maxmip->samples_per_ray, maxmip->uv_error_p99) +
+                to_string(linear->row.technique) + " " + to_string(linear->row.layers) +
+                fmt(" (%s): %.2f samples/ray, p99 %.2g texel; maxmip ", equal ? "as accurate" : "the most accurate",
+                    linear->samples_per_ray, linear->uv_error_p99) +
                 speed(*maxmip) + " vs " + speed(*linear) + ": maxmip " + speeds,
             speeds == "faster");
   }
   return c.finish();
 }
 
-ClaimResult claim_p3(const ClaimsData& d) {
-  ClaimBuilder c(d, "P3", "secant refinement is more accurate than binary refinement at the same number of samples",
-                 "Risser, Shah and Pattanaik, Interval Mapping (2007)",
-                 "Per heightfield at the default view and secant layer count (4, 8, 16, 32; 5 refinement steps each): "
-                 "secant's mean uv error is below relief's (binary refinement, 5 halvings) at the same samples per "
-                 "ray, relief's error there interpolated in 1 / samples between its two measured layer counts around "
-                 "it; no check where secant's samples fall outside relief's measured range.");
-  for (const std::string& hf : d.heightfields())
+ClaimResult claim_p3(const Claim& claim, const ClaimsData& d) {
+  ClaimBuilder c(claim, d);
+  for (const std::string& hf : c.heightfields())
     for (const char* layers : {"4", "8", "16", "32"}) {
-      const ClaimFigure* secant = c.get(hf, "secant", layers);
+      const ClaimFigure* secant = c.get(hf, at(T::secant, layers));
       if (!secant) continue;
       std::string between;
-      const double relief = fixed_curve_error(c, hf, "relief", secant->samples_per_ray, between);
+      const double relief = fixed_curve_error(c, hf, T::relief, secant->samples_per_ray, between);
       if (relief >= 0)
         c.check(hf + ", secant " + layers + " layers",
                 fmt("secant %.4f texels at %.2f samples/ray; relief at the same samples: %.4f texels (between ",
@@ -453,128 +415,122 @@ ClaimResult claim_p3(const ClaimsData& d) {
   return c.finish();
 }
 
-// The previous reading (release before this one), kept for one release so that claims.md shows
-// its verdict beside the new one; delete with the next release. It picked heightfields by name.
-namespace previous_reading {
-
-bool is_sharp(const std::string& heightfield) {
-  for (const char* name : {"bricks", "toybox", "spikes"})
-    if (heightfield.find(name) != std::string::npos) return true;
-  return false;
-}
-bool is_smooth(const std::string& heightfield) {
-  return heightfield.find("waves") != std::string::npos || heightfield.find("terrain") != std::string::npos;
+// The rows a fixed-count curve of fixed_curve_error() reads.
+std::vector<ClaimRow> curve_rows(Technique technique) {
+  std::vector<ClaimRow> out;
+  for (const char* layers : kCurveLayers) out.push_back(at(technique, layers));
+  return out;
 }
 
-ClaimResult claim_c1(const ClaimsData& d) {
-  ClaimBuilder c(d, "C1", "", "",
-                 "Per heightfield: parallax's mean uv error at 70 and 80 degrees is at least 3x its mean error at 20 and "
-                 "30 degrees. Per sharp heightfield (by name: bricks, toybox, spikes): its wrong-surface rate at the "
-                 "default view is at least 2x the lowest rate among the smooth ones (by name: waves, terrain).");
-  for (const std::string& hf : d.heightfields()) {
-    const ClaimFigure *a20 = c.get(hf, "parallax", "1", 20), *a30 = c.get(hf, "parallax", "1", 30);
-    const ClaimFigure *a70 = c.get(hf, "parallax", "1", 70), *a80 = c.get(hf, "parallax", "1", 80);
-    if (a20 && a30 && a70 && a80)
-      c.check(hf, "", std::min(a70->uv_error_mean, a80->uv_error_mean) >= 3 * std::max(a20->uv_error_mean, a30->uv_error_mean));
-  }
-  double smooth_rate = -1;
-  for (const std::string& hf : d.heightfields())
-    if (const ClaimFigure* f = c.get(hf, "parallax", "1"); f && is_smooth(hf))
-      smooth_rate = smooth_rate < 0 ? f->wrong_surface_rate : std::min(smooth_rate, f->wrong_surface_rate);
-  if (smooth_rate >= 0)
-    for (const std::string& hf : d.heightfields())
-      if (const ClaimFigure* f = c.get(hf, "parallax", "1"); f && is_sharp(hf))
-        c.check(hf, "", f->wrong_surface_rate >= 2 * smooth_rate);
-  return c.finish();
+std::vector<Claim> make_claims() {
+  const ClaimView sweep = ClaimView::sweep;
+  std::vector<Claim> list;
+  list.push_back(
+      {"C1", "plain parallax is a rough approximation that breaks at steep view angles and sharp depth changes",
+       "LearnOpenGL",
+       "Per heightfield. Steep angles: plain parallax's relative error (mean uv error / mean |T - T*|, both in "
+       "texels, on sweep views) at 70 and 80 degrees is at least 2x that at 20 and 30 degrees. Sharp depth "
+       "changes: at the default view, its mean uv error on the rays whose |grad D| at the exact hit is in the "
+       "field's top decile is at least 2x that on the rays in the field's bottom half.",
+       rows({T::parallax}, {"1"}, sweep, {20, 30, 70, 80}) + rows({T::parallax}, {"1"}), claim_c1});
+  list.push_back({"C2", "offset limiting gives better results than plain parallax at grazing angles",
+                  "LearnOpenGL; POM in GLSL",
+                  "Per heightfield and grazing angle (70, 80 degrees): parallax-limited's mean uv error is below plain "
+                  "parallax's.",
+                  rows({T::parallax, T::parallax_limited}, {"1"}, sweep, {70, 80}), claim_c2});
+  list.push_back({"C3", "steep parallax's accuracy grows with the number of layers", "LearnOpenGL; Steep PM notes",
+                  "Per heightfield and each doubling 4 -> 8 -> 16 -> 32 -> 64: steep's mean uv error decreases.",
+                  rows({T::steep}, {"4", "8", "16", "32", "64"}), claim_c3});
+  list.push_back({"C4", "about 10 layers already make steep parallax look far more correct than plain parallax",
+                  "LearnOpenGL",
+                  "Per heightfield at the default view: steep with 10 layers has at most half of plain parallax's mean uv "
+                  "error and at most half of its p95 uv error (the typical ray and the visible outliers; not the share "
+                  "over one texel, which steep's expected stair-stepping of several texels per layer at 10 layers "
+                  "would decide).",
+                  rows({T::parallax}, {"1"}) + rows({T::steep}, {"10"}), claim_c4});
+  std::vector<ClaimRow> c5 = rows({T::steep, T::relief, T::pom}, {"8-32"}) +
+                             rows({T::steep, T::relief, T::pom}, {"8-32", "32"}, sweep, {0, 10, 20, 30});
+  for (Technique t : {T::steep, T::relief, T::pom}) c5 = c5 + curve_rows(t);
+  list.push_back({"C5", "view-dependent layer counts (8-32) save samples where few are needed, at little cost in accuracy",
+                  "LearnOpenGL; Steep PM notes",
+                  "Per heightfield and layered technique (steep, relief, POM). Pareto, at the default view: 8-32's mean uv "
+                  "error is at most that of the fixed layer counts' curve at the same samples per ray (interpolated in "
+                  "1 / samples between the two measured counts around it). Near-normal views (sweeps at 0, 10, 20, 30 "
+                  "degrees), where the tutorial places the saving: 8-32 takes at most 80% of the samples per ray of a "
+                  "fixed 32, and its mean uv error is close to 32's (at most 1.25x, or at most a quarter texel more).",
+                  c5, claim_c5});
+  list.push_back({"C6", "steep parallax shows stair-stepping: its error is bounded by about one layer",
+                  "LearnOpenGL; Steep PM notes",
+                  "Per heightfield and layer count (8, 16, 32): at least 99% of steep's rays have a uv error no larger "
+                  "than the texture step of one layer along their own ray.",
+                  rows({T::steep}, {"8", "16", "32"}), claim_c6});
+  list.push_back({"C7", "POM is much more accurate than steep parallax at the same layer count", "LearnOpenGL; POM in GLSL",
+                  "Per heightfield and layer count (8, 16, 32): POM's mean uv error is at most half of steep's.",
+                  rows({T::pom, T::steep}, {"8", "16", "32"}), claim_c7});
+  list.push_back(
+      {"C8", "relief mapping gives the most accurate results of the layered methods, at a somewhat higher cost than POM",
+       "LearnOpenGL; POM in GLSL; Steep PM notes",
+       "Per heightfield and layer count (8, 16, 32): relief's mean uv error is the lowest of steep, POM and "
+       "relief, and relief's cost, in height samples per ray (deterministic; the speeds are shown as median "
+       "(min-max) beside it, and decide nothing), is above POM's but at most twice it.",
+       rows({T::relief, T::pom, T::steep}, {"8", "16", "32"}), claim_c8});
+  list.push_back({"C9", "POM is close to relief mapping in quality and faster, hence the more common choice",
+                  "LearnOpenGL; Steep PM notes",
+                  "Per heightfield and layer count (8, 16, 32): POM's mean uv error is close to relief's (at most 1.5x, "
+                  "or at most a quarter texel more) and POM takes fewer height samples per ray than relief "
+                  "(deterministic; the speeds are shown as median (min-max) beside it, and decide nothing).",
+                  rows({T::relief, T::pom}, {"8", "16", "32"}), claim_c9});
+  list.push_back({"C10", "too few layers miss thin features and steep height changes", "LearnOpenGL; POM in GLSL",
+                  "Per heightfield, for steep and POM with 4 and 8 layers against 64: among the rays whose exact hit lies "
+                  "on a thin feature (the ray leaves the solid again within 1/8 of the depth range) and, separately, "
+                  "among the rays whose |grad D| at the exact hit is in the field's top decile, the share of rays off by "
+                  "more than one layer step (tunnelling: the layer search stepped over the first surface) is at least 2x "
+                  "that with 64 layers and at least 1 percentage point above it. A field without at least 100 such "
+                  "rays does not take part in that check.",
+                  rows({T::steep, T::pom}, {"4", "8", "64"}), claim_c10});
+  std::vector<ClaimRow> p1 = rows({T::relief}, {"32"});
+  for (const char* layers : kConeLayers) p1.push_back(at(T::cone, layers));
+  list.push_back({"P1", "relaxed cone stepping matches relief mapping's accuracy with far fewer samples per ray",
+                  "Policarpo and Oliveira, GPU Gems 3 ch. 18 (2007)",
+                  "Per heightfield at the default view, against relief with 32 layers: the cheapest cone configuration "
+                  "(fewest height samples per ray among its measured layer specs) whose mean uv error matches relief-32's "
+                  "(at most relief-32's, or at most 0.05 texel more: no visible difference) takes at most half of "
+                  "relief-32's samples per ray. Fails where no cone configuration matches.",
+                  p1, claim_p1});
+  std::vector<ClaimRow> p2 = rows({T::maxmip}, {"1"}) + rows({T::maxmip}, {"1"}, ClaimView::large_map);
+  for (const char* layers : kLargeMapLayers)
+    for (Technique t : {T::relief, T::secant}) p2.push_back(on_large_map(t, layers));
+  list.push_back({"P2", "maximum-mipmap tracing is exact, and on large depth maps faster than linear search at equal accuracy",
+                  "Tevs, Ihrke and Seidel, I3D 2008",
+                  fmt("Exact: per heightfield, at the default view and on the large map, maxmip's p99 uv error is at most "
+                      "%g texel. Faster: per builtin at %d x %d (view %d x %d), maxmip's rays/s against the linear search "
+                      "of equal accuracy, relief and secant (linear layers, then binary or secant refinement) at 64, 256 "
+                      "and 1024 layers: the fastest of those whose p99 uv error is at most %g texel, or, where none is, "
+                      "the most accurate one (equal accuracy would take it more layers, so more time). Passes when maxmip "
+                      "is faster with spreads apart; a time claim, so speeds decide it, and overlapping spreads fail it.",
+                      kExactUvErrorP99, kLargeMapSide, kLargeMapSide, kLargeMapViewSide, kLargeMapViewSide,
+                      kExactUvErrorP99),
+                  p2, claim_p2});
+  list.push_back({"P3", "secant refinement is more accurate than binary refinement at the same number of samples",
+                  "Risser, Shah and Pattanaik, Interval Mapping (2007)",
+                  "Per heightfield at the default view and secant layer count (4, 8, 16, 32; 5 refinement steps each): "
+                  "secant's mean uv error is below relief's (binary refinement, 5 halvings) at the same samples per "
+                  "ray, relief's error there interpolated in 1 / samples between its two measured layer counts around "
+                  "it; no check where secant's samples fall outside relief's measured range.",
+                  rows({T::secant}, {"4", "8", "16", "32"}) + curve_rows(T::relief), claim_p3});
+  return list;
 }
-
-ClaimResult claim_c4(const ClaimsData& d) {
-  ClaimBuilder c(d, "C4", "", "",
-                 "Per heightfield at the default view: steep with 10 layers has at most half of plain parallax's mean uv "
-                 "error and at most half of its wrong-surface rate.");
-  for (const std::string& hf : d.heightfields()) {
-    const ClaimFigure *plain = c.get(hf, "parallax", "1"), *steep = c.get(hf, "steep", "10");
-    if (plain && steep)
-      c.check(hf, "", steep->uv_error_mean <= 0.5 * plain->uv_error_mean &&
-                          steep->wrong_surface_rate <= 0.5 * plain->wrong_surface_rate);
-  }
-  return c.finish();
-}
-
-ClaimResult claim_c5(const ClaimsData& d) {
-  ClaimBuilder c(d, "C5", "", "",
-                 "Per heightfield and layered technique (steep, relief, POM) at the default view: 8-32 takes at most 80% "
-                 "of the samples per ray of a fixed 32 and its mean uv error is at most 1.25x that of 32.");
-  for (const std::string& hf : d.heightfields())
-    for (const char* technique : {"steep", "relief", "pom"}) {
-      const ClaimFigure *dynamic = c.get(hf, technique, "8-32"), *fixed = c.get(hf, technique, "32");
-      if (dynamic && fixed)
-        c.check(hf, "", dynamic->samples_per_ray <= 0.8 * fixed->samples_per_ray &&
-                            dynamic->uv_error_mean <= 1.25 * fixed->uv_error_mean);
-    }
-  return c.finish();
-}
-
-ClaimResult claim_c9(const ClaimsData& d) {
-  ClaimBuilder c(d, "C9", "", "",
-                 "Per heightfield and layer count (8, 16, 32): POM's mean uv error is at most 1.5x relief's and POM "
-                 "takes fewer height samples per ray than relief.");
-  for (const std::string& hf : d.heightfields())
-    for (const char* layers : {"8", "16", "32"}) {
-      const ClaimFigure *relief = c.get(hf, "relief", layers), *pom = c.get(hf, "pom", layers);
-      if (relief && pom)
-        c.check(hf, "", pom->uv_error_mean <= 1.5 * relief->uv_error_mean && pom->samples_per_ray < relief->samples_per_ray);
-    }
-  return c.finish();
-}
-
-ClaimResult claim_c10(const ClaimsData& d) {
-  ClaimBuilder c(d, "C10", "", "",
-                 "Per sharp heightfield (by name: bricks, toybox, spikes), for steep and POM with 4 and 8 layers: the "
-                 "wrong-surface rate is at least 3x that with 64 layers and at least 0.1 percentage points above it.");
-  for (const std::string& hf : d.heightfields()) {
-    if (!is_sharp(hf)) continue;
-    for (const char* technique : {"steep", "pom"})
-      for (const char* layers : {"4", "8"}) {
-        const ClaimFigure *few = c.get(hf, technique, layers), *many = c.get(hf, technique, "64");
-        if (few && many)
-          c.check(hf, "", few->wrong_surface_rate >= 3 * many->wrong_surface_rate &&
-                              few->wrong_surface_rate >= many->wrong_surface_rate + 0.001);
-      }
-  }
-  return c.finish();
-}
-
-}  // namespace previous_reading
-
-// The claims, in order: each one's rule and, this release only, its previous reading where the
-// reading changed.
-struct ClaimRule {
-  ClaimResult (*rule)(const ClaimsData&);
-  ClaimResult (*previous)(const ClaimsData&);
-};
-
-constexpr ClaimRule kClaimRules[] = {
-    {claim_c1, previous_reading::claim_c1}, {claim_c2, nullptr}, {claim_c3, nullptr},
-    {claim_c4, previous_reading::claim_c4}, {claim_c5, previous_reading::claim_c5}, {claim_c6, nullptr},
-    {claim_c7, nullptr}, {claim_c8, nullptr}, {claim_c9, previous_reading::claim_c9},
-    {claim_c10, previous_reading::claim_c10},
-    {claim_p1, nullptr}, {claim_p2, nullptr}, {claim_p3, nullptr},
-};
 
 }  // namespace
 
+const std::vector<Claim>& claims() {
+  static const std::vector<Claim> list = make_claims();
+  return list;
+}
+
 std::vector<ClaimResult> evaluate_claims(const ClaimsData& data) {
   std::vector<ClaimResult> results;
-  for (const ClaimRule& claim : kClaimRules) {
-    ClaimResult r = claim.rule(data);
-    if (claim.previous) {
-      const ClaimResult previous = claim.previous(data);
-      r.previous_rule = previous.rule;
-      r.previous_verdict = previous.verdict;
-    }
-    results.push_back(std::move(r));
-  }
+  for (const Claim& claim : claims()) results.push_back(claim.evaluate(claim, data));
   return results;
 }
 
@@ -584,21 +540,16 @@ std::string claims_markdown(const std::vector<ClaimResult>& results, const std::
                    "\n\nEach rule was fixed in the source (src/claims/claims.cpp) before any figure was measured; "
                    "docs/claims.md gives each claim's words and source (the tutorials C1-C10, the papers P1-P3) and "
                    "argues the reading its rule implements. The verdict is *holds* when every check passes, *holds partly* when some do, *refuted* "
-                   "when none do. Where this release changed a reading, the previous reading's verdict on the same "
-                   "figures stands beside the new one.\n\n"
-                   "| claim | verdict | previous reading's verdict | checks passed |\n|---|---|---|---|\n";
+                   "when none do.\n\n"
+                   "| claim | verdict | checks passed |\n|---|---|---|\n";
   for (const ClaimResult& r : results) {
     const auto passed = std::count_if(r.checks.begin(), r.checks.end(), [](auto& c) { return c.passed; });
     md += "| [" + r.id + "](#" + r.id + ") " + r.claim + " | **" + to_string(r.verdict) + "** | " +
-          (r.previous_verdict ? to_string(*r.previous_verdict) : std::string("(reading unchanged)")) + " | " +
           std::to_string(passed) + " / " + std::to_string(r.checks.size()) + " |\n";
   }
   for (const ClaimResult& r : results) {
     md += "\n<a id=\"" + r.id + "\"></a>\n## " + r.id + ": " + r.claim + "\n\n";
     md += "Source: " + r.source + " (docs/claims.md gives the words and the pages).\n\nRule: " + r.rule + "\n\n";
-    if (r.previous_verdict)
-      md += "Previous reading (shown this release only): " + r.previous_rule + " Its verdict on these figures: **" +
-            to_string(*r.previous_verdict) + "**.\n\n";
     if (!r.checks.empty()) {
       md += "| where | figures | passes |\n|---|---|---|\n";
       for (const ClaimCheck& c : r.checks) md += "| " + c.where + " | " + c.figures + " | " + (c.passed ? "yes" : "**no**") + " |\n";
@@ -621,8 +572,6 @@ std::string claims_json(const std::vector<ClaimResult>& results) {
   for (const ClaimResult& r : results) {
     json.begin_object().value("id", r.id).value("claim", r.claim).value("source", r.source).value("rule", r.rule);
     json.value("verdict", to_string(r.verdict));
-    if (r.previous_verdict)
-      json.value("previous_rule", r.previous_rule).value("previous_verdict", to_string(*r.previous_verdict));
     json.begin_array("checks");
     for (const ClaimCheck& c : r.checks)
       json.begin_object().value("where", c.where).value("figures", c.figures).value("passed", c.passed).end_object();

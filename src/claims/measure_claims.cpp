@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "heightmarch/sampler.hpp"
-#include "heightmarch/suite_plan.hpp"
+#include "claims/claims_collector.hpp"
 
 namespace heightmarch {
 namespace {
@@ -95,13 +95,9 @@ void ClaimsCollector::observe(const TracedRow& traced) {
     offset += std::hypot((double(rays.tx[i]) - exact.u[i]) * map.width, (double(rays.ty[i]) - exact.v[i]) * map.height);
     const double e = traced.uv_error[i];
     bool beyond = false;
-    if (layered) {  // one layer's texture step along this ray, as share_within_one_layer_step has it
-      const double a = std::fabs(rays.vz[i]);
-      const double count = layers.max_layers * (1 - a) + layers.min_layers * a;
-      const double step = std::hypot(c.params.scale * rays.vx[i] / rays.vz[i] / count * map.width,
-                                     c.params.scale * rays.vy[i] / rays.vz[i] / count * map.height);
-      beyond = e > step * (1.0 + 1e-4) + 1e-6;
-    }
+    if (layered)
+      beyond = beyond_one_layer_step(
+          e, layer_step_texels(layers, c.params.scale, rays.vx[i], rays.vy[i], rays.vz[i], map.width, map.height));
     all.add(e, beyond);
     if (features_.sharp[i]) sharp.add(e, beyond);
     if (features_.smooth[i]) smooth.add(e, beyond);
@@ -126,9 +122,8 @@ ClaimsData ClaimsCollector::data(const std::vector<Measurement>& rows) const {
     if (!(is_claims_trace(c) || is_large_map_trace(c)) || !m.errors) continue;
     ClaimFigure f;
     f.heightfield = c.heightfield.label();
-    f.technique = to_string(c.params.technique);
-    f.layers = to_string(c.params.layers);
-    f.theta = c.view.kind == ViewSpec::Kind::sweep ? double(c.view.theta_degrees) : -1.0;
+    f.row = {c.params.technique, c.params.layers, ClaimView::default_view, 0.0};
+    if (c.view.kind == ViewSpec::Kind::sweep) f.row = {c.params.technique, c.params.layers, ClaimView::sweep, c.view.theta_degrees};
     f.uv_error_mean = m.errors->mean;
     f.uv_error_p95 = m.errors->p95;
     f.uv_error_p99 = m.errors->p99;
@@ -141,7 +136,10 @@ ClaimsData ClaimsCollector::data(const std::vector<Measurement>& rows) const {
     f.rays_per_second_max = speed.max;
     if (const auto it = per_row_.find(m.id); it != per_row_.end()) f.per_ray = it->second;
     if (is_claims_trace(c)) data.figures.push_back(f);
-    if (is_large_map_trace(c)) data.large_maps.push_back(f);
+    if (is_large_map_trace(c)) {
+      f.row.view = ClaimView::large_map;
+      data.figures.push_back(f);
+    }
   }
   return data;
 }

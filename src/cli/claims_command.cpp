@@ -1,5 +1,6 @@
 // heightmarch claims: measures the claims' rows of the plan (the same rows a suite measures for
 // them) and writes claims.md, claims.json and measurements.json.
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <sstream>
@@ -45,6 +46,31 @@ MeasuredPlan measure_with_progress(const std::vector<Configuration>& plan, const
   return run;
 }
 
+namespace {
+
+// The rows the claims declare on one kind of view, technique by technique: "steep 4, 8, 16;
+// relief 8-32 (at 0, 10 deg)".
+std::string claim_rows_text(ClaimView view) {
+  std::vector<std::pair<Technique, std::vector<std::string>>> by_technique;
+  for (const Claim& claim : claims())
+    for (const ClaimRow& row : claim.rows) {
+      if (row.view != view) continue;
+      std::string what = to_string(row.layers);
+      if (view == ClaimView::sweep) what += " at " + std::to_string(int(row.theta)) + " deg";
+      auto it = std::find_if(by_technique.begin(), by_technique.end(), [&](auto& t) { return t.first == row.technique; });
+      if (it == by_technique.end()) it = by_technique.insert(by_technique.end(), {row.technique, {}});
+      if (std::find(it->second.begin(), it->second.end(), what) == it->second.end()) it->second.push_back(what);
+    }
+  std::string text;
+  for (const auto& [technique, specs] : by_technique) {
+    text += (text.empty() ? "" : "; ") + to_string(technique);
+    for (std::size_t i = 0; i < specs.size(); ++i) text += (i ? ", " : " ") + specs[i];
+  }
+  return text;
+}
+
+}  // namespace
+
 void write_claims(const std::string& dir, const ClaimsData& data, const PlanSettings& settings) {
   const std::vector<ClaimResult> results = evaluate_claims(data);
   const Provenance p = provenance();
@@ -54,22 +80,16 @@ void write_claims(const std::string& dir, const ClaimsData& data, const PlanSett
                                       p.compiler + " (" + p.build_type + ").";
   std::string heightfields;
   for (const auto& hf : settings.heightfields) heightfields += (heightfields.empty() ? "" : ", ") + hf.label();
-  auto degrees = [](const std::vector<double>& list) {
-    std::string text;
-    for (double a : list) text += (text.empty() ? "" : ", ") + std::to_string(int(a));
-    return text;
-  };
   const std::string configurations =
       "Configurations: heightfields " + heightfields + " (builtins at " + std::to_string(settings.heightfields.front().resolution) +
       " x " + std::to_string(settings.heightfields.front().resolution) +
-      "), scale 0.1, REPEAT; the default view at " + std::to_string(settings.view_size) + " x " +
-      std::to_string(settings.view_size) + " pixels (the same rows as the report's tables) for every claim technique at layers 4, 8, 10, "
-      "16, 32, 64 and 8-32; sweep views of " + std::to_string(settings.sweep_size) + " x " + std::to_string(settings.sweep_size) +
-      " rays at " + degrees(claim_sweep_angles()) + " degrees for the parallax claims and at " +
-      degrees(claim_near_normal_angles()) + " degrees for steep, relief and POM at 8-32 and 32" +
+      "), scale 0.1, REPEAT; on the default view at " + std::to_string(settings.view_size) + " x " +
+      std::to_string(settings.view_size) + " pixels (the same rows as the report's tables): " +
+      claim_rows_text(ClaimView::default_view) + "; on sweep views of " + std::to_string(settings.sweep_size) + " x " +
+      std::to_string(settings.sweep_size) + " rays: " + claim_rows_text(ClaimView::sweep) +
       (settings.large_maps ? "; for P2, the builtins at " + std::to_string(kLargeMapSide) + " x " + std::to_string(kLargeMapSide) +
                                  " on the default view at " + std::to_string(kLargeMapViewSide) + " x " +
-                                 std::to_string(kLargeMapViewSide) + " pixels: maxmip, and relief and secant at 64, 256 and 1024 layers"
+                                 std::to_string(kLargeMapViewSide) + " pixels: " + claim_rows_text(ClaimView::large_map)
                            : std::string()) +
       ". Errors are uv errors in "
       "texels against the exact intersection; sharp depth changes (|grad D| at the exact hit, top decile of the view's "
@@ -90,17 +110,24 @@ struct ClaimsOptions {
   PlanOptions plan;
   std::string out = ".";
   std::string isa;
+  bool list = false;
 };
 
 }  // namespace
 
 Command add_claims_command(CLI::App& app) {
-  CLI::App* command = app.add_subcommand("claims", "measure the tutorials' claims C1-C10 and write claims.md");
+  CLI::App* command =
+      app.add_subcommand("claims", "measure the tutorials' claims C1-C10 and the papers' P1-P3 and write claims.md");
   auto o = std::make_shared<ClaimsOptions>();
   add_plan_options(*command, o->plan, "the quick plan's heightfields and sizes");
   command->add_option("--out", o->out, "directory for claims.md, claims.json and measurements.json")->capture_default_str();
   command->add_option("--isa", o->isa, isa_names() + " or auto");
+  command->add_flag("--list", o->list, "list the claims (id, words, the rows each reads) and measure nothing");
   return [o] {
+    if (o->list) {
+      for (const Claim& claim : claims()) std::printf("%s\t%s\t%zu rows\n", claim.id.c_str(), claim.claim.c_str(), claim.rows.size());
+      return 0;
+    }
     PlanSettings settings = plan_settings(o->plan, false);
     settings.best_isa = select_isa(o->isa);
     Progress progress("claims");

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "cli/progress.hpp"
+#include "claims/claims_collector.hpp"
 #include "heightmarch/suite_plan.hpp"
 
 namespace heightmarch::cli {

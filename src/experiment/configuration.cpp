@@ -5,18 +5,14 @@
 
 namespace heightmarch {
 
-std::string to_string(RunKind kind) {
-  switch (kind) {
-    case RunKind::trace: return "trace";
-    case RunKind::glsl: return "glsl";
-    case RunKind::roofline: return "roofline";
-    case RunKind::ceiling: return "ceiling";
-    case RunKind::naive: return "naive";
-    case RunKind::autovec: return "autovec";
-    case RunKind::exact: return "exact";
-  }
-  return "?";
+const RunKindInfo& info(RunKind kind) {
+#define HEIGHTMARCH_RUN_KIND_INFO(id, ...) RunKindInfo{RunKind::id, __VA_ARGS__},
+  static const RunKindInfo rows[] = {HEIGHTMARCH_RUN_KINDS(HEIGHTMARCH_RUN_KIND_INFO)};
+#undef HEIGHTMARCH_RUN_KIND_INFO
+  return rows[int(kind)];
 }
+
+std::string to_string(RunKind kind) { return std::string(info(kind).name); }
 
 std::string purpose_name(unsigned bit) {
   static const char* const names[kPurposeCount] = {"matrix", "isa",     "glsl",   "roofline", "naive",
@@ -37,16 +33,8 @@ std::string Configuration::label() const {
 }
 
 std::string Configuration::backend() const {
-  switch (kind) {
-    case RunKind::trace:
-    case RunKind::roofline:
-    case RunKind::ceiling:
-    case RunKind::autovec: return to_string(isa);
-    case RunKind::glsl: return "glsl";
-    case RunKind::naive: return "naive";
-    case RunKind::exact: return "exact";
-  }
-  return "?";
+  const std::string_view label = info(kind).backend_label;
+  return label.empty() ? to_string(isa) : std::string(label);
 }
 
 bool Configuration::same_measurement(const Configuration& o) const {
@@ -59,14 +47,23 @@ bool Configuration::same_measurement(const Configuration& o) const {
          threads == o.threads && shader == o.shader;
 }
 
+void add_to_plan(std::vector<Configuration>& plan, const Configuration& config) {
+  for (Configuration& c : plan)
+    if (c.same_measurement(config)) {
+      c.purposes |= config.purposes;
+      c.timed = c.timed || config.timed;
+      return;
+    }
+  plan.push_back(config);
+}
+
 std::string benchmark_name(const Configuration& c, int map_width, int map_height) {
-  static const char* const prefixes[] = {"BM_Trace",     "BM_GLSL",        "BM_SamplerRoofline", "BM_ComputeCeiling",
-                                         "BM_NaivePort", "BM_AutoVecPort", "BM_Exact"};
-  std::string name = std::string(prefixes[int(c.kind)]) + "/heightfield:" + c.heightfield.label();
+  const RunKindInfo& kind = info(c.kind);
+  std::string name = std::string(kind.benchmark_prefix) + "/heightfield:" + c.heightfield.label();
   if (c.shader) name.append("/").append(c.shader->label());
   if (c.has_technique()) name += "/technique:" + to_string(c.params.technique);
   if (c.kind != RunKind::exact) name += "/layers:" + to_string(c.params.layers);
-  name += "/isa:" + (c.kind == RunKind::naive ? std::string("scalar-naive") : c.backend()) +
+  name += "/isa:" + (kind.benchmark_isa_label.empty() ? c.backend() : std::string(kind.benchmark_isa_label)) +
           "/threads:" + std::to_string(c.threads);
   name += c.view.kind == ViewSpec::Kind::perspective
               ? "/view:" + std::to_string(c.view.width) + "x" + std::to_string(c.view.height)

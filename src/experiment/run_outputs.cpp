@@ -99,7 +99,7 @@ void write_row(JsonWriter& json, const Measurement& m) {
     json.null("samples").value("samples_known", false).null("samples_per_ray");
   c.kind == RunKind::trace ? json.value("simd_utilization", m.simd_utilization)
                            : json.null("simd_utilization");
-  m.cone_map_seconds ? json.value("cone_map_seconds", *m.cone_map_seconds) : json.null("cone_map_seconds");
+  m.precompute_seconds ? json.value("precompute_seconds", *m.precompute_seconds) : json.null("precompute_seconds");
   write_errors(json, m.errors);
   if (m.seconds.empty()) {
     json.null("speed");
@@ -222,10 +222,10 @@ std::string summary_text(const Measurement& m) {
   std::snprintf(buf, sizeof buf, "  %s, %d thread%s: %s, %s%s\n", c.backend().c_str(), c.threads,
                 c.threads == 1 ? "" : "s", speed.c_str(), per_ray.c_str(), simd.c_str());
   text += buf;
-  if (m.cone_map_seconds) {
+  if (m.precompute_seconds) {
     std::snprintf(buf, sizeof buf,
-                  "  cone map built in %.3f s (once per depth map and wrap; not in the rays/s)\n",
-                  *m.cone_map_seconds);
+                  "  precomputed textures built in %.3f s (once per depth map and wrap; not in the rays/s)\n",
+                  *m.precompute_seconds);
     text += buf;
   }
   if (!m.failure.empty()) return text + "  FAILED: " + m.failure + "\n";
@@ -258,7 +258,7 @@ void write_images(const std::string& dir, const TracedRow& traced) {
   std::vector<float> exr(pixels * 4, -1.0f), error(pixels, 0.0f), u(pixels, 0.0f), v(pixels, 0.0f),
       shadow(pixels, 1.0f);
   std::vector<std::uint8_t> has_ray(pixels, 0);
-  const bool is_shadow = c.has_technique() && c.params.technique == Technique::shadow;
+  const bool is_shadow = c.has_technique() && writes_shadow(info(c.params.technique));
   for (std::size_t i = 0; i < rays.size(); ++i) {
     if (rays.is_padding(i)) continue;
     const std::size_t p = rays.origin[i];
@@ -298,7 +298,7 @@ void write_run_outputs(const std::string& dir, const TracedRow& traced) {
   // shadow: the technique's shadow factor (1 for techniques without one); exact_visibility: the
   // light seen from the exact hit (0 or 1), the shadow's reference, per ray (empty for the other
   // techniques: the exact walk towards the light is only taken for the shadow).
-  const bool is_shadow = c.has_technique() && c.params.technique == Technique::shadow;
+  const bool is_shadow = c.has_technique() && writes_shadow(info(c.params.technique));
   AtomicFile csv(dir + "/rays.csv");
   csv.append(
       "tx,ty,vx,vy,vz,u,v,depth,samples,exact_u,exact_v,exact_depth,uv_error_texels,shadow,exact_"

@@ -38,10 +38,9 @@ PlanSettings suite_settings(bool quick, const std::vector<HeightfieldSource>& ex
   PlanSettings s;
   s.name = quick ? "quick" : "default";
   const int resolution = quick ? 256 : 512;
-  const std::vector<std::string> builtins =
-      quick ? std::vector<std::string>{"bricks", "terrain"}
-            : std::vector<std::string>{"bricks", "toybox", "terrain", "waves", "spikes"};
-  for (const std::string& name : builtins) s.heightfields.push_back(parse_heightfield("builtin:" + name, resolution));
+  for (const BuiltinHeightfield& b : builtin_heightfields())
+    if (b.use == BuiltinHeightfield::in_quick_suite || (!quick && b.use == BuiltinHeightfield::in_suite))
+      s.heightfields.push_back(parse_heightfield(std::string("builtin:") + b.name, resolution));
   s.heightfields.insert(s.heightfields.end(), extra.begin(), extra.end());
   s.layer_specs = quick ? specs({"8", "32", "8-32"}) : specs({"4", "8", "10", "16", "32", "64", "8-32"});
   s.view_size = quick ? 256 : 1024;
@@ -60,41 +59,32 @@ PlanSettings suite_settings(bool quick, const std::vector<HeightfieldSource>& ex
 
 std::vector<Configuration> claims_plan(const PlanSettings& s) {
   std::vector<Configuration> plan;
+  // A claim row on a heightfield: default-view rows timed (claims show speeds beside costs, and
+  // P2 is about time), sweeps for accuracy only.
+  const auto add_rows = [&](const HeightfieldSource& hf, ClaimView view) {
+    for (const Claim& claim : claims())
+      for (const ClaimRow& row : claim.rows) {
+        if (row.view != view) continue;
+        Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeClaims), row.technique, row.layers);
+        if (view == ClaimView::sweep) {
+          c.view = sweep_view(row.theta, s.sweep_size, s.sweep_size);
+          c.timed = false;
+        }
+        if (view == ClaimView::large_map) {
+          c.heightfield.resolution = kLargeMapSide;
+          c.view = parse_view("default", kLargeMapViewSide, kLargeMapViewSide);
+          c.purposes = kPurposeLargeMaps;
+        }
+        add_to_plan(plan, c);
+      }
+  };
   for (const HeightfieldSource& hf : s.heightfields) {
-    const Configuration base = on_view(s, hf, RunKind::trace, kPurposeClaims);
-    for (Technique t : {Technique::parallax, Technique::parallax_limited})
-      add_to_plan(plan, with_technique(base, t, LayerSpec{}));
-    add_to_plan(plan, with_technique(base, Technique::maxmip, LayerSpec{}));
-    for (const std::string& layers : claim_layer_specs())
-      if (layers != "1")
-        for (Technique t : {Technique::steep, Technique::relief, Technique::pom, Technique::secant, Technique::cone})
-          add_to_plan(plan, with_technique(base, t, parse_layer_spec(layers)));
-    auto on_sweep = [&](double theta, Technique t, const LayerSpec& layers) {
-      Configuration c = with_technique(base, t, layers);
-      c.view = sweep_view(theta, s.sweep_size, s.sweep_size);
-      c.timed = false;
-      add_to_plan(plan, c);
-    };
-    for (double theta : claim_sweep_angles())
-      for (Technique t : {Technique::parallax, Technique::parallax_limited}) on_sweep(theta, t, LayerSpec{});
-    for (double theta : claim_near_normal_angles())  // where the tutorial places 8-32's saving
-      for (const char* layers : {"8-32", "32"})
-        for (Technique t : {Technique::steep, Technique::relief, Technique::pom})
-          on_sweep(theta, t, parse_layer_spec(layers));
+    add_rows(hf, ClaimView::default_view);
+    add_rows(hf, ClaimView::sweep);
   }
-  // P2: maximum mipmaps against linear searches on the builtins at kLargeMapSide.
-  if (s.large_maps)
-    for (const HeightfieldSource& hf : s.heightfields) {
-      if (hf.builtin.empty()) continue;
-      HeightfieldSource large = hf;
-      large.resolution = kLargeMapSide;
-      Configuration base = on_view(s, large, RunKind::trace, kPurposeLargeMaps);
-      base.view = parse_view("default", kLargeMapViewSide, kLargeMapViewSide);
-      add_to_plan(plan, with_technique(base, Technique::maxmip, LayerSpec{}));
-      for (const std::string& layers : claim_large_map_layer_specs())
-        for (Technique t : {Technique::relief, Technique::secant})
-          add_to_plan(plan, with_technique(base, t, parse_layer_spec(layers)));
-    }
+  if (s.large_maps)  // the builtins only: a file has its own size
+    for (const HeightfieldSource& hf : s.heightfields)
+      if (!hf.builtin.empty()) add_rows(hf, ClaimView::large_map);
   return plan;
 }
 
@@ -109,15 +99,15 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
         add_to_plan(plan, with_technique(on_view(s, hf, RunKind::trace, kPurposeMatrix), t.id, layers));
         if (s.glsl) add_to_plan(plan, with_technique(on_view(s, hf, RunKind::glsl, kPurposeGlsl), t.id, layers));
       }
-    // The searches at 32 layers at every ISA and thread count (each against llvmpipe): the
-    // tutorial's three and the papers' three; POM-32 with its anchors: the roofline and the
+    // The registry's searches at 32 layers at every ISA and thread count (each against
+    // llvmpipe); POM-32 with its anchors: the roofline and the
     // compute ceiling, the naive port and its auto-vectorised form; and the exact reference at
     // the best ISA.
     for (int threads : thread_counts(s)) {
       for (Isa isa : s.isas) {
-        for (Technique t : {Technique::steep, Technique::relief, Technique::pom, Technique::secant, Technique::cone,
-                            Technique::maxmip}) {
-          Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeIsa), t, pom32);
+        for (const TechniqueInfo& t : techniques()) {
+          if (!t.search) continue;
+          Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeIsa), t.id, pom32);
           c.isa = isa;
           c.threads = threads;
           add_to_plan(plan, c);
@@ -155,7 +145,7 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
     // Error against view angle: accuracy only.
     for (double theta : s.sweep_angles)
       for (const TechniqueInfo& t : techniques()) {
-        if (t.id == Technique::shadow) continue;  // its own measure is the shadow factor, not the hit
+        if (writes_shadow(t)) continue;  // its own measure is the shadow factor, not the hit
         for (const char* layers : {"8", "32", "8-32"}) {
           Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeSweep), t.id, parse_layer_spec(layers));
           c.view = sweep_view(theta, s.sweep_size, s.sweep_size);
@@ -175,7 +165,7 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
   };
   gallery(RunKind::exact, Technique::pom, "32");
   for (const TechniqueInfo& t : techniques())
-    gallery(RunKind::trace, t.id, t.id == Technique::shadow ? "32" : "10");
+    gallery(RunKind::trace, t.id, writes_shadow(t) ? "32" : "10");  // a shadow from a close hit
   gallery(RunKind::trace, Technique::pom, "32");
   for (const Configuration& c : claims_plan(s)) add_to_plan(plan, c);
   return plan;

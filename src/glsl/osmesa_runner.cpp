@@ -15,9 +15,8 @@
 #include "glsl/osmesa_runner.hpp"
 #include "glsl/user_shader_text.hpp"
 #include "glsl_sources.hpp"
-#include "heightmarch/cone_map.hpp"
-#include "heightmarch/min_depth_pyramid.hpp"
 #include "heightmarch/error.hpp"
+#include "heightmarch/precomputed.hpp"
 #include "util/input_file.hpp"
 
 // GL entry points come from libOSMesa itself; linking libGL or libOpenGL as well would route
@@ -69,11 +68,13 @@ struct OsmesaRunner::State {
   std::vector<unsigned char> buffer = std::vector<unsigned char>(4 * 4 * 4);  // OSMesa wants a buffer bound
   GLuint vao = 0, framebuffer = 0, program = 0;
   GLuint depth_texture = 0, origin_texture = 0, direction_texture = 0, hit_texture = 0, shadow_texture = 0;
-  GLuint pyramid_texture = 0;
-  GLuint cone_texture = 0;
-  int cone_wrap = -1;        // the wrap mode cone_texture was built for; -1: none
+  GLuint pyramid_texture = 0, cone_texture = 0;
   DepthMap map;              // kept for the textures derived from it
-  int pyramid_wrap = -1;     // the wrap mode pyramid_texture was built for; -1: none
+  // The precomputed textures last built (precomputed_needs) and their wrap mode; -1: none since
+  // the depth map was set.
+  PrecomputedTextures precomputed;
+  Needs precomputed_needs = Needs::nothing;
+  int precomputed_wrap = -1;
   int width = 0, height = 0;
   std::size_t rays = 0;
   bool has_map = false, has_rays = false;
@@ -180,8 +181,9 @@ void OsmesaRunner::set_depth_map(const DepthMap& map) {
   // R32F, GL_LINEAR on level 0; prepare() sets the run's wrap mode.
   s.depth_texture = float_texture(s.depth_texture, GL_R32F, GL_RED, map.width, map.height, map.texels.data(), GL_LINEAR, GL_REPEAT);
   s.map = map;
-  s.pyramid_wrap = -1;
-  s.cone_wrap = -1;
+  s.precomputed = {};
+  s.precomputed_needs = Needs::nothing;
+  s.precomputed_wrap = -1;
   s.has_map = true;
 }
 
@@ -270,11 +272,35 @@ void OsmesaRunner::prepare(const TechniqueParams& params, const std::string& sha
   glUniform1i(uniform("refineSteps"), params.refine_steps());
   glUniform3f(uniform("lightDirection"), params.light[0], params.light[1], params.light[2]);
   glUniform1i(uniform("wrapRepeat"), params.wrap == Wrap::repeat ? 1 : 0);
-  if (params.technique == Technique::maxmip && shader_path.empty()) {
-    const MinDepthPyramid pyramid(s.map, params.wrap);
-    glActiveTexture(GL_TEXTURE3);  // float_texture binds to the active unit: not the rays' ones
-    if (s.pyramid_wrap != int(params.wrap)) s.pyramid_texture = pyramid_texture(s.pyramid_texture, pyramid);
-    s.pyramid_wrap = int(params.wrap);
+  // The technique's precomputed textures (its registry row's needs), from the builder the CPU
+  // Tracer uses, uploaded once per wrap mode: what earlier techniques of the same wrap needed is
+  // kept, since the suite's rounds alternate between them. Units 3 and up: float_texture binds
+  // to the active unit, which must not be the rays' ones.
+  const Needs needs = shader_path.empty() ? info(params.technique).needs : Needs::nothing;
+  const bool same_wrap = s.precomputed_wrap == int(params.wrap);
+  if ((needs | s.precomputed_needs) != s.precomputed_needs || !same_wrap) {
+    s.precomputed_needs = needs | (same_wrap ? s.precomputed_needs : Needs::nothing);
+    s.precomputed = build_precomputed(s.map, params.wrap, s.precomputed_needs);
+    if (const MinDepthPyramid* pyramid = s.precomputed.pyramid.get()) {
+      glActiveTexture(GL_TEXTURE3);
+      s.pyramid_texture = pyramid_texture(s.pyramid_texture, *pyramid);
+    }
+    if (const ConeMap* cone = s.precomputed.cone_map.get()) {
+      // (depth, cone ratio) interleaved: one GL_LINEAR read gives both, as one CPU sample does.
+      std::vector<float> texels(2 * cone->depth.size());
+      for (std::size_t i = 0; i < cone->depth.size(); ++i) {
+        texels[2 * i] = cone->depth[i];
+        texels[2 * i + 1] = cone->ratio[i];
+      }
+      glActiveTexture(GL_TEXTURE4);
+      s.cone_texture = float_texture(s.cone_texture, GL_RG32F, GL_RG, cone->width, cone->height, texels.data(),
+                                     GL_LINEAR, wrap);
+    }
+    s.precomputed_wrap = int(params.wrap);
+  }
+  if (has(needs, Needs::min_depth_pyramid)) {
+    const MinDepthPyramid& pyramid = *s.precomputed.pyramid;
+    glActiveTexture(GL_TEXTURE3);
     glBindTexture(GL_TEXTURE_2D, s.pyramid_texture);
     glUniform1i(uniform("minDepthPyramid"), 3);
     glUniform1i(uniform("pyramidLevels"), pyramid.levels());
@@ -282,20 +308,8 @@ void OsmesaRunner::prepare(const TechniqueParams& params, const std::string& sha
     glUniform1iv(uniform("levelOffsets"), pyramid.levels(), pyramid.offsets());
     glUniform1iv(uniform("levelBlocksX"), pyramid.levels(), pyramid.blocks_x());
   }
-  if (params.technique == Technique::cone && shader_path.empty()) {
+  if (has(needs, Needs::cone_map)) {
     glActiveTexture(GL_TEXTURE4);
-    if (s.cone_wrap != int(params.wrap)) {
-      // (depth, cone ratio) interleaved: one GL_LINEAR read gives both, as one CPU sample does.
-      const std::shared_ptr<const ConeMap> cone = cached_cone_map(s.map, params.wrap);
-      std::vector<float> texels(2 * cone->depth.size());
-      for (std::size_t i = 0; i < cone->depth.size(); ++i) {
-        texels[2 * i] = cone->depth[i];
-        texels[2 * i + 1] = cone->ratio[i];
-      }
-      s.cone_texture = float_texture(s.cone_texture, GL_RG32F, GL_RG, cone->width, cone->height,
-                                     texels.data(), GL_LINEAR, wrap);
-      s.cone_wrap = int(params.wrap);
-    }
     glBindTexture(GL_TEXTURE_2D, s.cone_texture);
     glUniform1i(uniform("coneMap"), 4);
   }

@@ -157,10 +157,29 @@ DepthMap spikes(int res, std::uint64_t seed) {
   return map;
 }
 
+// flat sits at half depth, so a flat map still shows a parallax shift.
+DepthMap flat(int res, std::uint64_t) { return DepthMap{res, res, std::vector<float>(std::size_t(res) * res, 0.5f)}; }
+DepthMap ramp(int res, std::uint64_t) { return sample_function(res, [](double u, double) { return u; }); }
+
 }  // namespace
 
-const std::vector<std::string>& builtin_heightfield_names() {
-  static const std::vector<std::string> names = {"flat", "ramp", "waves", "terrain", "bricks", "toybox", "spikes"};
+// The builtins: one row each, and the only list of them (docs/conventions.md describes each).
+const std::vector<BuiltinHeightfield>& builtin_heightfields() {
+  static const std::vector<BuiltinHeightfield> rows = {
+      {"flat", flat, BuiltinHeightfield::test_only},
+      {"ramp", ramp, BuiltinHeightfield::test_only},
+      {"bricks", bricks, BuiltinHeightfield::in_quick_suite},  // first: the suite's gallery shows it
+      {"toybox", toybox, BuiltinHeightfield::in_suite},
+      {"terrain", terrain, BuiltinHeightfield::in_quick_suite},
+      {"waves", waves, BuiltinHeightfield::in_suite},
+      {"spikes", spikes, BuiltinHeightfield::in_suite},
+  };
+  return rows;
+}
+
+std::vector<std::string> builtin_heightfield_names() {
+  std::vector<std::string> names;
+  for (const BuiltinHeightfield& b : builtin_heightfields()) names.push_back(b.name);
   return names;
 }
 
@@ -169,14 +188,8 @@ DepthMap make_builtin_heightfield(const std::string& name, int resolution, std::
     throw InputError("builtin:" + name + ": resolution " + std::to_string(resolution) + " out of range [1, " +
                      std::to_string(kMaxDepthMapSide) + "]");
   check_memory_budget(12.0 * resolution * resolution, "builtin:" + name + " at " + std::to_string(resolution));
-  // flat sits at half depth, so a flat map still shows a parallax shift.
-  if (name == "flat") return DepthMap{resolution, resolution, std::vector<float>(std::size_t(resolution) * resolution, 0.5f)};
-  if (name == "ramp") return sample_function(resolution, [](double u, double) { return u; });
-  if (name == "waves") return waves(resolution, seed);
-  if (name == "terrain") return terrain(resolution, seed);
-  if (name == "bricks") return bricks(resolution, seed);
-  if (name == "toybox") return toybox(resolution, seed);
-  if (name == "spikes") return spikes(resolution, seed);
+  for (const BuiltinHeightfield& b : builtin_heightfields())
+    if (name == b.name) return b.make(resolution, seed);
   std::string names;
   for (const auto& n : builtin_heightfield_names()) names += (names.empty() ? "" : ", ") + n;
   throw InputError("builtin:" + name + ": unknown builtin heightfield (" + names + ")");

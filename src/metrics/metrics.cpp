@@ -89,17 +89,20 @@ std::vector<std::pair<std::string, double>> error_counters(const ErrorSummary& e
   return counters;
 }
 
+double layer_step_texels(const LayerSpec& layers, float scale, float vx, float vy, float vz, int map_width,
+                         int map_height) {
+  const double n = layer_count(layers.min_layers, layers.max_layers, vz);
+  return std::hypot(scale * vx / vz / n * map_width, scale * vy / vz / n * map_height);
+}
+
 double share_within_one_layer_step(const RayBatch& rays, const HitBuffers& hits,
                                    const std::vector<float>& uv_error, const TechniqueParams& params,
                                    int map_width, int map_height) {
   std::size_t within = 0, measured = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     if (rays.is_padding(i) || hits.discarded[i]) continue;
-    const double a = std::fabs(rays.vz[i]);
-    const double layers = params.layers.max_layers * (1 - a) + params.layers.min_layers * a;
-    const double sx = params.scale * rays.vx[i] / rays.vz[i] / layers * map_width;
-    const double sy = params.scale * rays.vy[i] / rays.vz[i] / layers * map_height;
-    within += uv_error[i] <= std::hypot(sx, sy) * (1.0 + 1e-4) + 1e-6;
+    within += !beyond_one_layer_step(uv_error[i], layer_step_texels(params.layers, params.scale, rays.vx[i], rays.vy[i],
+                                                                    rays.vz[i], map_width, map_height));
     ++measured;
   }
   return measured ? double(within) / double(measured) : 0.0;

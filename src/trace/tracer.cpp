@@ -29,8 +29,7 @@ TraceRangeFn pick(const TraceRangeFn (&row)[kAddressingCount], const SamplerText
 Tracer::Tracer(const DepthMap& map, const TechniqueParams& params, Isa isa)
     : params_(params), isa_(isa), texture_(map, params.wrap) {
   if (!cpu_supports(isa)) throw InputError("ISA " + to_string(isa) + " is not supported by this CPU");
-  if (params.technique == Technique::maxmip) pyramid_ = std::make_unique<MinDepthPyramid>(map, params.wrap);
-  if (params.technique == Technique::cone) cone_map_ = cached_cone_map(map, params.wrap);
+  precomputed_ = build_precomputed(map, params.wrap, info(params.technique).needs);
   const KernelTable& table = kernel_table(isa);
   technique_kernel_ = pick(table.technique[int(params.technique)], texture_);
   roofline_kernel_ = pick(table.sampler_roofline, texture_);
@@ -54,12 +53,12 @@ TraceStats Tracer::run_kernel(TraceRangeFn kernel, const RayBatch& rays, HitBuff
   tbb::combinable<KernelCounters> counters;
   KernelTexture texture{texture_.texels.data(), texture_.width, texture_.height, texture_.stride,
                         texture_.wrap};
-  if (pyramid_) {
-    texture.pyramid = pyramid_->data();
-    texture.level_offsets = pyramid_->offsets();
-    texture.pyramid_levels = pyramid_->levels();
+  if (const MinDepthPyramid* pyramid = precomputed_.pyramid.get()) {
+    texture.pyramid = pyramid->data();
+    texture.level_offsets = pyramid->offsets();
+    texture.pyramid_levels = pyramid->levels();
   }
-  if (cone_map_) texture.cone = cone_map_->texture.texels.data();
+  if (const ConeMap* cone = precomputed_.cone_map.get()) texture.cone = cone->texture.texels.data();
   const KernelParams params{params_.layers.min_layers, params_.layers.max_layers, params_.refine_steps(),
                             params_.scale, params_.discard,
                             {params_.light[0], params_.light[1], params_.light[2]}};

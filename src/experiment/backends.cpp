@@ -1,0 +1,196 @@
+#include "experiment/backends.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <string>
+
+#include "baselines/naive_port.hpp"
+#include "heightmarch/error.hpp"
+#include "heightmarch/glsl_runner.hpp"
+#include "heightmarch/metrics.hpp"
+
+namespace heightmarch {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// A timer around a CPU trace: its wall time.
+template <class Trace>
+std::function<double()> wall_timed(Trace trace) {
+  return [trace] {
+    const Clock::time_point start = Clock::now();
+    trace();
+    return std::chrono::duration<double>(Clock::now() - start).count();
+  };
+}
+
+long long first_difference(const RayBatch& rays, const HitBuffers& a, const HitBuffers& b) {
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    if (a.samples[i] != b.samples[i] || a.u[i] != b.u[i] || a.v[i] != b.v[i] || a.depth[i] != b.depth[i] ||
+        a.shadow[i] != b.shadow[i] || a.discarded[i] != b.discarded[i])
+      return (long long)i;
+  return -1;
+}
+
+// A Tracer's run of one kind: a technique's kernel (trace), the sampler roofline or the compute
+// ceiling, at the configuration's ISA, checked bit for bit against the same run at width 1.
+class TracerBackend : public Backend {
+ public:
+  TracerBackend(Scene::TracerRun run, bool has_accuracy) : run_(run), has_accuracy_(has_accuracy) {}
+
+  void trace(const Configuration& c, Scene& scene, HitBuffers& hits, Measurement& row) override {
+    const TraceStats stats = (tracer(c, scene).*run_)(scene.rays, hits);
+    if (c.kind == RunKind::trace) row.simd_utilization = stats.simd_utilization();
+    if (c.isa == Isa::scalar) return;
+    const long long i = first_difference(scene.rays, hits, scene.reference(c.kind, params(c), run_));
+    if (i >= 0)
+      row.failure = to_string(c.kind) + " output differs from the scalar reference at ray " + std::to_string(i);
+  }
+
+  bool has_accuracy() const override { return has_accuracy_; }
+
+  std::function<double()> timer(const Configuration& c, Scene& scene) override {
+    const Tracer& t = tracer(c, scene);
+    return wall_timed([&t, &scene, run = run_] { (t.*run)(scene.rays, scene.scratch); });
+  }
+
+  void forget() override { tracers_.clear(); }
+
+ private:
+  // The roofline samples the positions of a march of 32 layers whatever the configuration says.
+  TechniqueParams params(const Configuration& c) const {
+    TechniqueParams p = c.params;
+    if (run_ == &Tracer::run_sampler_roofline) p.layers = {32.0f, 32.0f};
+    return p;
+  }
+
+  // One Tracer per configuration, kept for its timed runs (keyed by the plan's object).
+  const Tracer& tracer(const Configuration& c, Scene& scene) {
+    auto& slot = tracers_[&c];
+    if (!slot) slot = std::make_unique<Tracer>(scene.map, params(c), c.isa);
+    return *slot;
+  }
+
+  Scene::TracerRun run_;
+  bool has_accuracy_;
+  std::map<const Configuration*, std::unique_ptr<Tracer>> tracers_;
+};
+
+// A brought-in loop that never ends is cut off by llvmpipe (or optimised away) and leaves
+// garbage, NaN or coordinates far beyond any texture (at 1e6 a float has no texel precision
+// left): no figure is made from it.
+void check_finite(const Configuration& c, const RayBatch& rays, const HitBuffers& hits) {
+  constexpr float kAbsurd = 1e6f;
+  std::size_t not_finite = 0, first = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    if (rays.is_padding(i)) continue;
+    const bool finite = std::isfinite(hits.u[i]) && std::isfinite(hits.v[i]) && std::isfinite(hits.depth[i]);
+    if (!finite || std::fabs(hits.u[i]) > kAbsurd || std::fabs(hits.v[i]) > kAbsurd)
+      if (not_finite++ == 0) first = i;
+  }
+  if (not_finite)
+    throw InputError((c.shader_path().empty() ? "GLSL " + to_string(c.params.technique) : c.shader_path()) +
+                     ": returned a non-finite uv or depth (or a uv beyond 1e6) for " + std::to_string(not_finite) + " of " +
+                     std::to_string(rays.ray_count) + " rays (first: T = " + std::to_string(rays.tx[first]) + "," +
+                     std::to_string(rays.ty[first]) + "); an endless loop ends this way in llvmpipe");
+}
+
+// The technique (or a brought-in shader) as GLSL in llvmpipe, in the worker of its thread count.
+class GlslBackend : public Backend {
+ public:
+  void trace(const Configuration& c, Scene& scene, HitBuffers& hits, Measurement& row) override {
+    GlslRunner& runner = GlslRunner::instance(c.threads);
+    runner.prepare(scene.map, c.params, scene.rays, c.shader_path());
+    runner.draw();
+    runner.read(hits, row.samples_known);
+    row.samples_known = row.samples_known && c.shader_path().empty();
+    check_finite(c, scene.rays, hits);
+    if (c.shader_path().empty()) return;
+    // A loop llvmpipe cut off may leave different garbage each draw.
+    HitBuffers again;
+    bool known = false;
+    runner.draw();
+    runner.read(again, known);
+    if (const long long i = first_difference(scene.rays, hits, again); i >= 0)
+      throw InputError(c.shader_path() + ": returned different hits on two draws of the same rays (first at ray " +
+                       std::to_string(i) + "): not deterministic, as a non-finite uv or an endless loop cut off by llvmpipe");
+  }
+
+  std::function<double()> timer(const Configuration& c, Scene& scene) override {
+    GlslRunner& runner = GlslRunner::instance(c.threads);
+    runner.prepare(scene.map, c.params, scene.rays, c.shader_path());
+    return [&runner] { return runner.draw(); };
+  }
+};
+
+// The naive port of the tutorial's POM, or its auto-vectorised form at the configuration's ISA.
+// They blend as glm::mix does and round differently from the kernels: checked to be within 0.01
+// texel of the technique's reference wherever they took the same samples.
+class PortBackend : public Backend {
+ public:
+  void trace(const Configuration& c, Scene& scene, HitBuffers& hits, Measurement& row) override {
+    run(c, scene, hits);
+    const HitBuffers& reference = scene.reference(RunKind::trace, c.params, &Tracer::run);
+    for (std::size_t i = 0; i < scene.rays.size() && row.failure.empty(); ++i) {
+      const float d = uv_error_texels(hits.u[i], hits.v[i], reference.u[i], reference.v[i], scene.map.width,
+                                      scene.map.height);
+      if (!(d <= 1e-2f) && hits.samples[i] == reference.samples[i])
+        row.failure = (c.kind == RunKind::autovec ? c.backend() + " auto-vectorised port" : std::string("naive port")) +
+                      " differs from the reference by " + std::to_string(d) + " texel at ray " + std::to_string(i);
+    }
+    hits.depth = reference.depth;  // the port returns uv only
+  }
+
+  std::function<double()> timer(const Configuration& c, Scene& scene) override {
+    return wall_timed([this, &scene, c] { run(c, scene, scene.scratch); });
+  }
+
+ private:
+  static void run(const Configuration& c, const Scene& scene, HitBuffers& hits) {
+    const LayerSpec& l = c.params.layers;
+    if (c.kind == RunKind::autovec)
+      autovec_pom(scene.map, scene.rays, l.min_layers, l.max_layers, c.params.scale, c.isa, hits);
+    else
+      naive_pom(scene.map, scene.rays, l.min_layers, l.max_layers, c.params.scale, hits);
+  }
+};
+
+// The exact reference itself (its float pass at the configuration's ISA): its accuracy is zero by
+// definition; its speed is what is measured.
+class ExactBackend : public Backend {
+ public:
+  void trace(const Configuration& c, Scene& scene, HitBuffers& hits, Measurement&) override {
+    hits = scene.exact(c.params);
+  }
+
+  std::function<double()> timer(const Configuration& c, Scene& scene) override {
+    auto& slot = references_[&c];
+    if (!slot) slot = std::make_unique<ExactReference>(scene.map, c.params, c.isa);
+    const ExactReference& r = *slot;
+    return wall_timed(
+        [&r, &scene, visibility = visibility_for(c.params.technique)] { r.run(scene.rays, visibility, scene.scratch); });
+  }
+
+  void forget() override { references_.clear(); }
+
+ private:
+  std::map<const Configuration*, std::unique_ptr<ExactReference>> references_;
+};
+
+}  // namespace
+
+std::unique_ptr<Backend> make_backend(RunKind kind) {
+  switch (kind) {
+    case RunKind::trace: return std::make_unique<TracerBackend>(&Tracer::run, true);
+    case RunKind::roofline: return std::make_unique<TracerBackend>(&Tracer::run_sampler_roofline, false);
+    case RunKind::ceiling: return std::make_unique<TracerBackend>(&Tracer::run_compute_ceiling, false);
+    case RunKind::glsl: return std::make_unique<GlslBackend>();
+    case RunKind::naive:
+    case RunKind::autovec: return std::make_unique<PortBackend>();
+    case RunKind::exact: return std::make_unique<ExactBackend>();
+  }
+  throw std::logic_error("no backend for run kind " + to_string(kind));
+}
+
+}  // namespace heightmarch

@@ -1,0 +1,72 @@
+// MeasurementSession: one configuration's accuracy (through its run kind's backend, against the
+// exact reference) and its timer. The one place that joins tracing, the exact reference and the
+// error measures.
+#include <array>
+
+#include "experiment/backends.hpp"
+#include "experiment/scene.hpp"
+#include "heightmarch/measurement.hpp"
+#include "heightmarch/metrics.hpp"
+#include "heightmarch/precomputed.hpp"
+
+namespace heightmarch {
+
+struct MeasurementSession::State {
+  SceneCache scenes;
+  std::array<std::unique_ptr<Backend>, kRunKindCount> backends;
+
+  Backend& backend(RunKind kind) {
+    auto& slot = backends[std::size_t(kind)];
+    if (!slot) slot = make_backend(kind);
+    return *slot;
+  }
+};
+
+MeasurementSession::MeasurementSession() : state_(std::make_unique<State>()) {}
+MeasurementSession::~MeasurementSession() = default;
+
+void MeasurementSession::forget_scenes() {
+  for (auto& backend : state_->backends)
+    if (backend) backend->forget();
+  state_->scenes.forget_scenes();
+}
+
+Measurement MeasurementSession::measure(const Configuration& c, int id,
+                                        const std::function<void(const TracedRow&)>& on_traced) {
+  Measurement row;
+  row.config = c;
+  row.id = id;
+  Scene& scene = state_->scenes.scene(c);
+  row.depth_map_width = scene.map.width;
+  row.depth_map_height = scene.map.height;
+  row.rays = scene.rays.ray_count;
+  const HitBuffers& exact = scene.exact(c.params);
+  // The technique's precomputed textures are built (and cached) here, before the row's thread
+  // limit, in parallel; their time is the row's preprocessing, apart from its speed.
+  if (c.has_technique() && info(c.params.technique).needs != Needs::nothing)
+    row.precompute_seconds =
+        build_precomputed(scene.map, c.params.wrap, info(c.params.technique).needs).build_seconds;
+  Backend& backend = state_->backend(c.kind);
+  HitBuffers hits;
+  {
+    const ThreadLimit limit(c.threads);
+    backend.trace(c, scene, hits, row);
+  }
+  row.samples = total_samples(scene.rays, hits);
+  if (!row.failure.empty() || !backend.has_accuracy()) return row;
+  std::vector<float> uv_error;
+  ErrorSummary errors = summarize_errors(scene.rays, hits, exact, scene.map.width, scene.map.height,
+                                         c.has_technique() && writes_shadow(info(c.params.technique)), &uv_error);
+  if (c.has_technique() && info(c.params.technique).layered)
+    errors.within_one_layer_step =
+        share_within_one_layer_step(scene.rays, hits, uv_error, c.params, scene.map.width, scene.map.height);
+  row.errors = errors;
+  if (on_traced) on_traced(TracedRow{row, scene.map, scene.rays, hits, exact, uv_error});
+  return row;
+}
+
+std::function<double()> MeasurementSession::trace_once(const Configuration& c) {
+  return state_->backend(c.kind).timer(c, state_->scenes.scene(c));
+}
+
+}  // namespace heightmarch

@@ -1,0 +1,53 @@
+#include "experiment/scene.hpp"
+
+#include <cstdio>
+
+namespace heightmarch {
+namespace {
+
+// A key of what changes a run's output among the configurations of one scene.
+std::string params_key(const TechniqueParams& p, bool with_technique) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%d/%g/%g/%d/%a/%d/%d/%a/%a/%a", with_technique ? int(p.technique) : -1,
+                p.layers.min_layers, p.layers.max_layers, p.refine_steps(), p.scale, int(p.wrap), int(p.discard),
+                p.light[0], p.light[1], p.light[2]);
+  return buf;
+}
+
+}  // namespace
+
+Scene::Scene(const DepthMap& map, const ViewSpec& view) : map(map), rays(make_view_rays(view)) {}
+
+const HitBuffers& Scene::exact(const TechniqueParams& params) {
+  const LightVisibility visibility = visibility_for(params.technique);
+  auto& slot = exact_[params_key(params, false) + (visibility == LightVisibility::compute ? "/visibility" : "")];
+  if (!slot) slot = std::make_unique<HitBuffers>(exact_hits(map, rays, params, visibility));
+  return *slot;
+}
+
+const HitBuffers& Scene::reference(RunKind kind, const TechniqueParams& params, TracerRun run) {
+  auto& slot = references_[to_string(kind) + "/" + params_key(params, info(kind).traces_technique)];
+  if (!slot) {
+    slot = std::make_unique<HitBuffers>();
+    (Tracer(map, params, Isa::scalar).*run)(rays, *slot);
+  }
+  return *slot;
+}
+
+const DepthMap& SceneCache::depth_map(const HeightfieldSource& source) {
+  for (auto& [s, map] : maps_)
+    if (s == source) return *map;
+  maps_.emplace_back(source, std::make_unique<DepthMap>(load_heightfield(source)));
+  return *maps_.back().second;
+}
+
+Scene& SceneCache::scene(const Configuration& c) {
+  for (auto& [key, scene] : scenes_)
+    if (key.heightfield == c.heightfield && key.view == c.view) return *scene;
+  scenes_.emplace_back(c, std::make_unique<Scene>(depth_map(c.heightfield), c.view));
+  return *scenes_.back().second;
+}
+
+void SceneCache::forget_scenes() { scenes_.clear(); }
+
+}  // namespace heightmarch
