@@ -1,7 +1,7 @@
 #pragma once
 // Rays in tangent space (docs/conventions.md) and the views that make them, as structure-of-arrays
 // tile batches: the view is cut into tiles, each tile's rays are stored together, ordered in
-// 4 x 4 pixel blocks so that any packet of 4, 8 or 16 consecutive rays is a compact 2D block.
+// blocks of 8 x 2 pixels (kBlockWidth x kBlockHeight).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -14,6 +14,15 @@ namespace heightmarch {
 // of any width (up to two AVX-512 packets) never need a partial load.
 inline constexpr std::size_t kRayAlignment = 32;
 inline constexpr std::uint32_t kPaddingRay = 0xffffffffu;
+
+// A view's pixel blocks: a packet of 4 or 8 consecutive rays is part of one pixel row, 16 are
+// two rows. Wide rather than square because a row of pixels stays within one or two texel rows
+// at every layer step, where a column of four spans up to five (the views look along v, which
+// they foreshorten): the kernels then read a packet's taps from a small window of the depth map
+// instead of gathering them (measured on the default view: 99% of 8-ray packets within two texel
+// rows of 8 columns, and of 16-ray packets within 8 x 5 texels, against 89% for 4 x 4 blocks).
+inline constexpr int kBlockWidth = 8;
+inline constexpr int kBlockHeight = 2;
 
 struct RayBatch {
   // T (entry point on the top plane) and V (unit, towards the eye, vz > 0).

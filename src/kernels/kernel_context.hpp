@@ -40,13 +40,20 @@ class KernelContext {
     return sampler_(u, v);
   }
 
+  // One bilinear read, not counted: its caller counts it (count_lanes, count_packet_reads).
+  F read(F u, F v) const { return sampler_(u, v); }
+
   // Counts n texel reads for the active lanes, for kernels that read texels themselves.
   // `samples` must be the lane counts the kernel returns in HitPacket::samples: the packet loop
   // (src/isa/kernel_table.hpp) sums them into lane_samples once per packet, not here at every read.
   void count(B active, I& samples, int n) {
-    samples = select(active, samples + I(n), samples);
-    counters_.packet_samples += std::uint64_t(n) * W;
+    count_lanes(active, samples, n);
+    count_packet_reads(n);
   }
+  // The two halves of count(): n samples for the active lanes, and n reads of the whole packet
+  // (the work done, whether or not a lane wanted it).
+  static void count_lanes(B active, I& samples, int n) { samples = select(active, samples + I(n), samples); }
+  void count_packet_reads(int n) { counters_.packet_samples += std::uint64_t(n) * W; }
 
   // The tutorial's layer count (heightmarch::layer_count, technique.hpp).
   F layer_count(F cos_theta) const {

@@ -43,17 +43,26 @@ LayerMarch<W> march_layers(KernelContext<W, ADDRESSING, TAPS>& k, const RayPacke
   F last_u = u, last_v = v, last_value = m.depth_map_value, last_layer_depth = current_layer_depth;
   I samples = m.samples;
   B active = current_layer_depth < last_value;
-  for (int step = 1; step <= k.max_step_bound() && any(active); ++step) {
+  int step = 1;
+  const auto layer_step = [&](bool bounded) {
     u = u - delta_u;
     v = v - delta_v;
-    const F depth_map_value = k.sample(u, v, active, samples);
+    const F depth_map_value = k.read(u, v);
+    k.count_lanes(active, samples, 1);
     current_layer_depth = current_layer_depth + layer_depth;
     last_u = select(active, u, last_u);
     last_v = select(active, v, last_v);
     last_value = select(active, depth_map_value, last_value);
     last_layer_depth = select(active, current_layer_depth, last_layer_depth);
-    active = active & (current_layer_depth < depth_map_value) & (I(step) < bound);
-  }
+    active = active & (current_layer_depth < depth_map_value);
+    if (bounded) active = active & (I(step) < bound);
+  };
+  // Up to the packet's smallest bound every lane passes its bound test (step < bound): those
+  // steps skip it.
+  const int unbounded_steps = reduce_min(bound) - 1;
+  for (; step <= unbounded_steps && any(active); ++step) layer_step(false);
+  for (; step <= k.max_step_bound() && any(active); ++step) layer_step(true);
+  k.count_packet_reads(step - 1);
   m.u = last_u;
   m.v = last_v;
   m.depth_map_value = last_value;

@@ -155,14 +155,15 @@ RayBatch make_view_rays(const ViewSpec& view) {
   const float sweep_v[3] = {float(std::sin(theta) * std::cos(phi)), float(std::sin(theta) * std::sin(phi)),
                             float(std::cos(theta))};
   BatchBuilder builder(batch);
-  // Tiles in row-major order; inside a tile, 4 x 4 pixel blocks, so packets are compact.
+  // Tiles in row-major order; inside a tile, blocks of kBlockWidth x kBlockHeight pixels, so
+  // packets are compact (rays.hpp).
   for (int ty0 = 0; ty0 < view.height; ty0 += tile_size)
     for (int tx0 = 0; tx0 < view.width; tx0 += tile_size) {
       const int ty1 = std::min(ty0 + tile_size, view.height), tx1 = std::min(tx0 + tile_size, view.width);
-      for (int by = ty0; by < ty1; by += 4)
-        for (int bx = tx0; bx < tx1; bx += 4)
-          for (int py = by; py < std::min(by + 4, ty1); ++py)
-            for (int px = bx; px < std::min(bx + 4, tx1); ++px) {
+      for (int by = ty0; by < ty1; by += kBlockHeight)
+        for (int bx = tx0; bx < tx1; bx += kBlockWidth)
+          for (int py = by; py < std::min(by + kBlockHeight, ty1); ++py)
+            for (int px = bx; px < std::min(bx + kBlockWidth, tx1); ++px) {
               const std::uint32_t pixel = std::uint32_t(py) * std::uint32_t(view.width) + std::uint32_t(px);
               if (view.kind == ViewSpec::Kind::sweep) {
                 builder.add({true, float((px + 0.5) / view.width), float((py + 0.5) / view.height),

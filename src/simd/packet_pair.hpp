@@ -97,6 +97,10 @@ inline vint<2 * HEIGHTMARCH_PAIR_OF> gather(const std::int32_t* base, vint<2 * H
 }
 inline vfloat<2 * HEIGHTMARCH_PAIR_OF> sqrt(vfloat<2 * HEIGHTMARCH_PAIR_OF> a) { return {sqrt(a.lo), sqrt(a.hi)}; }
 inline std::uint32_t reduce_add(vint<2 * HEIGHTMARCH_PAIR_OF> a) { return reduce_add(a.lo) + reduce_add(a.hi); }
+inline std::int32_t reduce_min(vint<2 * HEIGHTMARCH_PAIR_OF> a) {
+  const std::int32_t lo = reduce_min(a.lo), hi = reduce_min(a.hi);
+  return lo < hi ? lo : hi;
+}
 inline void store_bytes(vint<2 * HEIGHTMARCH_PAIR_OF> a, std::uint8_t* p) {
   store_bytes(a.lo, p);
   store_bytes(a.hi, p + HEIGHTMARCH_PAIR_OF);

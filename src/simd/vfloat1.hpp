@@ -120,6 +120,8 @@ inline vint<1> gather(const std::int32_t* base, vint<1> index) { return base[ind
 inline vfloat<1> sqrt(vfloat<1> a) { return std::sqrt(a.f); }
 // The sum of the lanes (non-negative counts whose sum fits 32 bits).
 inline std::uint32_t reduce_add(vint<1> a) { return std::uint32_t(a.i); }
+// The smallest lane.
+inline std::int32_t reduce_min(vint<1> a) { return a.i; }
 // Each lane's value (0 to 255) as one byte, to p[0] .. p[W - 1].
 inline void store_bytes(vint<1> a, std::uint8_t* p) { *p = std::uint8_t(a.i); }
 

@@ -123,9 +123,9 @@ inline void register_pairs(vint<16> index, vfloat<16>& first, vfloat<16>& second
 }
 
 // fetch_taps (packet.hpp) with a coherent path: when every lane's taps lie in the 8-column x
-// 5-row window around lane 0's (2 columns left, 3 rows up: where a 4 x 4 pixel block's taps fall
-// at one layer step, measured on the default view), the window is read with five row loads and
-// each tap picked by a two-table permute; otherwise the gathers.
+// 5-row window around lane 0's (2 columns left, 3 rows up: where the taps of a packet of two
+// pixel rows of 8 fall at one layer step, measured on the default view), the window is read with
+// five row loads and each tap picked by a two-table permute; otherwise the gathers.
 inline void fetch_taps(const float* texels, std::int32_t stride, std::int32_t rows, vint<16> ix, vint<16> iy,
                        vfloat<16>& t00, vfloat<16>& t10, vfloat<16>& t01, vfloat<16>& t11) {
   const std::int32_t x0 = _mm_cvtsi128_si32(_mm512_castsi512_si128(ix.i)) - 2;
@@ -163,6 +163,8 @@ inline vint<16> gather(const std::int32_t* base, vint<16> index) { return _mm512
 inline vfloat<16> sqrt(vfloat<16> a) { return _mm512_sqrt_ps(a.f); }
 // The sum of the lanes (non-negative counts whose sum fits 32 bits).
 inline std::uint32_t reduce_add(vint<16> a) { return std::uint32_t(_mm512_reduce_add_epi32(a.i)); }
+// The smallest lane.
+inline std::int32_t reduce_min(vint<16> a) { return _mm512_reduce_min_epi32(a.i); }
 // Each lane's value (0 to 255) as one byte, to p[0] .. p[W - 1].
 inline void store_bytes(vint<16> a, std::uint8_t* p) {
   _mm_storeu_si128(reinterpret_cast<__m128i*>(p), _mm512_cvtepi32_epi8(a.i));

@@ -148,6 +148,11 @@ inline std::uint32_t reduce_add(vint<4> a) {
   const __m128i pairs = _mm_add_epi32(a.i, _mm_shuffle_epi32(a.i, _MM_SHUFFLE(1, 0, 3, 2)));
   return std::uint32_t(_mm_cvtsi128_si32(_mm_add_epi32(pairs, _mm_shuffle_epi32(pairs, _MM_SHUFFLE(2, 3, 0, 1)))));
 }
+// The smallest lane.
+inline std::int32_t reduce_min(vint<4> a) {
+  const __m128i pairs = _mm_min_epi32(a.i, _mm_shuffle_epi32(a.i, _MM_SHUFFLE(1, 0, 3, 2)));
+  return _mm_cvtsi128_si32(_mm_min_epi32(pairs, _mm_shuffle_epi32(pairs, _MM_SHUFFLE(2, 3, 0, 1))));
+}
 // Each lane's value (0 to 255) as one byte, to p[0] .. p[W - 1].
 inline void store_bytes(vint<4> a, std::uint8_t* p) {
   const __m128i words = _mm_packs_epi32(a.i, a.i);

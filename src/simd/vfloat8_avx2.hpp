@@ -2,6 +2,8 @@
 // Width 8: AVX2 (+ FMA available, though the kernels do not contract; see src/isa/README.md).
 #include <immintrin.h>
 
+#include <algorithm>
+
 #include "simd/packet.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
@@ -132,6 +134,34 @@ inline void register_pairs(vint<8> index, vfloat<8>& first, vfloat<8>& second) {
   asm volatile("" : "+x"(first.f), "+x"(second.f) : "x"(index.i));
 }
 
+// fetch_taps (packet.hpp) with a coherent path: when every lane's taps lie in lane 0's texel row
+// (and the next) within the 8 columns from lane 0's (a packet of 8 rays of one pixel row:
+// heightmarch/rays.hpp), the two rows are read with two loads and each tap picked by a permute;
+// otherwise the gathers (each vpgatherdq of 4 pairs costs about 6 cycles on AMD Zen 5).
+inline void fetch_taps(const float* texels, std::int32_t stride, std::int32_t rows, vint<8> ix, vint<8> iy,
+                       vfloat<8>& t00, vfloat<8>& t10, vfloat<8>& t01, vfloat<8>& t11) {
+  (void)rows;  // lane 0's row has one below it: the texture's extra row
+  // The window's first column: lane 0's, moved left where the row would end inside the window.
+  const std::int32_t x0 = std::min(_mm256_cvtsi256_si32(ix.i), stride - 8);
+  const std::int32_t y0 = _mm256_cvtsi256_si32(iy.i);
+  const __m256i dx = _mm256_sub_epi32(ix.i, _mm256_set1_epi32(x0));
+  const __m256i same_row = _mm256_cmpeq_epi32(iy.i, _mm256_set1_epi32(y0));
+  const __m256i in_columns = _mm256_cmpeq_epi32(_mm256_min_epu32(dx, _mm256_set1_epi32(6)), dx);  // 0 <= dx <= 6
+  if (_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_and_si256(same_row, in_columns))) == 0xff && stride >= 8) {
+    const float* row = texels + std::ptrdiff_t(y0) * stride + x0;
+    const __m256 row0 = _mm256_loadu_ps(row), row1 = _mm256_loadu_ps(row + stride);
+    const __m256i right = _mm256_add_epi32(dx, _mm256_set1_epi32(1));
+    t00 = _mm256_permutevar8x32_ps(row0, dx);
+    t10 = _mm256_permutevar8x32_ps(row0, right);
+    t01 = _mm256_permutevar8x32_ps(row1, dx);
+    t11 = _mm256_permutevar8x32_ps(row1, right);
+    return;
+  }
+  const vint<8> index = iy * vint<8>(stride) + ix;
+  gather_pairs(texels, index, t00, t10);
+  gather_pairs(texels + stride, index, t01, t11);
+}
+
 // base[index] per lane.
 inline vfloat<8> gather(const float* base, vint<8> index) { return _mm256_i32gather_ps(base, index.i, 4); }
 inline vint<8> gather(const std::int32_t* base, vint<8> index) {
@@ -142,6 +172,12 @@ inline std::uint32_t reduce_add(vint<8> a) {
   __m128i s = _mm_add_epi32(_mm256_castsi256_si128(a.i), _mm256_extracti128_si256(a.i, 1));
   s = _mm_add_epi32(s, _mm_shuffle_epi32(s, _MM_SHUFFLE(1, 0, 3, 2)));
   return std::uint32_t(_mm_cvtsi128_si32(_mm_add_epi32(s, _mm_shuffle_epi32(s, _MM_SHUFFLE(2, 3, 0, 1)))));
+}
+// The smallest lane.
+inline std::int32_t reduce_min(vint<8> a) {
+  __m128i m = _mm_min_epi32(_mm256_castsi256_si128(a.i), _mm256_extracti128_si256(a.i, 1));
+  m = _mm_min_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(1, 0, 3, 2)));
+  return _mm_cvtsi128_si32(_mm_min_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 3, 0, 1))));
 }
 // Each lane's value (0 to 255) as one byte, to p[0] .. p[W - 1].
 inline void store_bytes(vint<8> a, std::uint8_t* p) {
