@@ -2,6 +2,7 @@
 // for its accuracy and then timed in interleaved rounds, and names and spreads are as documented.
 #include <gtest/gtest.h>
 
+#include "baselines/naive_port.hpp"
 #include "heightmarch/measurement.hpp"
 #include "heightmarch/run_outputs.hpp"
 #include "kernels/kernel_abi.hpp"
@@ -113,18 +114,21 @@ TEST(Plan, BenchmarkNamesCarryTheSizes) {
   EXPECT_EQ(benchmark_name(c, 64, 64).rfind("BM_ComputeCeiling/heightfield:bricks/layers:8-32/isa:scalar/", 0), 0u);
   c.kind = RunKind::autovec;
   EXPECT_EQ(benchmark_name(c, 64, 64).rfind("BM_AutoVecPort/heightfield:bricks/technique:pom/layers:8-32/isa:scalar/", 0), 0u);
+  c.kind = RunKind::highway;
+  EXPECT_EQ(benchmark_name(c, 64, 64).rfind("BM_HighwayPort/heightfield:bricks/technique:pom/layers:8-32/isa:scalar/", 0), 0u);
 }
 
-// The anchors of POM-32 at every ISA: the auto-vectorised port takes the naive port's samples and
-// lands within its tolerance of the reference; the ceiling is the same on every ISA and marches
-// every ray to its bound (depth 1 everywhere).
+// The anchors of POM-32 at every ISA: the auto-vectorised port and the Highway port (where this
+// build has it) take the naive port's samples and land within its tolerance of the reference; the
+// ceiling is the same on every ISA and marches every ray to its bound (depth 1 everywhere).
 TEST(Plan, AnchorsAreCheckedAtEveryIsa) {
   std::vector<Configuration> plan;
   Configuration naive = small(Technique::pom, "32", kPurposeNaive);
   naive.kind = RunKind::naive;
   plan.push_back(naive);
   for (Isa isa : supported_isas())
-    for (RunKind kind : {RunKind::autovec, RunKind::ceiling}) {
+    for (RunKind kind : {RunKind::autovec, RunKind::highway, RunKind::ceiling}) {
+      if (kind == RunKind::highway && !highway_port_runs(isa)) continue;
       Configuration c = small(Technique::pom, "32", kPurposeNaive);
       c.kind = kind;
       c.isa = isa;
@@ -136,8 +140,8 @@ TEST(Plan, AnchorsAreCheckedAtEveryIsa) {
   const MeasuredPlan run = measure_plan(plan, options);
   for (const Measurement& m : run.rows) {
     EXPECT_TRUE(m.failure.empty()) << m.failure;
-    if (m.config.kind == RunKind::autovec) {
-      EXPECT_EQ(m.samples, run.rows[0].samples) << m.config.backend();
+    if (m.config.kind == RunKind::autovec || m.config.kind == RunKind::highway) {
+      EXPECT_EQ(m.samples, run.rows[0].samples) << m.config.backend() << " " << to_string(m.config.kind);
     }
     if (m.config.kind == RunKind::ceiling) {
       EXPECT_FALSE(m.errors.has_value());

@@ -1,7 +1,8 @@
 #pragma once
 // One measured configuration, as typed values from the plan to every result file: what traces
 // (a technique on a CPU backend, the same as GLSL, the sampler roofline, POM's compute ceiling,
-// the naive port, the naive port vectorised by the compiler or the exact reference), on which
+// the naive port, the naive port vectorised by the compiler or written with Google Highway, or
+// the exact reference), on which
 // heightfield and view, with which parameters and threads.
 #include <optional>
 #include <string>
@@ -28,6 +29,7 @@ namespace heightmarch {
   X(ceiling, "ceiling", "BM_ComputeCeiling", false, true, "", "") /* POM on register taps */     \
   X(naive, "naive", "BM_NaivePort", true, false, "naive", "scalar-naive") /* the tutorial's POM in C++ */ \
   X(autovec, "autovec", "BM_AutoVecPort", true, true, "", "") /* that port vectorised by the compiler */ \
+  X(highway, "highway", "BM_HighwayPort", true, true, "", "") /* that port written with Google Highway */ \
   X(exact, "exact", "BM_Exact", false, true, "exact", "exact") /* the exact reference */
 
 #define HEIGHTMARCH_RUN_KIND_ENUM(id, ...) id,
@@ -79,7 +81,7 @@ struct Configuration {
   HeightfieldSource heightfield;
   ViewSpec view;
   TechniqueParams params;    // the technique is ignored by roofline, ceiling, exact and brought-in shader runs
-  Isa isa = Isa::scalar;     // trace, roofline, ceiling and autovec runs; exact runs: the ISA of its float pass
+  Isa isa = Isa::scalar;     // trace, roofline, ceiling, autovec and highway runs; exact runs: the ISA of its float pass
   int threads = 1;           // worker threads (never 0: resolved by the plan)
   std::optional<BroughtInShader> shader;  // glsl runs: a brought-in shader instead of the technique
   bool timed = true;         // false: accuracy only (sweeps, gallery)

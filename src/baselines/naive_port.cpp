@@ -6,6 +6,7 @@
 #include <cmath>
 #include <glm/glm.hpp>
 
+#include "baselines/highway_port.hpp"
 #include "heightmarch/error.hpp"
 #include "kernels/kernel_abi.hpp"
 
@@ -76,21 +77,45 @@ void naive_pom(const DepthMap& map, const RayBatch& rays, float min_layers, floa
   });
 }
 
-void autovec_pom(const DepthMap& map, const RayBatch& rays, float min_layers, float max_layers, float scale, Isa isa,
-                 HitBuffers& hits) {
-  if (!cpu_supports(isa)) throw InputError("ISA " + to_string(isa) + " is not supported by this CPU");
+namespace {
+
+// A port's kernel over the batch's tiles, on the plain REPEAT depth map; its samples are read
+// from hits.samples, as the naive port's.
+void trace_port(TraceRangeFn kernel, const DepthMap& map, const RayBatch& rays, float min_layers, float max_layers,
+                float scale, HitBuffers& hits) {
   hits.resize(rays.size());
-  const TraceRangeFn kernel = kernel_table(isa).autovec_pom;
   const KernelTexture texture{map.texels.data(), map.width, map.height, map.width, Wrap::repeat};
   const KernelParams params{min_layers, max_layers, 0, scale, false, {0.0f, 0.0f, 1.0f}};
   const KernelRays kernel_rays{rays.tx.data(), rays.ty.data(), rays.vx.data(), rays.vy.data(), rays.vz.data()};
   const KernelHits kernel_hits{hits.u.data(), hits.v.data(), hits.depth.data(), hits.shadow.data(),
                                hits.samples.data(), hits.discarded.data()};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.tile_count(), 1), [&](const auto& tiles) {
-    KernelCounters counters;  // the port's samples are read from hits.samples, as the naive port's
+    KernelCounters counters;
     for (std::size_t t = tiles.begin(); t != tiles.end(); ++t)
       kernel(texture, params, kernel_rays, kernel_hits, rays.tile_offsets[t], rays.tile_offsets[t + 1], counters);
   });
+}
+
+}  // namespace
+
+void autovec_pom(const DepthMap& map, const RayBatch& rays, float min_layers, float max_layers, float scale, Isa isa,
+                 HitBuffers& hits) {
+  if (!cpu_supports(isa)) throw InputError("ISA " + to_string(isa) + " is not supported by this CPU");
+  trace_port(kernel_table(isa).autovec_pom, map, rays, min_layers, max_layers, scale, hits);
+}
+
+#ifndef HEIGHTMARCH_HAVE_HIGHWAY
+// Built without Google Highway (libhwy-dev): the port runs nowhere.
+TraceRangeFn highway_kernel(Isa) { return nullptr; }
+#endif
+
+bool highway_port_runs(Isa isa) { return highway_kernel(isa) != nullptr; }
+
+void highway_pom(const DepthMap& map, const RayBatch& rays, float min_layers, float max_layers, float scale, Isa isa,
+                 HitBuffers& hits) {
+  const TraceRangeFn kernel = highway_kernel(isa);
+  if (!kernel) throw InputError("the Highway port does not run at ISA " + to_string(isa) + " in this build on this CPU");
+  trace_port(kernel, map, rays, min_layers, max_layers, scale, hits);
 }
 
 }  // namespace heightmarch

@@ -19,4 +19,13 @@ void naive_pom(const DepthMap& map, const RayBatch& rays, float min_layers, floa
 void autovec_pom(const DepthMap& map, const RayBatch& rays, float min_layers, float max_layers, float scale, Isa isa,
                  HitBuffers& hits);
 
+// Whether the port written with Google Highway (highway_port.cpp) runs at the ISA: this build has
+// Highway, which compiled the ISA's Highway target (cmake/isa_list.cmake), and the CPU runs it.
+bool highway_port_runs(Isa isa);
+
+// The same port written with Google Highway, at the ISA's Highway target, over the same tiles.
+// Same samples as naive_pom, u and v within rounding. Throws InputError where it does not run.
+void highway_pom(const DepthMap& map, const RayBatch& rays, float min_layers, float max_layers, float scale, Isa isa,
+                 HitBuffers& hits);
+
 }  // namespace heightmarch

@@ -124,7 +124,8 @@ class GlslBackend : public Backend {
   }
 };
 
-// The naive port of the tutorial's POM, or its auto-vectorised form at the configuration's ISA.
+// The naive port of the tutorial's POM, or at the configuration's ISA its auto-vectorised form or
+// its Highway form.
 // They blend as glm::mix does and round differently from the kernels: checked to be within 0.01
 // texel of the technique's reference wherever they took the same samples.
 class PortBackend : public Backend {
@@ -136,7 +137,9 @@ class PortBackend : public Backend {
       const float d = uv_error_texels(hits.u[i], hits.v[i], reference.u[i], reference.v[i], scene.map.width,
                                       scene.map.height);
       if (!(d <= 1e-2f) && hits.samples[i] == reference.samples[i])
-        row.failure = (c.kind == RunKind::autovec ? c.backend() + " auto-vectorised port" : std::string("naive port")) +
+        row.failure = (c.kind == RunKind::naive     ? std::string("naive port")
+                       : c.kind == RunKind::autovec ? c.backend() + " auto-vectorised port"
+                                                    : c.backend() + " Highway port") +
                       " differs from the reference by " + std::to_string(d) + " texel at ray " + std::to_string(i);
     }
     hits.depth = reference.depth;  // the port returns uv only
@@ -151,6 +154,8 @@ class PortBackend : public Backend {
     const LayerSpec& l = c.params.layers;
     if (c.kind == RunKind::autovec)
       autovec_pom(scene.map, scene.rays, l.min_layers, l.max_layers, c.params.scale, c.isa, hits);
+    else if (c.kind == RunKind::highway)
+      highway_pom(scene.map, scene.rays, l.min_layers, l.max_layers, c.params.scale, c.isa, hits);
     else
       naive_pom(scene.map, scene.rays, l.min_layers, l.max_layers, c.params.scale, hits);
   }
@@ -187,7 +192,8 @@ std::unique_ptr<Backend> make_backend(RunKind kind) {
     case RunKind::ceiling: return std::make_unique<TracerBackend>(&Tracer::run_compute_ceiling, false);
     case RunKind::glsl: return std::make_unique<GlslBackend>();
     case RunKind::naive:
-    case RunKind::autovec: return std::make_unique<PortBackend>();
+    case RunKind::autovec:
+    case RunKind::highway: return std::make_unique<PortBackend>();
     case RunKind::exact: return std::make_unique<ExactBackend>();
   }
   throw std::logic_error("no backend for run kind " + to_string(kind));
