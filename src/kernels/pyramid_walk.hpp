@@ -11,8 +11,10 @@
 //
 // Two users: the maxmip technique (techniques/maxmip.hpp) and, made conservative, the exact
 // reference's float pass (src/exact/exact_bound.hpp).
+#include <algorithm>
 #include <limits>
 
+#include "heightmarch/min_depth_pyramid.hpp"
 #include "kernels/kernel_context.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
@@ -133,20 +135,21 @@ PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloa
   // Start where a block is about an eighth of the path's extent: the levels above it would
   // almost always be descended again, those below it climbed.
   const F extent = abs(dx) + abs(dy);
-  I level(0), offset(0);  // offset: where the level's entries start (MinDepthPyramid's layout)
-  F size(1.0f), inv_size(1.0f);
-  for (int l = 1; l <= top; ++l) {
-    const B higher = extent >= F(float(1 << (l + 3)));
-    level = select(higher, I(l), level);
-    offset = select(higher, I(texture.level_offsets[l]), offset);
-    size = select(higher, F(float(1 << l)), size);
-    inv_size = select(higher, F(1.0f / float(1 << l)), inv_size);
+  I level(0);
+  for (int l = 1; l <= top; ++l) level = select(extent >= F(float(1 << (l + 3))), I(l), level);
+  // Per level: where its entries start (MinDepthPyramid's layout), its blocks a side
+  // (ceil(cells / 2^L)), 2^L and 2^-L, looked up by each lane's level (register permutes where
+  // the ISA has them) rather than carried along in selects at every change of level.
+  static_assert(MinDepthPyramid::kMaxLevels <= 16, "the per-level tables are Table16s");
+  Table16<std::int32_t> level_offset, level_blocks_x;
+  Table16<float> level_size, level_inv_size;
+  const int last_cell_x = kRepeat ? texture.width - 1 : texture.width - 2;
+  for (int l = 0; l <= std::max(top, 0); ++l) {
+    level_offset.values[l] = top < 0 ? 0 : texture.level_offsets[l];
+    level_blocks_x.values[l] = (last_cell_x >> l) + 1;
+    level_size.values[l] = float(1 << l);
+    level_inv_size.values[l] = 1.0f / float(1 << l);
   }
-  // A level's blocks a side, ceil(cells / 2^L), from its 1 / 2^L: kept in registers instead of
-  // gathered from the per-level tables on every pass (their latency was on the walk's path).
-  const F last_cell_x(float(kRepeat ? texture.width - 1 : texture.width - 2));
-  const F last_cell_y(float(kRepeat ? texture.height - 1 : texture.height - 2));
-  const auto blocks = [](F last_cell, F inv) { return floor(last_cell * inv) + F(1.0f); };
   B active = B::all_true();
   // Each pass advances t or descends a level: the cells on the path times the levels bound it.
   const F lane_bound = F(float(2 * (top + 2))) * (extent + F(2.0f));
@@ -163,6 +166,7 @@ PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloa
     if constexpr (!kRepeat)
       interior = (cx >= F(0.0f)) & (cx < width - F(1.0f)) & (cy >= F(0.0f)) & (cy < height - F(1.0f));
     const B in_pyramid = active & interior & (top >= 0 ? B::all_true() : !B::all_true());
+    const F size = lookup(level_size, level), inv_size = lookup(level_inv_size, level);
 
     // The lane's box: its block at its level (blocks tile the period: REPEAT keeps a level only
     // while 2^L divides both sides), or (CLAMP edge cells) the cell, infinite on its outer side.
@@ -195,7 +199,7 @@ PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloa
           by = wrap_cell(by, nby, inv_height * size);
         }
       }
-      const I entry = offset + to_int(by) * to_int(blocks(last_cell_x, inv_size)) + to_int(bx);
+      const I entry = lookup(level_offset, level) + to_int(by) * lookup(level_blocks_x, level) + to_int(bx);
       if constexpr (!CONSERVATIVE) k.count(in_pyramid, walk.samples, 1);
       shallowest = select(in_pyramid, gather(texture.pyramid, select(in_pyramid, entry, I(0))), F(-kInf));
     }
@@ -253,13 +257,7 @@ PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloa
     const F side_x = select(high_x, x_hi, x_lo) * half_inv, side_y = select(high_y, y_hi, y_lo) * half_inv;
     const B new_parent = (exit_x & !(floor(side_x) != side_x)) | (exit_y & !(floor(side_y) != side_y));
     const B up = move & new_parent & (level < top_level);
-    const F inv_below = inv_size * F(2.0f);
-    const I entries = to_int(blocks(last_cell_x, inv_size)) * to_int(blocks(last_cell_y, inv_size));
-    const I entries_below = to_int(blocks(last_cell_x, inv_below)) * to_int(blocks(last_cell_y, inv_below));
-    offset = select(up, offset + entries, select(descend, offset - entries_below, offset));
     level = select(up, level + I(1), select(descend, level - I(1), level));
-    size = select(up, size * F(2.0f), select(descend, size * F(0.5f), size));
-    inv_size = select(up, inv_size * F(0.5f), select(descend, inv_size * F(2.0f), inv_size));
   }
   walk.cut_off = cut_off | active;
   walk.cx = cx;

@@ -38,4 +38,22 @@ inline void fetch_taps(const float* texels, std::int32_t stride, std::int32_t ro
   gather_pairs(texels + stride, index, t01, t11);
 }
 
+// A table of up to 16 values that lanes look up by index (lookup()): the pyramid walk's
+// constants per level.
+template <class T>
+struct Table16 {
+  alignas(64) T values[16] = {};
+};
+
+// table.values[index] per lane, 0 <= index < 16. These defaults gather; an ISA header may
+// overload them for its own width with register permutes.
+template <int W>
+inline vint<W> lookup(const Table16<std::int32_t>& table, vint<W> index) {
+  return gather(table.values, index);
+}
+template <int W>
+inline vfloat<W> lookup(const Table16<float>& table, vint<W> index) {
+  return gather(table.values, index);
+}
+
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

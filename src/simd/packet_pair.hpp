@@ -95,6 +95,12 @@ inline vfloat<2 * HEIGHTMARCH_PAIR_OF> gather(const float* base, vint<2 * HEIGHT
 inline vint<2 * HEIGHTMARCH_PAIR_OF> gather(const std::int32_t* base, vint<2 * HEIGHTMARCH_PAIR_OF> index) {
   return {gather(base, index.lo), gather(base, index.hi)};
 }
+inline vint<2 * HEIGHTMARCH_PAIR_OF> lookup(const Table16<std::int32_t>& table, vint<2 * HEIGHTMARCH_PAIR_OF> index) {
+  return {lookup(table, index.lo), lookup(table, index.hi)};
+}
+inline vfloat<2 * HEIGHTMARCH_PAIR_OF> lookup(const Table16<float>& table, vint<2 * HEIGHTMARCH_PAIR_OF> index) {
+  return {lookup(table, index.lo), lookup(table, index.hi)};
+}
 inline vfloat<2 * HEIGHTMARCH_PAIR_OF> sqrt(vfloat<2 * HEIGHTMARCH_PAIR_OF> a) { return {sqrt(a.lo), sqrt(a.hi)}; }
 inline std::uint32_t reduce_add(vint<2 * HEIGHTMARCH_PAIR_OF> a) { return reduce_add(a.lo) + reduce_add(a.hi); }
 inline std::int32_t reduce_min(vint<2 * HEIGHTMARCH_PAIR_OF> a) {

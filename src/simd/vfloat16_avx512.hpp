@@ -157,6 +157,14 @@ inline void fetch_taps(const float* texels, std::int32_t stride, std::int32_t ro
   gather_pairs(texels + stride, index, t01, t11);
 }
 
+// lookup() (packet.hpp) with one register permute.
+inline vfloat<16> lookup(const Table16<float>& table, vint<16> index) {
+  return _mm512_permutexvar_ps(index.i, _mm512_load_ps(table.values));
+}
+inline vint<16> lookup(const Table16<std::int32_t>& table, vint<16> index) {
+  return _mm512_permutexvar_epi32(index.i, _mm512_load_si512(table.values));
+}
+
 // base[index] per lane.
 inline vfloat<16> gather(const float* base, vint<16> index) { return _mm512_i32gather_ps(index.i, base, 4); }
 inline vint<16> gather(const std::int32_t* base, vint<16> index) { return _mm512_i32gather_epi32(index.i, base, 4); }

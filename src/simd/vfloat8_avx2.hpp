@@ -162,6 +162,20 @@ inline void fetch_taps(const float* texels, std::int32_t stride, std::int32_t ro
   gather_pairs(texels + stride, index, t01, t11);
 }
 
+// lookup() (packet.hpp) with two permutes of the table's halves, blended on bit 3 of the index.
+inline __m256 lookup_halves(__m256 low, __m256 high, vint<8> index) {
+  return _mm256_blendv_ps(_mm256_permutevar8x32_ps(low, index.i), _mm256_permutevar8x32_ps(high, index.i),
+                          _mm256_castsi256_ps(_mm256_slli_epi32(index.i, 28)));
+}
+inline vfloat<8> lookup(const Table16<float>& table, vint<8> index) {
+  return lookup_halves(_mm256_load_ps(table.values), _mm256_load_ps(table.values + 8), index);
+}
+inline vint<8> lookup(const Table16<std::int32_t>& table, vint<8> index) {
+  const __m256i* halves = reinterpret_cast<const __m256i*>(table.values);
+  return _mm256_castps_si256(lookup_halves(_mm256_castsi256_ps(_mm256_load_si256(halves)),
+                                           _mm256_castsi256_ps(_mm256_load_si256(halves + 1)), index));
+}
+
 // base[index] per lane.
 inline vfloat<8> gather(const float* base, vint<8> index) { return _mm256_i32gather_ps(base, index.i, 4); }
 inline vint<8> gather(const std::int32_t* base, vint<8> index) {
