@@ -46,4 +46,4 @@
     "maxmip(T, V)", "#8c564b", "h",                                                                   \
     "maximum mipmaps: walk down and up the min-depth pyramid, solve each reached cell exactly")       \
   X(shadow, "shadow", true, 5, Needs::nothing, Writes::hit_and_shadow, false, KernelShape::march,    \
-    "shadow(T, V)", "#9467bd", "*", "POM's hit, then the tutorial's soft self-shadow factor towards the light")
+    "softShadow(pom(T, V))", "#9467bd", "*", "POM's hit, then the tutorial's soft self-shadow factor towards the light")
