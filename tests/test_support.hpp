@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <sys/wait.h>
@@ -40,6 +41,20 @@ inline std::vector<Technique> all_technique_ids() {
   return ids;
 }
 inline std::vector<Isa> packet_isas() { return {all_isas().begin() + 1, all_isas().end()}; }
+// The technique's parameters at every layer spec the kernel tests cover x both wrap modes, each
+// with a label for SCOPED_TRACE.
+inline std::vector<std::pair<std::string, TechniqueParams>> layer_specs_and_wraps(Technique technique) {
+  std::vector<std::pair<std::string, TechniqueParams>> cases;
+  for (const char* layers : {"4", "10", "32", "8-32"})
+    for (Wrap wrap : {Wrap::repeat, Wrap::clamp}) {
+      TechniqueParams params;
+      params.technique = technique;
+      params.layers = parse_layer_spec(layers);
+      params.wrap = wrap;
+      cases.emplace_back(std::string("layers ") + layers + (wrap == Wrap::repeat ? ", repeat" : ", clamp"), params);
+    }
+  return cases;
+}
 // A parameterised test's name from a registry name: "parallax-limited" -> "parallax_limited".
 inline std::string test_name(std::string name) {
   for (char& c : name)
