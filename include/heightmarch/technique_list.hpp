@@ -5,7 +5,8 @@
 //
 // Adding a technique takes three files: its row here, its kernel header in
 // src/kernels/techniques/ (every header there is compiled into every ISA's kernel table; it
-// specialises TechniqueKernel for the new id) and its GLSL function in src/glsl/techniques.glsl.
+// specialises TechniqueKernel for the new id) and its GLSL function in src/glsl/techniques.glsl;
+// two for one made of existing steps, whose GLSL call composes them (softShadow(cone(T, V))).
 //
 // X(id, CLI name, layered, refine, needs, writes, search, shape, GLSL call, plot colour, plot
 //   marker, description)
