@@ -8,6 +8,26 @@
 // as std::min and std::max do (the first operand on NaN or equal values), so a template over
 // the number type gives the same bits at T = double and T = vdouble<D>.
 //
+// The contract of every width, width 1 on any architecture included, lane by lane (checked op
+// by op on random lanes with NaN, infinities and signed zeros at every ISA of the list by
+// tests/packet_ops_test.cpp):
+// - +, -, *, /, sqrt round as the scalar IEEE op (no contraction, no flush of denormals); a NaN
+//   result is some NaN, its sign and payload unspecified. floor and ceil keep the sign of zero
+//   (ceil(-0.5) = -0), abs clears the sign bit (of a NaN too).
+// - <, >, >= are ordered (false when a lane is NaN), != is unordered (true).
+// - min(a, b) = a < b ? a : b and max(a, b) = a > b ? a : b, as minps and maxps pick: the second
+//   operand when either is NaN or both are equal (min(+0, -0) = -0). vdouble's pick as
+//   std::min and std::max (the first operand).
+// - to_int truncates toward zero; NaN and values outside int32's range give INT32_MIN, as x86's
+//   cvttps2dq does (the sampler's wrap relies on it: INT32_MIN & (size - 1) is texel 0, and a
+//   clamp takes it to 0). Width 1 gives INT32_MIN too, whatever the CPU's own conversion does.
+// - vint +, -, * wrap around modulo 2^32; <, min and max are signed.
+// - select(m, a, b) is m ? a : b; any, all, none reduce the mask's lanes.
+// - reduce_add sums lanes that are non-negative and whose sum fits 32 bits; reduce_min is the
+//   smallest lane; store_bytes stores lanes in 0..255. gather, gather_pairs and fetch_taps read
+//   exactly the texels they name, each index inside the array; lookup(table, index) is
+//   table.values[index] for an index in 0..15.
+//
 // Every header of this folder opens namespace heightmarch::HEIGHTMARCH_ISA_NS, which the
 // including translation unit defines (isa_scalar, isa_sse42, ...), so that inline functions
 // compiled with one ISA's flags can never be linked into code running on another ISA.
@@ -28,7 +48,7 @@ template <int D> struct vboold;
 // The four bilinear taps of each lane from a texture of `rows` rows of `stride` texels: t00 at
 // (ix, iy), t10 one texel right, t01 one row down, t11 both. This default reads them with two
 // gather_pairs (the ISA's); an ISA header may overload it for its own width with a faster path
-// (vfloat16_avx512.hpp), which must read the very same texels.
+// (vfloat8_avx2.hpp, vfloat16_avx512.hpp), which must read the very same texels.
 template <int W>
 inline void fetch_taps(const float* texels, std::int32_t stride, std::int32_t rows, vint<W> ix, vint<W> iy,
                        vfloat<W>& t00, vfloat<W>& t10, vfloat<W>& t01, vfloat<W>& t11) {
