@@ -41,7 +41,7 @@ TEST(Cli, TraceWritesItsFourFiles) {
   std::ifstream json(out + "/metrics.json");
   const std::string text((std::istreambuf_iterator<char>(json)), {});
   for (const char* key : {"\"technique\": \"pom\"", "\"layers\": \"32\"", "\"rays_per_second\"", "\"errors\"",
-                          "\"uv_p99\"", "\"wrong_surface_rate\"", "\"commit\"", "\"rounds\""})
+                          "\"uv_error_p99\"", "\"wrong_surface_rate\"", "\"commit\"", "\"rounds\""})
     EXPECT_NE(text.find(key), std::string::npos) << key;
 }
 
@@ -193,8 +193,8 @@ TEST(Cli, JsonHasTheSpecKeys) {
   const auto r = test::run_cli("trace --res 64 --size 32x32 --technique relief --layers 8-32 --json --threads 1");
   ASSERT_EQ(r.status, 0) << r.output;
   for (const char* key : {"technique", "layers", "backend", "threads", "width", "height", "rays", "rays_per_second",
-                          "samples_per_second", "samples_per_ray", "errors", "uv_mean", "uv_rms", "uv_p50", "uv_p95",
-                          "uv_p99", "uv_max", "wrong_surface_rate", "depth_error_mean", "discarded", "median", "min",
+                          "samples_per_second", "samples_per_ray", "errors", "uv_error_mean", "uv_error_rms", "uv_error_p50", "uv_error_p95",
+                          "uv_error_p99", "uv_error_max", "wrong_surface_rate", "depth_error_mean", "discarded", "median", "min",
                           "max", "rounds", "repetitions"})
     EXPECT_NE(r.output.find("\"" + std::string(key) + "\""), std::string::npos) << key;
 }

@@ -24,29 +24,19 @@ void write_spread(JsonWriter& json, const std::string& key, const std::vector<do
   json.end_object();
 }
 
+// Every measure under its one name (error_measures: the shadow's two null for other techniques),
+// the rays discarded and, for layered techniques, the share within one layer step.
 void write_errors(JsonWriter& json, const std::optional<ErrorSummary>& errors) {
   if (!errors) {
     json.null("errors");
     return;
   }
   const ErrorSummary& e = *errors;
-  json.begin_object("errors")
-      .value("uv_mean", e.mean)
-      .value("uv_rms", e.rms)
-      .value("uv_p50", e.p50)
-      .value("uv_p95", e.p95)
-      .value("uv_p99", e.p99)
-      .value("uv_max", e.max)
-      .value("wrong_surface_rate", e.wrong_surface_rate)
-      .value("depth_error_mean", e.depth_error_mean)
-      .value("discarded", e.discarded);
+  json.begin_object("errors");
+  for (const auto& [name, value] : error_measures(e)) json.value(name, value);
+  json.value("discarded", e.discarded);
   e.within_one_layer_step ? json.value("within_one_layer_step", *e.within_one_layer_step)
                           : json.null("within_one_layer_step");
-  if (e.has_shadow)
-    json.value("shadow_error_mean", e.shadow_error_mean)
-        .value("shadow_mismatch_rate", e.shadow_mismatch_rate);
-  else
-    json.null("shadow_error_mean").null("shadow_mismatch_rate");
   json.end_object();
 }
 
@@ -86,6 +76,10 @@ void write_row(JsonWriter& json, const Measurement& m) {
     json.value("theta", double(c.view.theta_degrees)).value("phi", double(c.view.phi_degrees));
   else
     json.null("theta").null("phi");
+  if (c.view.kind == ViewSpec::Kind::perspective)
+    json.value("near_angle", double(c.view.near_degrees)).value("far_angle", double(c.view.far_degrees));
+  else
+    json.null("near_angle").null("far_angle");
   json.value("description", describe(c.view)).end_object();
   json.value("scale", double(c.params.scale))
       .value("wrap", c.params.wrap == Wrap::repeat ? "repeat" : "clamp")
@@ -178,7 +172,7 @@ void write_cost_image(const std::string& dir, const TracedRow& traced) {
 
 std::string metrics_json(const Measurement& row) {
   JsonWriter json;
-  json.begin_object();
+  json.begin_object().value("format", "heightmarch-metrics").value("format_version", kMetricsFormatVersion);
   write_row(json, row);
   write_provenance(json, provenance(), row.config.threads);
   json.end_object();
@@ -321,7 +315,7 @@ void write_run_outputs(const std::string& dir, const TracedRow& traced) {
 
 std::string measurements_json(const MeasuredPlan& run, const std::string& plan_name) {
   JsonWriter json;
-  json.begin_object().value("schema", "heightmarch-measurements/1");
+  json.begin_object().value("format", "heightmarch-measurements").value("format_version", kMeasurementsFormatVersion);
   int threads = 0;
   for (const Measurement& m : run.rows) threads = std::max(threads, m.config.threads);
   write_provenance(json, provenance(), threads);

@@ -1,5 +1,6 @@
 #pragma once
 // A small JSON writer for metrics and reports: objects and arrays of numbers and strings.
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -29,16 +30,20 @@ class JsonWriter {
     out_ += b ? "true" : "false";
     return *this;
   }
-  // Full float precision; NaN and infinities, which JSON lacks, as null.
+  // The shortest text that reads back as the same number: 0.1f as "0.1", not "0.100000001".
+  // A double that is exactly a float (the uv error percentiles, scales, angles: float values
+  // carried in doubles) is written as that float; NaN and infinities, which JSON lacks, as null.
   JsonWriter& value(const std::string& key, double number) {
     prefix(key);
     if (!std::isfinite(number)) {
       out_ += "null";
-    } else {
-      char buf[32];
-      std::snprintf(buf, sizeof buf, "%.9g", number);
-      out_ += buf;
+      return *this;
     }
+    char buf[32];
+    const float narrow = float(number);
+    const auto end = double(narrow) == number ? std::to_chars(buf, buf + sizeof buf, narrow).ptr
+                                              : std::to_chars(buf, buf + sizeof buf, number).ptr;
+    out_.append(buf, end);
     return *this;
   }
   JsonWriter& value(const std::string& key, long long number) {
