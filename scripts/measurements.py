@@ -8,10 +8,9 @@ the median of the per-round ratios with their min and max (docs/measurements.md)
 """
 import csv
 import io
-import json
 import os
-import statistics
-import tempfile
+
+from benchmark_results import Unusable, per_round, read_json, spread
 
 MEASUREMENTS_FORMAT = "heightmarch-measurements"
 MEASUREMENTS_VERSION = 2  # the newest this reads; 1: the measures were named uv_mean, uv_p95, ...
@@ -27,39 +26,12 @@ SHADOW_COUNTS = ("techniques.md", "shadow-sample-counts-cpu-vs-glsl")
 MAXMIP_PEAK = ("techniques.md", "maxmip-at-a-grazing-one-texel-peak")
 
 
-class InputError(Exception):
-    pass
-
-
 # ---------------------------------------------------------------------------------------------
 # Files
 
-def read_json(path):
-    try:
-        with open(path) as f:
-            return json.load(f)
-    except OSError as e:
-        raise InputError("%s: %s" % (path, e.strerror))
-    except ValueError as e:
-        raise InputError("%s: not JSON (%s)" % (path, e))
-
-
-def atomic_write(path, text):
-    """Temp file, world-readable, then rename: a reader never sees half a file."""
-    fd, temporary = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)), prefix=".tmp-")
-    try:
-        with os.fdopen(fd, "w") as f:
-            f.write(text)
-        os.chmod(temporary, 0o644)
-        os.replace(temporary, path)
-    except BaseException:
-        os.unlink(temporary)
-        raise
-
-
 def require(condition, what):
     if not condition:
-        raise InputError(what)
+        raise Unusable(what)
 
 
 def upgrade(data):
@@ -131,33 +103,18 @@ def read_optional(path, format_name):
 
 def load_run(run_dir):
     path = os.path.join(run_dir, "measurements.json")
-    data = upgrade(read_json(path))
+    data = read_json(path)
+    require(isinstance(data, dict), "%s: not a JSON object" % path)
+    data = upgrade(data)
     try:
         validate(data)
-    except InputError as e:
-        raise InputError("%s: %s" % (path, e))
+    except Unusable as e:
+        raise Unusable("%s: %s" % (path, e))
     return Run(data, run_dir)
 
 
 # ---------------------------------------------------------------------------------------------
 # Figures with their spread
-
-def spread(values):
-    """(median, min, max) of values, or None when there is nothing to summarise."""
-    values = list(values or [])
-    return (statistics.median(values), min(values), max(values)) if values else None
-
-
-def per_round(a, b):
-    """The spread of the per-round ratios a[i] / b[i] (None when either side is missing)."""
-    if a is None or b is None:
-        return None
-    return spread(x / y for x, y in zip(a, b))
-
-
-def relative_spread(s):
-    return (s[2] - s[1]) / s[0]
-
 
 def rays_rounds(row):
     return row["speed"]["rays_per_second"]["rounds"] if row and row.get("speed") else None

@@ -11,8 +11,6 @@ median of the per-round ratios with their min-max. With --history, one row per t
 appended to the history CSV and the headline configuration is plotted over the recorded runs.
 """
 import argparse
-import csv
-import io
 import math
 import os
 import statistics
@@ -24,19 +22,18 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import FixedLocator, FuncFormatter, NullLocator  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
+import history  # noqa: E402
 import report_page  # noqa: E402
-from measurements import (ANY, HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, InputError,  # noqa: E402
-                          atomic_write, backend_label, config, depth_map, docs_link, glsl_pairs, groups, load_run,
-                          measurements_csv, ns_per_ray_rounds, per_round, rays_rounds, read_claims, read_optional,
-                          relative_spread, samples_rounds, searches_per_isa, speedup, spread, view_name)
+from benchmark_results import Unusable, atomic_write, per_round, relative_spread, spread  # noqa: E402
+from measurements import (ANY, HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label,  # noqa: E402
+                          config, depth_map, docs_link, glsl_pairs, groups, load_run, measurements_csv,
+                          ns_per_ray_rounds, rays_rounds, read_claims, read_optional, samples_rounds, searches_per_isa,
+                          speedup, view_name)
 
 SPREAD_LIMIT = 0.20  # (max - min) / median above this is flagged as a disturbed timing
-HISTORY_COLUMNS = ["date", "commit", "cpu", "backend", "threads", "heightfield", "technique", "layers",
-                   "view", "depth_map", "rays_per_second_median", "rays_per_second_min",
-                   "rays_per_second_max"]
 NOT_MEASURED = "Not measured in this run."
 MAX_PLOT_PIXELS = 1600  # widest plot, so a page shows it whole
-BACKEND_MARKERS = "osD^vP*Xh"  # one per backend, by position in the run's backend list
 # Errors below this many texels are drawn on the linear part of a symlog axis: zero shows as 0.
 ZERO_BAND = 1e-3
 
@@ -709,77 +706,9 @@ def plot_isa_speedup(run, path):
 
 
 # ---------------------------------------------------------------------------------------------
-# History
-
-def history_rows(run):
-    p = run.provenance
-    out = []
-    for r in run.timed:
-        s = spread(rays_rounds(r))
-        out.append({"date": p.get("date", ""), "commit": p.get("commit", ""), "cpu": p.get("cpu", ""),
-                    "backend": backend_label(r).replace(" ", "-"), "threads": str(r["threads"]),
-                    "heightfield": r["heightfield"]["label"],
-                    # rows without a technique (roofline, exact) are named by their kind
-                    "technique": r.get("technique") or r["kind"], "layers": r.get("layers") or "",
-                    "view": view_name(r["view"]), "depth_map": depth_map(r),
-                    "rays_per_second_median": "%.6g" % s[0], "rays_per_second_min": "%.6g" % s[1],
-                    "rays_per_second_max": "%.6g" % s[2]})
-    return out
-
-
-def update_history(path, run):
-    existing = []
-    if os.path.exists(path):
-        with open(path, newline="") as f:
-            reader = csv.DictReader(f)
-            if reader.fieldnames != HISTORY_COLUMNS:
-                raise InputError("%s: columns are not %s" % (path, ",".join(HISTORY_COLUMNS)))
-            existing = list(reader)
-    date, commit = run.provenance.get("date", ""), run.provenance.get("commit", "")
-    rows = [r for r in existing if (r["date"], r["commit"]) != (date, commit)] + history_rows(run)
-    out = io.StringIO()
-    writer = csv.DictWriter(out, HISTORY_COLUMNS, lineterminator="\n")
-    writer.writeheader()
-    writer.writerows(rows)
-    atomic_write(path, out.getvalue())
-    return rows
-
-
-def plot_history(run, rows, path):
-    """The headline configuration at 1 thread over the recorded runs, one line per backend."""
-    headline = [r for r in run.timed if run.is_headline(r) and r["threads"] == 1 and r["view"]["kind"] == "default"]
-    hf = headline[0]["heightfield"]["label"] if headline else (run.heightfields or [""])[0]
-    view = view_name(headline[0]["view"]) if headline else "default"
-    picked = [r for r in rows if r["technique"] == HEADLINE_TECHNIQUE and r["layers"] == HEADLINE_LAYERS
-              and r["threads"] == "1" and r["heightfield"] == hf and r["view"].startswith(view)
-              and (not headline or r["depth_map"] == depth_map(headline[0]))]
-    if not picked:
-        return False
-    runs = sorted({(r["date"], r["commit"]) for r in picked})
-    by_backend = groups(picked, lambda r: r["backend"])
-    names = [b.replace(" ", "-") for b in run.backend_names()]
-    colours = backend_colours(names + [b for b in by_backend if b not in names])
-    fig, ax = plt.subplots(figsize=(max(7.0, 0.9 * len(runs) + 3), 4.2))
-    for backend in [b for b in colours if b in by_backend]:
-        pts = sorted((runs.index((r["date"], r["commit"])), [float(r[c]) / 1e6 for c in HISTORY_COLUMNS[-3:]])
-                     for r in by_backend[backend])
-        ax.errorbar([x for x, _ in pts], [v[0] for _, v in pts], yerr=[[v[0] - v[1] for _, v in pts], [v[2] - v[0] for _, v in pts]],
-                    marker=BACKEND_MARKERS[list(colours).index(backend) % len(BACKEND_MARKERS)], markersize=4, capsize=3,
-                    color=colours[backend], label=backend)
-    ax.set_xticks(range(len(runs)))
-    ax.set_xticklabels(["%s\n%s" % (d[:16].replace("T", " "), c) for d, c in runs], fontsize=7)
-    log_axis(ax, "y")
-    ax.set_ylabel("Mrays/s, median (bars: min-max)")
-    ax.grid(True, which="both", alpha=0.3)
-    finish(fig, path, "%s, %s layers, %s view, %s, 1 thread, over the recorded runs" % (
-        HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS, view, hf), [ax])
-    return True
-
-
-# ---------------------------------------------------------------------------------------------
 # Output
 
-def section_plots(run, recommendation, history_rows_recorded):
+def section_plots(run, recommendation, history_drawn):
     plots = os.path.join(run.dir, "plots")
     os.makedirs(plots, exist_ok=True)
     body = []
@@ -800,9 +729,8 @@ def section_plots(run, recommendation, history_rows_recorded):
         "error against view angle", "not measured in this run.")
     add(plot_isa_speedup(run, os.path.join(plots, "isa_speedup.png")), "isa_speedup.png",
         "speed-up per ISA", "not measured in this run.")
-    if history_rows_recorded is not None:
-        add(plot_history(run, history_rows_recorded, os.path.join(plots, "history.png")), "history.png",
-            "history", "the headline configuration is not in the history.")
+    if history_drawn is not None:
+        add(history_drawn, "history.png", "history", "the headline configuration is not in the history.")
     return section("Plots", body[:-1])
 
 
@@ -824,13 +752,14 @@ def main():
         run = load_run(args.run_dir)
         claims = read_claims(os.path.join(args.run_dir, "claims.json"))
         recommendation = read_optional(os.path.join(args.run_dir, "recommendation.json"), "heightmarch-recommendation")
-        recorded = update_history(args.history, run) if args.history else None
+        history_drawn = history.record(args.run_dir, args.history) if args.history else None
+        recorded = history.read(args.history) if args.history else None
         alerts = read_optional(os.path.join(args.run_dir, "alerts.json"), "heightmarch-alerts")
         faults = []  # the tables find them, the warnings on the first screen name them
         tables = (section_matrix(run) + section_glsl(run) + section_every_backend(run, faults)
                   + section_searches_per_isa(run) + section_exact_speed(run) + section_threads(run) + section_gallery(run))
-        plots = section_plots(run, recommendation, recorded)
-    except InputError as e:
+        plots = section_plots(run, recommendation, history_drawn)
+    except Unusable as e:
         print("report.py: %s" % e, file=sys.stderr)
         return 2
     p = run.provenance

@@ -10,9 +10,9 @@ import html
 import json
 import os
 
-from measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, atomic_write, backend_label,
-                          depth_map, docs_link, glsl_pairs, ns_per_ray_rounds, rays_rounds, searches_per_isa, speedup,
-                          spread, view_name)
+from benchmark_results import atomic_write, spread
+from measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label, depth_map,
+                          docs_link, glsl_pairs, ns_per_ray_rounds, rays_rounds, searches_per_isa, speedup, view_name)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PLOTLY = os.path.join(HERE, "vendor", "plotly.js-basic-dist-min", "plotly-basic.min.js")
