@@ -110,8 +110,8 @@ def section_alerts(alerts):
     tested = alerts.get("series_tested", 0)
     rule = "Rule: %s. Machine: `%s`." % (alerts.get("rule", "?"), alerts.get("machine", "?"))
     if not found:
-        return section("Alerts", ["No change beyond noise in %s. %s" % (counted(tested, "series"), rule)])
-    body = ["**%s** in %s of this machine's history. %s" % (counted(len(found), "alert"), counted(tested, "series"), rule),
+        return section("Alerts", ["No change beyond noise in %s. %s" % ("%d series" % tested, rule)])
+    body = ["**%s** in %s of this machine's history. %s" % (counted(len(found), "alert"), "%d series" % tested, rule),
             ""]
     body += md_table([("series", False), ("kind", False), ("measure", False), ("baseline", True), ("new", True),
                       ("change", True), ("", False)],

@@ -19,11 +19,16 @@
 namespace heightmarch::cli {
 
 void add_target_options(CLI::App& command, RecommendationTarget& t) {
-  std::map<std::string, ErrorPercentile> percentiles;
-  for (ErrorPercentile p : kErrorPercentiles) percentiles[to_string(p)] = p;
-  command.add_option("--percentile", t.percentile, "the recommendation's error bound applies to this uv error percentile: "
-                                                   "p50, p95, p99 or max")
-      ->transform(CLI::CheckedTransformer(percentiles))
+  std::vector<std::string> names;
+  for (ErrorPercentile p : kErrorPercentiles) names.push_back(to_string(p));
+  command.add_option_function<std::string>(
+             "--percentile",
+             [&t](const std::string& name) {
+               for (ErrorPercentile p : kErrorPercentiles)
+                 if (to_string(p) == name) t.percentile = p;
+             },
+             "the uv error percentile the recommendation's error bound applies to: p50, p95, p99 or max")
+      ->check(CLI::IsMember(names))
       ->default_str(to_string(t.percentile));
   command.add_option("--max-error", t.uv_error_texels, "the recommendation's bound on that percentile, in texels")
       ->check(CLI::NonNegativeNumber)
