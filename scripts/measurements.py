@@ -10,7 +10,7 @@ import csv
 import io
 import os
 
-from benchmark_results import Unusable, per_round, read_json, spread
+from benchmark_results import Unusable, per_round, read_json
 
 MEASUREMENTS_FORMAT = "heightmarch-measurements"
 MEASUREMENTS_VERSION = 2  # the newest this reads; 1: the measures were named uv_mean, uv_p95, ...
@@ -268,12 +268,33 @@ class Run:
                                                 row["threads"], "" if row["threads"] == 1 else "s", view_name(row["view"]))
 
 
+def counted(n, word):
+    return "%d %s%s" % (n, word, "" if n == 1 else "s")
+
+
 def groups(rows, key):
     """Rows grouped by key(row), in first-seen order."""
     out = {}
     for r in rows:
         out.setdefault(key(r), []).append(r)
     return out
+
+
+def backend_colours(names):
+    """One colour per backend name, for every plot and the page: an ISA and its autovec form ('avx2
+    autovec' or, as the history writes it, 'avx2-autovec') a dark and light pair of tab20, the other
+    backends the dark colour of a pair of their own, so no two of ten share a colour."""
+    import matplotlib  # only the plots and the page need it
+    cmap = matplotlib.colormaps["tab20"]  # a ListedColormap: an integer picks that colour
+    colours, pairs = {}, {}
+    for name in names:
+        base = name[:-len("autovec") - 1] if name.endswith("autovec") else None
+        if base in pairs:
+            colours[name] = matplotlib.colors.to_hex(cmap(2 * pairs[base] + 1))
+        else:
+            pairs[name] = len(pairs) % 10
+            colours[name] = matplotlib.colors.to_hex(cmap(2 * pairs[name]))
+    return colours
 
 
 def docs_link(run, page, anchor=None):
