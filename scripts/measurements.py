@@ -297,6 +297,24 @@ def backend_colours(names):
     return colours
 
 
+def machine_rows(run):
+    """Where a run's figures come from, as (name, text) rows: the machine, the build, the plan, the
+    views and depth maps, the load."""
+    p, plan, load = run.provenance, run.plan, run.load
+    averages = lambda values: "/".join("%.2f" % x for x in values or []) or "?"
+    views = sorted({view_name(r["view"], angles=False) for r in run.rows})
+    maps = list(dict.fromkeys("%s %s" % (r["heightfield"]["label"], depth_map(r)) for r in run.rows))
+    return [("CPU", p.get("cpu", "?")), ("cores", p.get("cores", "?")), ("best ISA", run.best_isa or "?"),
+            ("threads", p.get("threads", "?")), ("compiler", p.get("compiler", "?")),
+            ("commit", "%s%s" % (p.get("commit", "?"), " (dirty worktree)" if p.get("dirty") else "")),
+            ("build type", p.get("build_type", "?")), ("date", p.get("date", "?")),
+            ("plan", "%s, %s repetitions of at least %s s per timed row" % (
+                plan.get("name", "?"), plan.get("repetitions", "?"), plan.get("min_seconds_per_repetition", "?"))),
+            ("views", ", ".join(views) or "-"), ("depth maps", ", ".join(maps) or "-"),
+            ("load averages (1/5/15 min)", "before %s, after %s" % (averages(load.get("before")), averages(load.get("after")))),
+            ("other processes' CPU share", "%.1f%%" % (100 * (load.get("other_cpu_share") or 0)))]
+
+
 def docs_link(run, page, anchor=None):
     """A link from the run directory to a page of docs/, relative to wherever the run was written
     (results/<run>/ or any --out), so it holds in a checkout."""

@@ -22,7 +22,7 @@ import report_page  # noqa: E402
 from report_plots import plot_error_vs_angle, plot_error_vs_layers, plot_error_vs_speed, plot_isa_speedup  # noqa: E402
 from benchmark_results import Unusable, atomic_write, per_round, relative_spread, spread  # noqa: E402
 from measurements import (ANY, HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label,  # noqa: E402
-                          config, counted, depth_map, docs_link, glsl_pairs, groups, load_run, measurements_csv,
+                          config, counted, depth_map, machine_rows, docs_link, glsl_pairs, groups, load_run, measurements_csv,
                           rays_rounds, read_claims, read_optional, samples_rounds, searches_per_isa,
                           speedup, view_name, backend_colours)
 
@@ -222,20 +222,7 @@ def section_claims(run, claims):
 
 
 def section_machine(run):
-    p, plan, load = run.provenance, run.plan, run.load
-    views = sorted({view_name(r["view"], angles=False) for r in run.rows})
-    maps = list(dict.fromkeys("%s %s" % (r["heightfield"]["label"], depth_map(r)) for r in run.rows))
-    rows = [("CPU", p.get("cpu", "?")), ("cores", p.get("cores", "?")), ("best ISA", run.best_isa or "?"),
-            ("threads", p.get("threads", "?")), ("compiler", p.get("compiler", "?")),
-            ("commit", "%s%s" % (p.get("commit", "?"), " (dirty worktree)" if p.get("dirty") else "")),
-            ("build type", p.get("build_type", "?")), ("date", p.get("date", "?")),
-            ("plan", "%s, %s repetitions of at least %s s per timed row" % (
-                plan.get("name", "?"), plan.get("repetitions", "?"), plan.get("min_seconds_per_repetition", "?"))),
-            ("views", ", ".join(views) or "-"), ("depth maps", ", ".join(maps) or "-"),
-            ("load averages (1/5/15 min)", "before %s, after %s" % (load_averages(load.get("before")),
-                                                                   load_averages(load.get("after")))),
-            ("other processes' CPU share", fmt(load.get("other_cpu_share"), 1, 100, "%"))]
-    return section("Machine and provenance", md_table([("", False), ("", False)], rows))
+    return section("Machine and provenance", md_table([("", False), ("", False)], machine_rows(run)))
 
 
 def noisy_rows(run):

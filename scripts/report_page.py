@@ -12,7 +12,7 @@ import os
 
 from benchmark_results import atomic_write, spread
 from measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label, depth_map,
-                          docs_link, glsl_pairs, ns_per_ray_rounds, rays_rounds, searches_per_isa, speedup, view_name)
+                          docs_link, glsl_pairs, machine_rows, ns_per_ray_rounds, rays_rounds, searches_per_isa, speedup, view_name)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PLOTLY = os.path.join(HERE, "vendor", "plotly.js-basic-dist-min", "plotly-basic.min.js")
@@ -138,16 +138,7 @@ def claims_html(claims, maxmip_link):
 
 
 def machine_html(run, warning_lines):
-    p, load, plan = run.provenance, run.load, run.plan
-    rows = [("CPU", p.get("cpu", "?")), ("cores", p.get("cores", "?")), ("best ISA", run.best_isa or "?"),
-            ("threads", p.get("threads", "?")), ("compiler", p.get("compiler", "?")),
-            ("commit", "%s%s" % (p.get("commit", "?"), " (dirty worktree)" if p.get("dirty") else "")),
-            ("build type", p.get("build_type", "?")), ("date", p.get("date", "?")),
-            ("plan", "%s, %s repetitions of at least %s s per timed row" % (
-                plan.get("name", "?"), plan.get("repetitions", "?"), plan.get("min_seconds_per_repetition", "?"))),
-            ("load averages (1/5/15 min)", "before %s, after %s" % (
-                "/".join("%.2f" % x for x in load.get("before") or []), "/".join("%.2f" % x for x in load.get("after") or []))),
-            ("other processes' CPU share", "%.1f%%" % (100 * (load.get("other_cpu_share") or 0)))]
+    rows = machine_rows(run)
     body = table([("", False), ("", False)], [[html.escape(k), html.escape(str(v))] for k, v in rows], "machine")
     if warning_lines:
         body += "".join('<p class="warning">%s</p>' % html.escape(w.replace("**", "")) for w in warning_lines)

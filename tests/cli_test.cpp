@@ -203,7 +203,7 @@ TEST(Cli, HelpAndVersion) {
   for (const char* args : {"-h", "--help"}) {
     const auto r = test::run_cli(args);
     EXPECT_EQ(r.status, 0) << r.output;
-    for (const char* command : {"trace", "glsl", "suite", "claims"}) EXPECT_NE(r.output.find(command), std::string::npos);
+    for (const char* command : {"trace", "glsl", "suite", "claims", "recommend"}) EXPECT_NE(r.output.find(command), std::string::npos);
   }
   const auto version = test::run_cli("--version");
   EXPECT_EQ(version.status, 0);

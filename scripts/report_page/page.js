@@ -235,9 +235,11 @@
                    y: front.map(p => p.y), line: {shape: "hv", color: "#888", width: 1.5}, hoverinfo: "skip"});
       // Rings: thick for the recommendation on this heightfield, thin for the one setting for all.
       const ringed = mine.filter(r => rec.here.has(r.id) || rec.everywhere.has(r.id));
+      const middle = Math.sqrt(Math.min(...mine.map(xOf)) * Math.max(...mine.map(xOf)));  // log axis: the geometric middle
       if (ringed.length)
         traces.push({type: "scatter", mode: "markers+text", name: "recommended", uid: "recommended", x: ringed.map(xOf),
-                     y: ringed.map(yOf), textposition: "top right", textfont: {size: 11}, hoverinfo: "skip",
+                     y: ringed.map(yOf), textposition: ringed.map(r => (xOf(r) > middle ? "top left" : "top right")),
+                     textfont: {size: 11}, hoverinfo: "skip", cliponaxis: false,
                      text: ringed.map(r => (rec.here.has(r.id) && rec.everywhere.has(r.id) ? "recommended here and for all: "
                                             : rec.here.has(r.id) ? "recommended: " : "one setting for all: ") + label(r)),
                      marker: {symbol: "circle-open", size: 24, color: "black",
