@@ -225,9 +225,10 @@ std::string summary_text(const Measurement& m) {
   if (!m.failure.empty()) return text + "  FAILED: " + m.failure + "\n";
   if (!m.errors) return text;
   const ErrorSummary& e = *m.errors;
+  // Four significant digits: an error of 3e-6 texels reads as such, never as a made-up 0.0000.
   std::snprintf(buf, sizeof buf,
-                "  uv error (texels): mean %.4f  rms %.4f  p50 %.4f  p95 %.4f  p99 %.4f  max %.4f\n"
-                "  wrong surface %.2f%%, depth error mean %.5f, discarded %zu\n",
+                "  uv error (texels): mean %.4g  rms %.4g  p50 %.4g  p95 %.4g  p99 %.4g  max %.4g\n"
+                "  wrong surface %.2f%%, depth error mean %.4g, discarded %zu\n",
                 e.mean, e.rms, e.p50, e.p95, e.p99, e.max, 100.0 * e.wrong_surface_rate, e.depth_error_mean,
                 e.discarded);
   text += buf;
@@ -300,15 +301,20 @@ void write_run_outputs(const std::string& dir, const TracedRow& traced) {
   std::vector<std::size_t> by_row(rays.ray_count);
   for (std::size_t i = 0; i < rays.size(); ++i)
     if (!rays.is_padding(i)) by_row[rays.origin[i]] = i;
-  char line[512];
+  std::string line;
   for (std::size_t i : by_row) {
-    const int length = std::snprintf(
-        line, sizeof line, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%s,%.9g,%.9g,%.9g,%.9g,%.9g,%s\n",
-        rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], hits.u[i], hits.v[i], hits.depth[i],
-        traced.row.samples_known ? std::to_string(hits.samples[i]).c_str() : "", exact.u[i], exact.v[i],
-        exact.depth[i], traced.uv_error[i], is_shadow ? hits.shadow[i] : 1.0f,
-        is_shadow ? (exact.shadow[i] >= 0.5f ? "1" : "0") : "");
-    csv.append(std::string_view(line, std::size_t(length)));
+    line.clear();
+    for (float value : {rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], hits.u[i], hits.v[i], hits.depth[i]}) {
+      append_number(line, value);
+      line += ',';
+    }
+    if (traced.row.samples_known) line += std::to_string(hits.samples[i]);
+    for (float value : {exact.u[i], exact.v[i], exact.depth[i], traced.uv_error[i], is_shadow ? hits.shadow[i] : 1.0f}) {
+      line += ',';
+      append_number(line, value);
+    }
+    line += is_shadow ? (exact.shadow[i] >= 0.5f ? ",1\n" : ",0\n") : ",\n";
+    csv.append(line);
   }
   csv.commit();
 }
