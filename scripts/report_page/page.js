@@ -280,18 +280,23 @@
     // Images exist for the gallery's rows: its configurations on its heightfield and view.
     const gallery = DATA.gallery.filter(g => g.label === row.label);
     const same = gallery.find(g => g.technique === row.technique && g.layers === row.layers);
+    // Without its own images, the gallery's images of the same technique, named as such.
+    const shown = same || gallery.find(g => g.technique === row.technique);
     const exact = gallery.find(g => g.kind === "exact");
     const images = el("div", {class: "images"});
-    if (same) {
-      images.append(figure(same.images.render, `render: ${label(row)} (${same.view})`),
-                    figure(same.images.error, "uv error, texels (one log scale, 0.01 to 10, for every image)"));
-      if (same.images.cost) images.append(figure(same.images.cost, "height samples per pixel (one log scale, 1 to 1024)"));
+    if (shown) {
+      const what = shown === same ? label(row) : label(shown);
+      images.append(figure(shown.images.render, `render: ${what} (${shown.view})`),
+                    figure(shown.images.error, `uv error of ${what}, texels (one log scale, 0.01 to 10, for every image)`));
+      if (shown.images.cost)
+        images.append(figure(shown.images.cost, `height samples per pixel of ${what} (one log scale, 1 to 1024)`));
     }
     if (exact) images.append(figure(exact.images.render, `the exact render (${exact.view})`));
     if (!same) {
-      const rendered = gallery.filter(g => g.technique).map(g => `${g.technique} ${g.layers}`);
+      const rendered = gallery.filter(g => g.technique).map(g => label(g));
       box.append(el("p", {class: "missing", text: rendered.length
-        ? `No images of ${label(row)} on ${row.label}: the gallery renders ${unique(rendered).join(", ")} there.`
+        ? `No images of ${label(row)} on ${row.label}` + (shown ? `; shown: the gallery's ${label(shown)}` : "") +
+          `. The gallery renders ${unique(rendered).join(", ")} there.`
         : `No images on ${row.label}: the gallery renders ${unique(DATA.gallery.map(g => g.label)).join(", ") || "nothing"} in this run.`}));
     }
     box.append(images);
