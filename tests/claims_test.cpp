@@ -249,7 +249,8 @@ TEST(Claims, OffsetLimitingAtGrazingAngles) {
     d.figures.push_back(figure("bricks", "parallax-limited", "1", 2.0, 1e7, 0.0, 1.0, theta));
   }
   EXPECT_EQ(claim(evaluate_claims(d), "C2").verdict, Verdict::holds);
-  const std::string md = claims_markdown(evaluate_claims(d), "provenance", "configurations", "recommendation");
+  const std::string md =
+      claims_markdown(evaluate_claims(d), "provenance", "configurations", "recommendation");
   EXPECT_NE(md.find("Rule: Per heightfield and grazing angle"), std::string::npos);
   EXPECT_LT(md.find("Rule:"), md.find("limited 2.000 vs plain 5.000"));  // the rule precedes the figures
 }

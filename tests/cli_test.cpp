@@ -192,10 +192,31 @@ TEST(Cli, MemoryBudgetCountsTilePadding) {
 TEST(Cli, JsonHasTheSpecKeys) {
   const auto r = test::run_cli("trace --res 64 --size 32x32 --technique relief --layers 8-32 --json --threads 1");
   ASSERT_EQ(r.status, 0) << r.output;
-  for (const char* key : {"technique", "layers", "backend", "threads", "width", "height", "rays", "rays_per_second",
-                          "samples_per_second", "samples_per_ray", "errors", "uv_error_mean", "uv_error_rms", "uv_error_p50", "uv_error_p95",
-                          "uv_error_p99", "uv_error_max", "wrong_surface_rate", "depth_error_mean", "discarded", "median", "min",
-                          "max", "rounds", "repetitions"})
+  for (const char* key : {"technique",
+                          "layers",
+                          "backend",
+                          "threads",
+                          "width",
+                          "height",
+                          "rays",
+                          "rays_per_second",
+                          "samples_per_second",
+                          "samples_per_ray",
+                          "errors",
+                          "uv_error_mean",
+                          "uv_error_rms",
+                          "uv_error_p50",
+                          "uv_error_p95",
+                          "uv_error_p99",
+                          "uv_error_max",
+                          "wrong_surface_rate",
+                          "depth_error_mean",
+                          "discarded",
+                          "median",
+                          "min",
+                          "max",
+                          "rounds",
+                          "repetitions"})
     EXPECT_NE(r.output.find("\"" + std::string(key) + "\""), std::string::npos) << key;
 }
 
@@ -203,7 +224,8 @@ TEST(Cli, HelpAndVersion) {
   for (const char* args : {"-h", "--help"}) {
     const auto r = test::run_cli(args);
     EXPECT_EQ(r.status, 0) << r.output;
-    for (const char* command : {"trace", "glsl", "suite", "claims", "recommend"}) EXPECT_NE(r.output.find(command), std::string::npos);
+    for (const char* command : {"trace", "glsl", "suite", "claims", "recommend"})
+      EXPECT_NE(r.output.find(command), std::string::npos);
   }
   const auto version = test::run_cli("--version");
   EXPECT_EQ(version.status, 0);

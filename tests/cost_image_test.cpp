@@ -30,7 +30,8 @@ TEST(CostMap, OneLogScaleFrom1To1024WithALegend) {
   const int w = 300, h = 20;
   std::vector<std::uint32_t> samples(w * h);
   std::vector<std::uint8_t> has_ray(w * h, 1);
-  for (int p = 0; p < w * h; ++p) samples[p] = 1u << (std::uint32_t(p % w) * 10 / (w - 1));  // 1..1024 along x
+  for (int p = 0; p < w * h; ++p)
+    samples[p] = 1u << (std::uint32_t(p % w) * 10 / (w - 1));  // 1..1024 along x
   has_ray[0] = 0;
   int out_height = 0;
   const std::vector<std::uint8_t> rgb = cost_map(samples, has_ray, w, h, "samples", out_height);

@@ -2,12 +2,13 @@
 // that meet both bounds, per heightfield and as one setting for all; the declared backends; the
 // nearest configuration where none meets; and `heightmarch recommend` reading a run's
 // measurements.json to the same answer the suite wrote from its rows. The suite's filters.
+#include "heightmarch/recommendation.hpp"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
 
 #include "heightmarch/error.hpp"
-#include "heightmarch/recommendation.hpp"
 #include "heightmarch/suite_plan.hpp"
 #include "test_support.hpp"
 
@@ -15,8 +16,8 @@ namespace heightmarch {
 namespace {
 
 // A candidate at the avx2 2-thread grid (or GLSL): its time per ray in ns over 5 rounds.
-Candidate row(int id, const std::string& hf, Technique t, const char* layers, double ns, double p99, double wrong,
-              double samples = 10.0, RunKind kind = RunKind::trace, int threads = 2) {
+Candidate row(int id, const std::string& hf, Technique t, const char* layers, double ns, double p99,
+              double wrong, double samples = 10.0, RunKind kind = RunKind::trace, int threads = 2) {
   Candidate c;
   c.id = id;
   c.heightfield = hf;
@@ -54,9 +55,10 @@ TEST(Recommendation, FastestByTimeNotBySamples) {
 
 TEST(Recommendation, BothBoundsApply) {
   RecommendationTarget target;  // p99 <= 0.5 texel, wrong surface <= 0.5%
-  const std::vector<Candidate> rows = {row(0, "bricks", Technique::pom, "10", 3.0, 0.4, 0.047),   // p99 fine, 4.7% wrong
-                                       row(1, "bricks", Technique::pom, "16", 4.0, 0.9, 0.004),   // few wrong, p99 too big
-                                       row(2, "bricks", Technique::relief, "64", 9.0, 0.06, 0.004)};
+  const std::vector<Candidate> rows = {
+      row(0, "bricks", Technique::pom, "10", 3.0, 0.4, 0.047),  // p99 fine, 4.7% wrong
+      row(1, "bricks", Technique::pom, "16", 4.0, 0.9, 0.004),  // few wrong, p99 too big
+      row(2, "bricks", Technique::relief, "64", 9.0, 0.06, 0.004)};
   EXPECT_EQ(cpu(recommend(rows, target)).per_heightfield[0].choice->label(), "relief 64");
   target.wrong_surface_rate = 0.05;
   EXPECT_EQ(cpu(recommend(rows, target)).per_heightfield[0].choice->label(), "pom 10");
@@ -69,10 +71,12 @@ TEST(Recommendation, BothBoundsApply) {
 
 TEST(Recommendation, OneSettingMeetsTheTargetOnEveryMap) {
   // pom 16 is fastest on waves but fails bricks; relief 32 meets both; maxmip meets both, slower.
-  const std::vector<Candidate> rows = {
-      row(0, "bricks", Technique::pom, "16", 3.0, 2.0, 0.03), row(1, "bricks", Technique::relief, "32", 8.0, 0.1, 0.003),
-      row(2, "bricks", Technique::maxmip, "1", 25.0, 0.0, 0.0), row(3, "waves", Technique::pom, "16", 3.0, 0.2, 0.001),
-      row(4, "waves", Technique::relief, "32", 6.0, 0.1, 0.001), row(5, "waves", Technique::maxmip, "1", 20.0, 0.0, 0.0)};
+  const std::vector<Candidate> rows = {row(0, "bricks", Technique::pom, "16", 3.0, 2.0, 0.03),
+                                       row(1, "bricks", Technique::relief, "32", 8.0, 0.1, 0.003),
+                                       row(2, "bricks", Technique::maxmip, "1", 25.0, 0.0, 0.0),
+                                       row(3, "waves", Technique::pom, "16", 3.0, 0.2, 0.001),
+                                       row(4, "waves", Technique::relief, "32", 6.0, 0.1, 0.001),
+                                       row(5, "waves", Technique::maxmip, "1", 20.0, 0.0, 0.0)};
   const Recommendation r = recommend(rows, RecommendationTarget{});
   const BackendRecommendation& b = cpu(r);
   ASSERT_EQ(b.per_heightfield.size(), 2u);
@@ -105,16 +109,18 @@ TEST(Recommendation, NoneMeetsNamesTheNearest) {
 }
 
 TEST(Recommendation, DeclaredBackendsAreTheGridsAndGlslAtItsThreads) {
-  const std::vector<Candidate> rows = {row(0, "bricks", Technique::pom, "32", 4.0, 0.2, 0.001),
-                                       row(1, "bricks", Technique::pom, "32", 25.0, 0.2, 0.001, 10, RunKind::glsl, 2),
-                                       row(2, "bricks", Technique::pom, "32", 40.0, 0.2, 0.001, 10, RunKind::glsl, 1)};
+  const std::vector<Candidate> rows = {
+      row(0, "bricks", Technique::pom, "32", 4.0, 0.2, 0.001),
+      row(1, "bricks", Technique::pom, "32", 25.0, 0.2, 0.001, 10, RunKind::glsl, 2),
+      row(2, "bricks", Technique::pom, "32", 40.0, 0.2, 0.001, 10, RunKind::glsl, 1)};
   const Recommendation r = recommend(rows, RecommendationTarget{});
   ASSERT_EQ(r.backends.size(), 2u) << "GLSL at one thread is not a grid's backend";
   EXPECT_EQ(r.backends[0].backend.name(), "avx2, 2 threads");
   EXPECT_EQ(r.backends[1].backend.name(), "glsl, 2 threads");
   const std::string json = recommendation_json(r);
-  for (const char* key : {"\"format\": \"heightmarch-recommendation\"", "\"format_version\": 1", "\"measure\": \"uv_error_p99\"",
-                          "\"all_heightfields\"", "\"per_heightfield\"", "\"ns_per_ray\"", "\"precompute_ms_per_frame\""})
+  for (const char* key : {"\"format\": \"heightmarch-recommendation\"", "\"format_version\": 1",
+                          "\"measure\": \"uv_error_p99\"", "\"all_heightfields\"", "\"per_heightfield\"",
+                          "\"ns_per_ray\"", "\"precompute_ms_per_frame\""})
     EXPECT_NE(json.find(key), std::string::npos) << key;
 }
 
@@ -134,8 +140,10 @@ TEST(Recommendation, TargetsOutsideTheirRangeAreRefused) {
 // its typed rows: one implementation, whichever way its rows come. Also: the suite's filters.
 TEST(Recommendation, RecommendReadsARunToTheSuitesAnswer) {
   const std::string out = test::temp_dir("recommend") + "/run";
-  const auto run = test::run_cli("suite --quick --no-builtins --heightmap builtin:waves --techniques pom,relief,maxmip "
-                                 "--layers 8,32 --isas scalar --threads 1 --parts matrix --repetitions 1 --no-glsl --out " + out);
+  const auto run = test::run_cli(
+      "suite --quick --no-builtins --heightmap builtin:waves --techniques pom,relief,maxmip "
+      "--layers 8,32 --isas scalar --threads 1 --parts matrix --repetitions 1 --no-glsl --out " +
+      out);
   ASSERT_EQ(run.status, 0) << run.output;
   std::ifstream written(out + "/recommendation.json");
   const std::string suite_json((std::istreambuf_iterator<char>(written)), {});
@@ -143,7 +151,8 @@ TEST(Recommendation, RecommendReadsARunToTheSuitesAnswer) {
   ASSERT_EQ(again.status, 0) << again.output;
   EXPECT_EQ(again.output, suite_json);
   EXPECT_NE(suite_json.find("\"backend\": \"scalar\""), std::string::npos) << suite_json;
-  const auto other = test::run_cli("recommend " + out + " --percentile p95 --max-error 2 --max-wrong-surface 100");
+  const auto other =
+      test::run_cli("recommend " + out + " --percentile p95 --max-error 2 --max-wrong-surface 100");
   ASSERT_EQ(other.status, 0) << other.output;
   EXPECT_NE(other.output.find("at p95 <= 2 texel, wrong surface <= 100%"), std::string::npos) << other.output;
   for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
@@ -181,11 +190,13 @@ TEST(SuiteFilters, TheUsersMapsTechniquesLayersIsasThreadsAndParts) {
     }
     if (c.on_isa()) EXPECT_EQ(c.isa, Isa::scalar);
   }
-  const auto dry = test::run_cli("suite --quick --no-builtins --heightmap builtin:waves --techniques pom --layers 8 "
-                                 "--threads 1 --parts matrix --view-angles 45-85 --scale 0.05 --dry-run");
+  const auto dry = test::run_cli(
+      "suite --quick --no-builtins --heightmap builtin:waves --techniques pom --layers 8 "
+      "--threads 1 --parts matrix --view-angles 45-85 --scale 0.05 --dry-run");
   ASSERT_EQ(dry.status, 0) << dry.output;
   EXPECT_NE(dry.output.find("waves\ttrace\tpom\t8\t"), std::string::npos) << dry.output;
-  EXPECT_NE(dry.output.find("default:45-85 256x256\ttimed\tmatrix\n1 configurations\n"), std::string::npos) << dry.output;
+  EXPECT_NE(dry.output.find("default:45-85 256x256\ttimed\tmatrix\n1 configurations\n"), std::string::npos)
+      << dry.output;
   for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
            {"--techniques pom,bogus", "--techniques: bogus not in"},
            {"--isas avx3", "--isas: avx3 not in"},

@@ -82,9 +82,9 @@ ViewSpec rays_file_view(const std::string& path);
 std::string describe(const ViewSpec& view);
 
 // The default view: a perspective camera looking at the plane so view angles span near_degrees
-// (near edge) to far_degrees (far edge); at 30 and 80, from (0.5, -0.113, 0.196). The sweep view: one fixed V over a
-// width x height grid of T at pixel centres of [0,1]^2.
-// A rays_file view loads its CSV (load_rays_csv).
+// (near edge) to far_degrees (far edge); at 30 and 80, from (0.5, -0.113, 0.196). The sweep view: one fixed V
+// over a width x height grid of T at pixel centres of [0,1]^2. A rays_file view loads its CSV
+// (load_rays_csv).
 RayBatch make_view_rays(const ViewSpec& view);
 
 // A CSV file with header tx,ty,vx,vy,vz; rays keep their input order, cut into tiles of

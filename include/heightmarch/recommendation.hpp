@@ -19,7 +19,7 @@ namespace heightmarch {
 enum class ErrorPercentile { p50, p95, p99, max };
 inline constexpr ErrorPercentile kErrorPercentiles[] = {ErrorPercentile::p50, ErrorPercentile::p95,
                                                         ErrorPercentile::p99, ErrorPercentile::max};
-std::string to_string(ErrorPercentile percentile);    // "p99": how options and people name it
+std::string to_string(ErrorPercentile percentile);     // "p99": how options and people name it
 std::string measure_name(ErrorPercentile percentile);  // "uv_error_p99": how result files name it
 
 struct RecommendationTarget {
@@ -45,18 +45,18 @@ struct RecommendationBackend {
 // A measured configuration as the recommendation reads it: the typed fields of a run's row (a
 // Measurement in the suite and claims, a row of measurements.json in `heightmarch recommend`).
 struct Candidate {
-  int id = 0;                // the row's id in its run
-  std::string heightfield;   // its label, unique within the run
+  int id = 0;               // the row's id in its run
+  std::string heightfield;  // its label, unique within the run
   int depth_map_width = 0, depth_map_height = 0;
   RecommendationBackend backend;
-  bool grid = false;         // of the technique x layers grid or the claims: its CPU backend is a declared one
+  bool grid = false;  // of the technique x layers grid or the claims: its CPU backend is a declared one
   Technique technique = Technique::pom;
   LayerSpec layers;
   double uv_error[4] = {0, 0, 0, 0};  // by ErrorPercentile
   double wrong_surface_rate = 0;
   double samples_per_ray = 0;
-  std::size_t rays = 0;              // real rays of one trace of the view
-  std::vector<double> seconds;       // one trace of the view, per repetition (round)
+  std::size_t rays = 0;         // real rays of one trace of the view
+  std::vector<double> seconds;  // one trace of the view, per repetition (round)
   std::optional<double> precompute_seconds;
 
   double error(ErrorPercentile p) const { return uv_error[int(p)]; }
@@ -71,7 +71,7 @@ std::vector<Candidate> candidates(const std::vector<Measurement>& rows);
 struct Pick {
   Technique technique = Technique::pom;
   LayerSpec layers;
-  std::vector<Candidate> rows;        // one per heightfield, in the run's order
+  std::vector<Candidate> rows;          // one per heightfield, in the run's order
   std::vector<double> seconds_per_ray;  // per round
   Spread time() const { return spread_of(seconds_per_ray); }
   std::string label() const;  // "relief 16", "maxmip"
@@ -79,11 +79,11 @@ struct Pick {
 
 // The answer for one heightfield, or for all of them as one setting (heightfield empty).
 struct Answer {
-  std::string heightfield;                   // empty: one setting for every heightfield
-  int settings = 0, meeting = 0;             // configurations measured on it (on all), and meeting the target
-  std::optional<Pick> choice, runner_up;     // the fastest meeting the target, and the next
-  std::optional<Spread> runner_up_ratio;     // per round: the runner-up's time over the choice's
-  std::optional<Pick> closest;               // none meets: the one nearest to meeting it
+  std::string heightfield;                // empty: one setting for every heightfield
+  int settings = 0, meeting = 0;          // configurations measured on it (on all), and meeting the target
+  std::optional<Pick> choice, runner_up;  // the fastest meeting the target, and the next
+  std::optional<Spread> runner_up_ratio;  // per round: the runner-up's time over the choice's
+  std::optional<Pick> closest;            // none meets: the one nearest to meeting it
 };
 
 struct BackendRecommendation {

@@ -17,20 +17,20 @@ struct PlanSettings {
   // searches timed at every ISA, the sweeps and the gallery too. The claims read their own rows.
   std::vector<Technique> techniques;
   std::vector<LayerSpec> layer_specs;
-  std::vector<LayerSpec> few_layer_specs;      // the sweeps' and GLSL's at fewer threads: 8, 32, 8-32
-  float scale = 0.1f;                          // height scale of every configuration
-  float near_degrees = kDefaultNearDegrees;    // the default view's span of view angles
+  std::vector<LayerSpec> few_layer_specs;    // the sweeps' and GLSL's at fewer threads: 8, 32, 8-32
+  float scale = 0.1f;                        // height scale of every configuration
+  float near_degrees = kDefaultNearDegrees;  // the default view's span of view angles
   float far_degrees = kDefaultFarDegrees;
   int view_size = 1024;                        // default view side, pixels
   int sweep_size = 128;                        // sweep views: side, pixels
   std::vector<double> sweep_angles;            // degrees
   int gallery_width = 512, gallery_height = 384;
-  Isa best_isa = Isa::scalar;                  // the matrix's: the widest of isas
-  std::vector<Isa> isas;                       // every ISA the CPU runs, or those asked for
-  int threads = 1;                             // the most of thread_counts: the matrix's
-  std::vector<int> thread_counts{1};           // timed side by side: one and all cores, or those asked for
+  Isa best_isa = Isa::scalar;         // the matrix's: the widest of isas
+  std::vector<Isa> isas;              // every ISA the CPU runs, or those asked for
+  int threads = 1;                    // the most of thread_counts: the matrix's
+  std::vector<int> thread_counts{1};  // timed side by side: one and all cores, or those asked for
   bool glsl = true;
-  unsigned parts = kAllPurposes;               // the purposes measured (--parts)
+  unsigned parts = kAllPurposes;  // the purposes measured (--parts)
   int repetitions = 5;
   double min_seconds = 0.04;                   // per repetition
   bool large_maps = true;                      // P2's rows on the builtins at kLargeMapSide

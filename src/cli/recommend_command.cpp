@@ -21,21 +21,26 @@ namespace heightmarch::cli {
 void add_target_options(CLI::App& command, RecommendationTarget& t) {
   std::vector<std::string> names;
   for (ErrorPercentile p : kErrorPercentiles) names.push_back(to_string(p));
-  command.add_option_function<std::string>(
-             "--percentile",
-             [&t](const std::string& name) {
-               for (ErrorPercentile p : kErrorPercentiles)
-                 if (to_string(p) == name) t.percentile = p;
-             },
-             "the uv error percentile the recommendation's error bound applies to: p50, p95, p99 or max")
+  command
+      .add_option_function<std::string>(
+          "--percentile",
+          [&t](const std::string& name) {
+            for (ErrorPercentile p : kErrorPercentiles)
+              if (to_string(p) == name) t.percentile = p;
+          },
+          "the uv error percentile the recommendation's error bound applies to: p50, p95, p99 or max")
       ->check(CLI::IsMember(names))
       ->default_str(to_string(t.percentile));
-  command.add_option("--max-error", t.uv_error_texels, "the recommendation's bound on that percentile, in texels")
+  command
+      .add_option("--max-error", t.uv_error_texels,
+                  "the recommendation's bound on that percentile, in texels")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  command.add_option_function<double>(
-             "--max-wrong-surface", [&t](double percent) { t.wrong_surface_rate = percent / 100.0; },
-             "the recommendation's bound on the share of rays on a wrong surface (uv error above one texel), in percent")
+  command
+      .add_option_function<double>(
+          "--max-wrong-surface", [&t](double percent) { t.wrong_surface_rate = percent / 100.0; },
+          "the recommendation's bound on the share of rays on a wrong surface (uv error above one texel), in "
+          "percent")
       ->check(CLI::Range(0.0, 100.0))
       ->default_str(string_format("%g", 100.0 * t.wrong_surface_rate));
   command.add_option("--frames", t.frames, "frames the preprocessing (cone map, pyramid) is amortised over")
@@ -70,9 +75,11 @@ bool has_purpose(const Json& row, const std::string& name) {
 std::optional<Candidate> candidate_of(const Json& row, int format_version) {
   const std::string kind = row.at("kind").get<std::string>();
   if (kind != "trace" && kind != "glsl") return std::nullopt;
-  if (!(has_purpose(row, "matrix") || has_purpose(row, "claims") || has_purpose(row, "glsl"))) return std::nullopt;
+  if (!(has_purpose(row, "matrix") || has_purpose(row, "claims") || has_purpose(row, "glsl")))
+    return std::nullopt;
   if (row.at("technique").is_null() || !row.value("shader", Json()).is_null()) return std::nullopt;
-  if (row.at("errors").is_null() || row.at("speed").is_null() || !row.at("failure").is_null()) return std::nullopt;
+  if (row.at("errors").is_null() || row.at("speed").is_null() || !row.at("failure").is_null())
+    return std::nullopt;
   if (row.at("view").at("kind").get<std::string>() != "default" || row.at("rays").get<std::size_t>() == 0)
     return std::nullopt;
   Candidate c;
@@ -81,21 +88,24 @@ std::optional<Candidate> candidate_of(const Json& row, int format_version) {
   c.depth_map_width = row.at("heightfield").at("width").get<int>();
   c.depth_map_height = row.at("heightfield").at("height").get<int>();
   const bool glsl = kind == "glsl";
-  c.backend = {glsl ? RunKind::glsl : RunKind::trace, glsl ? Isa::scalar : isa_named(row.at("backend").get<std::string>()),
+  c.backend = {glsl ? RunKind::glsl : RunKind::trace,
+               glsl ? Isa::scalar : isa_named(row.at("backend").get<std::string>()),
                row.at("threads").get<int>()};
   c.grid = !glsl && (has_purpose(row, "matrix") || has_purpose(row, "claims"));
   c.technique = parse_technique(row.at("technique").get<std::string>());
   c.layers = parse_layer_spec(row.at("layers").get<std::string>());
   const Json& errors = row.at("errors");
   for (ErrorPercentile p : kErrorPercentiles)
-    c.uv_error[int(p)] = errors.at(format_version >= 2 ? measure_name(p) : "uv_" + to_string(p)).get<double>();
+    c.uv_error[int(p)] =
+        errors.at(format_version >= 2 ? measure_name(p) : "uv_" + to_string(p)).get<double>();
   c.wrong_surface_rate = errors.at("wrong_surface_rate").get<double>();
   c.samples_per_ray = row.at("samples_per_ray").is_null() ? 0.0 : row.at("samples_per_ray").get<double>();
   c.rays = row.at("rays").get<std::size_t>();
   c.seconds = row.at("speed").at("seconds").get<std::vector<double>>();
   for (double s : c.seconds)
     if (!(std::isfinite(s) && s > 0)) throw InputError("a repetition's seconds must be positive");
-  if (const Json& p = row.value("precompute_seconds", Json()); !p.is_null()) c.precompute_seconds = p.get<double>();
+  if (const Json& p = row.value("precompute_seconds", Json()); !p.is_null())
+    c.precompute_seconds = p.get<double>();
   return c;
 }
 
@@ -109,7 +119,8 @@ std::vector<Candidate> read_candidates(const std::string& path) {
     throw InputError(path + ": not JSON (" + e.what() + ")");
   }
   int version = 0;
-  if (data.is_object() && data.value("format", "") == "heightmarch-measurements" && data.contains("format_version"))
+  if (data.is_object() && data.value("format", "") == "heightmarch-measurements" &&
+      data.contains("format_version"))
     version = data["format_version"].is_number_integer() ? data["format_version"].get<int>() : 0;
   else if (data.is_object() && data.value("schema", "") == "heightmarch-measurements/1")
     version = 1;
@@ -141,9 +152,11 @@ struct RecommendOptions {
 
 Command add_recommend_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
-      "recommend", "the technique and layer count to ship at an error target, from a measured run (no new measurement)");
+      "recommend",
+      "the technique and layer count to ship at an error target, from a measured run (no new measurement)");
   auto o = std::make_shared<RecommendOptions>();
-  command->add_option("measurements", o->measurements, "a run's measurements.json, or its directory")->required();
+  command->add_option("measurements", o->measurements, "a run's measurements.json, or its directory")
+      ->required();
   add_target_options(*command, o->target);
   command->add_option("--out", o->out, "directory to write recommendation.json into");
   command->add_flag("--json", o->json, "print recommendation.json instead of the summary");
@@ -154,9 +167,12 @@ Command add_recommend_command(CLI::App& app) {
     if (std::filesystem::is_directory(path)) path += "/measurements.json";
     const Recommendation recommendation = recommend(read_candidates(path), o->target);
     if (recommendation.backends.empty())
-      throw InputError(path + ": no timed technique rows of the technique x layers grid or the claims to recommend from");
-    if (!o->out.empty()) write_file_atomically(o->out + "/recommendation.json", recommendation_json(recommendation));
-    std::printf("%s", (o->json ? recommendation_json(recommendation) : recommendation_text(recommendation)).c_str());
+      throw InputError(
+          path + ": no timed technique rows of the technique x layers grid or the claims to recommend from");
+    if (!o->out.empty())
+      write_file_atomically(o->out + "/recommendation.json", recommendation_json(recommendation));
+    std::printf(
+        "%s", (o->json ? recommendation_json(recommendation) : recommendation_text(recommendation)).c_str());
     return 0;
   };
 }

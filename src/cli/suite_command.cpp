@@ -2,6 +2,8 @@
 // configuration once, and writes the run's files from its rows into a fresh directory:
 // measurements.json, bench.json, recommendation.json, the gallery, claims.md/claims.json, and
 // through scripts/report.py measurements.csv, report.md and report.html.
+#include "cli/suite_command.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -10,7 +12,6 @@
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
 #include "cli/run_directory.hpp"
-#include "cli/suite_command.hpp"
 #include "heightmarch/error.hpp"
 #include "heightmarch/run_outputs.hpp"
 #include "io/atomic_file.hpp"
@@ -63,20 +64,28 @@ std::string joined(const std::vector<std::string>& names) {
 }
 
 void add_candidate_options(CLI::App& command, CandidateOptions& o) {
-  command.add_option("--techniques", o.techniques, "the candidate techniques, comma-separated (default: all): " +
-                                                       joined(technique_name_list()))
+  command
+      .add_option(
+          "--techniques", o.techniques,
+          "the candidate techniques, comma-separated (default: all): " + joined(technique_name_list()))
       ->delimiter(',')
       ->check(CLI::IsMember(technique_name_list()));
-  command.add_option("--layers", o.layers,
-                     "the candidate layer specs of the layered techniques, comma-separated: N or A-B (default: 4, 8, 10, "
-                     "16, 32, 64, 8-32; quick: 8, 32, 8-32); the sweeps and GLSL at fewer threads take them too")
+  command
+      .add_option("--layers", o.layers,
+                  "the candidate layer specs of the layered techniques, comma-separated: N or A-B (default: "
+                  "4, 8, 10, "
+                  "16, 32, 64, 8-32; quick: 8, 32, 8-32); the sweeps and GLSL at fewer threads take them too")
       ->delimiter(',');
-  command.add_option("--isas", o.isas, "the ISAs to measure, comma-separated (default: every one the CPU runs; the "
-                                       "widest is the matrix's): " + joined(isa_name_list()))
+  command
+      .add_option("--isas", o.isas,
+                  "the ISAs to measure, comma-separated (default: every one the CPU runs; the "
+                  "widest is the matrix's): " +
+                      joined(isa_name_list()))
       ->delimiter(',')
       ->check(CLI::IsMember(isa_name_list()));
-  command.add_option("--parts", o.parts, "the parts of the plan to measure, comma-separated (default: all): " +
-                                             joined(part_names()))
+  command
+      .add_option("--parts", o.parts,
+                  "the parts of the plan to measure, comma-separated (default: all): " + joined(part_names()))
       ->delimiter(',')
       ->check(CLI::IsMember(part_names()));
 }
@@ -86,7 +95,8 @@ void apply(const CandidateOptions& o, PlanSettings& s) {
     s.techniques.clear();
     for (const std::string& name : o.techniques) {
       const Technique t = parse_technique(name);
-      if (std::find(s.techniques.begin(), s.techniques.end(), t) == s.techniques.end()) s.techniques.push_back(t);
+      if (std::find(s.techniques.begin(), s.techniques.end(), t) == s.techniques.end())
+        s.techniques.push_back(t);
     }
   }
   if (!o.layers.empty()) {
@@ -97,13 +107,15 @@ void apply(const CandidateOptions& o, PlanSettings& s) {
   if (!o.isas.empty()) {
     s.isas.clear();
     for (Isa isa : all_isas())  // narrowest first, as the plan lists them
-      if (std::find(o.isas.begin(), o.isas.end(), to_string(isa)) != o.isas.end()) s.isas.push_back(parse_isa(to_string(isa)));
+      if (std::find(o.isas.begin(), o.isas.end(), to_string(isa)) != o.isas.end())
+        s.isas.push_back(parse_isa(to_string(isa)));
     s.best_isa = s.isas.back();
   }
   if (!o.parts.empty()) {
     s.parts = 0;
     for (unsigned i = 0; i < kPurposeCount; ++i)
-      if (std::find(o.parts.begin(), o.parts.end(), purpose_name(1u << i)) != o.parts.end()) s.parts |= 1u << i;
+      if (std::find(o.parts.begin(), o.parts.end(), purpose_name(1u << i)) != o.parts.end())
+        s.parts |= 1u << i;
   }
 }
 
@@ -148,9 +160,10 @@ Command add_suite_command(CLI::App& app) {
                     "with --quick: still point results/latest at the run and add it to results/history.csv");
   add_candidate_options(*command, o->candidates);
   add_target_options(*command, o->target);
-  command->add_flag("--dry-run", o->dry_run,
-                    "list the configurations the run would measure (heightfield, kind, technique, layers, backend, "
-                    "threads, view, timed or accuracy only, purposes; tab-separated) and measure nothing");
+  command->add_flag(
+      "--dry-run", o->dry_run,
+      "list the configurations the run would measure (heightfield, kind, technique, layers, backend, "
+      "threads, view, timed or accuracy only, purposes; tab-separated) and measure nothing");
   return [o] {
     PlanSettings settings = plan_settings(o->plan, !o->no_glsl);
     apply(o->candidates, settings);
@@ -162,9 +175,9 @@ Command add_suite_command(CLI::App& app) {
         for (unsigned i = 0; i < kPurposeCount; ++i)
           if (c.purposes & (1u << i)) purposes += (purposes.empty() ? "" : ",") + purpose_name(1u << i);
         const std::string layers = c.kind == RunKind::exact ? "" : to_string(c.params.layers);
-        std::printf("%s\t%s\t%s\t%s\t%s\t%d\t%s\t%s\t%s\n", c.heightfield.label().c_str(), to_string(c.kind).c_str(),
-                    c.label().c_str(), layers.c_str(), c.backend().c_str(), c.threads, describe(c.view).c_str(),
-                    c.timed ? "timed" : "accuracy", purposes.c_str());
+        std::printf("%s\t%s\t%s\t%s\t%s\t%d\t%s\t%s\t%s\n", c.heightfield.label().c_str(),
+                    to_string(c.kind).c_str(), c.label().c_str(), layers.c_str(), c.backend().c_str(),
+                    c.threads, describe(c.view).c_str(), c.timed ? "timed" : "accuracy", purposes.c_str());
       }
       std::printf("%zu configurations\n", plan.size());
       return 0;
@@ -193,7 +206,8 @@ Command add_suite_command(CLI::App& app) {
       }
     dir.finished("measurements and gallery images");
     if (run.load.busy)
-      for (const std::string& reason : run.load.busy_reasons) std::fprintf(stderr, "suite: warning: busy machine: %s\n", reason.c_str());
+      for (const std::string& reason : run.load.busy_reasons)
+        std::fprintf(stderr, "suite: warning: busy machine: %s\n", reason.c_str());
     write_file_atomically(dir.path() + "/measurements.json", measurements_json(run, settings.name));
     write_file_atomically(dir.path() + "/bench.json", benchmark_json(run));
     dir.finished("measurements.json, bench.json");
@@ -209,7 +223,8 @@ Command add_suite_command(CLI::App& app) {
     std::string report = "/usr/bin/python3 " + shell_quote(std::string(HEIGHTMARCH_SOURCE_DIR) + "/scripts/report.py") + " " +
                          shell_quote(dir.path());
     if (record) report += " --history results/history.csv";
-    if (std::system(report.c_str()) != 0) throw std::runtime_error("scripts/report.py failed for " + dir.path());
+    if (std::system(report.c_str()) != 0)
+      throw std::runtime_error("scripts/report.py failed for " + dir.path());
     dir.complete();
     if (record) {
       std::error_code ec;

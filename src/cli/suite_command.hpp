@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "cli/progress.hpp"
 #include "claims/claims_collector.hpp"
+#include "cli/progress.hpp"
 #include "heightmarch/recommendation.hpp"
 #include "heightmarch/suite_plan.hpp"
 
@@ -22,7 +22,7 @@ struct PlanOptions {
   std::vector<int> threads;  // thread counts (0: all cores); none given: 1 and all cores
   int repetitions = 5;
   std::optional<double> scale;
-  std::string view_angles;   // NEAR-FAR degrees; empty: the default view's
+  std::string view_angles;  // NEAR-FAR degrees; empty: the default view's
 };
 
 void add_plan_options(CLI::App& command, PlanOptions& options, const std::string& quick_help);

@@ -15,10 +15,14 @@ namespace heightmarch {
 
 std::string to_string(ErrorPercentile p) {
   switch (p) {
-    case ErrorPercentile::p50: return "p50";
-    case ErrorPercentile::p95: return "p95";
-    case ErrorPercentile::p99: return "p99";
-    case ErrorPercentile::max: return "max";
+    case ErrorPercentile::p50:
+      return "p50";
+    case ErrorPercentile::p95:
+      return "p95";
+    case ErrorPercentile::p99:
+      return "p99";
+    case ErrorPercentile::max:
+      return "max";
   }
   return "?";
 }
@@ -50,7 +54,8 @@ std::vector<Candidate> candidates(const std::vector<Measurement>& rows) {
   std::vector<Candidate> out;
   for (const Measurement& m : rows) {
     const Configuration& c = m.config;
-    if (!(c.purposes & (kPurposeMatrix | kPurposeClaims | kPurposeGlsl)) || !(c.kind == RunKind::trace || c.kind == RunKind::glsl) || !c.has_technique() || !m.errors ||
+    if (!(c.purposes & (kPurposeMatrix | kPurposeClaims | kPurposeGlsl)) ||
+        !(c.kind == RunKind::trace || c.kind == RunKind::glsl) || !c.has_technique() || !m.errors ||
         m.seconds.empty() || !m.failure.empty() || c.view.kind != ViewSpec::Kind::perspective || m.rays == 0)
       continue;
     Candidate k;
@@ -89,8 +94,11 @@ bool meets(const Candidate& c, const RecommendationTarget& t) {
 
 // How far a row is from the target: the larger of its two measures over their bounds (1: on it).
 double shortfall(const Candidate& c, const RecommendationTarget& t) {
-  const auto over = [](double value, double bound) { return bound > 0 ? value / bound : (value > 0 ? HUGE_VAL : 0.0); };
-  return std::max(over(c.error(t.percentile), t.uv_error_texels), over(c.wrong_surface_rate, t.wrong_surface_rate));
+  const auto over = [](double value, double bound) {
+    return bound > 0 ? value / bound : (value > 0 ? HUGE_VAL : 0.0);
+  };
+  return std::max(over(c.error(t.percentile), t.uv_error_texels),
+                  over(c.wrong_surface_rate, t.wrong_surface_rate));
 }
 
 // A setting's rows (one per heightfield) and its time per round: the mean seconds per ray over
@@ -104,7 +112,8 @@ Pick make_pick(std::vector<Candidate> rows) {
   for (const Candidate& r : rows) rounds = std::min(rounds, r.seconds.size());
   p.seconds_per_ray.assign(rounds, 0.0);
   for (const Candidate& r : rows)
-    for (std::size_t i = 0; i < rounds; ++i) p.seconds_per_ray[i] += r.seconds[i] / double(r.rays) / double(rows.size());
+    for (std::size_t i = 0; i < rounds; ++i)
+      p.seconds_per_ray[i] += r.seconds[i] / double(r.rays) / double(rows.size());
   p.rows = std::move(rows);
   return p;
 }
@@ -134,7 +143,8 @@ Answer answer(const std::string& heightfield, const std::vector<std::vector<Cand
       closest = &rows, closest_shortfall = worst;
   }
   a.meeting = int(meeting.size());
-  std::stable_sort(meeting.begin(), meeting.end(), [](const Pick& x, const Pick& y) { return x.time().median < y.time().median; });
+  std::stable_sort(meeting.begin(), meeting.end(),
+                   [](const Pick& x, const Pick& y) { return x.time().median < y.time().median; });
   if (!meeting.empty()) a.choice = meeting[0];
   if (meeting.size() > 1) {
     a.runner_up = meeting[1];
@@ -144,7 +154,9 @@ Answer answer(const std::string& heightfield, const std::vector<std::vector<Cand
   return a;
 }
 
-bool same_setting(const Candidate& a, const Candidate& b) { return a.technique == b.technique && a.layers == b.layers; }
+bool same_setting(const Candidate& a, const Candidate& b) {
+  return a.technique == b.technique && a.layers == b.layers;
+}
 
 // The declared backends: the grid's CPU backends, then GLSL at each of their thread counts.
 std::vector<RecommendationBackend> declared_backends(const std::vector<Candidate>& all) {
@@ -189,8 +201,9 @@ Recommendation recommend(const std::vector<Candidate>& all, const Recommendation
       if (first.heightfield != heightfields.front()) continue;
       std::vector<Candidate> setting;
       for (const std::string& hf : heightfields) {
-        const auto it = std::find_if(rows.begin(), rows.end(),
-                                     [&](const Candidate& c) { return c.heightfield == hf && same_setting(c, first); });
+        const auto it = std::find_if(rows.begin(), rows.end(), [&](const Candidate& c) {
+          return c.heightfield == hf && same_setting(c, first);
+        });
         if (it != rows.end()) setting.push_back(*it);
       }
       if (setting.size() == heightfields.size()) everywhere.push_back(std::move(setting));
@@ -204,7 +217,11 @@ Recommendation recommend(const std::vector<Candidate>& all, const Recommendation
 namespace {
 
 void write_spread(JsonWriter& json, const std::string& key, const Spread& s, double scale = 1.0) {
-  json.begin_object(key).value("median", s.median * scale).value("min", s.min * scale).value("max", s.max * scale).end_object();
+  json.begin_object(key)
+      .value("median", s.median * scale)
+      .value("min", s.min * scale)
+      .value("max", s.max * scale)
+      .end_object();
 }
 
 // A pick: its setting, its time, and per heightfield the row with its measures, the time of one
@@ -214,11 +231,16 @@ void write_pick(JsonWriter& json, const std::string& key, const Pick& p, const R
   json.value("label", p.label());
   write_spread(json, "ns_per_ray", p.time(), 1e9);
   const Spread t = p.time();
-  json.begin_object("rays_per_second").value("median", 1.0 / t.median).value("min", 1.0 / t.max).value("max", 1.0 / t.min).end_object();
+  json.begin_object("rays_per_second")
+      .value("median", 1.0 / t.median)
+      .value("min", 1.0 / t.max)
+      .value("max", 1.0 / t.min)
+      .end_object();
   json.begin_array("rows");
   for (const Candidate& r : p.rows) {
     json.begin_object().value("id", r.id).value("heightfield", r.heightfield);
-    json.value(measure_name(target.percentile), r.error(target.percentile)).value("wrong_surface_rate", r.wrong_surface_rate);
+    json.value(measure_name(target.percentile), r.error(target.percentile))
+        .value("wrong_surface_rate", r.wrong_surface_rate);
     json.value("samples_per_ray", r.samples_per_ray).value("rays", r.rays);
     write_spread(json, "ms_per_frame", spread_of(r.seconds), 1e3);
     if (r.precompute_seconds)
@@ -231,31 +253,38 @@ void write_pick(JsonWriter& json, const std::string& key, const Pick& p, const R
   json.end_array().end_object();
 }
 
-void write_answer(JsonWriter& json, const std::string& key, const Answer& a, const RecommendationTarget& target) {
+void write_answer(JsonWriter& json, const std::string& key, const Answer& a,
+                  const RecommendationTarget& target) {
   json.begin_object(key);
   a.heightfield.empty() ? json.null("heightfield") : json.value("heightfield", a.heightfield);
   json.value("settings", a.settings).value("meeting", a.meeting);
   a.choice ? write_pick(json, "choice", *a.choice, target) : (void)json.null("choice");
   a.runner_up ? write_pick(json, "runner_up", *a.runner_up, target) : (void)json.null("runner_up");
-  a.runner_up_ratio ? write_spread(json, "runner_up_time_ratio", *a.runner_up_ratio) : (void)json.null("runner_up_time_ratio");
+  a.runner_up_ratio ? write_spread(json, "runner_up_time_ratio", *a.runner_up_ratio)
+                    : (void)json.null("runner_up_time_ratio");
   a.closest ? write_pick(json, "closest", *a.closest, target) : (void)json.null("closest");
   json.end_object();
 }
 
-// "relief 16: 5.1 (4.9-5.6) ns/ray, p99 0.29, wrong surface 0.79%, cone map 0.84 s (0.23 ms/frame over 3600 frames)"
+// "relief 16: 5.1 (4.9-5.6) ns/ray, p99 0.29, wrong surface 0.79%, cone map 0.84 s (0.23 ms/frame over 3600
+// frames)"
 std::string pick_line(const Pick& p, const RecommendationTarget& t) {
   const Spread time = p.time();
-  std::string line = p.label() + ": " + string_format("%.3g (%.3g-%.3g) ns/ray", time.median * 1e9, time.min * 1e9, time.max * 1e9);
+  std::string line =
+      p.label() + ": " +
+      string_format("%.3g (%.3g-%.3g) ns/ray", time.median * 1e9, time.min * 1e9, time.max * 1e9);
   double worst_error = 0, worst_wrong = 0, precompute = 0;
   for (const Candidate& r : p.rows) {
     worst_error = std::max(worst_error, r.error(t.percentile));
     worst_wrong = std::max(worst_wrong, r.wrong_surface_rate);
     precompute = std::max(precompute, r.precompute_seconds.value_or(0.0));
   }
-  line += ", " + to_string(t.percentile) + string_format(" %.3g texel, wrong surface %.3g%%", worst_error, 100 * worst_wrong) +
+  line += ", " + to_string(t.percentile) +
+          string_format(" %.3g texel, wrong surface %.3g%%", worst_error, 100 * worst_wrong) +
           (p.rows.size() > 1 ? " (worst heightfield)" : "");
   if (precompute > 0)
-    line += string_format(", preprocessing %.3g s (%.3g ms a frame over %d frames)", precompute, precompute * 1e3 / t.frames, t.frames);
+    line += string_format(", preprocessing %.3g s (%.3g ms a frame over %d frames)", precompute,
+                          precompute * 1e3 / t.frames, t.frames);
   return line;
 }
 
@@ -267,7 +296,8 @@ std::string answer_line(const Answer& a, const RecommendationTarget& t) {
   std::string line = pick_line(*a.choice, t);
   if (a.runner_up && a.runner_up_ratio) {
     const Spread& r = *a.runner_up_ratio;
-    line += "; next fastest " + a.runner_up->label() + string_format(": %.2fx (%.2f-%.2f) the time", r.median, r.min, r.max) +
+    line += "; next fastest " + a.runner_up->label() +
+            string_format(": %.2fx (%.2f-%.2f) the time", r.median, r.min, r.max) +
             (r.min <= 1.0 && r.max >= 1.0 ? " (not distinguishable)" : "");
   }
   return line;
@@ -277,7 +307,9 @@ std::string answer_line(const Answer& a, const RecommendationTarget& t) {
 
 std::string recommendation_json(const Recommendation& r) {
   JsonWriter json;
-  json.begin_object().value("format", "heightmarch-recommendation").value("format_version", kRecommendationFormatVersion);
+  json.begin_object()
+      .value("format", "heightmarch-recommendation")
+      .value("format_version", kRecommendationFormatVersion);
   json.begin_object("target")
       .value("measure", measure_name(r.target.percentile))
       .value("uv_error_texels", r.target.uv_error_texels)
@@ -287,7 +319,10 @@ std::string recommendation_json(const Recommendation& r) {
       .end_object();
   json.begin_array("backends");
   for (const BackendRecommendation& b : r.backends) {
-    json.begin_object().value("backend", b.backend.backend()).value("threads", b.backend.threads).value("name", b.backend.name());
+    json.begin_object()
+        .value("backend", b.backend.backend())
+        .value("threads", b.backend.threads)
+        .value("name", b.backend.name());
     write_answer(json, "all_heightfields", b.all_heightfields, r.target);
     json.begin_array("per_heightfield");
     for (const Answer& a : b.per_heightfield) write_answer(json, "", a, r.target);
@@ -298,11 +333,13 @@ std::string recommendation_json(const Recommendation& r) {
 }
 
 std::string recommendation_markdown(const Recommendation& r) {
-  std::string md = "At " + describe(r.target) + ", the fastest configuration by time per ray (median (min-max) over "
+  std::string md = "At " + describe(r.target) +
+                   ", the fastest configuration by time per ray (median (min-max) over "
                    "the repetitions) on each heightfield, and one setting for all of them:\n\n"
                    "| backend | heightfield | recommendation |\n|---|---|---|\n";
   for (const BackendRecommendation& b : r.backends) {
-    md += "| " + markdown_cell(b.backend.name()) + " | **all** | " + markdown_cell(answer_line(b.all_heightfields, r.target)) + " |\n";
+    md += "| " + markdown_cell(b.backend.name()) + " | **all** | " +
+          markdown_cell(answer_line(b.all_heightfields, r.target)) + " |\n";
     for (const Answer& a : b.per_heightfield)
       md += "| " + markdown_cell(b.backend.name()) + " | " + markdown_cell(a.heightfield) + " | " +
             markdown_cell(answer_line(a, r.target)) + " |\n";
@@ -313,8 +350,10 @@ std::string recommendation_markdown(const Recommendation& r) {
 std::string recommendation_text(const Recommendation& r) {
   std::string text = "Recommendation at " + describe(r.target) + ", fastest by time per ray:\n";
   for (const BackendRecommendation& b : r.backends) {
-    text += "  " + b.backend.name() + ", every heightfield: " + answer_line(b.all_heightfields, r.target) + "\n";
-    for (const Answer& a : b.per_heightfield) text += "    " + a.heightfield + ": " + answer_line(a, r.target) + "\n";
+    text +=
+        "  " + b.backend.name() + ", every heightfield: " + answer_line(b.all_heightfields, r.target) + "\n";
+    for (const Answer& a : b.per_heightfield)
+      text += "    " + a.heightfield + ": " + answer_line(a, r.target) + "\n";
   }
   return text;
 }

@@ -304,12 +304,14 @@ void write_run_outputs(const std::string& dir, const TracedRow& traced) {
   std::string line;
   for (std::size_t i : by_row) {
     line.clear();
-    for (float value : {rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], hits.u[i], hits.v[i], hits.depth[i]}) {
+    for (float value :
+         {rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], hits.u[i], hits.v[i], hits.depth[i]}) {
       append_number(line, value);
       line += ',';
     }
     if (traced.row.samples_known) line += std::to_string(hits.samples[i]);
-    for (float value : {exact.u[i], exact.v[i], exact.depth[i], traced.uv_error[i], is_shadow ? hits.shadow[i] : 1.0f}) {
+    for (float value :
+         {exact.u[i], exact.v[i], exact.depth[i], traced.uv_error[i], is_shadow ? hits.shadow[i] : 1.0f}) {
       line += ',';
       append_number(line, value);
     }
@@ -321,7 +323,9 @@ void write_run_outputs(const std::string& dir, const TracedRow& traced) {
 
 std::string measurements_json(const MeasuredPlan& run, const std::string& plan_name) {
   JsonWriter json;
-  json.begin_object().value("format", "heightmarch-measurements").value("format_version", kMeasurementsFormatVersion);
+  json.begin_object()
+      .value("format", "heightmarch-measurements")
+      .value("format_version", kMeasurementsFormatVersion);
   int threads = 0;
   for (const Measurement& m : run.rows) threads = std::max(threads, m.config.threads);
   write_provenance(json, provenance(), threads);

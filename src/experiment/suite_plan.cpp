@@ -110,7 +110,8 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
     // Technique x layers at the best ISA and all threads, and the same as GLSL; adjacent, so the
     // CPU/GLSL pairs of a round are timed close together.
     for (Technique technique : s.techniques)
-      for (const LayerSpec& layers : info(technique).layered ? s.layer_specs : std::vector<LayerSpec>{LayerSpec{}}) {
+      for (const LayerSpec& layers :
+           info(technique).layered ? s.layer_specs : std::vector<LayerSpec>{LayerSpec{}}) {
         const TechniqueInfo& t = info(technique);
         add_to_plan(plan, with_technique(on_view(s, hf, RunKind::trace, kPurposeMatrix), t.id, layers));
         if (s.glsl) add_to_plan(plan, with_technique(on_view(s, hf, RunKind::glsl, kPurposeGlsl), t.id, layers));

@@ -180,11 +180,15 @@ std::vector<std::uint8_t> cost_map(const std::vector<std::uint32_t>& samples, co
   // column, a report's images) compare by colour. A tick every factor of 4.
   const double top = std::log2(double(kCostMapMaxSamples));
   std::vector<LegendTick> ticks;
-  for (std::uint32_t v = 1; v <= kCostMapMaxSamples; v *= 4) ticks.push_back({std::log2(double(v)) / top, std::to_string(v)});
-  return image_with_legend(width, height, kViridis, ticks, unit, [&](std::size_t p) {
-    const double n = std::clamp(double(samples[p]), 1.0, double(kCostMapMaxSamples));
-    return has_ray[p] ? colour_at(kViridis, std::log2(n) / top) : kNoRay;
-  }, out_height);
+  for (std::uint32_t v = 1; v <= kCostMapMaxSamples; v *= 4)
+    ticks.push_back({std::log2(double(v)) / top, std::to_string(v)});
+  return image_with_legend(
+      width, height, kViridis, ticks, unit,
+      [&](std::size_t p) {
+        const double n = std::clamp(double(samples[p]), 1.0, double(kCostMapMaxSamples));
+        return has_ray[p] ? colour_at(kViridis, std::log2(n) / top) : kNoRay;
+      },
+      out_height);
 }
 
 std::vector<std::uint8_t> shade_render(const DepthMap& map, Wrap wrap, float scale, const std::vector<float>& u,

@@ -163,7 +163,8 @@ std::string describe(const ViewSpec& view) {
   const std::string size = std::to_string(view.width) + "x" + std::to_string(view.height);
   char buf[64];
   if (view.kind == ViewSpec::Kind::perspective) {
-    if (view.near_degrees == kDefaultNearDegrees && view.far_degrees == kDefaultFarDegrees) return "default " + size;
+    if (view.near_degrees == kDefaultNearDegrees && view.far_degrees == kDefaultFarDegrees)
+      return "default " + size;
     std::snprintf(buf, sizeof buf, "default:%g-%g ", view.near_degrees, view.far_degrees);
     return buf + size;
   }
