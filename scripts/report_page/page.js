@@ -121,10 +121,11 @@
     return el("label", {}, `${title} `, s);
   }
 
-  function checkboxes(name, title, values, swatch) {
+  // checked: whether a value starts checked (all by default)
+  function checkboxes(name, title, values, swatch, checked) {
     const box = el("fieldset", {id: `filter-${name}`}, el("legend", {text: title}));
     for (const v of values) {
-      const input = el("input", {type: "checkbox", value: v, checked: ""});
+      const input = el("input", Object.assign({type: "checkbox", value: v}, !checked || checked(v) ? {checked: ""} : {}));
       input.addEventListener("change", drawFrontier);
       box.append(el("label", {}, input, swatch ? swatch(v) : "", v));
     }
@@ -147,7 +148,11 @@
       return s;
     };
     const box = document.getElementById("filters");
-    box.append(checkboxes("heightfield", "heightfield", unique(rows.map(r => r.heightfield))),
+    // The heightfields the recommendation speaks of first (the large maps of claim P2 a tick away).
+    const recRows = rec ? rec.per_heightfield.flatMap(a => (a.choice || a.closest || {rows: []}).rows) : [];
+    const recMaps = new Set(recRows.map(x => (rows.find(r => r.id === x.id) || {}).heightfield));
+    box.append(checkboxes("heightfield", "heightfield", unique(rows.map(r => r.heightfield)), null,
+                          recMaps.size ? v => recMaps.has(v) : null),
                checkboxes("technique", "technique (registry colour and marker)", DATA.techniques.map(t => t.name), swatch),
                el("div", {class: "selects"},
                   select("backend", "backend", backends.map(b => [b, b]), rec ? rec.backend : backends[0]),
