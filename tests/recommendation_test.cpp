@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 
 #include "heightmarch/error.hpp"
@@ -210,6 +211,31 @@ TEST(SuiteFilters, TheUsersMapsTechniquesLayersIsasThreadsAndParts) {
     EXPECT_NE(r.output.find(message), std::string::npos) << args << ": " << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": " << r.output;
   }
+}
+
+// The default view seen at the user's span of angles: the near edge's centre at NEAR degrees from
+// the normal, every ray beyond it; 30-80 is the default view itself, ray for ray.
+TEST(SuiteFilters, ViewAnglesPlaceTheDefaultCamera) {
+  const auto angles = [](const RayBatch& rays) {
+    double lo = 90, hi = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const double theta = std::acos(double(rays.vz[i])) * 180.0 / M_PI;
+      lo = std::min(lo, theta);
+      hi = std::max(hi, theta);
+    }
+    return std::pair<double, double>{lo, hi};
+  };
+  const auto [lo, hi] = angles(make_view_rays(parse_view("default:45-85", 64, 64)));
+  EXPECT_NEAR(lo, 45.0, 1.0);
+  EXPECT_GE(hi, 85.0 - 1.0);
+  const RayBatch a = make_view_rays(parse_view("default", 64, 64)),
+                 b = make_view_rays(parse_view("default:30-80", 64, 64));
+  EXPECT_EQ(a.vz, b.vz);
+  EXPECT_EQ(a.tx, b.tx);
+  EXPECT_EQ(describe(parse_view("default:30-80", 64, 64)), "default 64x64");
+  EXPECT_EQ(describe(parse_view("default:45-85", 64, 64)), "default:45-85 64x64");
+  for (const char* bad : {"default:80-30", "default:45", "default:-5-30", "default:45-90", "default:a-b"})
+    EXPECT_THROW(parse_view(bad, 64, 64), InputError) << bad;
 }
 
 }  // namespace
