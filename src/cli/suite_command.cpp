@@ -72,15 +72,14 @@ void add_candidate_options(CLI::App& command, CandidateOptions& o) {
       ->check(CLI::IsMember(technique_name_list()));
   command
       .add_option("--layers", o.layers,
-                  "the candidate layer specs of the layered techniques, comma-separated: N or A-B (default: "
-                  "4, 8, 10, "
-                  "16, 32, 64, 8-32; quick: 8, 32, 8-32); the sweeps and GLSL at fewer threads take them too")
+                  "the candidate layer specs of the layered techniques, comma-separated: N or A-B "
+                  "(default: 4, 8, 10, 16, 32, 64, 8-32; quick: 8, 32, 8-32); the sweeps and GLSL at "
+                  "fewer threads take them too")
       ->delimiter(',');
   command
       .add_option("--isas", o.isas,
-                  "the ISAs to measure, comma-separated (default: every one the CPU runs; the "
-                  "widest is the matrix's): " +
-                      joined(isa_name_list()))
+                  "the ISAs to measure, comma-separated (default: every one the CPU runs; the widest is "
+                  "the matrix's): " + joined(isa_name_list()))
       ->delimiter(',')
       ->check(CLI::IsMember(isa_name_list()));
   command

@@ -266,8 +266,8 @@ void write_answer(JsonWriter& json, const std::string& key, const Answer& a,
   json.end_object();
 }
 
-// "relief 16: 5.1 (4.9-5.6) ns/ray, p99 0.29, wrong surface 0.79%, cone map 0.84 s (0.23 ms/frame over 3600
-// frames)"
+// "cone 32: 12.5 (11.7-13) ns/ray, p99 0.429 texel, wrong surface 0.375%, preprocessing 0.5 s (0.139 ms a
+// frame over 3600 frames)"
 std::string pick_line(const Pick& p, const RecommendationTarget& t) {
   const Spread time = p.time();
   std::string line =
