@@ -132,7 +132,7 @@ TEST(Cli, ChannelPicksTheDepth) {
   ASSERT_TRUE(image->write_image(OIIO::TypeDesc::UINT8, rgb.data()) && image->close());
   const std::string rays = write_text(dir, "down.csv", "tx,ty,vx,vy,vz\n0.5,0.5,0,0,1\n");
   for (const auto& [channel, depth] : std::vector<std::pair<std::string, std::string>>{
-           {"", ",0,"}, {"r", ",0,"}, {"1", ",0.501960814,"}, {"g", ",0.501960814,"}, {"b", ",1,"}}) {
+           {"", ",0,"}, {"r", ",0,"}, {"1", ",0.5019608,"}, {"g", ",0.5019608,"}, {"b", ",1,"}}) {
     const std::string out = dir + "/out" + channel;
     const auto r = test::run_cli("trace --json --repetitions 1 --heightmap " + dir + "/rgb.png --rays " + rays + " --out " +
                                  out + (channel.empty() ? "" : " --channel " + channel));
