@@ -199,13 +199,16 @@ def headline_ratios(run):
 
 def section_ratios(run):
     columns, ratios = headline_ratios(run)
-    if not ratios:
+    # A filtered run (one ISA, one thread count, no GLSL) measures some ratios nowhere: their
+    # columns go, and the section too when none is left.
+    kept = [i for i in range(len(columns)) if any(spreads[i] is not None for _, spreads in ratios)]
+    if not kept:
         return []
     return section("Headline speed ratios", [
         "%s-%s, default view: median (min-max) of the per-round ratios of rays/s." % (
             HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS), ""] + md_table(
-        [("heightfield", False)] + [(c, True) for c in columns],
-        [[hf] + [fmt_ratio(s) for s in spreads] for hf, spreads in ratios]))
+        [("heightfield", False)] + [(columns[i], True) for i in kept],
+        [[hf] + [fmt_ratio(spreads[i]) for i in kept] for hf, spreads in ratios]))
 
 
 def section_claims(run, claims):

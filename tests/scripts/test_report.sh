@@ -8,7 +8,8 @@
 # drawn and no wider than 1600 px, zero errors read 0, a gallery cost image is shown beside the
 # error image, a '|' in a cell is escaped, the links to docs/ resolve from the run directory,
 # measurements.csv has a row per configuration with the measures' one names, report.html is one
-# file with Plotly inlined, --history appends rows (replacing a rerun's), a format 1
+# file with Plotly inlined, --history appends rows (replacing a rerun's), a filtered run's headline
+# ratios keep only the columns it measured, a format 1
 # measurements.json still reads, and a missing measurements.json is a one-line error, status 2.
 # Usage: test_report.sh [BUILD_DIR]
 set -euo pipefail
@@ -224,6 +225,20 @@ grep -q '^2026-01-01T00:00:00Z,abc123,Test CPU,avx2,2,bricks,pom,32,default 64x6
 "$root/scripts/report.py" "$tmp/run" --history "$tmp/history.csv" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "rerun failed"; }
 [ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 13 ] || fail "a rerun of the same date and commit was appended, not replaced"
 echo "ok: --history appends one row per timed row with the new columns"
+
+# A filtered run (one ISA, no GLSL, no naive port) shows only the ratios it measured.
+/usr/bin/python3 - "$root/scripts" "$tmp/run" "$tmp/filtered" <<'PY' || fail "a filtered run's headline ratios"
+import json, os, sys
+sys.path.insert(0, sys.argv[1])
+import measurements, report
+data = json.load(open(os.path.join(sys.argv[2], "measurements.json")))
+data["rows"] = [r for r in data["rows"] if r["kind"] == "trace" and r["backend"] == "avx2"]
+os.makedirs(sys.argv[3])
+json.dump(data, open(os.path.join(sys.argv[3], "measurements.json"), "w"))
+table = report.section_ratios(measurements.load_run(sys.argv[3]))
+assert table[-3:] == ["| heightfield | 2 threads over 1 at avx2 |", "|---|---:|", "| bricks | 2.00x (1.95-2.11) |"], table
+PY
+echo "ok: a filtered run's headline ratios have no empty columns"
 
 # A format 1 measurements.json (the committed runs before format 2: uv_p95 for uv_error_p95) still reads.
 /usr/bin/python3 - "$tmp/run/measurements.json" <<'PY'
