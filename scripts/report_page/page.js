@@ -153,7 +153,9 @@
     const recMaps = new Set(recRows.map(x => (rows.find(r => r.id === x.id) || {}).heightfield));
     box.append(checkboxes("heightfield", "heightfield", unique(rows.map(r => r.heightfield)), null,
                           recMaps.size ? v => recMaps.has(v) : null),
-               checkboxes("technique", "technique (registry colour and marker)", DATA.techniques.map(t => t.name), swatch),
+               // The measured techniques only (a filtered run measures a few), in the registry's order.
+               checkboxes("technique", "technique (registry colour and marker)",
+                          DATA.techniques.map(t => t.name).filter(t => rows.some(r => r.technique === t)), swatch),
                el("div", {class: "selects"},
                   select("backend", "backend", backends.map(b => [b, b]), rec ? rec.backend : backends[0]),
                   select("threads", "threads", [["all", "all"]].concat(threads.map(t => [String(t), String(t)])),

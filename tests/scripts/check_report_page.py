@@ -4,7 +4,8 @@
 Usage: check_report_page.py RUN_DIR SCREENSHOT.png
 
 Drives Debian's chromium over the DevTools protocol (python3-websocket): fails on any console
-error, uncaught exception or failed load (a missing image included); checks that the frontier
+error, uncaught exception or failed load (a missing image included); checks that the technique
+filter offers the techniques the run measured and no other, that the frontier
 draws exactly the configurations its filters select, one point each (the ids drawn against the
 rows of measurements.json the filters name); hovers a point and checks the label names that
 point's configuration; clicks it and checks its figures are shown; saves a screenshot of the
@@ -169,6 +170,9 @@ def check(run_dir, screenshot):
         browser.call("Page.navigate", url="file://" + os.path.abspath(os.path.join(run_dir, "report.html")))
         ready_ms = int(browser.wait_for("document.body && document.body.dataset.ready", "the page to be drawn"))
         state = browser.evaluate(STATE)
+        measured = {r["technique"] for r in run.rows if r.get("technique") in run.style}
+        if set(state["technique"]) != measured:
+            raise Failure("the technique filter offers %s, the run measured %s" % (sorted(state["technique"]), sorted(measured)))
         charts = browser.evaluate(DRAWN)
         drawn_ids = [i for c in charts for i in c["ids"]]
         want = expected_ids(run, state)
