@@ -8,6 +8,7 @@
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
 #include "cli/progress.hpp"
+#include "cli/run_directory.hpp"
 #include "cli/suite_command.hpp"
 #include "heightmarch/run_outputs.hpp"
 #include "io/atomic_file.hpp"
@@ -108,7 +109,7 @@ namespace {
 
 struct ClaimsOptions {
   PlanOptions plan;
-  std::string out = ".";
+  OutOptions out{"."};
   std::string isa;
   bool list = false;
 };
@@ -120,7 +121,7 @@ Command add_claims_command(CLI::App& app) {
       app.add_subcommand("claims", "measure the tutorials' claims C1-C10 and the papers' P1-P3 and write claims.md");
   auto o = std::make_shared<ClaimsOptions>();
   add_plan_options(*command, o->plan, "the quick plan's heightfields and sizes");
-  command->add_option("--out", o->out, "directory for claims.md, claims.json and measurements.json")->capture_default_str();
+  add_out_options(*command, o->out, "directory for claims.md, claims.json and measurements.json");
   command->add_option("--isa", o->isa, isa_names() + " or auto");
   command->add_flag("--list", o->list, "list the claims (id, words, the rows each reads) and measure nothing");
   return [o] {
@@ -130,14 +131,16 @@ Command add_claims_command(CLI::App& app) {
     }
     PlanSettings settings = plan_settings(o->plan, false);
     settings.best_isa = select_isa(o->isa);
+    RunDirectory dir(o->out.out, o->out.existing());  // checked and locked before the run
     Progress progress("claims");
     progress.stage("measuring " + std::to_string(settings.heightfields.size()) + " heightfields");
     ClaimsCollector claims;
     const MeasuredPlan run = measure_with_progress(claims_plan(settings), settings, progress,
                                                    [&](const TracedRow& traced) { claims.observe(traced); });
-    std::filesystem::create_directories(o->out);
-    write_file_atomically(o->out + "/measurements.json", measurements_json(run, settings.name + " claims"));
-    write_claims(o->out, claims.data(run.rows), settings);
+    write_file_atomically(dir.path() + "/measurements.json", measurements_json(run, settings.name + " claims"));
+    dir.finished("measurements.json");
+    write_claims(dir.path(), claims.data(run.rows), settings);
+    dir.complete();
     return 0;
   };
 }

@@ -2,8 +2,11 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 
@@ -15,23 +18,58 @@ namespace heightmarch::cli {
 
 namespace fs = std::filesystem;
 
-RunDirectory::RunDirectory(std::string path) : path_(std::move(path)) {
+namespace {
+
+// Every file a command writes at the top of its directory: trace and glsl (metrics.json, the
+// images, rays.csv), claims (claims.md, claims.json, measurements.json), suite (all of these but
+// trace's, bench.json, report.md) and the marker of a run under way. Any of them means the
+// directory holds a run's results.
+const char* const kRunFiles[] = {"INCOMPLETE", "measurements.json", "metrics.json", "claims.json", "claims.md",
+                                 "bench.json", "report.md", "hits.exr", "error.png", "render.png", "cost.png",
+                                 "rays.csv"};
+
+std::string kind_of(mode_t mode) {
+  if (S_ISREG(mode)) return "a regular file";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "no directory";
+}
+
+}  // namespace
+
+RunDirectory::RunDirectory(std::string path, Existing existing) : path_(std::move(path)) {
   std::error_code ec;
   fs::create_directories(path_, ec);
-  if (ec) throw InputError(path_ + ": cannot create the run directory (" + ec.message() + ")");
-  lock_fd_ = ::open((path_ + "/.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (lock_fd_ < 0) throw InputError(path_ + ": cannot create its lock file");
+  struct stat st {};
+  if (::stat(path_.c_str(), &st) == 0 && !S_ISDIR(st.st_mode))
+    throw InputError(path_ + ": is " + kind_of(st.st_mode) + ", not a directory for the run's results");
+  if (ec) throw InputError(path_ + ": cannot create the directory (" + ec.message() + ")");
+  // O_NOFOLLOW: a link planted at .lock is refused, never opened (nor created through).
+  lock_fd_ = ::open((path_ + "/.lock").c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (lock_fd_ < 0)
+    throw InputError(path_ + ": cannot write into it (its .lock: " + std::strerror(errno) + ")");
   if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
     ::close(lock_fd_);
     lock_fd_ = -1;
     throw InputError(path_ + ": another run is writing into this directory (it holds " + path_ + "/.lock)");
   }
-  for (const char* file : {"measurements.json", "INCOMPLETE"})
-    if (fs::exists(path_ + "/" + file)) {
+  for (const char* file : kRunFiles) {
+    const std::string at = path_ + "/" + file;
+    if (!fs::exists(fs::symlink_status(at, ec))) continue;  // a link counts, dangling or not
+    if (existing == Existing::replace) {
+      if (::unlink(at.c_str()) == 0 || errno == ENOENT) continue;  // unlink: a link goes, not its target
+      const std::string why = std::strerror(errno);
       ::close(lock_fd_);
       lock_fd_ = -1;
-      throw InputError(path_ + ": already holds a run (" + file + "); choose another --out or remove it");
+      throw InputError(at + ": cannot replace it (" + why + ")");
     }
+    ::close(lock_fd_);
+    lock_fd_ = -1;
+    throw InputError(path_ + ": already holds a run's results (" + file +
+                     "); choose another --out, or --replace to replace them");
+  }
   finished("");
 }
 

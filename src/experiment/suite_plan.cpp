@@ -42,6 +42,7 @@ PlanSettings suite_settings(bool quick, const std::vector<HeightfieldSource>& ex
     if (b.use == BuiltinHeightfield::in_quick_suite || (!quick && b.use == BuiltinHeightfield::in_suite))
       s.heightfields.push_back(parse_heightfield(std::string("builtin:") + b.name, resolution));
   s.heightfields.insert(s.heightfields.end(), extra.begin(), extra.end());
+  give_unique_labels(s.heightfields);  // one label per map in every result
   s.layer_specs = quick ? specs({"8", "32", "8-32"}) : specs({"4", "8", "10", "16", "32", "64", "8-32"});
   s.view_size = quick ? 256 : 1024;
   s.sweep_size = quick ? 48 : 128;

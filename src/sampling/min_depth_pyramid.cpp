@@ -19,6 +19,9 @@ MinDepthPyramid::MinDepthPyramid(const DepthMap& map, Wrap wrap) {
     blocks_y_.push_back(by);
     min_depth_.resize(min_depth_.size() + std::size_t(bx) * std::size_t(by), 1.0f);
   };
+  // Every level at once (a quarter of the one before, plus an edge): no reallocation doubles it.
+  min_depth_.reserve(std::size_t(cells_x) * std::size_t(cells_y) * 4 / 3 +
+                     2 * (std::size_t(cells_x) + std::size_t(cells_y) + kMaxLevels));
   add_level(cells_x, cells_y);
   for (int j = 0; j < cells_y; ++j)
     for (int i = 0; i < cells_x; ++i)
