@@ -4,7 +4,6 @@
 // brought-in shader that runs away while it compiles is stopped by the worker's memory limit and
 // named in one line.
 #include <gtest/gtest.h>
-
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -69,10 +68,13 @@ TEST(GlslProtocol, ReceiveRefusesWhatIsNoMessageBeforeItAllocates) {
             "BadMessage: bytes that are no message (magic 0xdeadbeef)");
   EXPECT_EQ(receive_bytes(header(Message(77), 0), 1 << 20).error, "BadMessage: a message of unknown type 77");
   const auto over = receive_bytes(header(Message::prepare, std::uint64_t(4) << 30), std::uint64_t(1) << 30);
-  EXPECT_EQ(over.error, "BadMessage: a message of 4294967296 bytes, more than the 1073741824 its reader's memory budget leaves");
+  EXPECT_EQ(over.error,
+            "BadMessage: a message of 4294967296 bytes, more than the 1073741824 its reader's memory budget "
+            "leaves");
   EXPECT_EQ(over.capacity, 0u);
   // Within the budget, a header that claims 4 GiB costs the bytes that came, not 4 GiB.
-  const auto claimed = receive_bytes(header(Message::prepare, std::uint64_t(4) << 30) + "0123456789", std::uint64_t(1) << 40);
+  const auto claimed =
+      receive_bytes(header(Message::prepare, std::uint64_t(4) << 30) + "0123456789", std::uint64_t(1) << 40);
   EXPECT_EQ(claimed.error, "BadMessage: the channel closed after 10 of a message's 4294967296 bytes");
   EXPECT_LE(claimed.capacity, std::size_t(1) << 20);
   const auto fine = receive_bytes(header(Message::draw, 0), 0);  // small messages are always read
@@ -118,13 +120,16 @@ TEST(GlslProtocol, ReadRequestChecksEveryFieldAsTheCommandLineDoes) {
   p = good;
   p.wrap = Wrap(7);
   EXPECT_EQ(read(prepare_payload(p, map, rays)), "InputError: wrap mode 7 is neither repeat nor clamp");
-  EXPECT_NE(read(prepare_payload(good, DepthMap{0, 0, {}}, rays)).find("a depth map of 0x0 texels"), std::string::npos);
+  EXPECT_NE(read(prepare_payload(good, DepthMap{0, 0, {}}, rays)).find("a depth map of 0x0 texels"),
+            std::string::npos);
   DepthMap nan_map = map;
   nan_map.texels[5] = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_NE(read(prepare_payload(good, nan_map, rays)).find("1 NaN/Inf texels (first at 1,1)"), std::string::npos);
+  EXPECT_NE(read(prepare_payload(good, nan_map, rays)).find("1 NaN/Inf texels (first at 1,1)"),
+            std::string::npos);
   RayBatch below = rays;
   below.vz[0] = -1.0f;
-  EXPECT_NE(read(prepare_payload(good, map, below)).find("InputError: ray 1 of the batch"), std::string::npos);
+  EXPECT_NE(read(prepare_payload(good, map, below)).find("InputError: ray 1 of the batch"),
+            std::string::npos);
   EXPECT_EQ(read(prepare_payload(good, map, rays, 2)), "BadMessage: map flag 2 is not 0 or 1");
   protocol::Writer short_payload = prepare_payload(good, map, rays);
   std::vector<char> cut(short_payload.bytes().begin(), short_payload.bytes().end() - 3);
@@ -141,12 +146,13 @@ struct WorkerRun {
 WorkerRun run_worker(const std::string& stream, const std::string& memory_limit) {
   const std::string dir = test::temp_dir("worker-stream");
   std::ofstream(dir + "/in", std::ios::binary) << stream;
-  const std::string worker = std::filesystem::path(HEIGHTMARCH_CLI).parent_path().string() + "/heightmarch-glsl-worker";
-  const auto r = test::run_with_peak(worker + " --threads 1 --memory-limit " + memory_limit + " < " + dir + "/in > " +
-                                     dir + "/out 2> " + dir + "/err");
+  const std::string worker =
+      std::filesystem::path(HEIGHTMARCH_CLI).parent_path().string() + "/heightmarch-glsl-worker";
+  const auto r = test::run_with_peak(worker + " --threads 1 --memory-limit " + memory_limit + " < " + dir +
+                                     "/in > " + dir + "/out 2> " + dir + "/err");
   std::ifstream out(dir + "/out", std::ios::binary), err(dir + "/err");
-  return {r.status, std::string((std::istreambuf_iterator<char>(out)), {}), std::string((std::istreambuf_iterator<char>(err)), {}),
-          r.peak_mib};
+  return {r.status, std::string((std::istreambuf_iterator<char>(out)), {}),
+          std::string((std::istreambuf_iterator<char>(err)), {}), r.peak_mib};
 }
 
 TEST(GlslWorker, SaysWhatIsWrongWithItsStreamAndExits) {
@@ -157,19 +163,22 @@ TEST(GlslWorker, SaysWhatIsWrongWithItsStreamAndExits) {
             "0xdeadbeef); the channel is lost\n");
   const auto cut = run_worker(header(Message::prepare, 100) + "0123456789", "1G");
   EXPECT_EQ(cut.status, 1);
-  EXPECT_NE(cut.errors.find("the channel closed after 10 of a message's 100 bytes"), std::string::npos) << cut.errors;
+  EXPECT_NE(cut.errors.find("the channel closed after 10 of a message's 100 bytes"), std::string::npos)
+      << cut.errors;
   const auto claimed = run_worker(header(Message::prepare, std::uint64_t(4) << 30), "64G");
   EXPECT_EQ(claimed.status, 1);
-  EXPECT_NE(claimed.errors.find("after 0 of a message's 4294967296 bytes"), std::string::npos) << claimed.errors;
+  EXPECT_NE(claimed.errors.find("after 0 of a message's 4294967296 bytes"), std::string::npos)
+      << claimed.errors;
   EXPECT_LT(claimed.peak_mib, 512.0);  // not the 4 GiB claimed
   // A bad request is answered and the worker serves the next: a draw after a refused prepare.
   TechniqueParams broken;
   broken.refine = 5;
   broken.technique = Technique(100000000);
-  const auto answered = run_worker(message(Message::prepare, prepare_payload(broken, DepthMap{4, 4, std::vector<float>(16, 0.5f)},
-                                                                              make_ray_list({0.5f}, {0.5f}, {0.0f}, {0.0f}, {1.0f}))) +
-                                       header(Message::read, 0),
-                                   "1G");
+  const auto answered = run_worker(
+      message(Message::prepare, prepare_payload(broken, DepthMap{4, 4, std::vector<float>(16, 0.5f)},
+                                                make_ray_list({0.5f}, {0.5f}, {0.0f}, {0.0f}, {1.0f}))) +
+          header(Message::read, 0),
+      "1G");
   EXPECT_EQ(answered.status, 0) << answered.errors;
   EXPECT_NE(answered.answers.find("technique 100000000 is not one of the"), std::string::npos);
 }
@@ -191,13 +200,14 @@ TEST(GlslWorker, RunawayShadersStopAtTheMemoryLimit) {
     bomb << "#define A0 1.0\n";
     for (int i = 1; i <= 40; ++i) bomb << "#define A" << i << " (A" << i - 1 << "+A" << i - 1 << ")\n";
     bomb << "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) { return texCoords * A40; }\n";
-    std::ofstream(dir + "/array.glsl")
-        << "vec2 ParallaxMapping(vec2 t, vec3 v) { float a[400000000]; a[1] = t.x; return vec2(a[1], t.y); }\n";
+    std::ofstream(dir + "/array.glsl") << "vec2 ParallaxMapping(vec2 t, vec3 v) { float a[400000000]; a[1] = "
+                                          "t.x; return vec2(a[1], t.y); }\n";
   }
   const int limit = int(footprint_mib()) + 64;
   for (const char* shader : {"bomb.glsl", "array.glsl"}) {
-    const auto r = test::run_with_peak(std::string(HEIGHTMARCH_CLI) + " glsl --size 8x8 --repetitions 1 --threads 1 --shader " +
-                                       dir + "/" + shader + " --memory-limit " + std::to_string(limit) + "M");
+    const auto r = test::run_with_peak(std::string(HEIGHTMARCH_CLI) +
+                                       " glsl --size 8x8 --repetitions 1 --threads 1 --shader " + dir + "/" +
+                                       shader + " --memory-limit " + std::to_string(limit) + "M");
     EXPECT_EQ(r.status, 2) << r.output;
     EXPECT_NE(r.output.find(std::string(shader) + ": the GLSL worker "), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("during its compile"), std::string::npos) << r.output;

@@ -2,9 +2,8 @@
 // file it did not create; every command that writes checks and locks its --out before any work and
 // refuses one that holds another run's results unless --replace; maps sharing a file name keep a
 // label each.
-#include <gtest/gtest.h>
-
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <sys/file.h>
 #include <unistd.h>
 
@@ -98,7 +97,8 @@ TEST(RunDirectory, EveryCommandChecksItsOutBeforeAnyWork) {
   const auto locked = test::run_cli("claims --quick --replace --out " + dir + "/trace_run");
   ::close(fd);
   EXPECT_EQ(locked.status, 2) << locked.output;
-  EXPECT_NE(locked.output.find("another run is writing into this directory"), std::string::npos) << locked.output;
+  EXPECT_NE(locked.output.find("another run is writing into this directory"), std::string::npos)
+      << locked.output;
 }
 
 // --replace removes the earlier run's files (a link among them goes, its target stays) and writes anew.
@@ -109,12 +109,12 @@ TEST(RunDirectory, ReplaceRemovesTheEarlierRunsFiles) {
   std::ofstream(dir + "/out/measurements.json") << "{}";
   std::ofstream(dir + "/out/report.md") << "old";
   std::ofstream(dir + "/out/notes.txt") << "mine";
-  fs::create_symlink(dir + "/target", dir + "/out/rays.csv");
+  fs::create_symlink(dir + "/target", dir + "/out/render.png");
   const auto r = test::run_cli("trace --res 16 --size 8x8 --repetitions 1 --replace --out " + dir + "/out");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_FALSE(fs::exists(dir + "/out/measurements.json"));
   EXPECT_FALSE(fs::exists(dir + "/out/report.md"));
-  EXPECT_FALSE(fs::is_symlink(dir + "/out/rays.csv"));
+  EXPECT_FALSE(fs::is_symlink(dir + "/out/render.png"));
   EXPECT_FALSE(fs::exists(dir + "/out/INCOMPLETE"));
   EXPECT_TRUE(fs::exists(dir + "/out/metrics.json"));
   EXPECT_EQ(read_text(dir + "/out/notes.txt"), "mine");
@@ -127,15 +127,18 @@ TEST(RunDirectory, MapsSharingAFileNameKeepALabelEach) {
   const std::string dir = test::temp_dir("labels");
   fs::create_directories(dir + "/a");
   fs::create_directories(dir + "/b");
-  for (const char* sub : {"/a/rock.png", "/b/rock.png", "/c.png"}) write_png_rgb8(dir + sub, 2, 2, std::vector<std::uint8_t>(12, 9));
-  const std::vector<HeightfieldSource> extra = {parse_heightfield(dir + "/a/rock.png"), parse_heightfield(dir + "/b/rock.png"),
-                                                parse_heightfield(dir + "/c.png"), parse_heightfield(dir + "/a/rock.png")};
+  for (const char* sub : {"/a/rock.png", "/b/rock.png", "/c.png"})
+    write_png_rgb8(dir + sub, 2, 2, std::vector<std::uint8_t>(12, 9));
+  const std::vector<HeightfieldSource> extra = {
+      parse_heightfield(dir + "/a/rock.png"), parse_heightfield(dir + "/b/rock.png"),
+      parse_heightfield(dir + "/c.png"), parse_heightfield(dir + "/a/rock.png")};
   const PlanSettings settings = suite_settings(true, extra, 1, false);
   std::vector<std::string> labels;
   for (const HeightfieldSource& h : settings.heightfields) labels.push_back(h.label());
   const std::vector<std::string> expected_tail = {dir + "/a/rock.png", dir + "/b/rock.png", "c.png"};
   ASSERT_GE(labels.size(), 3u);
-  EXPECT_EQ(std::vector<std::string>(labels.end() - 3, labels.end()), expected_tail);  // the repeated one once
+  EXPECT_EQ(std::vector<std::string>(labels.end() - 3, labels.end()),
+            expected_tail);  // the repeated one once
   std::vector<std::string> claim_labels;
   for (const Configuration& c : claims_plan(settings))
     if (std::find(claim_labels.begin(), claim_labels.end(), c.heightfield.label()) == claim_labels.end())
@@ -146,9 +149,11 @@ TEST(RunDirectory, MapsSharingAFileNameKeepALabelEach) {
   c.heightfield = settings.heightfields[settings.heightfields.size() - 3];
   std::string escaped;
   for (char ch : dir + "/a/rock.png") escaped += ch == '/' ? std::string("%2F") : std::string(1, ch);
-  EXPECT_NE(benchmark_name(c, 2, 2).find("/heightfield:" + escaped + "/"), std::string::npos) << benchmark_name(c, 2, 2);
+  EXPECT_NE(benchmark_name(c, 2, 2).find("/heightfield:" + escaped + "/"), std::string::npos)
+      << benchmark_name(c, 2, 2);
   // A file named like a builtin, given bare, would share its label: one clear line.
-  std::vector<HeightfieldSource> clash = {parse_heightfield("builtin:bricks"), parse_heightfield(dir + "/c.png")};
+  std::vector<HeightfieldSource> clash = {parse_heightfield("builtin:bricks"),
+                                          parse_heightfield(dir + "/c.png")};
   clash.back().path = "bricks";
   EXPECT_THROW(give_unique_labels(clash), InputError);
 }

@@ -2,13 +2,7 @@
 
 #include <tbb/info.h>
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
-#include <filesystem>
 #include <sstream>
 
 #include "heightmarch/error.hpp"

@@ -13,6 +13,7 @@
 #include "heightmarch/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/provenance.hpp"
+#include "util/input_file.hpp"
 
 namespace heightmarch::cli {
 
@@ -20,22 +21,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Every file a command writes at the top of its directory: trace and glsl (metrics.json, the
-// images, rays.csv), claims (claims.md, claims.json, measurements.json), suite (all of these but
-// trace's, bench.json, report.md) and the marker of a run under way. Any of them means the
-// directory holds a run's results.
+// The files a command writes at the top of its directory: trace and glsl (metrics.json and the
+// images), claims (claims.md, claims.json, measurements.json), suite (all of these but trace's,
+// bench.json, report.md) and the marker of a run under way. Any of them means the directory
+// holds a run's results. Not rays.csv: a name the user's own rays file may have (trace --rays
+// rewrites it whole).
 const char* const kRunFiles[] = {"INCOMPLETE", "measurements.json", "metrics.json", "claims.json", "claims.md",
-                                 "bench.json", "report.md", "hits.exr", "error.png", "render.png", "cost.png",
-                                 "rays.csv"};
-
-std::string kind_of(mode_t mode) {
-  if (S_ISREG(mode)) return "a regular file";
-  if (S_ISCHR(mode)) return "a character device";
-  if (S_ISBLK(mode)) return "a block device";
-  if (S_ISFIFO(mode)) return "a FIFO";
-  if (S_ISSOCK(mode)) return "a socket";
-  return "no directory";
-}
+                                 "bench.json",  "report.md",         "hits.exr",     "error.png",   "render.png",
+                                 "cost.png"};
 
 }  // namespace
 
@@ -44,7 +37,7 @@ RunDirectory::RunDirectory(std::string path, Existing existing) : path_(std::mov
   fs::create_directories(path_, ec);
   struct stat st {};
   if (::stat(path_.c_str(), &st) == 0 && !S_ISDIR(st.st_mode))
-    throw InputError(path_ + ": is " + kind_of(st.st_mode) + ", not a directory for the run's results");
+    throw InputError(path_ + ": is " + file_kind(st.st_mode) + ", not a directory for the run's results");
   if (ec) throw InputError(path_ + ": cannot create the directory (" + ec.message() + ")");
   // O_NOFOLLOW: a link planted at .lock is refused, never opened (nor created through).
   lock_fd_ = ::open((path_ + "/.lock").c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);

@@ -39,6 +39,10 @@ constexpr auto kExitGrace = std::chrono::seconds(5);  // for a worker told to st
 // brought-in shader whose preprocessor or compiler runs away (nested #defines grow by some
 // 170 MB/s) is killed here.
 constexpr auto kCompileTimeout = std::chrono::seconds(20);
+// What an llvmpipe thread reserves of the worker's data (RLIMIT_DATA counts it) beyond what it
+// touches: its stack and buffers, 16.6 MiB a thread measured (1 thread: 29 MiB of data, 16: 277 MiB,
+// 59 MiB resident at either).
+constexpr double kReservedBytesPerThread = 32.0 * 1024 * 1024;
 
 // The draw watchdog. The slowest built-in technique (shadow: a march and a shadow march) takes
 // about 4 ns per sample at one llvmpipe thread on an AMD EPYC and at most 2 x max layers +
@@ -89,8 +93,9 @@ struct GlslRunner::Worker {
   pid_t pid = -1;
   int fd = -1;
   std::string failure;  // why the last worker is gone; empty while one runs
-  std::size_t memory_limit = 0;  // its RLIMIT_DATA, the budget when it started
+  std::size_t memory_limit = 0;  // the budget it was given when it started
   std::string how_it_ended;      // of the last worker: "exited with status 1", "was killed by signal 9 (Killed)"
+  bool out_of_memory = false;    // the last worker exited for an allocation that failed
   std::string renderer, version;
   // Copies of the depth map and rays the worker holds, as last sent (none: unknown, send them):
   // the suite prepares every configuration on the same scene, and these are 20+ MB at 1024x1024.
@@ -115,9 +120,10 @@ struct GlslRunner::Worker {
     return true;
   }
 
-  // Starts the worker under an OS memory limit of the budget (RLIMIT_DATA: what it may allocate;
-  // llvmpipe also reserves address space it never touches, which RLIMIT_AS would count) and reads
-  // its greeting; throws std::runtime_error when it cannot.
+  // Starts the worker under an OS memory limit (RLIMIT_DATA: what it may allocate; RLIMIT_AS would
+  // also count the libraries' mappings, 400 MiB and more) of the budget and what its threads
+  // reserve, which it lowers once its context exists (worker_main.cpp), and reads its greeting;
+  // throws std::runtime_error when it cannot.
   void start() {
     failure.clear();
     sent_map.reset();
@@ -136,7 +142,8 @@ struct GlslRunner::Worker {
     memory_limit = memory_budget();
     rlimit limit{};
     ::getrlimit(RLIMIT_DATA, &limit);
-    limit.rlim_cur = limit.rlim_max = std::min<rlim_t>(rlim_t(memory_limit), limit.rlim_max);
+    const double data = double(memory_limit) + kReservedBytesPerThread * threads;
+    limit.rlim_cur = limit.rlim_max = std::min<rlim_t>(rlim_t(std::min(data, 0x1p62)), limit.rlim_max);
     const std::string thread_text = std::to_string(threads), limit_text = std::to_string(memory_limit);
     char* argv[] = {const_cast<char*>(path.c_str()), const_cast<char*>("--threads"),
                     const_cast<char*>(thread_text.c_str()), const_cast<char*>("--memory-limit"),
@@ -194,6 +201,7 @@ struct GlslRunner::Worker {
       done = ::waitpid(pid, &status, 0);
     }
     pid = -1;
+    out_of_memory = done > 0 && WIFEXITED(status) && WEXITSTATUS(status) == protocol::kOutOfMemoryStatus;
     return done < 0 ? std::string("was lost (") + std::strerror(errno) + ")" : describe_status(status);
   }
 
@@ -257,10 +265,14 @@ struct GlslRunner::Worker {
   // its memory limit), else a runtime_error.
   [[noreturn]] void lost(const std::string& why, const std::string& shader, const char* doing) {
     end(why, false);
+    const std::string budget = bytes_text(double(memory_limit)) + " (" + memory_budget_source() + ")";
+    const std::string after = "; it restarts for the next request";
+    if (out_of_memory)
+      throw InputError((shader.empty() ? "" : shader + ": ") + "the GLSL worker ran out of memory within its budget of " +
+                       budget + " during its " + doing + after);
     if (shader.empty()) throw std::runtime_error(name + ": " + failure);
     throw InputError(shader + ": the GLSL worker " + how_it_ended + " during its " + doing +
-                     " (a crash, or its memory limit of " + bytes_text(double(memory_limit)) + " from " +
-                     memory_budget_source() + " reached); it restarts for the next request");
+                     " (a crash, or its memory limit of " + budget + " reached)" + after);
   }
 
   // A compile past kCompileTimeout: the brought-in shader's fault (an InputError), or a

@@ -108,8 +108,8 @@ void read(Reader& r, HitBuffers& hits, std::size_t rays) {
   for (auto* a : {&hits.u, &hits.v, &hits.depth, &hits.shadow}) r.array(*a);
   r.array(hits.samples);
   r.array(hits.discarded);
-  for (std::size_t n : {hits.u.size(), hits.v.size(), hits.depth.size(), hits.shadow.size(), hits.samples.size(),
-                        hits.discarded.size()})
+  for (std::size_t n : {hits.u.size(), hits.v.size(), hits.depth.size(), hits.shadow.size(),
+                        hits.samples.size(), hits.discarded.size()})
     if (n != rays)
       throw BadMessage("hit arrays of " + std::to_string(n) + " for " + std::to_string(rays) + " rays");
 }
@@ -150,7 +150,9 @@ namespace {
 // A payload grows by at most this much (or by what it holds, if more) before its bytes have come.
 constexpr std::size_t kPayloadStep = std::size_t(1) << 20;
 
-bool known(Message type) { return unsigned(type) >= unsigned(Message::ready) && unsigned(type) <= unsigned(Message::compiled); }
+bool known(Message type) {
+  return unsigned(type) >= unsigned(Message::ready) && unsigned(type) <= unsigned(Message::compiled);
+}
 
 // Waits until fd is ready for `events`; false once the deadline has passed.
 bool wait_for(int fd, short events, Deadline deadline) {

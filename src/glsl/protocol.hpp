@@ -38,8 +38,21 @@ namespace heightmarch::glsl_protocol {
 
 inline constexpr std::uint32_t kVersion = 3;
 inline constexpr std::uint32_t kMagic = 0x4c474d48;  // "HMGL": a stray write to stdout is caught at once
+// The worker's exit status when an allocation failed outside a request (reading one, starting).
+inline constexpr int kOutOfMemoryStatus = 3;
 
-enum class Message : std::uint32_t { ready = 1, prepare, done, draw, drawn, read, hits, input_error, error, compiled };
+enum class Message : std::uint32_t {
+  ready = 1,
+  prepare,
+  done,
+  draw,
+  drawn,
+  read,
+  hits,
+  input_error,
+  error,
+  compiled
+};
 
 struct Header {
   std::uint32_t magic = kMagic;

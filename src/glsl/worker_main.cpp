@@ -120,8 +120,8 @@ int run(int threads) {
         throw;
       } catch (const std::bad_alloc&) {
         send_error(out, Message::input_error,
-                   "the GLSL worker ran out of memory within its budget of " + bytes_text(double(memory_budget())) +
-                       " (" + memory_budget_source() + ")");
+                   "the GLSL worker ran out of memory within its budget of " +
+                       bytes_text(double(memory_budget())) + " (" + memory_budget_source() + ")");
       } catch (const std::exception& e) {
         send_error(out, Message::error, e.what());
       }
@@ -129,9 +129,14 @@ int run(int threads) {
   } catch (const protocol::ChannelClosed&) {
     return 0;  // the client is gone or done
   } catch (const protocol::BadMessage& e) {
-    std::fprintf(stderr, "heightmarch-glsl-worker: a malformed message from its client: %s; the channel is lost\n",
+    std::fprintf(stderr,
+                 "heightmarch-glsl-worker: a malformed message from its client: %s; the channel is lost\n",
                  e.what());
     return 1;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "heightmarch-glsl-worker: out of memory within its budget of %s\n",
+                 bytes_text(double(memory_budget())).c_str());
+    return protocol::kOutOfMemoryStatus;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "heightmarch-glsl-worker: %s\n", printable(e.what()).c_str());
     return 1;
@@ -143,7 +148,8 @@ int run(int threads) {
 
 int main(int argc, char** argv) {
   const std::string usage =
-      "usage: heightmarch-glsl-worker --threads N --memory-limit BYTES (started by heightmarch, not by hand)\n";
+      "usage: heightmarch-glsl-worker --threads N --memory-limit BYTES (started by heightmarch, not by "
+      "hand)\n";
   if (argc != 5 || std::string(argv[1]) != "--threads" || std::string(argv[3]) != "--memory-limit") {
     std::fputs(usage.c_str(), stderr);
     return 2;

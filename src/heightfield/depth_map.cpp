@@ -10,8 +10,9 @@ namespace heightmarch {
 
 void check_depth_map(const DepthMap& map, const std::string& what) {
   if (map.width < 1 || map.height < 1 || map.width > kMaxDepthMapSide || map.height > kMaxDepthMapSide)
-    throw InputError(what + ": a depth map of " + std::to_string(map.width) + "x" + std::to_string(map.height) +
-                     " texels (sides from 1 to " + std::to_string(kMaxDepthMapSide) + ")");
+    throw InputError(what + ": a depth map of " + std::to_string(map.width) + "x" +
+                     std::to_string(map.height) + " texels (sides from 1 to " +
+                     std::to_string(kMaxDepthMapSide) + ")");
   if (map.texels.size() != std::size_t(map.width) * std::size_t(map.height))
     throw InputError(what + ": " + std::to_string(map.texels.size()) + " texels for a depth map of " +
                      std::to_string(map.width) + "x" + std::to_string(map.height));
@@ -25,10 +26,13 @@ void check_depth_map(const DepthMap& map, const std::string& what) {
     }
   }
   const auto at = [&](std::size_t k) {
-    return " (first at " + std::to_string(k % std::size_t(map.width)) + "," + std::to_string(k / std::size_t(map.width)) + ")";
+    return " (first at " + std::to_string(k % std::size_t(map.width)) + "," +
+           std::to_string(k / std::size_t(map.width)) + ")";
   };
-  if (not_finite) throw InputError(what + ": " + std::to_string(not_finite) + " NaN/Inf texels" + at(first_not_finite));
-  if (outside) throw InputError(what + ": " + std::to_string(outside) + " texels outside [0, 1]" + at(first_outside));
+  if (not_finite)
+    throw InputError(what + ": " + std::to_string(not_finite) + " NaN/Inf texels" + at(first_not_finite));
+  if (outside)
+    throw InputError(what + ": " + std::to_string(outside) + " texels outside [0, 1]" + at(first_outside));
 }
 
 }  // namespace heightmarch

@@ -34,7 +34,8 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   for (int attempt = 0; attempt < kNameAttempts && fd_ < 0; ++attempt) {
     temporary_ = path_ + ".tmp-" + random_suffix();
     fd_ = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-    if (fd_ < 0 && errno != EEXIST) throw std::runtime_error(path_ + ": cannot write (" + std::strerror(errno) + ")");
+    if (fd_ < 0 && errno != EEXIST)
+      throw std::runtime_error(path_ + ": cannot write (" + std::strerror(errno) + ")");
   }
   if (fd_ < 0)
     throw std::runtime_error(path_ + ": cannot write (" + std::to_string(kNameAttempts) +

@@ -92,14 +92,15 @@ RayBatch load_rays_csv(const std::string& path, int tile_size) {
   LineReader lines(file, path);
   // What a run holds per ray of the file (its columns as read, its batch with padding, hits,
   // references, images), asked of the budget for the rays the file's size suggests at the mean
-  // line length so far: first after kSampleLines lines (or the whole file, if shorter), then again
-  // whenever the rays read pass the rays asked for.
+  // line length so far: first after kSampleLines lines (or the whole file, if shorter), then again,
+  // for a quarter more at least, whenever the rays read pass the rays asked for.
   const double bytes_per_ray = kBytesPerRayCsvRow + kBytesPerRay * padding_factor(tile_size);
   double asked = 0.0;
   const auto ask_budget = [&] {
     const double mean_line = double(lines.consumed()) / double(std::max<std::size_t>(lines.number(), 1));
     const double left = double(file.size()) - double(std::min<std::uintmax_t>(lines.consumed(), file.size()));
-    const double rays = std::ceil(double(lines.number()) + left / std::max(mean_line, 1.0));
+    const double rays = std::max(std::ceil(double(lines.number()) + left / std::max(mean_line, 1.0)),
+                                 std::ceil(1.25 * asked));
     if (rays > double(kMaxCsvRays))
       throw InputError(path + ": about " + std::to_string((long long)rays) + " rays (" +
                        std::to_string(file.size()) + " bytes at " + std::to_string((long long)mean_line) +

@@ -12,15 +12,6 @@
 namespace heightmarch {
 namespace {
 
-std::string kind_of(mode_t mode) {
-  if (S_ISDIR(mode)) return "a directory";
-  if (S_ISFIFO(mode)) return "a FIFO";
-  if (S_ISCHR(mode)) return "a character device";
-  if (S_ISBLK(mode)) return "a block device";
-  if (S_ISSOCK(mode)) return "a socket";
-  return "not a regular file";
-}
-
 std::string size_text(std::uintmax_t bytes) {
   if (bytes < (1u << 20)) return std::to_string(bytes) + " bytes";
   return std::to_string(bytes >> 20) + " MiB";
@@ -29,7 +20,7 @@ std::string size_text(std::uintmax_t bytes) {
 std::uintmax_t check_stat(const struct stat& st, const std::string& path, const std::string& what,
                           std::uintmax_t max_bytes) {
   if (!S_ISREG(st.st_mode))
-    throw InputError(path + ": is " + kind_of(st.st_mode) + ", not a regular file (" + what + ")");
+    throw InputError(path + ": is " + file_kind(st.st_mode) + ", not a regular file (" + what + ")");
   const std::uintmax_t size = std::uintmax_t(st.st_size);
   if (size > max_bytes)
     throw InputError(path + ": " + size_text(size) + ", more than the " + size_text(max_bytes) + " a " + what +
@@ -38,6 +29,16 @@ std::uintmax_t check_stat(const struct stat& st, const std::string& path, const 
 }
 
 }  // namespace
+
+std::string file_kind(unsigned mode) {
+  if (S_ISREG(mode)) return "a regular file";
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "a file of another kind";
+}
 
 std::uintmax_t check_input_file(const std::string& path, const std::string& what, std::uintmax_t max_bytes) {
   struct stat st {};

@@ -8,6 +8,9 @@
 
 namespace heightmarch {
 
+// "a regular file", "a directory", "a FIFO", "a character device", ... for a stat's st_mode.
+std::string file_kind(unsigned mode);
+
 // Throws InputError "PATH: ..." unless PATH is a regular file (after symlinks) of at most
 // max_bytes; returns its size. `what` names the file's role ("depth map", "rays file", ...).
 std::uintmax_t check_input_file(const std::string& path, const std::string& what, std::uintmax_t max_bytes);

@@ -34,7 +34,8 @@ std::size_t utf8_character(std::string_view text, std::size_t at, std::uint32_t&
 // C1 controls (an 8-bit CSI is 0x9b) and the bidirectional embeddings, overrides and isolates,
 // which reorder what follows them on the line.
 bool acts_on_terminal(std::uint32_t code) {
-  return (code >= 0x80 && code <= 0x9f) || (code >= 0x202a && code <= 0x202e) || (code >= 0x2066 && code <= 0x2069);
+  return (code >= 0x80 && code <= 0x9f) || (code >= 0x202a && code <= 0x202e) ||
+         (code >= 0x2066 && code <= 0x2069);
 }
 
 }  // namespace
@@ -62,7 +63,8 @@ std::string printable(std::string_view text) {
     std::uint32_t code = 0;
     const std::size_t length = utf8_character(text, at, code);
     if (length == 0 || acts_on_terminal(code)) {
-      for (std::size_t i = 0; i < (length ? length : 1); ++i) escape(static_cast<unsigned char>(text[at + i]));
+      for (std::size_t i = 0; i < (length ? length : 1); ++i)
+        escape(static_cast<unsigned char>(text[at + i]));
       at += length ? length : 1;
       continue;
     }

@@ -37,7 +37,8 @@ void check_prepare(const protocol::PrepareRequest& p) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const int fd = ::memfd_create("worker-messages", MFD_CLOEXEC);
-  if (fd < 0 || ::ftruncate(fd, 0) != 0 || ::pwrite(fd, data, size, 0) != ssize_t(size) || ::lseek(fd, 0, SEEK_SET) != 0)
+  if (fd < 0 || ::ftruncate(fd, 0) != 0 || ::pwrite(fd, data, size, 0) != ssize_t(size) ||
+      ::lseek(fd, 0, SEEK_SET) != 0)
     return 0;
   std::vector<char> payload;
   // One message per pass: each takes a header's 16 bytes at least, or ends the stream.
