@@ -10,20 +10,20 @@ the median of the per-round ratios with their min-max. With --history, one row p
 appended to the history CSV and the headline configuration is plotted over the recorded runs.
 """
 import argparse
-import csv
-import io
-import json
 import math
 import os
 import statistics
 import sys
-import tempfile
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import FuncFormatter  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
+import history  # noqa: E402
+from benchmark_results import Unusable, atomic_write, per_round, read_json, relative_spread, spread  # noqa: E402
 
 # The configuration that every backend runs (ISA sweep, naive port, roofline, thread scaling) and
 # that the history follows.
@@ -33,9 +33,6 @@ KINDS = ("trace", "glsl", "roofline", "ceiling", "naive", "autovec", "exact")
 # Kinds that run an ISA's code without being its packet kernels: their rows name the ISA as backend.
 ANCHOR_KINDS = ("roofline", "ceiling", "autovec")
 SPREAD_LIMIT = 0.20  # (max - min) / median above this is flagged as a disturbed timing
-HISTORY_COLUMNS = ["date", "commit", "cpu", "backend", "threads", "heightfield", "technique", "layers",
-                   "view", "depth_map", "rays_per_second_median", "rays_per_second_min",
-                   "rays_per_second_max"]
 ANY = object()  # a field that `partner` does not compare
 NOT_MEASURED = "Not measured in this run."
 MAX_PLOT_PIXELS = 1600  # widest plot, so a page shows it whole
@@ -43,7 +40,6 @@ ERROR_TARGETS = (1.0, 0.25, 0.05)  # p95 uv error targets of the summary, in tex
 # Highlights of the cheapest configuration per target: black rings (no technique is black), told
 # apart by their size, their target's line style and a label.
 TARGET_STYLES = {1.0: "-", 0.25: "--", 0.05: ":"}
-BACKEND_MARKERS = "osD^vP*Xh"  # one per backend, by position in the run's backend list
 
 
 class InputError(Exception):
@@ -52,16 +48,6 @@ class InputError(Exception):
 
 # ---------------------------------------------------------------------------------------------
 # Input
-
-def read_json(path):
-    try:
-        with open(path) as f:
-            return json.load(f)
-    except OSError as e:
-        raise InputError("%s: %s" % (path, e.strerror))
-    except ValueError as e:
-        raise InputError("%s: not JSON (%s)" % (path, e))
-
 
 def require(condition, what):
     if not condition:
@@ -112,19 +98,6 @@ def load_run(run_dir):
 # ---------------------------------------------------------------------------------------------
 # Figures with their spread
 
-def spread(values):
-    """(median, min, max) of values, or None when there is nothing to summarise."""
-    values = list(values or [])
-    return (statistics.median(values), min(values), max(values)) if values else None
-
-
-def per_round(a, b):
-    """The spread of the per-round ratios a[i] / b[i] (None when either side is missing)."""
-    if a is None or b is None:
-        return None
-    return spread(x / y for x, y in zip(a, b))
-
-
 def fmt_spread(s, digits=1, scale=1.0, unit=""):
     if s is None:
         return "-"
@@ -148,10 +121,6 @@ def counted(n, word):
 
 def load_averages(values):
     return "/".join("%.2f" % x for x in values or []) or "?"
-
-
-def relative_spread(s):
-    return (s[2] - s[1]) / s[0]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -777,89 +746,9 @@ def plot_isa_speedup(run, path):
 
 
 # ---------------------------------------------------------------------------------------------
-# History
-
-def history_rows(run):
-    p = run.provenance
-    out = []
-    for r in run.timed:
-        s = spread(rays_rounds(r))
-        out.append({"date": p.get("date", ""), "commit": p.get("commit", ""), "cpu": p.get("cpu", ""),
-                    "backend": backend_label(r).replace(" ", "-"), "threads": str(r["threads"]),
-                    "heightfield": r["heightfield"]["label"],
-                    # rows without a technique (roofline, exact) are named by their kind
-                    "technique": r.get("technique") or r["kind"], "layers": r.get("layers") or "",
-                    "view": view_name(r["view"]), "depth_map": depth_map(r),
-                    "rays_per_second_median": "%.6g" % s[0], "rays_per_second_min": "%.6g" % s[1],
-                    "rays_per_second_max": "%.6g" % s[2]})
-    return out
-
-
-def update_history(path, run):
-    existing = []
-    if os.path.exists(path):
-        with open(path, newline="") as f:
-            reader = csv.DictReader(f)
-            if reader.fieldnames != HISTORY_COLUMNS:
-                raise InputError("%s: columns are not %s" % (path, ",".join(HISTORY_COLUMNS)))
-            existing = list(reader)
-    date, commit = run.provenance.get("date", ""), run.provenance.get("commit", "")
-    rows = [r for r in existing if (r["date"], r["commit"]) != (date, commit)] + history_rows(run)
-    out = io.StringIO()
-    writer = csv.DictWriter(out, HISTORY_COLUMNS, lineterminator="\n")
-    writer.writeheader()
-    writer.writerows(rows)
-    atomic_write(path, out.getvalue())
-    return rows
-
-
-def plot_history(run, rows, path):
-    """The headline configuration at 1 thread over the recorded runs, one line per backend."""
-    headline = [r for r in run.timed if run.is_headline(r) and r["threads"] == 1 and r["view"]["kind"] == "default"]
-    hf = headline[0]["heightfield"]["label"] if headline else (run.heightfields or [""])[0]
-    view = view_name(headline[0]["view"]) if headline else "default"
-    picked = [r for r in rows if r["technique"] == HEADLINE_TECHNIQUE and r["layers"] == HEADLINE_LAYERS
-              and r["threads"] == "1" and r["heightfield"] == hf and r["view"].startswith(view)
-              and (not headline or r["depth_map"] == depth_map(headline[0]))]
-    if not picked:
-        return False
-    runs = sorted({(r["date"], r["commit"]) for r in picked})
-    by_backend = groups(picked, lambda r: r["backend"])
-    colors = run.backend_colors(by_backend)
-    fig, ax = plt.subplots(figsize=(max(7.0, 0.9 * len(runs) + 3), 4.2))
-    for backend in [b for b in colors if b in by_backend]:
-        pts = sorted((runs.index((r["date"], r["commit"])), [float(r[c]) / 1e6 for c in HISTORY_COLUMNS[-3:]])
-                     for r in by_backend[backend])
-        ax.errorbar([x for x, _ in pts], [v[0] for _, v in pts], yerr=[[v[0] - v[1] for _, v in pts], [v[2] - v[0] for _, v in pts]],
-                    marker=BACKEND_MARKERS[list(colors).index(backend) % len(BACKEND_MARKERS)], markersize=4, capsize=3,
-                    color=colors[backend], label=backend)
-    ax.set_xticks(range(len(runs)))
-    ax.set_xticklabels(["%s\n%s" % (d[:16].replace("T", " "), c) for d, c in runs], fontsize=7)
-    log_axes(ax, x=False)
-    ax.set_ylabel("Mrays/s, median (bars: min-max)")
-    ax.grid(True, which="both", alpha=0.3)
-    finish(fig, path, "%s, %s layers, %s view, %s, 1 thread, over the recorded runs" % (
-        HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS, view, hf), [ax])
-    return True
-
-
-# ---------------------------------------------------------------------------------------------
 # Output
 
-def atomic_write(path, text):
-    """Temp file, world-readable, then rename: a reader never sees half a file."""
-    fd, temporary = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)), prefix=".tmp-")
-    try:
-        with os.fdopen(fd, "w") as f:
-            f.write(text)
-        os.chmod(temporary, 0o644)
-        os.replace(temporary, path)
-    except BaseException:
-        os.unlink(temporary)
-        raise
-
-
-def section_plots(run, run_dir, history):
+def section_plots(run, run_dir, history_drawn):
     plots = os.path.join(run_dir, "plots")
     os.makedirs(plots, exist_ok=True)
     body = []
@@ -880,9 +769,8 @@ def section_plots(run, run_dir, history):
         "error against speed", "not measured in this run.")
     add(plot_isa_speedup(run, os.path.join(plots, "isa_speedup.png")), "isa_speedup.png",
         "speed-up per ISA", "not measured in this run.")
-    if history:
-        add(plot_history(run, update_history(history, run), os.path.join(plots, "history.png")), "history.png",
-            "history", "the headline configuration is not in the history.")
+    if history_drawn is not None:
+        add(history_drawn, "history.png", "history", "the headline configuration is not in the history.")
     return section("Plots", body[:-1])
 
 
@@ -893,12 +781,13 @@ def main():
     args = parser.parse_args()
     try:
         run, claims = load_run(args.run_dir)
+        history_drawn = history.record(args.run_dir, args.history) if args.history else None
         faults = []
         # sections first: the warnings at the top name the faults they find
         summary = section_summary(run, claims)
         sections = (section_matrix(run) + section_glsl(run) + section_every_backend(run, faults)
-                    + section_searches_per_isa(run) + section_exact_speed(run) + section_threads(run) + section_plots(run, args.run_dir, args.history) + section_gallery(run, args.run_dir))
-    except InputError as e:
+                    + section_searches_per_isa(run) + section_exact_speed(run) + section_threads(run) + section_plots(run, args.run_dir, history_drawn) + section_gallery(run, args.run_dir))
+    except (InputError, Unusable) as e:
         print("report.py: %s" % e, file=sys.stderr)
         return 2
     md = ["# heightmarch report", "",

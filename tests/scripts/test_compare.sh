@@ -2,9 +2,9 @@
 # scripts/compare on synthetic runs, one check per rule of its docstring: identical runs pass, a
 # 30% slow-down is a named REGRESSION, no shared benchmark is unusable input (exit 2), benchmarks
 # of one run only are listed, context differences are WARNINGs in the first lines, changed error
-# measures are a BEHAVIOUR CHANGE, runs without repetitions fall back to the median change, and
-# names with min_time: match the new release's names; the committed baseline passes against
-# itself. Needs no build.
+# measures are a BEHAVIOUR CHANGE, runs without repetitions fall back to the median change,
+# names with min_time: match the new release's names, and input that is not Google Benchmark's
+# shape exits 2 with one line; the committed baseline passes against itself. Needs no build.
 # Usage: test_compare.sh BUILD_DIR (unused)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -134,6 +134,41 @@ run bad "$tmp/old.json" "$tmp/bad.json"
 run missing "$tmp/old.json" "$tmp/none.json"
 [ "$rc" = 2 ] && has "none.json: no such file" err || fail "a missing file exits $rc"
 echo "ok: invalid JSON and a missing file exit 2 naming the file"
+
+# Input that is not Google Benchmark's shape: exit 2 with one line, never a traceback or a verdict.
+# bad_case NAME PYTHON: PYTHON edits `d` (old.json) and `b` (its first iteration) into NAME.json.
+bad_case() {
+  /usr/bin/python3 - "$tmp/old.json" "$tmp/$1.json" "$2" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+b = d["benchmarks"][0]
+exec(sys.argv[3])
+with open(sys.argv[2], "w") as f:
+    f.write(d if isinstance(d, str) else json.dumps(d))
+PY
+  for order in new old; do
+    if [ "$order" = new ]; then run "bad_$1" "$tmp/old.json" "$tmp/$1.json"; else run "bad_$1" "$tmp/$1.json" "$tmp/old.json"; fi
+    [ "$rc" = 2 ] && [ "$(wc -l < "$tmp/bad_$1.err")" = 1 ] && has "$3" err && ! has Traceback err \
+      || fail "$1 ($order file): exit $rc, not 2 with one line naming '$3'"
+  done
+}
+bad_case string_time 'b["real_time"] = "40.0"' 'real_time is "40.0", not a finite positive time'
+bad_case null_time 'b["cpu_time"] = None' 'cpu_time is null, not a finite positive time'
+bad_case zero_time 'b["real_time"] = 0' 'real_time is 0, not a finite positive time'
+bad_case negative_time 'b["real_time"] = -3.5' 'real_time is -3.5, not a finite positive time'
+bad_case nan_time 'b["real_time"] = float("nan")' 'real_time is NaN, not a finite positive time'
+bad_case unit 'b["time_unit"] = "fortnight"' 'time_unit "fortnight" is none of s, ms, us, ns'
+bad_case no_unit 'del b["time_unit"]' 'has no time_unit'
+bad_case list_entry 'd["benchmarks"][0] = [b]' 'benchmarks\[0\] is list, not an object'
+bad_case list_top 'd = [d]' 'no "benchmarks" list'
+bad_case object_benchmarks 'd["benchmarks"] = {"a": b}' 'no "benchmarks" list'
+bad_case list_context 'd["context"] = [1]' '"context" is list, not an object'
+bad_case name_number 'b["name"] = 7' 'name is 7, not a string'
+bad_case counter_string 'b["samples_per_ray"] = "20"' 'samples_per_ray is "20", not a number'
+bad_case repetitions 'b["repetitions"] = "9"' 'repetitions is "9", not a count'
+bad_case nested 'd = "[" * 100000 + "]" * 100000' 'nested too deeply'
+bad_case nested_counter 'b["uv_error_mean"] = json.loads("[" * 50 + "]" * 50)' 'uv_error_mean is \[\[\['
+echo "ok: 16 kinds of input that is not Google Benchmark's shape exit 2 with one line, as OLD and as NEW"
 
 run baseline "$root/results/baseline/bench.json" "$root/results/baseline/bench.json"
 [ "$rc" = 0 ] || fail "the committed baseline against itself exits $rc"
