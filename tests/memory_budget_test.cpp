@@ -56,15 +56,20 @@ TEST(MemoryBudget, BelowTheFootprintIsRefusedAtStartUp) {
 
 // From the header, before a pixel is read: the depth map and what derives from it (14 bytes a
 // texel) and, for a PNG (decoded whole when interlaced), its image in its own type.
+// Runs trace over `image` at `over_footprint_mib` above the footprint: refused in one line holding
+// `message`, at a peak of no more than the footprint and a little.
+void expect_refused_from_header(const std::string& image, double over_footprint_mib, const std::string& message) {
+  const auto r = test::run_with_peak(std::string(HEIGHTMARCH_CLI) + " trace --size 8x8 --heightmap " + image +
+                                     " --memory-limit " + limit_above_footprint(over_footprint_mib));
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+  EXPECT_LT(r.peak_mib, footprint_mib() + 16) << r.output;
+}
+
 TEST(MemoryBudget, ImagesAreRefusedFromTheirHeader) {
   const std::string dir = test::temp_dir("budget-images");
   write_image(dir + "/rgba16.png", 2048, 4, OIIO::TypeDesc::UINT16);
-  const auto r = test::run_with_peak(std::string(HEIGHTMARCH_CLI) + " trace --size 8x8 --heightmap " + dir +
-                                     "/rgba16.png --memory-limit " + limit_above_footprint(60));
-  EXPECT_EQ(r.status, 2) << r.output;
-  EXPECT_NE(r.output.find("rgba16.png (2048x2048, 4 channels of uint16) needs 88.0 MiB"), std::string::npos)
-      << r.output;
-  EXPECT_LT(r.peak_mib, footprint_mib() + 16) << r.output;
+  expect_refused_from_header(dir + "/rgba16.png", 60, "rgba16.png (2048x2048, 4 channels of uint16) needs 88.0 MiB");
   // A PNM file is read whole, twice, when its reader opens it: asked before.
   {
     std::ofstream pfm(dir + "/big.pfm", std::ios::binary);
@@ -73,12 +78,7 @@ TEST(MemoryBudget, ImagesAreRefusedFromTheirHeader) {
     for (int y = 0; y < 2048; ++y)
       pfm.write(reinterpret_cast<const char*>(row.data()), std::streamsize(row.size() * 4));
   }
-  const auto pfm = test::run_with_peak(std::string(HEIGHTMARCH_CLI) + " trace --size 8x8 --heightmap " + dir +
-                                       "/big.pfm --memory-limit " + limit_above_footprint(24));
-  EXPECT_EQ(pfm.status, 2) << pfm.output;
-  EXPECT_NE(pfm.output.find("big.pfm (its reader holds the whole file) needs 32.0 MiB"), std::string::npos)
-      << pfm.output;
-  EXPECT_LT(pfm.peak_mib, footprint_mib() + 16) << pfm.output;
+  expect_refused_from_header(dir + "/big.pfm", 24, "big.pfm (its reader holds the whole file) needs 32.0 MiB");
 }
 
 // The budget holds at the peak whatever the run: refused where an allocation would pass it (each
