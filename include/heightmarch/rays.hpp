@@ -91,6 +91,10 @@ RayBatch make_view_rays(const ViewSpec& view);
 // tile_size^2 rays. V is normalised; vz <= 0, NaN and malformed rows are InputErrors.
 RayBatch load_rays_csv(const std::string& path, int tile_size = kDefaultTileSize);
 
+// The one check of a batch handed over whole (a GLSL worker's message): the five arrays of one
+// length, T finite within 1e6, V finite with V.z > 0. Throws InputError naming the first bad ray.
+void check_rays(const RayBatch& rays);
+
 // Builds a batch from explicit rays (used by the CSV loader and tests).
 RayBatch make_ray_list(const std::vector<float>& tx, const std::vector<float>& ty,
                        const std::vector<float>& vx, const std::vector<float>& vy,

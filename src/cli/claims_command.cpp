@@ -8,6 +8,7 @@
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
 #include "cli/progress.hpp"
+#include "cli/run_directory.hpp"
 #include "cli/suite_command.hpp"
 #include "heightmarch/error.hpp"
 #include "heightmarch/run_outputs.hpp"
@@ -52,6 +53,7 @@ PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
   for (std::string path; std::getline(in, path, ',');)
     if (!path.empty()) settings.heightfields.push_back(parse_heightfield(path));
   if (settings.heightfields.empty()) throw InputError("--heightmap '" + o.heightmap + "' names no depth map");
+  give_unique_labels(settings.heightfields);  // one label per map in every result
   if (o.scale) {
     if (!(*o.scale > 0 && *o.scale <= 1))
       throw InputError("--scale " + std::to_string(*o.scale) + " must be in (0, 1]");
@@ -155,7 +157,7 @@ namespace {
 struct ClaimsOptions {
   PlanOptions plan;
   RecommendationTarget target;
-  std::string out = ".";
+  OutOptions out{"."};
   std::string isa;
   bool list = false;
 };
@@ -167,10 +169,8 @@ Command add_claims_command(CLI::App& app) {
       app.add_subcommand("claims", "measure the tutorials' claims C1-C10 and the papers' P1-P3 and write claims.md");
   auto o = std::make_shared<ClaimsOptions>();
   add_plan_options(*command, o->plan, "the quick plan's heightfields and sizes");
-  command
-      ->add_option("--out", o->out,
-                   "directory for claims.md, claims.json, measurements.json and recommendation.json")
-      ->capture_default_str();
+  add_out_options(*command, o->out,
+                  "directory for claims.md, claims.json, measurements.json and recommendation.json");
   command->add_option("--isa", o->isa, isa_names() + " or auto");
   command->add_flag("--list", o->list, "list the claims (id, words, the rows each reads) and measure nothing");
   add_target_options(*command, o->target);
@@ -182,16 +182,18 @@ Command add_claims_command(CLI::App& app) {
     PlanSettings settings = plan_settings(o->plan, false);
     settings.best_isa = select_isa(o->isa);
     validate(o->target);
+    RunDirectory dir(o->out.out, o->out.existing());  // checked and locked before the run
     Progress progress("claims");
     progress.stage("measuring " + std::to_string(settings.heightfields.size()) + " heightfields");
     ClaimsCollector claims;
     const MeasuredPlan run = measure_with_progress(claims_plan(settings), settings, progress,
                                                    [&](const TracedRow& traced) { claims.observe(traced); });
-    std::filesystem::create_directories(o->out);
-    write_file_atomically(o->out + "/measurements.json", measurements_json(run, settings.name + " claims"));
+    write_file_atomically(dir.path() + "/measurements.json", measurements_json(run, settings.name + " claims"));
+    dir.finished("measurements.json");
     const Recommendation recommendation = recommend(candidates(run.rows), o->target);
-    write_recommendation(o->out, recommendation);
-    write_claims(o->out, claims.data(run.rows), settings, recommendation);
+    write_recommendation(dir.path(), recommendation);
+    write_claims(dir.path(), claims.data(run.rows), settings, recommendation);
+    dir.complete();
     return 0;
   };
 }

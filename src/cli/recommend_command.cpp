@@ -6,10 +6,12 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
+#include "cli/run_directory.hpp"
 #include "cli/suite_command.hpp"
 #include "heightmarch/error.hpp"
 #include "heightmarch/run_outputs.hpp"
@@ -158,19 +160,21 @@ Command add_recommend_command(CLI::App& app) {
   command->add_option("measurements", o->measurements, "a run's measurements.json, or its directory")
       ->required();
   add_target_options(*command, o->target);
-  command->add_option("--out", o->out, "directory to write recommendation.json into");
+  command->add_option("--out", o->out,
+                      "directory to write recommendation.json into (the run's own, to add or replace its "
+                      "recommendation, or any other)");
   command->add_flag("--json", o->json, "print recommendation.json instead of the summary");
   return [o] {
     validate(o->target);
-    prepare_out_directory(o->out);
+    std::optional<RunDirectory> out;  // checked and locked before the run is read
+    if (!o->out.empty()) out.emplace(o->out, RunDirectory::Existing::beside);
     std::string path = o->measurements;
     if (std::filesystem::is_directory(path)) path += "/measurements.json";
     const Recommendation recommendation = recommend(read_candidates(path), o->target);
     if (recommendation.backends.empty())
       throw InputError(
           path + ": no timed technique rows of the technique x layers grid or the claims to recommend from");
-    if (!o->out.empty())
-      write_file_atomically(o->out + "/recommendation.json", recommendation_json(recommendation));
+    if (out) write_file_atomically(out->path() + "/recommendation.json", recommendation_json(recommendation));
     std::printf(
         "%s", (o->json ? recommendation_json(recommendation) : recommendation_text(recommendation)).c_str());
     return 0;

@@ -5,7 +5,10 @@
 #include "cli/suite_command.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 
@@ -31,7 +34,7 @@ struct SuiteOptions {
   PlanOptions plan;
   CandidateOptions candidates;
   RecommendationTarget target;
-  std::string out;
+  OutOptions out;
   bool no_glsl = false;
   bool record = false;
   bool dry_run = false;
@@ -130,10 +133,12 @@ std::string gallery_stem(const Configuration& c) {
   return "gallery/" + c.heightfield.label() + "-" + what;
 }
 
-// The render, error map and cost map of a gallery row, as PNGs beside each other in gallery/.
+// The render, error map and cost map of a gallery row, as PNGs beside each other in gallery/,
+// written into a fresh directory of its own (mkdtemp: nothing planted there is written through).
 void write_gallery_images(const std::string& dir, const TracedRow& traced) {
-  const std::string tmp = dir + "/" + gallery_stem(traced.row.config) + ".tmp";
   const std::string stem = dir + "/" + gallery_stem(traced.row.config);
+  std::string tmp = stem + ".tmp-XXXXXX";
+  if (!::mkdtemp(tmp.data())) throw std::runtime_error(stem + ": cannot write (" + std::strerror(errno) + ")");
   try {
     write_run_outputs(tmp, traced);
     fs::rename(tmp + "/render.png", stem + "-render.png");
@@ -153,7 +158,7 @@ Command add_suite_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand("suite", "the main job: the measured plan, gallery, claims and report into results/");
   auto o = std::make_shared<SuiteOptions>();
   add_plan_options(*command, o->plan, "a smoke run of a minute or two: two heightfields, small views");
-  command->add_option("--out", o->out, "run directory (default: a fresh results/<date>-<commit>-<time>)");
+  add_out_options(*command, o->out, "run directory (default: a fresh results/<date>-<commit>-<time>)");
   command->add_flag("--no-glsl", o->no_glsl, "skip the GLSL (OSMesa) rows");
   command->add_flag("--record", o->record,
                     "with --quick: still point results/latest at the run and add it to results/history.csv");
@@ -182,9 +187,9 @@ Command add_suite_command(CLI::App& app) {
       return 0;
     }
     check_depth_map_files(plan);  // before the run directory exists
-    const bool default_out = o->out.empty();
+    const bool default_out = o->out.out.empty();
     const std::string run_name = fresh_run_name(o->plan.quick);
-    RunDirectory dir(default_out ? "results/" + run_name : o->out);
+    RunDirectory dir(default_out ? "results/" + run_name : o->out.out, o->out.existing());
     const bool record = default_out && (!o->plan.quick || o->record);
     Progress progress("suite");
     std::size_t timed = 0;

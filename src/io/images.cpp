@@ -1,42 +1,51 @@
 #include "io/images.hpp"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cmath>
-#include <filesystem>
+#include <cstdio>
+#include <cstring>
 #include <functional>
 #include <stdexcept>
+
+#include "io/atomic_file.hpp"
 
 namespace heightmarch {
 namespace {
 
-// OIIO chooses the writer by extension, so the temporary keeps it: "x.png" -> "x.tmp-PID.png".
+// The encoder writes through the atomic writer's temporary (OIIO's IOFile over its descriptor), so
+// it never opens a path itself; OIIO chooses it by the final name's extension.
 void write_image(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc type, const void* pixels) {
-  const std::filesystem::path final_path(path);
-  const std::string temporary = (final_path.parent_path() / (final_path.stem().string() + ".tmp-" +
-                                                               std::to_string(::getpid()) + final_path.extension().string()))
-                                    .string();
-  auto out = OIIO::ImageOutput::create(temporary);
-  if (!out || !out->open(temporary, spec) || !out->write_image(type, pixels) || !out->close()) {
-    std::string why = out ? out->geterror() : OIIO::geterror();
+  AtomicFile file(path);
+  const int fd = ::dup(file.descriptor());
+  std::FILE* stream = fd >= 0 ? ::fdopen(fd, "wb") : nullptr;
+  if (!stream) {
+    const int error = errno;
+    if (fd >= 0) ::close(fd);
+    throw std::runtime_error(path + ": cannot write (" + std::strerror(error) + ")");
+  }
+  std::string why;
+  {
+    OIIO::Filesystem::IOFile proxy(stream, OIIO::Filesystem::IOProxy::Write);
+    auto out = OIIO::ImageOutput::create(path);
+    if (!out || !out->set_ioproxy(&proxy) || !out->open(path, spec) || !out->write_image(type, pixels) || !out->close())
+      why = out ? out->geterror() : OIIO::geterror();
+  }
+  const bool write_failed = std::ferror(stream) != 0;
+  const int error = errno;
+  if (std::fclose(stream) != 0 && why.empty()) why = std::strerror(errno);
+  if (write_failed && why.empty()) why = std::strerror(error);
+  if (!why.empty()) {
     for (char& c : why)
       if (c == '\n') c = ' ';
-    out.reset();  // closes the file before it is removed
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw std::runtime_error(path + ": cannot write (" + why + ")");
+    throw std::runtime_error(path + ": cannot write (" + why + ")");  // the temporary goes with `file`
   }
-  out.reset();
-  std::error_code ec;
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) {
-    const std::string why = ec.message();
-    std::filesystem::remove(temporary, ec);
-    throw std::runtime_error(path + ": cannot write (" + why + ")");
-  }
+  file.commit();
 }
 
 using Colour = std::array<std::uint8_t, 3>;

@@ -11,6 +11,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kMinViewZ = 5e-7;  // V.z below this is a grazing ray: rejected
+constexpr float kMaxRayOrigin = 1e6f;  // |T.x|, |T.y|
 
 // The default camera: the near edge of the plane (v = 0) seen at the near angle from the normal
 // (30 degrees unless asked), the far edge (v = 1) at the far angle (80), on the centre line; eye
@@ -208,6 +209,18 @@ RayBatch make_view_rays(const ViewSpec& view) {
   return batch;
 }
 
+void check_rays(const RayBatch& rays) {
+  const std::size_t n = rays.tx.size();
+  if (rays.ty.size() != n || rays.vx.size() != n || rays.vy.size() != n || rays.vz.size() != n)
+    throw InputError("a ray batch whose arrays differ in length");
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool finite = std::isfinite(rays.tx[i]) && std::isfinite(rays.ty[i]) && std::isfinite(rays.vx[i]) &&
+                        std::isfinite(rays.vy[i]) && std::isfinite(rays.vz[i]);
+    if (!finite || std::fabs(rays.tx[i]) > kMaxRayOrigin || std::fabs(rays.ty[i]) > kMaxRayOrigin || !(rays.vz[i] > 0.0f))
+      throw InputError("ray " + std::to_string(i + 1) + " of the batch: not finite, |T| beyond 1e6 or V.z <= 0");
+  }
+}
+
 RayBatch make_ray_list(const std::vector<float>& tx, const std::vector<float>& ty,
                        const std::vector<float>& vx, const std::vector<float>& vy,
                        const std::vector<float>& vz, int tile_size) {
@@ -233,7 +246,7 @@ RayBatch make_ray_list(const std::vector<float>& tx, const std::vector<float>& t
       throw InputError(ray() + ": V.z = " + value +
                        " after normalisation, must be >= 5e-7 (a ray from below or grazing the plane)");
     }
-    if (std::fabs(tx[i]) > 1e6f || std::fabs(ty[i]) > 1e6f) throw InputError(ray() + ": |T| beyond 1e6");
+    if (std::fabs(tx[i]) > kMaxRayOrigin || std::fabs(ty[i]) > kMaxRayOrigin) throw InputError(ray() + ": |T| beyond 1e6");
     builder.add({true, tx[i], ty[i], float(vx[i] / len), float(vy[i] / len), z}, std::uint32_t(i));
     if ((i + 1) % per_tile == 0) builder.end_tile();
   }
