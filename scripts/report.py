@@ -6,8 +6,9 @@ Usage: scripts/report.py RUN_DIR [--history results/history.csv]
 Inputs: measurements.json (the run's typed rows, docs/measurements.md) and, optionally,
 claims.json. Every speed is the median of the repetitions with their min-max; every ratio of two
 rows is taken per round (rounds are interleaved, so round i of two rows forms a pair) and shown as
-the median of the per-round ratios with their min-max. With --history, one row per timed row is
-appended to the history CSV and the headline configuration is plotted over the recorded runs.
+the median of the per-round ratios with their min-max. With --history, the run is recorded
+(scripts/record_run.py: the history CSV, RUN_DIR/alerts.json, the history plot); a run's
+alerts.json opens the report.
 """
 import argparse
 import math
@@ -22,7 +23,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import FuncFormatter  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-import history  # noqa: E402
+import alerts  # noqa: E402
+import record_run  # noqa: E402
 from benchmark_results import Unusable, atomic_write, per_round, read_json, relative_spread, spread  # noqa: E402
 
 # The configuration that every backend runs (ISA sweep, naive port, roofline, thread scaling) and
@@ -781,7 +783,9 @@ def main():
     args = parser.parse_args()
     try:
         run, claims = load_run(args.run_dir)
-        history_drawn = history.record(args.run_dir, args.history) if args.history else None
+        history_drawn = record_run.record(args.run_dir, args.history)[0] if args.history else None
+        alerts_path = os.path.join(args.run_dir, "alerts.json")
+        found_alerts = read_json(alerts_path) if os.path.exists(alerts_path) else None
         faults = []
         # sections first: the warnings at the top name the faults they find
         summary = section_summary(run, claims)
@@ -795,7 +799,7 @@ def main():
           "against the exact ray/heightfield intersection. Speeds: median (min-max) of the repetitions; ratios: median "
           "(min-max) of the per-round ratios. What every measure means: [docs/measures.md](../../docs/measures.md); "
           "how to reproduce: [docs/reproducing.md](../../docs/reproducing.md).", ""]
-    md += summary + section_warnings(run, faults) + [""] + section_machine(run) + sections
+    md += (["## Alerts", ""] + alerts.markdown(found_alerts) + [""] if found_alerts else []) + summary + section_warnings(run, faults) + [""] + section_machine(run) + sections
     atomic_write(os.path.join(args.run_dir, "report.md"), "\n".join(md) + "\n")
     print("report: %s" % os.path.join(args.run_dir, "report.md"))
     return 0

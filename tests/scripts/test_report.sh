@@ -4,8 +4,9 @@
 # and ratios show their spread as `x (a-b)`, a planted roofline fraction above 100% is a fault and
 # not a result, a busy run says so at the top, every plot is drawn and no wider than 1600 px, a
 # gallery cost image is shown beside the error image, the POM table shows the compute ceiling's
-# fraction and the ratios to llvmpipe and the auto-vectorised port, --history appends rows with the new columns
-# (replacing a rerun's), and a missing measurements.json is a one-line error with exit status 2.
+# fraction and the ratios to llvmpipe and the auto-vectorised port, --history appends rows with the machine's
+# columns (replacing a rerun's) and the report opens with the alerts, and a missing measurements.json is a
+# one-line error with exit status 2.
 # Usage: test_report.sh [BUILD_DIR]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -92,7 +93,7 @@ for png in error_vs_layers error_vs_angle error_vs_speed isa_speedup history; do
 done
 echo "ok: report.md (0644) and its plots, at most 1600 px wide"
 
-[ "$(grep -m1 '^## ' "$report")" = "## Summary" ] || fail "the first section is not the summary: $(grep -m1 '^## ' "$report")"
+[ "$(grep '^## ' "$report" | sed -n 2p)" = "## Summary" ] || fail "the summary does not follow the alerts: $(grep '^## ' "$report" | head -2)"
 summary="$(sed -n '/^## Summary/,/^## /p' "$report")"
 grep -q '| bricks | \*\*pom 32\*\*: 10.0 samples/ray, 40.0 (39.0-42.0) Mrays/s, p95 1.000 | \*\*pom 64\*\*: 20.0 samples/ray, 30.0 (29.0-32.0) Mrays/s, p95 0.200 | none (best: pom 64, p95 0.200) |' \
   <<< "$summary" || fail "the summary's cheapest configurations per error target"
@@ -130,16 +131,18 @@ grep -q 'other processes used 25% of the CPU time' "$report" || fail "the busy w
   || fail "the busy warning is not at the top"
 echo "ok: a busy run says so at the top"
 
-columns='date,commit,cpu,backend,threads,heightfield,technique,layers,view,depth_map,rays_per_second_median,rays_per_second_min,rays_per_second_max'
+columns='date,commit,machine,cpu,cores,best_isa,compiler,build_type,backend,threads,heightfield,technique,layers,view,depth_map,rays_per_second_median,rays_per_second_min,rays_per_second_max,samples_per_ray,uv_error_mean,uv_error_p95,wrong_surface_rate'
 [ "$(head -1 "$tmp/history.csv")" = "$columns" ] || fail "history columns: $(head -1 "$tmp/history.csv")"
 [ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 12 ] || fail "history rows: expected one per timed row (12)"
-grep -q '^2026-01-01T00:00:00Z,abc123,Test CPU,avx2-autovec,1,bricks,pom,32,' "$tmp/history.csv" \
+grep -q '^2026-01-01T00:00:00Z,abc123,unknown-test-cpu-2c-avx2-gnu-12-release,Test CPU,2,avx2,GNU 12,Release,avx2-autovec,1,bricks,pom,32,' "$tmp/history.csv" \
   || fail "the auto-vectorised port's history row is not told apart from avx2's"
-grep -q '^2026-01-01T00:00:00Z,abc123,Test CPU,avx2,2,bricks,pom,32,default 64x64,32x32,4e+07,3.9e+07,4.2e+07$' "$tmp/history.csv" \
+grep -q '^2026-01-01T00:00:00Z,abc123,unknown-test-cpu-2c-avx2-gnu-12-release,Test CPU,2,avx2,GNU 12,Release,avx2,2,bricks,pom,32,default 64x64,32x32,4e+07,3.9e+07,4.2e+07,10,0.5,1,0.1$' "$tmp/history.csv" \
   || fail "history row of POM-32 at avx2"
 "$root/scripts/report.py" "$tmp/run" --history "$tmp/history.csv" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "rerun failed"; }
 [ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 12 ] || fail "a rerun of the same date and commit was appended, not replaced"
-echo "ok: --history appends one row per timed row with the new columns"
+[ "$(grep -m1 '^## ' "$report")" = "## Alerts" ] && grep -q '^\*\*No change beyond noise\*\* in 0 series' "$report" \
+  || fail "a recorded run's report does not open with its alerts"
+echo "ok: --history appends one row per timed row with the machine's columns; the report opens with the alerts"
 
 rm "$tmp/run/measurements.json"
 status=0
