@@ -18,6 +18,14 @@ def welch_greater(new, old):
     return float(stats.t.sf(diff / math.sqrt(se2), df))
 
 
+def signed_rank_below_zero(values):
+    """p of Wilcoxon's signed-rank test that values (paired differences) lie below 0; 1 for fewer
+    than 2 values or all zero."""
+    if len(values) < 2 or not any(values):
+        return 1.0
+    return float(stats.wilcoxon(values, alternative="less").pvalue)
+
+
 def rank_greater(group, rest):
     """p of the Mann-Whitney U test that the values of group lie above those of rest."""
     return float(stats.mannwhitneyu(group, rest, alternative="greater").pvalue)

@@ -3,6 +3,7 @@ separate worktree, both binaries run in alternating rounds, and per benchmark th
 ratios NEW/OLD of rays/s judged. scripts/regress, scripts/bisect and scripts/calibrate_regress use it.
 """
 import argparse
+import math
 import os
 import re
 import shutil
@@ -11,11 +12,12 @@ import sys
 import tempfile
 
 from benchmark_results import Unusable, canonical, load_benchmarks, seconds, spread
+from significance import bh_adjusted, signed_rank_below_zero
 
 MAX_ROUNDS = 1000
 DEFAULT_FILTER = "BM_Trace/heightfield:bricks/technique:(pom|relief|steep)/layers:32/isa:(scalar|avx2|avx512)/threads:1/"
 DEFAULT_FLAGS = ["--hm_size=512", "--hm_heightfields=bricks", "--hm_min_time=0.1"]
-DEFAULT_ROUNDS, DEFAULT_THRESHOLD = 5, 0.05
+DEFAULT_ROUNDS, DEFAULT_THRESHOLD, DEFAULT_FDR = 5, 0.05, 0.05
 
 
 class Parser(argparse.ArgumentParser):
@@ -31,6 +33,8 @@ def detector_options(parser):
     parser.add_argument("--filter", default=DEFAULT_FILTER, help="benchmark regular expression")
     parser.add_argument("--threshold", type=float, default=DEFAULT_THRESHOLD,
                         help="slow-down that counts (default %g)" % DEFAULT_THRESHOLD)
+    parser.add_argument("--fdr", type=float, default=DEFAULT_FDR,
+                        help="Benjamini-Hochberg level over the benchmarks (default %g)" % DEFAULT_FDR)
 
 
 def parse(parser, argv):
@@ -40,8 +44,9 @@ def parse(parser, argv):
     args.flags = ["--benchmark_filter=" + args.filter] + DEFAULT_FLAGS + extra
     if not 1 <= args.runs <= MAX_ROUNDS:
         raise Unusable("--runs %d is not in 1..%d" % (args.runs, MAX_ROUNDS))
-    if not 0 < args.threshold < 1:
-        raise Unusable("--threshold %g is not in (0, 1)" % args.threshold)
+    for option, value in (("--threshold", args.threshold), ("--fdr", args.fdr)):
+        if not 0 < value < 1:
+            raise Unusable("%s %g is not in (0, 1)" % (option, value))
     check_filter(args.filter)
     return args
 
@@ -150,15 +155,31 @@ def interleaved_rounds(sides, rounds, work, progress=sys.stderr):
     return out
 
 
-def round_ratios(rounds, pairs, clock="cpu_time"):
-    """Per pair (new name, old name): the per-round speed ratios NEW/OLD, from each side's fastest
-    repetition of the round on the clock. Rounds where either side lacks the benchmark are skipped."""
-    ratios = {}
-    for r in rounds:
-        for new, old in pairs:
-            if new in r["new"] and old in r["old"]:
-                ratios.setdefault((new, old), []).append(min(r["old"][old][clock]) / min(r["new"][new][clock]))
-    return ratios
+def clock(name):
+    """The clock a benchmark is judged on: CPU time at 1 thread, where waiting for a core shared
+    with other processes does not count (heightmarch-bench runs a 1-thread trace on its main
+    thread, so revisions that measured the thread's CPU time measured the same); wall time
+    otherwise, since a slower parallel trace may spend no more CPU time."""
+    return "cpu_time" if "/threads:1/" in name + "/" else "real_time"
+
+
+def judge(rounds, pairs, threshold, fdr):
+    """[(pair, speed NEW/OLD, q-value, (median, min, max) of the per-round ratios, regressed)].
+    Per round, each side's fastest repetition on the pair's clock: on this shared VM a 1-thread
+    trace's CPU time has two modes (its core to itself; sharing it with the host or a sibling
+    thread, ~40% more) whose mix changes from moment to moment, and the fastest of a round's
+    repetitions is the trace's own cost. The per-round ratios of those are paired by round (both
+    sides ran within seconds of each other); the speed is their median, Wilcoxon's signed-rank
+    test says whether they lie below 1 (robust to the rounds where one side never had its core to
+    itself), Benjamini-Hochberg over the pairs at level fdr keeps the chance of any false flag at
+    most fdr; a regression is significant and slower by more than threshold."""
+    measured = []
+    for new, old in pairs:
+        c = clock(new)
+        ratios = [min(r["old"][old][c]) / min(r["new"][new][c]) for r in rounds if old in r["old"] and new in r["new"]]
+        measured.append(((new, old), spread(ratios), signed_rank_below_zero([math.log(x) for x in ratios])))
+    q = bh_adjusted([p for _, _, p in measured])
+    return [(pair, s[0], qvalue, s, qvalue <= fdr and s[0] < 1 - threshold) for (pair, s, _), qvalue in zip(measured, q)]
 
 
 def shared_pairs(rounds):
@@ -167,18 +188,11 @@ def shared_pairs(rounds):
 
 
 def verdict_lines(verdicts):
-    """The table regress and bisect print: per benchmark the median NEW/OLD ratio and its spread."""
-    lines = ["%-95s %7s %15s" % ("benchmark (rays/s NEW/OLD)", "median", "spread")]
-    for (name, _), s, regressed in verdicts:
-        lines.append("%-95s %7.3f %7.3f..%.3f %s" % (name[:95], s[0], s[1], s[2], "REGRESSION" if regressed else ""))
+    """The table regress and bisect print: per benchmark the speed ratio NEW/OLD, its q-value and the
+    spread of the per-round ratios."""
+    lines = ["%-90s %7s %8s %17s" % ("benchmark (speed NEW/OLD: median of the per-round ratios)", "speed", "q-value",
+                                     "(min-max)")]
+    for (name, _), speed, q, s, regressed in verdicts:
+        lines.append("%-90s %7.3f %8.4f   (%.3f-%.3f) %s" % (name[:90], speed, q, s[1], s[2],
+                                                             "REGRESSION" if regressed else ""))
     return lines
-
-
-def judge(ratios, threshold):
-    """[(pair, (median, min, max) of the ratios, regressed)]: a regression is a median below
-    1 - threshold with the whole spread below 1."""
-    out = []
-    for pair in sorted(ratios):
-        s = spread(ratios[pair])
-        out.append((pair, s, s[0] < 1 - threshold and s[2] < 1))
-    return out
