@@ -1,11 +1,13 @@
 #pragma once
 // Helpers shared by the tests: deterministic random rays, small scenes, running the CLI.
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <sys/wait.h>
@@ -39,6 +41,26 @@ inline std::vector<Technique> all_technique_ids() {
   return ids;
 }
 inline std::vector<Isa> packet_isas() { return {all_isas().begin() + 1, all_isas().end()}; }
+// The technique's parameters at every layer spec the kernel tests cover x both wrap modes, each
+// with a label for SCOPED_TRACE.
+inline std::vector<std::pair<std::string, TechniqueParams>> layer_specs_and_wraps(Technique technique) {
+  std::vector<std::pair<std::string, TechniqueParams>> cases;
+  for (const char* layers : {"4", "10", "32", "8-32"})
+    for (Wrap wrap : {Wrap::repeat, Wrap::clamp}) {
+      TechniqueParams params;
+      params.technique = technique;
+      params.layers = parse_layer_spec(layers);
+      params.wrap = wrap;
+      cases.emplace_back(std::string("layers ") + layers + (wrap == Wrap::repeat ? ", repeat" : ", clamp"), params);
+    }
+  return cases;
+}
+// A parameterised test's name from a registry name: "parallax-limited" -> "parallax_limited".
+inline std::string test_name(std::string name) {
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return name;
+}
 
 // n rays with T in [0,1]^2 and view angles up to max_theta degrees, any azimuth.
 inline RayBatch random_rays(std::size_t n, double max_theta_degrees, std::uint64_t seed) {
@@ -75,8 +97,10 @@ inline CliResult run_command(const std::string& command_line) {
   return result;
 }
 
+#ifdef HEIGHTMARCH_CLI  // not in a build of the tracing core alone (HEIGHTMARCH_TRACE_ONLY)
 // Runs build/heightmarch with the arguments (a shell string), capturing its output.
 inline CliResult run_cli(const std::string& arguments) { return run_command(std::string(HEIGHTMARCH_CLI) + " " + arguments); }
+#endif
 
 // A fresh empty directory under the system temp directory, unique to this process.
 inline std::string temp_dir(const std::string& name) {

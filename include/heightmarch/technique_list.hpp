@@ -5,7 +5,8 @@
 //
 // Adding a technique takes three files: its row here, its kernel header in
 // src/kernels/techniques/ (every header there is compiled into every ISA's kernel table; it
-// specialises TechniqueKernel for the new id) and its GLSL function in src/glsl/techniques.glsl.
+// specialises TechniqueKernel for the new id) and its GLSL function in src/glsl/techniques.glsl;
+// two for one made of existing steps, whose GLSL call composes them (softShadow(cone(T, V))).
 //
 // X(id, CLI name, layered, refine, needs, writes, search, shape, GLSL call, plot colour, plot
 //   marker, description)
@@ -46,4 +47,4 @@
     "maxmip(T, V)", "#8c564b", "h",                                                                   \
     "maximum mipmaps: walk down and up the min-depth pyramid, solve each reached cell exactly")       \
   X(shadow, "shadow", true, 5, Needs::nothing, Writes::hit_and_shadow, false, KernelShape::march,    \
-    "shadow(T, V)", "#9467bd", "*", "POM's hit, then the tutorial's soft self-shadow factor towards the light")
+    "softShadow(pom(T, V))", "#9467bd", "*", "POM's hit, then the tutorial's soft self-shadow factor towards the light")

@@ -46,9 +46,9 @@ vec4 pom(vec2 T, vec3 V) {
   return vec4(uv, depth, 1.0);
 }
 
-// shadow.hpp: the "Parallax Occlusion Mapping in GLSL" tutorial's parallaxSoftShadowMultiplier from the POM hit, as the tutorial has it.
-vec4 shadow(vec2 T, vec3 V) {
-  vec4 hit = pom(T, V);
+// shadow.hpp: the "Parallax Occlusion Mapping in GLSL" tutorial's parallaxSoftShadowMultiplier from
+// a hit (the shadow technique's is POM's), as the tutorial has it, into hit.w.
+vec4 softShadow(vec4 hit) {
   vec3 L = lightDirection;
   if (!(L.z > 0.0)) return hit;
   float numLayers = layerCount(L.z);

@@ -22,9 +22,10 @@ template <> struct vint<1> {
   std::int32_t i;
   vint() = default;
   vint(std::int32_t x) : i(x) {}
-  friend vint operator+(vint a, vint c) { return {a.i + c.i}; }
-  friend vint operator-(vint a, vint c) { return {a.i - c.i}; }
-  friend vint operator*(vint a, vint c) { return {a.i * c.i}; }
+  // Wrapping modulo 2^32 as the SIMD widths do, not signed overflow (undefined behaviour).
+  friend vint operator+(vint a, vint c) { return {std::int32_t(std::uint32_t(a.i) + std::uint32_t(c.i))}; }
+  friend vint operator-(vint a, vint c) { return {std::int32_t(std::uint32_t(a.i) - std::uint32_t(c.i))}; }
+  friend vint operator*(vint a, vint c) { return {std::int32_t(std::uint32_t(a.i) * std::uint32_t(c.i))}; }
   friend vint operator&(vint a, vint c) { return {a.i & c.i}; }
   friend vbool<1> operator<(vint a, vint c) { return {a.i < c.i}; }
   friend vint min(vint a, vint c) { return {a.i < c.i ? a.i : c.i}; }

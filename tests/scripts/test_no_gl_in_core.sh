@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Only heightmarch-glsl-worker links OSMesa (and so libLLVM): the CLI and the test binary start
-# without them and reach GLSL through the worker. Usage: test_no_gl_in_core.sh BUILD_DIR
+# without them and reach GLSL through the worker; and heightmarch::core configures without
+# OSMesa (HEIGHTMARCH_GLSL=OFF) where pkg-config cannot find it. Usage: test_no_gl_in_core.sh BUILD_DIR
 set -euo pipefail
+root="$(cd "$(dirname "$0")/../.." && pwd)"
 build="${1:?usage: $0 BUILD_DIR}"
 status=0
 for binary in heightmarch heightmarch-tests; do
@@ -27,5 +29,24 @@ if grep -i -E 'osmesa|llvm' <<<"$loaded"; then
   status=1
 else
   echo "ok: heightmarch --help loads neither at run time"
+fi
+
+# A pkg-config that knows no osmesa: the core must configure with it, the GLSL backend must not
+# (or the check proves nothing). Configure only: what links is shown above.
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+printf '#!/bin/sh\ncase "$*" in *osmesa*) exit 1 ;; esac\nexec pkg-config "$@"\n' > "$tmp/pkg-config"
+chmod +x "$tmp/pkg-config"
+if PKG_CONFIG="$tmp/pkg-config" cmake -S "$root" -B "$tmp/core" -DHEIGHTMARCH_GLSL=OFF > "$tmp/core.log" 2>&1 &&
+   ! grep -rqi osmesa "$tmp/core/CMakeFiles" --include='*.make' --include='*.txt'; then
+  echo "ok: heightmarch::core configures without OSMesa (HEIGHTMARCH_GLSL=OFF), and no target links it"
+else
+  cat "$tmp/core.log"
+  echo "FAIL: heightmarch::core does not configure without OSMesa"
+  status=1
+fi
+if PKG_CONFIG="$tmp/pkg-config" cmake -S "$root" -B "$tmp/gl" > "$tmp/gl.log" 2>&1; then
+  echo "FAIL: the GLSL backend configured without OSMesa (is the check itself broken?)"
+  status=1
 fi
 exit $status

@@ -7,13 +7,14 @@
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
+// The tutorial's soft shadow factor towards the light from a hit (its uv and depth, and its
+// samples go on counting) into hit.shadow: any technique's hit can be shadowed by it.
 template <int W, Addressing ADDRESSING>
-HitPacket<W> shadow(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
+void soft_shadow(KernelContext<W, ADDRESSING>& k, HitPacket<W>& hit) {
   using F = vfloat<W>;
   using B = vbool<W>;
-  HitPacket<W> hit = pom(k, ray);
   const float* light = k.params.light;
-  if (!(light[2] > 0.0f)) return hit;  // the tutorial's factor 1 for a light below the plane
+  if (!(light[2] > 0.0f)) return;  // the tutorial's factor 1 for a light below the plane
   const F num_layers = k.layer_count(F(light[2]));
   const F layer_height = hit.depth / num_layers;
   const F tex_step_u = F(k.params.scale) * F(light[0]) / F(light[2]) / num_layers;
@@ -40,6 +41,12 @@ HitPacket<W> shadow(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
     active = active & (current_layer_height > F(0.0f)) & (vint<W>(step_index) < bound);
   }
   hit.shadow = select(under_surface, F(1.0f) - shadow_multiplier, F(1.0f));
+}
+
+template <int W, Addressing ADDRESSING>
+HitPacket<W> shadow(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
+  HitPacket<W> hit = pom(k, ray);
+  soft_shadow(k, hit);
   return hit;
 }
 
