@@ -42,3 +42,11 @@ def bh_adjusted(pvalues):
         running = min(running, pvalues[i] * m / rank)
         q[i] = running
     return q
+
+
+def proportion_interval(successes, n, level=0.95):
+    """Clopper-Pearson interval of a rate measured as successes out of n trials: (low, high)."""
+    tail = (1 - level) / 2
+    low = float(stats.beta.ppf(tail, successes, n - successes + 1)) if successes > 0 else 0.0
+    high = float(stats.beta.ppf(1 - tail, successes + 1, n - successes)) if successes < n else 1.0
+    return low, high
