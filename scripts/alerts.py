@@ -26,7 +26,6 @@ MIN_CHANGE = 0.10
 SPREADS = 3.0
 MAD_TO_SIGMA = 1.4826
 REL_TOL = 1e-6  # measures are printed with 9 digits
-SHOWN = 20  # alerts listed in a report; alerts.json has them all
 CSV_COLUMNS = ["date", "commit", "machine", "series", "kind", "metric", "baseline", "baseline_spread", "new", "change",
                "message"]
 RULE = ("speed: the fastest repetition's rays/s of each headline series against the median of its last %d "
@@ -117,16 +116,3 @@ def record(data, rows, new, run_dir, csv_path):
               **{k: ("%.6g" % a[k] if isinstance(a[k], float) else a[k]) for k in CSV_COLUMNS[3:]}} for a in found["alerts"]]
     history.write(csv_path, kept, CSV_COLUMNS)
     return found
-
-
-def markdown(found):
-    """The lines that open a report: the alerts, or that nothing changed beyond noise."""
-    if not found["alerts"]:
-        return ["**No change beyond noise** in %d series of this machine (%s) against its earlier runs." % (
-            found["series_tested"], found["machine"])]
-    lines = ["**%d alert(s)** against this machine's earlier runs (%s; %d series tested):" % (
-        len(found["alerts"]), found["machine"], found["series_tested"]), ""]
-    lines += ["- **%s**: %s" % (a["kind"], a["message"]) for a in found["alerts"][:SHOWN]]
-    if len(found["alerts"]) > SHOWN:
-        lines.append("- ... and %d more in alerts.json" % (len(found["alerts"]) - SHOWN))
-    return lines

@@ -9,24 +9,20 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import FuncFormatter  # noqa: E402
 
 import history  # noqa: E402
+from measurements import HEADLINE_LAYERS, HEADLINE_TECHNIQUE, backend_colours  # noqa: E402
+from report_plots import MAX_PLOT_PIXELS  # noqa: E402
 
-HEADLINE_TECHNIQUE, HEADLINE_LAYERS = "pom", "32"
-# One colour per base backend; an auto-vectorised port takes its ISA's colour with a dashed line
-# and a hollow marker, so no two lines share a look however many backends there are.
-PALETTE = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22",
-           "#17becf"]
 MARKERS = "osD^vP*Xh<>"
-MAX_PLOT_PIXELS = 1600  # widest plot, so a page shows it whole
 MAX_WIDTH_INCHES = 16.0
 
 
-def style(name, bases):
-    """Colour, marker and line of a backend: its base's colour and marker; dashed and hollow when autovec."""
+def style(name, bases, colours):
+    """Colour, marker and line of a backend: the report's colour of it (an ISA's auto-vectorised port
+    the light shade of its ISA's), its base's marker, dashed and hollow when autovec."""
     base = name[:-len("-autovec")] if name.endswith("-autovec") else name
-    k = bases.index(base)
     autovec = base != name
-    return {"color": PALETTE[k % len(PALETTE)], "marker": MARKERS[k % len(MARKERS)],
-            "linestyle": "--" if autovec else "-", "markerfacecolor": "none" if autovec else PALETTE[k % len(PALETTE)]}
+    return {"color": colours[name], "marker": MARKERS[bases.index(base) % len(MARKERS)],
+            "linestyle": "--" if autovec else "-", "markerfacecolor": "none" if autovec else colours[name]}
 
 
 def plain_log_label(value, _):
@@ -48,6 +44,7 @@ def draw(data, rows, path):
     machines = list(dict.fromkeys(r["machine"] for r in sorted(picked, key=lambda r: r["date"])))
     runs = {m: sorted({(r["date"], r["commit"]) for r in picked if r["machine"] == m}) for m in machines}
     bases = list(dict.fromkeys(list(data["backends"]) + [r["backend"].replace("-autovec", "") for r in picked]))
+    colours = backend_colours(bases + sorted({r["backend"] for r in picked} - set(bases)))
     total = sum(len(v) for v in runs.values())
     width = min(MAX_WIDTH_INCHES, max(7.0, 0.8 * total + 2.2 * len(machines)))
     fig, axes = plt.subplots(1, len(machines), figsize=(width, 4.8), sharey=True, squeeze=False,
@@ -59,7 +56,7 @@ def draw(data, rows, path):
                 "rays_per_second_median", "rays_per_second_min", "rays_per_second_max")]) for r in mine if r["backend"] == name)
             ax.errorbar([x for x, _ in pts], [v[0] for _, v in pts],
                         yerr=[[v[0] - v[1] for _, v in pts], [v[2] - v[0] for _, v in pts]],
-                        markersize=4, capsize=3, label=name, **style(name, bases))
+                        markersize=4, capsize=3, label=name, **style(name, bases, colours))
         ax.set_xticks(range(len(runs[machine])))
         ax.set_xticklabels(["%s\n%s" % (d[5:16].replace("T", " "), c[:7]) for d, c in runs[machine]], fontsize=6)
         ax.set_xlim(-0.5, max(len(runs[machine]), 2) - 0.5)

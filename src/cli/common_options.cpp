@@ -27,7 +27,10 @@ void add_trace_options(CLI::App& app, TraceOptions& o, bool exact_allowed) {
       ->check(CLI::IsMember({"depth", "height"}))->capture_default_str();
   app.add_option("--channel", o.channel, "the depth map file's channel holding the depth: an index from 0, or r, g, b, a "
                  "(default: the first)");
-  app.add_option("--view", o.view, "default, or sweep:THETA[,PHI] in degrees")->capture_default_str();
+  app.add_option("--view", o.view,
+                 "default, default:NEAR-FAR (the span of view angles, degrees; default 30-80), or "
+                 "sweep:THETA[,PHI] in degrees")
+      ->capture_default_str();
   app.add_option("--size", o.size, "view size WxH in pixels")->capture_default_str();
   app.add_option("--rays", o.rays, "CSV file of rays (tx,ty,vx,vy,vz; V towards the eye) instead of a view")
       ->excludes(app.get_option("--view"))->excludes(app.get_option("--size"));

@@ -20,7 +20,8 @@ int main(int argc, char** argv) {
                                         provenance().build_type + ")");
   app.require_subcommand(1);
   std::map<const CLI::App*, cli::Command> commands;
-  for (auto add : {cli::add_trace_command, cli::add_suite_command, cli::add_claims_command, cli::add_glsl_command}) {
+  for (auto add : {cli::add_trace_command, cli::add_suite_command, cli::add_claims_command,
+                   cli::add_recommend_command, cli::add_glsl_command}) {
     cli::Command run = add(app);
     commands[app.get_subcommands({}).back()] = std::move(run);
   }
@@ -28,7 +29,9 @@ int main(int argc, char** argv) {
   const bool known = argc >= 2 && std::any_of(subcommands.begin(), subcommands.end(),
                                               [&](const CLI::App* c) { return c->get_name() == argv[1]; });
   if (argc >= 2 && argv[1][0] != '-' && !known) {
-    std::fprintf(stderr, "heightmarch: unknown command '%s' (trace, glsl, suite, claims; see --help)\n", argv[1]);
+    std::fprintf(stderr,
+                 "heightmarch: unknown command '%s' (trace, glsl, suite, claims, recommend; see --help)\n",
+                 argv[1]);
     return 2;
   }
   try {
@@ -41,7 +44,8 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::string message = e.what();
-    if (message.empty() || argc < 2) message = "a command is required (trace, glsl, suite, claims; see --help)";
+    if (message.empty() || argc < 2)
+      message = "a command is required (trace, glsl, suite, claims, recommend; see --help)";
     std::fprintf(stderr, "heightmarch: %s\n", message.c_str());
     return 2;
   }
