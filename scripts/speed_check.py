@@ -17,7 +17,7 @@ from significance import bh_adjusted, signed_rank_below_zero
 MAX_ROUNDS = 1000
 DEFAULT_FILTER = "BM_Trace/heightfield:bricks/technique:(pom|relief|steep)/layers:32/isa:(scalar|avx2|avx512)/threads:1/"
 # Calibrated on this project's 2-core VM (docs/regression-tracking.md): 20 rounds of 10
-# repetitions find a 4% slow-down in ~95% of runs and flag ~3% of runs of 9 identical benchmarks.
+# repetitions find a 4-5% slow-down in ~95% of runs and flag ~6% of runs of 9 identical benchmarks.
 DEFAULT_ROUNDS, DEFAULT_THRESHOLD, DEFAULT_FDR = 20, 0.01, 0.05
 DEFAULT_MIN_TIME, DEFAULT_REPETITIONS = 0.01, 10  # per benchmark and round: many short repetitions
 
