@@ -239,6 +239,7 @@ int main(int argc, char** argv) {
     benchmark::RegisterBenchmark(benchmark_name(c, width, height).c_str(),
                                  [&c](benchmark::State& state) { run_benchmark(state, c); })
         ->UseManualTime()
+        ->MeasureProcessCPUTime()
         ->Unit(benchmark::kMillisecond);
   }
   if (out_path.empty()) {

@@ -7,8 +7,9 @@ Usage: scripts/report.py RUN_DIR [--history results/history.csv]
 Inputs: measurements.json (the run's typed rows, docs/measurements.md; format 1 or 2) and, where
 the run has them, claims.json, recommendation.json and alerts.json. Every speed is the median of
 the repetitions with their min-max; every ratio of two rows is taken per round and shown as the
-median of the per-round ratios with their min-max. With --history, one row per timed row is
-appended to the history CSV and the headline configuration is plotted over the recorded runs.
+median of the per-round ratios with their min-max. With --history, the run is recorded
+(scripts/record_run.py: its rows appended to the history CSV, RUN_DIR/alerts.json against its
+machine's earlier runs, the history plot); a run's alerts.json opens the report.
 """
 import argparse
 import math
@@ -18,6 +19,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
 import history  # noqa: E402
+import record_run  # noqa: E402
 import report_page  # noqa: E402
 from report_plots import plot_error_vs_angle, plot_error_vs_layers, plot_error_vs_speed, plot_isa_speedup  # noqa: E402
 from benchmark_results import Unusable, atomic_write, per_round, relative_spread, spread  # noqa: E402
@@ -484,7 +486,7 @@ def main():
         run = load_run(args.run_dir)
         claims = read_claims(os.path.join(args.run_dir, "claims.json"))
         recommendation = read_optional(os.path.join(args.run_dir, "recommendation.json"), "heightmarch-recommendation")
-        history_drawn = history.record(args.run_dir, args.history) if args.history else None
+        history_drawn = record_run.record(args.run_dir, args.history)[0] if args.history else None
         recorded = history.read(args.history) if args.history else None
         alerts = read_optional(os.path.join(args.run_dir, "alerts.json"), "heightmarch-alerts")
         faults = []  # the tables find them, the warnings on the first screen name them

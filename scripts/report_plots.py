@@ -1,7 +1,7 @@
 """The report's plots (RUN_DIR/plots/*.png), drawn with matplotlib from a run's rows: error against
 time per ray at the recommendation's backend, error against layers, error against view angle and
 the speed-up per ISA. Errors are drawn on a symlog axis, so an exact 0 is drawn at 0. The history
-plot is scripts/history.py's. scripts/report.py calls them.
+plot is scripts/history_plot.py's. scripts/report.py calls them.
 """
 import math
 import statistics

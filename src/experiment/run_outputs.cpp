@@ -399,6 +399,19 @@ std::string benchmark_json(const MeasuredPlan& run) {
     if (m.seconds.empty()) continue;
     const std::string name = benchmark_name(m.config, m.depth_map_width, m.depth_map_height) + "/manual_time";
     const std::vector<double> rays = m.rays_per_second(), samples = m.samples_per_second();
+    // One entry per repetition, then their median as Google Benchmark writes an aggregate, so that
+    // compare.py -a shows one line per benchmark.
+    auto times_and_counters = [&](double seconds, double rays_per_second, double samples_per_second) {
+      // Nanoseconds: compare.py prints times without decimals, and a trace takes 0.1 to 100 ms.
+      json.value("real_time", seconds * 1e9).value("cpu_time", seconds * 1e9).value("time_unit", "ns");
+      json.value("rays_per_second", rays_per_second);
+      if (m.samples_known)
+        json.value("samples_per_second", samples_per_second)
+            .value("samples_per_ray", m.rays ? double(m.samples) / double(m.rays) : 0.0);
+      if (m.config.kind == RunKind::trace) json.value("simd_utilization", m.simd_utilization);
+      if (m.errors)
+        for (const auto& [counter, value] : error_counters(*m.errors)) json.value(counter, value);
+    };
     for (std::size_t r = 0; r < m.seconds.size(); ++r) {
       json.begin_object()
           .value("name", name)
@@ -407,19 +420,22 @@ std::string benchmark_json(const MeasuredPlan& run) {
           .value("repetitions", m.seconds.size())
           .value("repetition_index", r)
           .value("threads", 1)
-          .value("iterations", 1)
-          .value("real_time", m.seconds[r] * 1e3)
-          .value("cpu_time", m.seconds[r] * 1e3)
-          .value("time_unit", "ms")
-          .value("rays_per_second", rays[r]);
-      if (m.samples_known)
-        json.value("samples_per_second", samples[r])
-            .value("samples_per_ray", m.rays ? double(m.samples) / double(m.rays) : 0.0);
-      if (m.config.kind == RunKind::trace) json.value("simd_utilization", m.simd_utilization);
-      if (m.errors)
-        for (const auto& [name, value] : error_counters(*m.errors)) json.value(name, value);
+          .value("iterations", 1);
+      times_and_counters(m.seconds[r], rays[r], m.samples_known ? samples[r] : 0.0);
       json.end_object();
     }
+    json.begin_object()
+        .value("name", name + "_median")
+        .value("run_name", name)
+        .value("run_type", "aggregate")
+        .value("repetitions", m.seconds.size())
+        .value("threads", 1)
+        .value("aggregate_name", "median")
+        .value("aggregate_unit", "time")
+        .value("iterations", m.seconds.size());
+    times_and_counters(spread_of(m.seconds).median, spread_of(rays).median,
+                       m.samples_known ? spread_of(samples).median : 0.0);
+    json.end_object();
   }
   json.end_array().end_object();
   return json.str() + "\n";

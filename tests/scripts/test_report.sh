@@ -8,7 +8,8 @@
 # drawn and no wider than 1600 px, zero errors read 0, a gallery cost image is shown beside the
 # error image, a '|' in a cell is escaped, the links to docs/ resolve from the run directory,
 # measurements.csv has a row per configuration with the measures' one names, report.html is one
-# file with Plotly inlined, --history appends rows (replacing a rerun's), a filtered run's headline
+# file with Plotly inlined, --history appends rows with the machine's columns (replacing a rerun's) and
+# writes alerts.json, a filtered run's headline
 # ratios keep only the columns it measured, a format 1
 # measurements.json still reads, and a missing measurements.json is a one-line error, status 2.
 # Usage: test_report.sh [BUILD_DIR]
@@ -107,12 +108,6 @@ data = {"format": "heightmarch-measurements", "format_version": 2,
 json.dump(data, open(os.path.join(run, "measurements.json"), "w"))
 PY
 
-# A recorded run's alerts (scripts' regression tracking writes alerts.json).
-cat > "$tmp/run/alerts.json" <<'JSON'
-{"format_version": 1, "machine": "test-machine", "series_tested": 7, "rule": "median beyond the last runs' spread",
- "alerts": [{"series": "BM_Trace/pom/32", "kind": "speed", "metric": "rays_per_second", "baseline": 40e6,
-             "baseline_spread": 1e6, "new": 30e6, "change": -0.25, "message": "POM-32 at avx2 25% slower"}]}
-JSON
 "$root/scripts/report.py" "$tmp/run" --history "$tmp/history.csv" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "report.py exited non-zero"; }
 report="$tmp/run/report.md"
 tables="$tmp/run/tables.md"
@@ -126,6 +121,26 @@ for png in error_vs_layers error_vs_angle error_vs_speed isa_speedup history; do
 done
 echo "ok: report.md (0644) and its plots, at most 1600 px wide"
 
+# Recording the run wrote its alerts.json (the agreed shape; its machine is unknown, a CPU without
+# family and model, so no series is tested), and the report opens with them.
+/usr/bin/python3 - "$tmp/run/alerts.json" <<'PY' || fail "the recorded run's alerts.json"
+import json, sys
+a = json.load(open(sys.argv[1]))
+assert sorted(a) == ["alerts", "format_version", "machine", "rule", "series_tested"], sorted(a)
+assert a["format_version"] == 1 and a["machine"] == "unknown-test-cpu-2c-avx2-gnu-12-release" and a["alerts"] == [], a
+assert a["series_tested"] == 0 and a["rule"], a
+PY
+[ "$(grep -m1 '^## ' "$report")" = "## Alerts" ] && grep -q 'No change beyond noise in 0 series' "$report" \
+  || fail "a recorded run's report does not open with its alerts"
+echo "ok: recording writes alerts.json; the report opens with it"
+
+# A run's alerts (as regression tracking writes them when a series moved) open the report.
+cat > "$tmp/run/alerts.json" <<'JSON'
+{"format_version": 1, "machine": "test-machine", "series_tested": 7, "rule": "median beyond the last runs' spread",
+ "alerts": [{"series": "BM_Trace/pom/32", "kind": "speed", "metric": "rays_per_second", "baseline": 40e6,
+             "baseline_spread": 1e6, "new": 30e6, "change": -0.25, "message": "POM-32 at avx2 25% slower"}]}
+JSON
+"$root/scripts/report.py" "$tmp/run" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "report.py exited non-zero"; }
 sections="$(grep '^## ' "$report" | head -5 | tr '\n' '/')"
 [ "$sections" = "## Alerts/## What to ship/## The claims: the tutorials' (C1-C10) and the papers' (P1-P3)/## Headline speed ratios/## Warnings/" ] \
   || fail "report.md's first sections: $sections"
@@ -215,16 +230,16 @@ grep -q 'plotly.js (basic - minified) v4.1.1' "$page" || fail "report.html does 
 grep -q '"technique":"maxmip"' "$page" || fail "report.html lacks the rows"
 echo "ok: report.html is one file: Plotly inlined, nothing loaded from elsewhere"
 
-columns='date,commit,cpu,backend,threads,heightfield,technique,layers,view,depth_map,rays_per_second_median,rays_per_second_min,rays_per_second_max'
+columns='date,commit,machine,cpu,cores,best_isa,compiler,build_type,backend,threads,heightfield,technique,layers,view,depth_map,rays_per_second_median,rays_per_second_min,rays_per_second_max,samples_per_ray,uv_error_mean,uv_error_p95,wrong_surface_rate'
 [ "$(head -1 "$tmp/history.csv")" = "$columns" ] || fail "history columns: $(head -1 "$tmp/history.csv")"
 [ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 13 ] || fail "history rows: expected one per timed row (13)"
-grep -q '^2026-01-01T00:00:00Z,abc123,Test CPU,avx2-autovec,1,bricks,pom,32,' "$tmp/history.csv" \
+grep -q '^2026-01-01T00:00:00Z,abc123,unknown-test-cpu-2c-avx2-gnu-12-release,Test CPU,2,avx2,GNU 12,Release,avx2-autovec,1,bricks,pom,32,' "$tmp/history.csv" \
   || fail "the auto-vectorised port's history row is not told apart from avx2's"
-grep -q '^2026-01-01T00:00:00Z,abc123,Test CPU,avx2,2,bricks,pom,32,default 64x64,32x32,4e+07,3.9e+07,4.2e+07$' "$tmp/history.csv" \
+grep -q '^2026-01-01T00:00:00Z,abc123,unknown-test-cpu-2c-avx2-gnu-12-release,Test CPU,2,avx2,GNU 12,Release,avx2,2,bricks,pom,32,default 64x64,32x32,4e+07,3.9e+07,4.2e+07,10,0.5,1,0.1$' "$tmp/history.csv" \
   || fail "history row of POM-32 at avx2"
 "$root/scripts/report.py" "$tmp/run" --history "$tmp/history.csv" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "rerun failed"; }
 [ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 13 ] || fail "a rerun of the same date and commit was appended, not replaced"
-echo "ok: --history appends one row per timed row with the new columns"
+echo "ok: --history appends one row per timed row with the machine's columns"
 
 # A filtered run (one ISA, no GLSL, no naive port) shows only the ratios it measured.
 /usr/bin/python3 - "$root/scripts" "$tmp/run" "$tmp/filtered" <<'PY' || fail "a filtered run's headline ratios"

@@ -81,14 +81,18 @@ bench = json.load(open(run + "/bench.json"))
 names = {b["name"] for b in bench["benchmarks"]}
 assert all("min_time" not in n and "/view:256x256/depth_map:256x256/manual_time" in n for n in names), sorted(names)[:3]
 assert any(n.startswith("BM_GLSL/heightfield:bricks/technique:pom/layers:32/isa:glsl/") for n in names)
-assert len(bench["benchmarks"]) == sum(r["speed"]["repetitions"] for r in rows if r["speed"])
+iterations = [b for b in bench["benchmarks"] if b["run_type"] == "iteration"]
+medians = [b for b in bench["benchmarks"] if b["run_type"] == "aggregate" and b["aggregate_name"] == "median"]
+assert len(iterations) == sum(r["speed"]["repetitions"] for r in rows if r["speed"])
+assert len(medians) == len(timed) and len(bench["benchmarks"]) == len(iterations) + len(medians)
+assert all(b["time_unit"] == "ns" and b["real_time"] >= 1000 for b in bench["benchmarks"])  # compare.py prints no decimals
 assert bench["context"]["heightmarch_view"] == "256x256" and bench["context"]["heightmarch_build_type"]
 claims = json.load(open(run + "/claims.json"))["claims"]
 declared = [line.split("\t")[0] for line in open(sys.argv[2]).read().splitlines()]
 assert len(declared) >= 13 and [c["id"] for c in claims] == declared, ([c["id"] for c in claims], declared)
 assert all(c["verdict"] in ("holds", "holds partly", "refuted", "not measured") for c in claims)
-print("ok: %d rows (%d timed, each with >= 5 repetitions and its spread), bench.json of %d repetitions, claims %s"
-      % (len(rows), len(timed), len(bench["benchmarks"]), ", ".join(declared)))
+print("ok: %d rows (%d timed, each with >= 5 repetitions and its spread), bench.json of %d repetitions and their "
+      "medians in ns, claims %s" % (len(rows), len(timed), len(iterations), ", ".join(declared)))
 PY
 
 grep -q "## Techniques x layers" "$run/tables.md" || fail "tables.md lacks the technique table"
