@@ -7,6 +7,7 @@ import os
 import re
 
 from benchmark_results import Unusable, atomic_write, spread
+from measurements import depth_map, view_name
 
 MACHINE_PARTS = ["cpu", "cores", "best_isa", "compiler", "build_type"]
 SERIES_FIELDS = ["backend", "threads", "heightfield", "technique", "layers", "view", "depth_map"]
@@ -48,13 +49,6 @@ def is_known(machine):
 # ---------------------------------------------------------------------------------------------
 # Rows
 
-def view_name(view):
-    name = "%s %dx%d" % (view["kind"], view["width"], view["height"])
-    if view.get("theta") is not None:
-        name += " theta %g phi %g" % (view["theta"], view.get("phi") or 0)
-    return name
-
-
 def backend(row):
     """The backend as history tells rows apart: 'avx2', or 'avx2-autovec' for the auto-vectorised port."""
     return row["backend"] + ("-autovec" if row["kind"] == "autovec" else "")
@@ -65,8 +59,7 @@ def series_fields(row):
     return {"backend": backend(row), "threads": str(row["threads"]), "heightfield": row["heightfield"]["label"],
             # rows without a technique (roofline, exact) are named by their kind
             "technique": row.get("technique") or row["kind"], "layers": row.get("layers") or "",
-            "view": view_name(row["view"]),
-            "depth_map": "%dx%d" % (row["heightfield"]["width"], row["heightfield"]["height"])}
+            "view": view_name(row["view"]), "depth_map": depth_map(row)}
 
 
 def series(row):
