@@ -14,6 +14,7 @@
 #include <cstring>
 #include <deque>
 #include <map>
+#include <optional>
 
 #include "baselines/naive_port.hpp"
 #include "heightmarch/error.hpp"
@@ -182,10 +183,19 @@ int main(int argc, char** argv) {
   if (!has_min_time) rest.push_back("--benchmark_min_time=" + std::to_string(o.min_time));
   // --benchmark_out=FILE is written to FILE.tmp-PID and renamed once whole (CheckedReporter).
   std::string out_path, out_format = "json";
+  // The reporter writes into the atomic writer's temporary through /proc/self/fd: it never opens
+  // a name in the directory itself.
+  std::optional<AtomicFile> out_file;
   for (std::string& arg : rest) {
     if (arg.rfind("--benchmark_out=", 0) == 0) {
       out_path = arg.substr(std::string("--benchmark_out=").size());
-      arg = "--benchmark_out=" + temporary_path(out_path);
+      try {
+        out_file.emplace(out_path);
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "heightmarch-bench: %s\n", printable(e.what()).c_str());
+        return 1;
+      }
+      arg = "--benchmark_out=/proc/self/fd/" + std::to_string(out_file->descriptor());
     } else if (arg.rfind("--benchmark_out_format=", 0) == 0) {
       out_format = arg.substr(std::string("--benchmark_out_format=").size());
     }
@@ -232,6 +242,7 @@ int main(int argc, char** argv) {
     benchmark::RegisterBenchmark(benchmark_name(c, width, height).c_str(),
                                  [&c](benchmark::State& state) { run_benchmark(state, c); })
         ->UseManualTime()
+        ->MeasureProcessCPUTime()
         ->Unit(benchmark::kMillisecond);
   }
   if (out_path.empty()) {
@@ -245,12 +256,13 @@ int main(int argc, char** argv) {
   benchmark::RunSpecifiedBenchmarks(nullptr, as_console ? static_cast<benchmark::BenchmarkReporter*>(&console) : &json);
   benchmark::Shutdown();
   const bool write_failed = as_console ? console.failed() : json.failed();
-  const std::string temporary = temporary_path(out_path);
-  if (write_failed || std::rename(temporary.c_str(), out_path.c_str()) != 0) {
-    const std::string why = write_failed ? "a write failed; a full disk?" : std::strerror(errno);
-    std::remove(temporary.c_str());
-    std::fprintf(stderr, "heightmarch-bench: %s: cannot write (%s)\n", out_path.c_str(), why.c_str());
-    return 1;
-  }
-  return 0;
+  std::string why = write_failed ? out_path + ": cannot write (a write failed; a full disk?)" : "";
+  if (!write_failed) try {
+      out_file->commit();
+    } catch (const std::exception& e) {
+      why = e.what();
+    }
+  if (why.empty()) return 0;
+  std::fprintf(stderr, "heightmarch-bench: %s\n", printable(why).c_str());  // the temporary goes with out_file
+  return 1;
 }

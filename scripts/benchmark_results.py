@@ -13,8 +13,8 @@ import statistics
 import tempfile
 
 TIME_UNIT = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
-# Name fields that say how long Google Benchmark ran, not what ran: dropped when names are matched.
-TIMING_SUFFIXES = ("real_time", "manual_time")
+# Name parts that say how Google Benchmark timed, not what ran: dropped when names are matched.
+TIMING_SUFFIXES = ("real_time", "manual_time", "process_time")
 SIZE_FIELDS = ("view", "depth_map")
 MAX_ERROR_TEXT = 120  # an error line quotes at most this much of the input
 # Fields of a benchmark entry that hold text; every other field but error_occurred is a number.

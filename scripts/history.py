@@ -1,127 +1,130 @@
-"""The record across runs: results/history.csv, one row per timed row of every recorded run, and
-its plot (the headline configuration at 1 thread over the recorded runs).
-
-scripts/report.py calls record() for a run recorded with --history.
+"""The record across runs: results/history.csv, one row per timed row of every recorded run, each
+row naming its machine (record_run.py appends a run; alerts.py and history_plot.py read it).
 """
 import csv
 import io
 import os
+import re
 
-import matplotlib
+from benchmark_results import Unusable, atomic_write, spread
+from measurements import depth_map, view_name
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from benchmark_results import Unusable, atomic_write, read_json, spread  # noqa: E402
-
-COLUMNS = ["date", "commit", "cpu", "backend", "threads", "heightfield", "technique", "layers",
-           "view", "depth_map", "rays_per_second_median", "rays_per_second_min", "rays_per_second_max"]
-# The configuration that every backend runs and that the plot follows.
-HEADLINE_TECHNIQUE, HEADLINE_LAYERS = "pom", "32"
-MARKERS = "osD^vP*Xh"
-MAX_PLOT_PIXELS = 1600  # widest plot, so a page shows it whole
+MACHINE_PARTS = ["cpu", "cores", "best_isa", "compiler", "build_type"]
+SERIES_FIELDS = ["backend", "threads", "heightfield", "technique", "layers", "view", "depth_map"]
+# Deterministic measures: any change at the same configuration is a behaviour change.
+MEASURES = ["samples_per_ray", "uv_error_mean", "uv_error_p95", "wrong_surface_rate"]
+COLUMNS = (["date", "commit", "machine"] + MACHINE_PARTS + SERIES_FIELDS
+           + ["rays_per_second_median", "rays_per_second_min", "rays_per_second_max"] + MEASURES)
+UNKNOWN_PREFIX = "unknown-"
 
 
-def view_name(view):
-    name = "%s %dx%d" % (view["kind"], view["width"], view["height"])
-    if view.get("theta") is not None:
-        name += " theta %g phi %g" % (view["theta"], view.get("phi") or 0)
-    return name
+# ---------------------------------------------------------------------------------------------
+# Machines
+
+def slug(text):
+    return re.sub(r"[^a-z0-9.]+", "-", text.lower()).strip("-")
 
 
-def depth_map(row):
-    return "%dx%d" % (row["heightfield"]["width"], row["heightfield"]["height"])
+def machine_parts(provenance):
+    """The parts that name a machine, as text ("" where the run does not say)."""
+    return {k: "" if provenance.get(k) is None else str(provenance[k]) for k in MACHINE_PARTS}
 
+
+def machine_key(parts):
+    """A stable short name of the machine: 'amd-epyc-f25m17-2c-avx512-gnu-12.2.0-release'. A CPU
+    named without family and model, or a part missing, makes it an unknown machine
+    ('unknown-amd-epyc-2c-avx2-...', '?' for a missing part): series are never joined across
+    machines, and an unknown machine is never a new run's past."""
+    m = re.fullmatch(r"(.*?) \(family (\d+), model (\d+)\)", parts["cpu"])
+    cpu = "%s-f%sm%s" % (slug(m.group(1)), m.group(2), m.group(3)) if m else slug(parts["cpu"]) or "?"
+    key = "-".join([cpu, (parts["cores"] or "?") + "c", parts["best_isa"] or "?", slug(parts["compiler"]) or "?",
+                    slug(parts["build_type"]) or "?"])
+    return key if m and all(parts.values()) else UNKNOWN_PREFIX + key
+
+
+def is_known(machine):
+    return not machine.startswith(UNKNOWN_PREFIX)
+
+
+# ---------------------------------------------------------------------------------------------
+# Rows
 
 def backend(row):
     """The backend as history tells rows apart: 'avx2', or 'avx2-autovec' for the auto-vectorised port."""
     return row["backend"] + ("-autovec" if row["kind"] == "autovec" else "")
 
 
+def series_fields(row):
+    """A measurements.json row's series: what it ran, where and at which sizes."""
+    return {"backend": backend(row), "threads": str(row["threads"]), "heightfield": row["heightfield"]["label"],
+            # rows without a technique (roofline, exact) are named by their kind
+            "technique": row.get("technique") or row["kind"], "layers": row.get("layers") or "",
+            "view": view_name(row["view"]), "depth_map": depth_map(row)}
+
+
+def series(row):
+    """A history row's series key."""
+    return tuple(row[k] for k in SERIES_FIELDS)
+
+
+def series_name(key):
+    f = dict(zip(SERIES_FIELDS, key))
+    return "%s%s, %s, %s thread%s, %s %s, %s view" % (
+        f["technique"], " " + f["layers"] if f["layers"] not in ("", "1") else "", f["backend"],
+        f["threads"], "" if f["threads"] == "1" else "s", f["heightfield"], f["depth_map"], f["view"])
+
+
+def measure(row, name):
+    """A deterministic measure of a measurements.json row as text ("" where not measured)."""
+    errors = row.get("errors") or {}
+    if name == "samples_per_ray":
+        value = row.get("samples_per_ray") if row.get("samples_known") else None
+    else:
+        # measurements.json names them as bench.json does (uv_error_mean) or, before, without "error_"
+        value = errors.get(name, errors.get(name.replace("uv_error_", "uv_")))
+    return "" if value is None else "%.9g" % value
+
+
 def rows_of_run(data):
     """One history row per timed row of a run's measurements.json."""
     p = data["provenance"]
+    parts = machine_parts(p)
+    head = {"date": p.get("date", ""), "commit": p.get("commit", ""), "machine": machine_key(parts), **parts}
     out = []
     for r in data["rows"]:
         if not r.get("speed"):
             continue
         s = spread(r["speed"]["rays_per_second"]["rounds"])
-        out.append({"date": p.get("date", ""), "commit": p.get("commit", ""), "cpu": p.get("cpu", ""),
-                    "backend": backend(r), "threads": str(r["threads"]), "heightfield": r["heightfield"]["label"],
-                    # rows without a technique (roofline, exact) are named by their kind
-                    "technique": r.get("technique") or r["kind"], "layers": r.get("layers") or "",
-                    "view": view_name(r["view"]), "depth_map": depth_map(r),
+        out.append({**head, **series_fields(r),
                     "rays_per_second_median": "%.6g" % s[0], "rays_per_second_min": "%.6g" % s[1],
-                    "rays_per_second_max": "%.6g" % s[2]})
+                    "rays_per_second_max": "%.6g" % s[2], **{m: measure(r, m) for m in MEASURES}})
     return out
 
 
-def read(path):
-    """The history's rows ([] where the file does not exist yet)."""
+def read(path, columns=COLUMNS):
+    """The rows of a history file (or of alerts.csv with its columns); [] where it does not exist yet."""
     if not os.path.exists(path):
         return []
     with open(path, newline="") as f:
         reader = csv.DictReader(f)
-        if reader.fieldnames != COLUMNS:
-            raise Unusable("%s: columns are not %s" % (path, ",".join(COLUMNS)))
+        if reader.fieldnames != columns:
+            raise Unusable("%s: columns are not %s" % (path, ",".join(columns)))
         return list(reader)
 
 
-def append(path, data):
-    """Appends a run's rows (replacing an earlier record of the same date and commit); all rows."""
-    date, commit = data["provenance"].get("date", ""), data["provenance"].get("commit", "")
-    rows = [r for r in read(path) if (r["date"], r["commit"]) != (date, commit)] + rows_of_run(data)
+def write(path, rows, columns=COLUMNS):
     out = io.StringIO()
-    writer = csv.DictWriter(out, COLUMNS, lineterminator="\n")
+    writer = csv.DictWriter(out, columns, lineterminator="\n")
     writer.writeheader()
     writer.writerows(rows)
     atomic_write(path, out.getvalue())
-    return rows
 
 
-def plot(data, rows, path):
-    """The headline configuration at 1 thread over the recorded runs, one line per backend."""
-    headline = [r for r in data["rows"] if r.get("speed") and r.get("technique") == HEADLINE_TECHNIQUE
-                and r.get("layers") == HEADLINE_LAYERS and r["threads"] == 1 and r["view"]["kind"] == "default"]
-    hf = headline[0]["heightfield"]["label"] if headline else (data["rows"] or [{"heightfield": {"label": ""}}])[0]["heightfield"]["label"]
-    view = view_name(headline[0]["view"]) if headline else "default"
-    picked = [r for r in rows if r["technique"] == HEADLINE_TECHNIQUE and r["layers"] == HEADLINE_LAYERS
-              and r["threads"] == "1" and r["heightfield"] == hf and r["view"].startswith(view)
-              and (not headline or r["depth_map"] == depth_map(headline[0]))]
-    if not picked:
-        return False
-    runs = sorted({(r["date"], r["commit"]) for r in picked})
-    by_backend = {}
-    for r in picked:
-        by_backend.setdefault(r["backend"], []).append(r)
-    names = list(dict.fromkeys(list(data["backends"]) + list(by_backend)))
-    cmap = plt.get_cmap("tab10")
-    colors = {b: cmap(i % 10) for i, b in enumerate(names)}
-    fig, ax = plt.subplots(figsize=(max(7.0, 0.9 * len(runs) + 3), 4.2))
-    for name in [b for b in colors if b in by_backend]:
-        pts = sorted((runs.index((r["date"], r["commit"])), [float(r[c]) / 1e6 for c in COLUMNS[-3:]])
-                     for r in by_backend[name])
-        ax.errorbar([x for x, _ in pts], [v[0] for _, v in pts], yerr=[[v[0] - v[1] for _, v in pts], [v[2] - v[0] for _, v in pts]],
-                    marker=MARKERS[list(colors).index(name) % len(MARKERS)], markersize=4, capsize=3,
-                    color=colors[name], label=name)
-    ax.set_xticks(range(len(runs)))
-    ax.set_xticklabels(["%s\n%s" % (d[:16].replace("T", " "), c) for d, c in runs], fontsize=7)
-    ax.set_yscale("log")
-    ax.set_ylabel("Mrays/s, median (bars: min-max)")
-    ax.grid(True, which="both", alpha=0.3)
-    fig.suptitle("%s, %s layers, %s view, %s, 1 thread, over the recorded runs" % (
-        HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS, view, hf), fontsize=10)
-    fig.legend(*ax.get_legend_handles_labels(), loc="lower center", ncol=min(len(by_backend), 6), fontsize=7, frameon=False)
-    fig.tight_layout(rect=(0, 0.1, 1, 0.95))
-    fig.savefig(path, dpi=min(130, MAX_PLOT_PIXELS / fig.get_figwidth()))
-    plt.close(fig)
-    return True
-
-
-def record(run_dir, history_path):
-    """Appends the run in run_dir to the history and draws run_dir/plots/history.png; whether the
-    plot was drawn (the headline configuration may be missing from the run)."""
-    data = read_json(os.path.join(run_dir, "measurements.json"))
-    rows = append(history_path, data)
-    os.makedirs(os.path.join(run_dir, "plots"), exist_ok=True)
-    return plot(data, rows, os.path.join(run_dir, "plots", "history.png"))
+def append(path, data):
+    """Appends a run's rows (replacing an earlier record of the same date, commit and machine);
+    all rows, and the run's."""
+    new = rows_of_run(data)
+    run = {(r["date"], r["commit"], r["machine"]) for r in new}
+    rows = [r for r in read(path) if (r["date"], r["commit"], r["machine"]) not in run] + new
+    write(path, rows)
+    return rows, new

@@ -1,13 +1,15 @@
 #!/usr/bin/python3
-"""Writes RUN_DIR/report.md and RUN_DIR/plots/*.png from RUN_DIR/measurements.json.
+"""Writes a run's report from RUN_DIR/measurements.json: report.md (what a person reads first),
+tables.md (the long tables), plots/*.png, measurements.csv and report.html (report_page.py).
 
 Usage: scripts/report.py RUN_DIR [--history results/history.csv]
 
-Inputs: measurements.json (the run's typed rows, docs/measurements.md) and, optionally,
-claims.json. Every speed is the median of the repetitions with their min-max; every ratio of two
-rows is taken per round (rounds are interleaved, so round i of two rows forms a pair) and shown as
-the median of the per-round ratios with their min-max. With --history, one row per timed row is
-appended to the history CSV and the headline configuration is plotted over the recorded runs.
+Inputs: measurements.json (the run's typed rows, docs/measurements.md; format 1 or 2) and, where
+the run has them, claims.json, recommendation.json and alerts.json. Every speed is the median of
+the repetitions with their min-max; every ratio of two rows is taken per round and shown as the
+median of the per-round ratios with their min-max. With --history, the run is recorded
+(scripts/record_run.py: its rows appended to the history CSV, RUN_DIR/alerts.json against its
+machine's earlier runs, the history plot); a run's alerts.json opens the report.
 """
 import argparse
 import math
@@ -15,88 +17,23 @@ import os
 import statistics
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.ticker import FuncFormatter  # noqa: E402
-
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
 import history  # noqa: E402
-from benchmark_results import Unusable, atomic_write, per_round, read_json, relative_spread, spread  # noqa: E402
+import record_run  # noqa: E402
+import report_page  # noqa: E402
+from report_plots import plot_error_vs_angle, plot_error_vs_layers, plot_error_vs_speed, plot_isa_speedup  # noqa: E402
+from benchmark_results import Unusable, atomic_write, per_round, relative_spread, spread  # noqa: E402
+from measurements import (ANY, HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label,  # noqa: E402
+                          config, counted, depth_map, machine_rows, docs_link, glsl_pairs, groups, load_run, measurements_csv,
+                          rays_rounds, read_claims, read_optional, samples_rounds, searches_per_isa,
+                          speedup, view_name, backend_colours)
 
-# The configuration that every backend runs (ISA sweep, naive port, roofline, thread scaling) and
-# that the history follows.
-HEADLINE_TECHNIQUE, HEADLINE_LAYERS = "pom", "32"
-NON_ISA_BACKENDS = ("glsl", "naive", "exact")
-KINDS = ("trace", "glsl", "roofline", "ceiling", "naive", "autovec", "exact")
-# Kinds that run an ISA's code without being its packet kernels: their rows name the ISA as backend.
-ANCHOR_KINDS = ("roofline", "ceiling", "autovec")
 SPREAD_LIMIT = 0.20  # (max - min) / median above this is flagged as a disturbed timing
-ANY = object()  # a field that `partner` does not compare
 NOT_MEASURED = "Not measured in this run."
-MAX_PLOT_PIXELS = 1600  # widest plot, so a page shows it whole
-ERROR_TARGETS = (1.0, 0.25, 0.05)  # p95 uv error targets of the summary, in texels
-# Highlights of the cheapest configuration per target: black rings (no technique is black), told
-# apart by their size, their target's line style and a label.
-TARGET_STYLES = {1.0: "-", 0.25: "--", 0.05: ":"}
-
-
-class InputError(Exception):
-    pass
 
 
 # ---------------------------------------------------------------------------------------------
-# Input
-
-def require(condition, what):
-    if not condition:
-        raise InputError(what)
-
-
-def validate(data):
-    """Checks the fields the report reads, so a malformed file fails with one line, not a trace."""
-    require(isinstance(data, dict) and str(data.get("schema", "")).startswith("heightmarch-measurements/"),
-            "schema is not heightmarch-measurements/*")
-    for key in ("provenance", "plan", "load"):
-        require(isinstance(data.get(key), dict), "%s is missing" % key)
-    require(isinstance(data.get("techniques"), list) and
-            all({"name", "layered", "color", "marker"} <= set(t) for t in data["techniques"]),
-            "techniques must list {name, layered, color, marker}")
-    require(isinstance(data.get("backends"), list) and data["backends"], "backends is missing")
-    require(isinstance(data.get("rows"), list), "rows is missing")
-    names = {t["name"] for t in data["techniques"]}
-    for row in data["rows"]:
-        where = "row %s" % row.get("id", "?")
-        require(row.get("kind") in KINDS, "%s: kind %r is none of %s" % (where, row.get("kind"), ", ".join(KINDS)))
-        require(row.get("backend") in data["backends"], "%s: backend %r is not in backends" % (where, row.get("backend")))
-        require(row.get("technique") is None or row["technique"] in names,
-                "%s: technique %r is not in techniques" % (where, row.get("technique")))
-        require(isinstance(row.get("threads"), int), "%s: threads is not an integer" % where)
-        hf, view = row.get("heightfield"), row.get("view")
-        require(isinstance(hf, dict) and {"label", "width", "height"} <= set(hf), "%s: heightfield needs label, width, height" % where)
-        require(isinstance(view, dict) and {"kind", "width", "height"} <= set(view), "%s: view needs kind, width, height" % where)
-        speed = row.get("speed")
-        if speed is not None:
-            seconds = speed.get("seconds") or []
-            rounds = (speed.get("rays_per_second") or {}).get("rounds") or []
-            require(seconds and len(rounds) == len(seconds) and all(s > 0 for s in seconds) and all(r > 0 for r in rounds),
-                    "%s: speed needs as many positive rays_per_second.rounds as seconds" % where)
-
-
-def load_run(run_dir):
-    data = read_json(os.path.join(run_dir, "measurements.json"))
-    try:
-        validate(data)
-    except InputError as e:
-        raise InputError("%s: %s" % (os.path.join(run_dir, "measurements.json"), e))
-    claims_path = os.path.join(run_dir, "claims.json")
-    claims = read_json(claims_path) if os.path.exists(claims_path) else None
-    return Run(data), claims
-
-
-# ---------------------------------------------------------------------------------------------
-# Figures with their spread
+# Text
 
 def fmt_spread(s, digits=1, scale=1.0, unit=""):
     if s is None:
@@ -115,107 +52,15 @@ def fmt(value, digits=3, scale=1.0, unit=""):
     return ("%%.%df%%s" % digits) % (value * scale, unit)
 
 
-def counted(n, word):
-    return "%d %s%s" % (n, word, "" if n == 1 else "s")
+def fmt_error(value):
+    """A uv error in texels: 0 as 0, small ones with their magnitude, never a made-up 0.000."""
+    if value is None:
+        return "-"
+    return "0" if value == 0 else "%.3g" % value
 
 
 def load_averages(values):
     return "/".join("%.2f" % x for x in values or []) or "?"
-
-
-# ---------------------------------------------------------------------------------------------
-# Rows
-
-def rays_rounds(row):
-    return row["speed"]["rays_per_second"]["rounds"] if row and row.get("speed") else None
-
-
-def samples_rounds(row):
-    """Samples/s per repetition: the samples of one trace are the same in every repetition."""
-    if not row or not row.get("speed") or not row.get("samples_known"):
-        return None
-    return [row["samples"] / s for s in row["speed"]["seconds"]]
-
-
-def view_name(view, angles=True):
-    name = "%s %dx%d" % (view["kind"], view["width"], view["height"])
-    if angles and view.get("theta") is not None:
-        name += " theta %g phi %g" % (view["theta"], view.get("phi") or 0)
-    return name
-
-
-def depth_map(row):
-    return "%dx%d" % (row["heightfield"]["width"], row["heightfield"]["height"])
-
-
-def config(row):
-    """Every field that names a configuration; two rows with equal configs are the same measurement."""
-    view = row["view"]
-    return {"kind": row["kind"], "backend": row["backend"], "threads": row["threads"],
-            "technique": row.get("technique"), "layers": row.get("layers"),
-            "heightfield": row["heightfield"]["label"],
-            "view": (view["kind"], view["width"], view["height"], view.get("theta"), view.get("phi")),
-            "scene": (row.get("scale"), row.get("wrap"), row.get("discard"))}
-
-
-class Run:
-    def __init__(self, data):
-        self.provenance, self.plan, self.load = data["provenance"], data["plan"], data["load"]
-        self.rows = data["rows"]
-        self.timed = [r for r in self.rows if r.get("speed")]
-        self.techniques = [t["name"] for t in data["techniques"]]
-        self.style = {t["name"]: t for t in data["techniques"]}
-        self.backends = data["backends"]
-        self.isas = [b for b in self.backends if b not in NON_ISA_BACKENDS]
-        self.best_isa = self.provenance.get("best_isa") or (self.isas[-1] if self.isas else None)
-        self.heightfields = list(dict.fromkeys(r["heightfield"]["label"] for r in self.rows))
-        self.configs = [(config(r), r) for r in self.timed]
-        # the technique x layers matrix: technique rows only (an exact row may serve the matrix too)
-        self.matrix = sorted((r for r in self.with_purpose("matrix") if r.get("technique")), key=self.order)
-
-    def with_purpose(self, purpose):
-        return [r for r in self.rows if purpose in r.get("purposes", [])]
-
-    def partner(self, row, **changes):
-        """The timed row measured like `row` except for `changes` (ANY: not compared)."""
-        want = dict(config(row), **changes)
-        for c, r in self.configs:
-            if all(v is ANY or c[k] == v for k, v in want.items()):
-                return r
-        return None
-
-    def order(self, row):
-        """Heightfield, technique (registry order; none first), layers (fixed counts, then ranges), threads."""
-        technique = row.get("technique")
-        lo, hi = row.get("min_layers") or 0, row.get("max_layers") or 0
-        return (self.heightfields.index(row["heightfield"]["label"]),
-                -1 if technique is None else self.techniques.index(technique),
-                lo != hi, hi, lo, self.backends.index(row["backend"]), row["threads"])
-
-    def label(self, row):
-        """'pom 32', 'parallax' (one-sample techniques need no layers), or the kind for rows without technique."""
-        technique = row.get("technique")
-        if technique is None:
-            return row["kind"]
-        return technique + (" " + row["layers"] if self.style[technique]["layered"] else "")
-
-    def is_headline(self, row):
-        return row.get("technique") == HEADLINE_TECHNIQUE and row.get("layers") == HEADLINE_LAYERS
-
-    def backend_colors(self, extra=()):
-        """The one backend palette: a fixed colour per position in `backends`, unknown ones after it."""
-        names = list(dict.fromkeys(list(self.backends) + list(extra)))
-        cmap = plt.get_cmap("tab10")
-        return {b: cmap(i % 10) for i, b in enumerate(names)}
-
-    def describe(self, row):
-        return "%s %s, %s, %s, %s" % (row["heightfield"]["label"], self.label(row), row["backend"],
-                                       counted(row["threads"], "thread"), view_name(row["view"]))
-
-
-def backend_label(row):
-    """The backend as a reader tells rows apart: 'avx2', or 'avx2 autovec' for the auto-vectorised port."""
-    return row["backend"] + (" autovec" if row["kind"] == "autovec" else "")
 
 
 def mrays(row):
@@ -226,108 +71,110 @@ def msamples(row):
     return fmt_spread(spread(samples_rounds(row)), 0, 1e-6)
 
 
-def speedup(row, reference):
-    """row's rays/s over reference's, per round (None when either is missing)."""
-    return per_round(rays_rounds(row), rays_rounds(reference))
+def md_cell(value):
+    """Any value as one Markdown table cell: '|' escaped (it would cut the row), no line breaks.
+    Every cell of report.md and tables.md goes through it (claims.md's through markdown_cell in C++)."""
+    return str(value).replace("|", "\\|").replace("\r", " ").replace("\n", " ")
 
-
-# ---------------------------------------------------------------------------------------------
-# Markdown
 
 def md_table(columns, rows):
     """columns: [(title, right-aligned)]; rows: lists of cells."""
-    lines = ["| " + " | ".join(t for t, _ in columns) + " |",
+    lines = ["| " + " | ".join(md_cell(t) for t, _ in columns) + " |",
              "|" + "|".join("---:" if right else "---" for _, right in columns) + "|"]
-    return lines + ["| " + " | ".join(str(c) for c in cells) + " |" for cells in rows]
+    return lines + ["| " + " | ".join(md_cell(c) for c in cells) + " |" for cells in rows]
 
 
-def section(title, body):
-    return ["", "## " + title, ""] + (body or [NOT_MEASURED])
+def section(title, body, level="##"):
+    return ["", level + " " + title, ""] + (body or [NOT_MEASURED])
 
 
-def groups(rows, key):
-    """Rows grouped by key(row), in first-seen order."""
-    out = {}
-    for r in rows:
-        out.setdefault(key(r), []).append(r)
-    return out
+# ---------------------------------------------------------------------------------------------
+# report.md: the first screen
+
+def section_alerts(alerts):
+    """alerts.json of a recorded run (scripts' regression tracking), or why there is none."""
+    if alerts is None:
+        return section("Alerts", ["No alerts.json: this run was not recorded into the history (a quick run without "
+                                  "`--record`, or `--out`), so it was not compared with earlier runs."])
+    found = alerts.get("alerts") or []
+    tested = alerts.get("series_tested", 0)
+    rule = "Rule: %s. Machine: `%s`." % (alerts.get("rule", "?"), alerts.get("machine", "?"))
+    if not found:
+        return section("Alerts", ["No change beyond noise in %s. %s" % ("%d series" % tested, rule)])
+    body = ["**%s** in %s of this machine's history. %s" % (counted(len(found), "alert"), "%d series" % tested, rule),
+            ""]
+    body += md_table([("series", False), ("kind", False), ("measure", False), ("baseline", True), ("new", True),
+                      ("change", True), ("", False)],
+                     [[a.get("series", "?"), a.get("kind", "?"), a.get("metric", "?"),
+                       "%s (spread %s)" % (fmt_number(a.get("baseline")), fmt_number(a.get("baseline_spread"))),
+                       fmt_number(a.get("new")), fmt_change(a.get("change")), a.get("message", "")] for a in found])
+    return section("Alerts", body)
 
 
-def section_machine(run):
-    p, plan, load = run.provenance, run.plan, run.load
-    views = sorted({view_name(r["view"], angles=False) for r in run.rows})
-    maps = list(dict.fromkeys("%s %s" % (r["heightfield"]["label"], depth_map(r)) for r in run.rows))
-    rows = [("CPU", p.get("cpu", "?")), ("cores", p.get("cores", "?")), ("best ISA", run.best_isa or "?"),
-            ("threads", p.get("threads", "?")), ("compiler", p.get("compiler", "?")),
-            ("commit", "%s%s" % (p.get("commit", "?"), " (dirty worktree)" if p.get("dirty") else "")),
-            ("build type", p.get("build_type", "?")), ("date", p.get("date", "?")),
-            ("plan", "%s, %s repetitions of at least %s s per timed row" % (
-                plan.get("name", "?"), plan.get("repetitions", "?"), plan.get("min_seconds_per_repetition", "?"))),
-            ("views", ", ".join(views) or "-"), ("depth maps", ", ".join(maps) or "-"),
-            ("load averages (1/5/15 min)", "before %s, after %s" % (load_averages(load.get("before")),
-                                                                   load_averages(load.get("after")))),
-            ("other processes' CPU share", fmt(load.get("other_cpu_share"), 1, 100, "%"))]
-    return ["## Machine and provenance", ""] + md_table([("", False), ("", False)], rows)
+def fmt_number(value):
+    return "-" if value is None else "%.4g" % value
 
 
-def section_warnings(run, faults):
-    """The block under the machine table: a busy machine, disturbed timings, roofline and ceiling faults."""
-    lines = []
-    load = run.load
-    if load.get("busy"):
-        lines.append("> **Warning: the machine was busy during this run** (%s). Load averages before %s, after %s; "
-                     "other processes used %s of the CPU time while timing. Speeds and ratios may be disturbed." % (
-                         "; ".join(load.get("busy_reasons") or ["no reason given"]),
-                         load_averages(load.get("before")), load_averages(load.get("after")),
-                         fmt(load.get("other_cpu_share"), 1, 100, "%")))
-    noisy = sorted(((relative_spread(spread(rays_rounds(r))), r) for r in run.timed), key=lambda x: -x[0])
-    noisy = [(s, r) for s, r in noisy if s > SPREAD_LIMIT]
-    if noisy:
-        if lines:
-            lines.append(">")
-        lines.append("> **Warning: %d of %d timed rows spread by more than %d%%** ((max-min)/median of rays/s); "
-                     "the worst: %s." % (len(noisy), len(run.timed), 100 * SPREAD_LIMIT,
-                                         "; ".join("%s (%.0f%%)" % (run.describe(r), 100 * s) for s, r in noisy[:5])))
-    if faults:
-        if lines:
-            lines.append(">")
-        lines.append("> **Warning: %s above 100%%**: timing disturbed, see the measurement faults under %s-%s." % (
-                         counted(len(faults), "roofline or ceiling fraction"), HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS))
-    return [""] + lines if lines else []
+def fmt_change(value):
+    return "-" if value is None else "%+.1f%%" % (100 * value)
 
 
-def cheapest(rows, target):
-    """The cheapest row with p95 uv error <= target: fewest samples per ray (deterministic), then the
-    highest median rays/s; None when no row reaches the target."""
-    ok = [r for r in rows if r.get("errors") and r.get("speed") and r.get("samples_per_ray") is not None
-          and r["errors"]["uv_p95"] <= target]
-    return min(ok, key=lambda r: (r["samples_per_ray"], -spread(rays_rounds(r))[0])) if ok else None
+def pick_cells(run, pick, measure):
+    """A recommendation's pick as cells: setting, time, its rows' worst error measures, preprocessing."""
+    rows = pick["rows"]
+    worst = max(r[measure] for r in rows)
+    wrong = max(r["wrong_surface_rate"] for r in rows)
+    precompute = [r for r in rows if r.get("precompute_seconds") is not None]
+    pre = "-"
+    if precompute:
+        worst_pre = max(precompute, key=lambda r: r["precompute_seconds"])
+        pre = "%.3g s once (%.3g ms a frame)" % (worst_pre["precompute_seconds"], worst_pre["precompute_ms_per_frame"])
+    ns = pick["ns_per_ray"]
+    return ["**%s**" % pick["label"], fmt_spread((ns["median"], ns["min"], ns["max"]), 2),
+            fmt_error(worst), fmt(wrong, 2, 100, "%"), "%.1f" % statistics.mean(r["samples_per_ray"] for r in rows), pre]
 
 
-def summary_targets(run):
-    """Per heightfield, the cheapest matrix configuration for each error target."""
-    rows = [r for r in run.matrix if r.get("errors") and r.get("speed")]
-    if not rows:
-        return []
-    first = rows[0]
-    lines = ["### Cheapest configuration per error target", "",
-             "Per heightfield, the configuration with the fewest height samples per ray (then the most rays/s) "
-             "whose p95 uv error is at most the target, against the exact intersection (%s, %s, %s view). "
-             "Mrays/s: median (min-max)." % (first["backend"], counted(first["threads"], "thread"), view_name(first["view"])),
-             ""]
+def answer_cells(run, answer, measure):
+    if answer.get("choice"):
+        cells = pick_cells(run, answer["choice"], measure)
+        runner, ratio = answer.get("runner_up"), answer.get("runner_up_time_ratio")
+        if runner and ratio:
+            overlap = ratio["min"] <= 1.0 <= ratio["max"]
+            cells.append("%s: %s the time%s" % (runner["label"], fmt_ratio((ratio["median"], ratio["min"], ratio["max"])),
+                                               " (not distinguishable)" if overlap else ""))
+        else:
+            cells.append("-")
+        return cells
+    closest = answer.get("closest")
+    what = "none of %d meets the target" % answer.get("settings", 0)
+    if closest:
+        return [what + "; nearest: " + closest["label"]] + pick_cells(run, closest, measure)[1:] + ["-"]
+    return [what, "-", "-", "-", "-", "-", "-"]
+
+
+def section_recommendation(run, recommendation):
+    title = "What to ship"
+    if recommendation is None:
+        return section(title, ["No recommendation.json in this run (computed by `heightmarch suite`, `claims` and "
+                               "`recommend` since measurements format 2; `heightmarch recommend %s` computes it)." % run.dir])
+    target = recommendation["target"]
+    measure = target["measure"]
+    body = ["The fastest configuration by measured time per ray (ns/ray: median (min-max) of the repetitions) at "
+            "each backend, among those with **%s**, on all heightfields as one setting (a shader runs one setting "
+            "for every material) and on each. Errors are the worst of the setting's heightfields; preprocessing "
+            "(cone map, min-depth pyramid) is built once per depth map and amortised over %d frames; it is not in "
+            "the time per ray. Why this target, and how to choose yours: [docs/recommendation.md](%s). The same "
+            "from any run at another target: `heightmarch recommend RUN_DIR --percentile p99 --max-error 1 "
+            "--max-wrong-surface 1`." % (target["description"], target["frames"], docs_link(run, "recommendation.md")), ""]
+    columns = [("backend", False), ("heightfield", False), ("configuration", False), ("ns/ray", True),
+               (measure.replace("uv_error_", "") + " (texels)", True), ("wrong surface", True), ("samples/ray", True),
+               ("preprocessing", False), ("next fastest", False)]
     cells = []
-    for hf, group in groups(rows, lambda r: r["heightfield"]["label"]).items():
-        line = [hf]
-        for target in ERROR_TARGETS:
-            best = cheapest(group, target)
-            if best is None:
-                closest = min(group, key=lambda r: r["errors"]["uv_p95"])
-                line.append("none (best: %s, p95 %.3f)" % (run.label(closest), closest["errors"]["uv_p95"]))
-            else:
-                line.append("**%s**: %.1f samples/ray, %s Mrays/s, p95 %.3f" % (
-                    run.label(best), best["samples_per_ray"], mrays(best), best["errors"]["uv_p95"]))
-        cells.append(line)
-    return lines + md_table([("heightfield", False)] + [("p95 <= %g texel" % t, False) for t in ERROR_TARGETS], cells)
+    for b in recommendation["backends"]:
+        cells.append([b["name"], "**every heightfield**"] + answer_cells(run, b["all_heightfields"], measure))
+        for a in b["per_heightfield"]:
+            cells.append([b["name"], a["heightfield"]] + answer_cells(run, a, measure))
+    return section(title, body + md_table(columns, cells))
 
 
 def headline_ratios(run):
@@ -352,35 +199,83 @@ def headline_ratios(run):
     return columns, ratios
 
 
-def summary_ratios(run):
+def section_ratios(run):
     columns, ratios = headline_ratios(run)
-    if not ratios:
+    # A filtered run (one ISA, one thread count, no GLSL) measures some ratios nowhere: their
+    # columns go, and the section too when none is left.
+    kept = [i for i in range(len(columns)) if any(spreads[i] is not None for _, spreads in ratios)]
+    if not kept:
         return []
-    return ["### Headline speed ratios", "",
-            "%s-%s, default view: median (min-max) of the per-round ratios of rays/s." % (
-                HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS), ""] + md_table(
-        [("heightfield", False)] + [(c, True) for c in columns],
-        [[hf] + [fmt_ratio(s) for s in spreads] for hf, spreads in ratios])
+    return section("Headline speed ratios", [
+        "%s-%s, default view: median (min-max) of the per-round ratios of rays/s." % (
+            HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS), ""] + md_table(
+        [("heightfield", False)] + [(columns[i], True) for i in kept],
+        [[hf] + [fmt_ratio(spreads[i]) for i in kept] for hf, spreads in ratios]))
 
 
-def summary_claims(claims):
+def section_claims(run, claims):
     if not claims:
         return []
-    return ["### The claims: the tutorials' (C1-C10) and the papers' (P1-P3)", "",
-            "Each claim's reading, rule, figures and checks: [claims.md](claims.md); the claims themselves: "
-            "[docs/claims.md](../../docs/claims.md).", ""] + [
-        "- **%s %s**: %s" % (c["id"], c["verdict"], c["claim"]) for c in claims]
+    body = ["Each claim's reading, rule, figures and checks: [claims.md](claims.md); the claims themselves: "
+            "[docs/claims.md](%s)." % docs_link(run, "claims.md"), ""]
+    for c in claims:
+        line = "- **%s %s**: %s" % (c["id"], c["verdict"], c["claim"])
+        if c["id"] == "P2":
+            line += " (maxmip at a grazing one-texel peak: [docs/techniques.md](%s))" % docs_link(run, *MAXMIP_PEAK)
+        body.append(line)
+    return section("The claims: the tutorials' (C1-C10) and the papers' (P1-P3)", body)
 
 
-def section_summary(run, claims):
-    parts = [p for p in (summary_targets(run), summary_ratios(run), summary_claims(claims)) if p]
+def section_machine(run):
+    return section("Machine and provenance", md_table([("", False), ("", False)], machine_rows(run)))
+
+
+def noisy_rows(run):
+    """(relative spread, row) of the timed rows spread beyond SPREAD_LIMIT, worst first."""
+    noisy = sorted(((relative_spread(spread(rays_rounds(r))), r) for r in run.timed), key=lambda x: -x[0])
+    return [(s, r) for s, r in noisy if s > SPREAD_LIMIT]
+
+
+def warnings(run, faults):
+    """A busy machine, disturbed timings, roofline and ceiling faults: one paragraph each."""
+    lines = []
+    load = run.load
+    if load.get("busy"):
+        lines.append("**Warning: the machine was busy during this run** (%s). Load averages before %s, after %s; "
+                     "other processes used %s of the CPU time while timing. Speeds and ratios may be disturbed; "
+                     "errors and samples per ray are deterministic and unaffected." % (
+                         "; ".join(load.get("busy_reasons") or ["no reason given"]),
+                         load_averages(load.get("before")), load_averages(load.get("after")),
+                         fmt(load.get("other_cpu_share"), 1, 100, "%")))
+    noisy = noisy_rows(run)
+    if noisy:
+        lines.append("**Warning: %d of %d timed rows spread by more than %d%%** ((max-min)/median of rays/s); "
+                     "the worst: %s." % (len(noisy), len(run.timed), 100 * SPREAD_LIMIT,
+                                         "; ".join("%s (%.0f%%)" % (run.describe(r), 100 * s) for s, r in noisy[:5])))
+    if faults:
+        lines.append("**Warning: %s above 100%%**: timing disturbed, see the measurement faults under %s-%s in "
+                     "[tables.md](tables.md#every-backend)." % (
+                         counted(len(faults), "roofline or ceiling fraction"), HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS))
+    return lines
+
+
+def section_warnings(run, faults):
     body = []
-    if run.load.get("busy"):  # the speeds below carry it; the warnings after the summary say why
-        body += ["*The machine was busy during this run: speeds and ratios may be disturbed (warnings below the "
-                 "summary). Errors and samples per ray are deterministic and unaffected.*", ""]
-    for p in parts:
-        body += p + [""]
-    return ["## Summary", ""] + (body[:-1] or [NOT_MEASURED])
+    for line in warnings(run, faults):
+        body += ["> " + line, ">"]
+    return section("Warnings", body[:-1]) if body else []
+
+
+# ---------------------------------------------------------------------------------------------
+# tables.md: the long tables
+
+def error_cells(row):
+    e = row.get("errors") or {}
+    return [fmt_error(e.get("uv_error_mean")), fmt_error(e.get("uv_error_p95")), fmt_error(e.get("uv_error_p99")),
+            fmt_error(e.get("uv_error_max")), fmt(e.get("wrong_surface_rate"), 2, 100, "%")]
+
+
+ERROR_COLUMNS = [("uv mean", True), ("p95", True), ("p99", True), ("max", True), ("wrong surface", True)]
 
 
 def section_matrix(run):
@@ -393,25 +288,19 @@ def section_matrix(run):
                                                                           view_name(r["view"]))).items():
         body += ["", "### %s (%s)" % (hf, depth_map(group[0])), "",
                  "%s, %s, %s view." % (backend, counted(threads, "thread"), view), ""]
-        body += md_table([("technique", False), ("layers", False), ("Mrays/s", True), ("samples/ray", True),
-                          ("uv mean", True), ("p95", True), ("max", True), ("wrong surface", True)],
+        body += md_table([("technique", False), ("layers", False), ("Mrays/s", True), ("samples/ray", True)] + ERROR_COLUMNS,
                          [[r["technique"], r["layers"], mrays(r), fmt(r.get("samples_per_ray"), 2)] + error_cells(r)
                           for r in group])
     return section("Techniques x layers, per heightfield", body)
 
 
-def error_cells(row):
-    e = row.get("errors") or {}
-    return [fmt(e.get("uv_mean")), fmt(e.get("uv_p95")), fmt(e.get("uv_max"), 2), fmt(e.get("wrong_surface_rate"), 2, 100, "%")]
-
-
 def section_glsl(run):
-    pairs = [(run.partner(g, kind="trace", backend=run.best_isa), g) for g in sorted(
-        (r for r in run.timed if r["kind"] == "glsl"), key=run.order)]
+    pairs = glsl_pairs(run)
     if not pairs:
         return section("CPU against GLSL (OSMesa llvmpipe)", [])
     body = ["The same rays and parameters on both sides; CPU at the best ISA (%s). CPU/GLSL is the median "
-            "(min-max) of the per-round ratios." % run.best_isa, ""]
+            "(min-max) of the per-round ratios. Where the shadow technique's sample counts differ between the "
+            "CPU and llvmpipe, and why: [docs/techniques.md](%s)." % (run.best_isa, docs_link(run, *SHADOW_COUNTS)), ""]
     body += md_table([("heightfield", False), ("technique", False), ("layers", False), ("threads", True),
                       ("CPU %s Mrays/s" % run.best_isa, True), ("GLSL Mrays/s", True), ("CPU/GLSL", True)],
                      [[g["heightfield"]["label"], g["technique"], g["layers"], g["threads"], mrays(c), mrays(g),
@@ -421,17 +310,17 @@ def section_glsl(run):
 
 def section_every_backend(run, faults):
     """POM-32 at every backend; appends roofline and ceiling fractions above 100% to `faults`."""
-    title = "%s, %s layers, every backend" % (HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS)
+    title = "Every backend"
     rows = sorted((r for r in run.timed if run.is_headline(r) and r["kind"] in ("trace", "glsl", "naive", "autovec")),
                   key=run.order)
     if not rows:
         return section(title, [])
     base = run.isas[0] if run.isas else None
-    body = ["Roofline = the backend's bilinear sampler alone at the positions of the same march; ceiling = POM's "
-            "march and bilinear arithmetic on taps held in registers, no memory access; each fraction = the "
-            "technique's samples/s over it. x llvmpipe: over GLSL at the same threads; x autovec: over the naive "
-            "port vectorised by the compiler for the same ISA. Every ratio is the median (min-max) of the per-round "
-            "ratios.", ""]
+    body = ["%s, %s layers. Roofline = the backend's bilinear sampler alone at the positions of the same march; "
+            "ceiling = POM's march and bilinear arithmetic on taps held in registers, no memory access; each "
+            "fraction = the technique's samples/s over it. x llvmpipe: over GLSL at the same threads; x autovec: "
+            "over the naive port vectorised by the compiler for the same ISA. Every ratio is the median (min-max) of "
+            "the per-round ratios." % (HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS), ""]
     cells = []
     for r in rows:
         fractions = []
@@ -463,19 +352,14 @@ def section_every_backend(run, faults):
 
 def section_searches_per_isa(run):
     """The searches the plan times at every ISA (32 layers), each ISA against llvmpipe."""
-    rows = sorted((r for r in run.timed if "isa" in r.get("purposes", []) and r["kind"] == "trace"
-                   and r.get("technique")), key=run.order)
     title = "The searches at every ISA, against llvmpipe"
-    if not rows:
+    found = searches_per_isa(run)
+    if not found:
         return section(title, [])
-    cells = []
-    for (hf, technique, threads), group in groups(rows, lambda r: (r["heightfield"]["label"], run.label(r),
-                                                                    r["threads"])).items():
-        glsl = run.partner(group[0], kind="glsl", backend="glsl")
-        by_isa = {r["backend"]: r for r in group}
-        cells.append([hf, technique, threads, mrays(glsl)] + [
-            cell for isa in run.isas for cell in (
-                (mrays(by_isa[isa]), fmt_ratio(speedup(by_isa[isa], glsl))) if isa in by_isa else ("-", "-"))])
+    cells = [[hf, technique, threads, mrays(glsl)] + [
+        cell for isa in run.isas for cell in (
+            (mrays(by_isa[isa]), fmt_ratio(speedup(by_isa[isa], glsl))) if isa in by_isa else ("-", "-"))]
+        for hf, technique, threads, glsl, by_isa in found]
     body = ["Each search at %s layers (maxmip: its one spec) at every ISA and the same as GLSL (llvmpipe) at the "
             "same threads. Mrays/s: median (min-max); x llvmpipe: median (min-max) of the per-round ratios."
             % HEADLINE_LAYERS, ""]
@@ -539,16 +423,16 @@ def cost_image(run_dir, images):
     return None
 
 
-def section_gallery(run, run_dir):
+def section_gallery(run):
     rows = sorted((r for r in run.with_purpose("gallery") if r.get("images")), key=run.order)
     body = []
     for (hf, view), group in groups(rows, lambda r: (r["heightfield"]["label"], view_name(r["view"]))).items():
-        costs = [cost_image(run_dir, r["images"]) for r in group]
+        costs = [cost_image(run.dir, r["images"]) for r in group]
         with_cost = any(costs)
-        body += ["%s, %s view. Shaded render at the technique's uv; uv error%s." % (
-            hf, view, "; cost: height samples per pixel" if with_cost else ""), ""]
+        body += ["%s, %s view. Shaded render at the technique's uv; uv error on one log scale (0.01 to 10 texels)%s." % (
+            hf, view, "; cost: height samples per pixel, on one log scale for every image (1 to 1024)" if with_cost else ""), ""]
         body += md_table([("technique", False), ("render", False), ("error", False)] + ([("cost", False)] if with_cost else [])
-                         + [("uv mean", True), ("p95", True), ("max", True), ("wrong surface", True)],
+                         + ERROR_COLUMNS,
                          [[run.label(r), "![](%s)" % r["images"]["render"], "![](%s)" % r["images"]["error"]]
                           + (["![](%s)" % c if c else "-"] if with_cost else []) + error_cells(r)
                           for r, c in zip(group, costs)]) + [""]
@@ -556,200 +440,10 @@ def section_gallery(run, run_dir):
 
 
 # ---------------------------------------------------------------------------------------------
-# Plots
-
-def panel_grid(n, width=4.2, height=3.4, columns=3):
-    """A grid of n panels at most `columns` wide, sized for a page; unused panels hidden."""
-    cols = min(n, columns)
-    rows = (n + cols - 1) // cols
-    fig, axes = plt.subplots(rows, cols, figsize=(max(width * cols, 7.0), height * rows + 0.9), squeeze=False)
-    flat = [ax for line in axes for ax in line]
-    for ax in flat[n:]:
-        ax.set_visible(False)
-    return fig, flat[:n]
-
-
-def finish(fig, path, title, axes):
-    """Suptitle, one legend for the figure (handles of every panel, deduplicated) below the panels, save."""
-    handles = {}
-    for ax in axes:
-        for h, label in zip(*ax.get_legend_handles_labels()):
-            handles.setdefault(label, h)
-    fig.suptitle(title, fontsize=10)
-    per_row = max(1, int(fig.get_figwidth() / 1.4))  # legend entries are about 1.4 inches wide
-    legend_rows = (len(handles) + per_row - 1) // per_row or 1
-    ncol = (len(handles) + legend_rows - 1) // legend_rows or 1
-    bottom = 0.02 + 0.035 * legend_rows * 4.0 / fig.get_figheight()
-    fig.legend(handles.values(), handles.keys(), loc="lower center", ncol=ncol, fontsize=7, frameon=False)
-    fig.tight_layout(rect=(0, bottom, 1, 0.95))
-    fig.savefig(path, dpi=min(130, MAX_PLOT_PIXELS / fig.get_figwidth()))
-    plt.close(fig)
-
-
-def log_axes(ax, x=True, y=True, xticks=None):
-    """Log scales labelled with plain numbers (0.1, 2, 50) at 1, 2 and 5 per decade instead of powers;
-    with xticks, x is labelled at those values alone (layer counts)."""
-    def label(v, _):
-        return "%g" % v if v > 0 and round(v / 10 ** math.floor(math.log10(v) + 1e-9)) in (1, 2, 5) else ""
-    for use, axis, scale in ((x, ax.xaxis, ax.set_xscale), (y, ax.yaxis, ax.set_yscale)):
-        if use:
-            scale("log")
-            axis.set_major_formatter(FuncFormatter(label))
-            axis.set_minor_formatter(FuncFormatter(label))
-    if xticks:
-        ax.set_xticks(xticks, ["%g" % t for t in xticks], minor=False)
-        ax.xaxis.set_minor_formatter(FuncFormatter(lambda v, _: ""))
-
-
-def technique_kw(run, technique):
-    t = run.style[technique]
-    return {"color": t["color"], "marker": t["marker"]}
-
-
-def plot_error_vs_layers(run, path):
-    by_hf = groups(run.matrix, lambda r: r["heightfield"]["label"])
-    if not by_hf:
-        return False
-    fig, axes = panel_grid(len(by_hf))
-    for ax, (hf, rows) in zip(axes, by_hf.items()):
-        series = {}  # a technique whose errors equal an earlier one's (shadow shares POM's hit) is named on its line
-        for technique, group in groups(rows, lambda r: r["technique"]).items():
-            errors = [(r["min_layers"], max(r["errors"]["uv_mean"], 1e-4)) for r in group
-                      if r.get("errors") and r.get("min_layers") == r.get("max_layers")]
-            same = [t for t, e in series.items() if e == errors]
-            if same:
-                series[same[0] + " = " + technique] = series.pop(same[0])
-            else:
-                series[technique] = errors
-        for name, errors in series.items():
-            technique = name.split(" = ")[0]
-            if run.style[technique]["layered"]:
-                ax.plot([x for x, _ in errors], [y for _, y in errors], label=name, **technique_kw(run, technique))
-            elif errors:
-                ax.axhline(errors[0][1], linestyle="--", color=run.style[technique]["color"], label=name,
-                           marker=run.style[technique]["marker"], markevery=[0])
-        log_axes(ax, xticks=sorted({x for name, errors in series.items() for x, _ in errors
-                                    if run.style[name.split(" = ")[0]]["layered"]}))
-        ax.set_title("%s (%s)" % (hf, depth_map(rows[0])), fontsize=9)
-        ax.set_xlabel("layers")
-        ax.set_ylabel("mean uv error (texels)")
-        ax.grid(True, which="both", alpha=0.3)
-    finish(fig, path, "Error against layer count (default view; dashed: one-sample techniques)", axes)
-    return True
-
-
-def plot_error_vs_angle(run, path):
-    rows = [r for r in run.with_purpose("sweep") if r["view"]["kind"] == "sweep" and r.get("errors") and r.get("technique")]
-    by_hf = groups(sorted(rows, key=run.order), lambda r: r["heightfield"]["label"])
-    if not by_hf:
-        return False
-    phis = sorted({r["view"].get("phi") or 0 for r in rows})
-    fig, axes = panel_grid(len(by_hf))
-    styles = ["-", "--", ":", "-."]
-    for ax, (hf, hf_rows) in zip(axes, by_hf.items()):
-        for technique, t_rows in groups(hf_rows, lambda r: r["technique"]).items():
-            for k, (layers, l_rows) in enumerate(groups(t_rows, lambda r: r["layers"]).items()):
-                # mean over the azimuths measured at each angle
-                by_theta = groups(l_rows, lambda r: r["view"]["theta"])
-                thetas = sorted(by_theta)
-                errors = [max(statistics.mean(r["errors"]["uv_mean"] for r in by_theta[t]), 1e-4) for t in thetas]
-                ax.plot(thetas, errors, linestyle=styles[k % len(styles)], markersize=4,
-                        label=run.label(l_rows[0]), **technique_kw(run, technique))
-        log_axes(ax, x=False)
-        ax.set_title(hf, fontsize=9)
-        ax.set_xlabel("view angle from the normal (degrees)")
-        ax.set_ylabel("mean uv error (texels)")
-        ax.grid(True, which="both", alpha=0.3)
-    azimuth = "azimuth %g deg" % phis[0] if len(phis) == 1 else "mean over azimuths %s deg" % ", ".join("%g" % p for p in phis)
-    finish(fig, path, "Error against view angle (sweep views, %s)" % azimuth, axes)
-    return True
-
-
-def plot_error_vs_speed(run, path):
-    rows = [r for r in run.matrix if r.get("speed") and r.get("errors")]
-    by_hf = groups(sorted(rows, key=run.order), lambda r: r["heightfield"]["label"])
-    if not by_hf:
-        return False
-    fig, axes = panel_grid(len(by_hf), 4.6, 3.8)
-    for ax, (hf, hf_rows) in zip(axes, by_hf.items()):
-        for technique, group in groups(hf_rows, lambda r: r["technique"]).items():
-            speeds = [spread(rays_rounds(r)) for r in group]
-            xs = [s[0] / 1e6 for s in speeds]
-            ys = [max(r["errors"]["uv_p95"], 1e-4) for r in group]
-            ax.errorbar(xs, ys, xerr=[[(s[0] - s[1]) / 1e6 for s in speeds], [(s[2] - s[0]) / 1e6 for s in speeds]],
-                        linestyle="none", markersize=4, elinewidth=0.8, label=technique, **technique_kw(run, technique))
-            if run.style[technique]["layered"]:
-                for r, x, y in zip(group, xs, ys):
-                    ax.annotate(r["layers"], (x, y), fontsize=5, alpha=0.7, xytext=(2, 2), textcoords="offset points")
-        for k, target in enumerate(ERROR_TARGETS):
-            linestyle = TARGET_STYLES[target]
-            ax.axhline(target, color="black", linestyle=linestyle, linewidth=0.8)
-            # the legend names the target's line and ring even where no configuration reaches it
-            ax.plot([], [], color="black", linestyle=linestyle, marker="o", markerfacecolor="none",
-                    label="p95 <= %g texel (ring: cheapest)" % target)
-            best = cheapest(hf_rows, target)
-            if best:
-                x, y = spread(rays_rounds(best))[0] / 1e6, max(best["errors"]["uv_p95"], 1e-4)
-                ax.plot([x], [y], linestyle="none", marker="o", markersize=12 + 4 * k, markerfacecolor="none",
-                        markeredgecolor="black", markeredgewidth=1.4)
-                ax.annotate("%g" % target, (x, y), xytext=(0, -(7 + 2 * k)), textcoords="offset points",
-                            ha="center", va="top", fontsize=6, fontweight="bold",
-                            bbox={"boxstyle": "round,pad=0.1", "facecolor": "white", "edgecolor": "none", "alpha": 0.8})
-        log_axes(ax)
-        ax.set_title(hf, fontsize=9)
-        ax.set_xlabel("Mrays/s, median (bars: min-max)")
-        ax.set_ylabel("p95 uv error (texels)")
-        ax.grid(True, which="both", alpha=0.3)
-    finish(fig, path, "Error against speed (matrix rows; labels: layers)\n"
-                      "rings: the cheapest configuration (fewest samples/ray) at each p95 target, as in the summary", axes)
-    return True
-
-
-def plot_isa_speedup(run, path):
-    rows = sorted((r for r in run.timed if run.is_headline(r) and r["kind"] == "trace"), key=run.order)
-    by_group = groups(rows, lambda r: "%s\n%s" % (r["heightfield"]["label"], counted(r["threads"], "thread")))
-    base = run.isas[0] if run.isas else None
-    references = [("naive", dict(kind="naive", backend="naive")), (base, dict(kind="trace", backend=base))]
-    bars = {ref: [] for ref, _ in references}  # ref -> [(group index, isa, spread)]
-    for g, group in enumerate(by_group.values()):
-        for r in group:
-            for ref, changes in references:
-                other = run.partner(r, **changes)
-                if other and other is not r:  # the reference over itself is 1 by definition
-                    bars[ref].append((g, r["backend"], speedup(r, other)))
-    references = [(ref, c) for ref, c in references if bars[ref]]
-    if not references:
-        return False
-    colors = run.backend_colors()
-    fig, axes = plt.subplots(len(references), 1, figsize=(max(7.0, 1.1 * len(by_group)), 3.0 * len(references) + 0.9),
-                             squeeze=False)
-    axes = [a[0] for a in axes]
-    width = 0.8 / max(len(run.isas), 1)
-    for ax, (ref, _) in zip(axes, references):
-        for k, isa in enumerate(run.isas):
-            mine = [(g, s) for g, b, s in bars[ref] if b == isa]
-            if not mine:
-                continue
-            xs = [g + (k - (len(run.isas) - 1) / 2) * width for g, _ in mine]
-            ys = [s[0] for _, s in mine]
-            ax.bar(xs, ys, width, color=colors[isa], label=isa,
-                   yerr=[[s[0] - s[1] for _, s in mine], [s[2] - s[0] for _, s in mine]], capsize=2, error_kw={"linewidth": 0.8})
-            for x, (_, s) in zip(xs, mine):
-                ax.text(x, s[2], "%.1f" % s[0], ha="center", va="bottom", fontsize=6)
-        ax.axhline(1.0, color="gray", linewidth=1)
-        ax.set_xticks(range(len(by_group)))
-        ax.set_xticklabels(list(by_group), fontsize=7)
-        ax.set_ylabel("rays/s over %s" % ("the naive port" if ref == "naive" else ref))
-    finish(fig, path, "%s-%s speed-up per ISA: median of per-round ratios (bars: min-max)" % (
-        HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS), axes)
-    return True
-
-
-# ---------------------------------------------------------------------------------------------
 # Output
 
-def section_plots(run, run_dir, history_drawn):
-    plots = os.path.join(run_dir, "plots")
+def section_plots(run, recommendation, history_drawn):
+    plots = os.path.join(run.dir, "plots")
     os.makedirs(plots, exist_ok=True)
     body = []
 
@@ -761,17 +455,26 @@ def section_plots(run, run_dir, history_drawn):
         if os.path.exists(os.path.join(plots, name)):  # a plot of an earlier report of this directory
             os.remove(os.path.join(plots, name))
 
+    add(plot_error_vs_speed(run, recommendation, os.path.join(plots, "error_vs_speed.png")), "error_vs_speed.png",
+        "error against time per ray", "no recommendation to draw it for.")
     add(plot_error_vs_layers(run, os.path.join(plots, "error_vs_layers.png")), "error_vs_layers.png",
         "error against layers", "not measured in this run.")
     add(plot_error_vs_angle(run, os.path.join(plots, "error_vs_angle.png")), "error_vs_angle.png",
         "error against view angle", "not measured in this run.")
-    add(plot_error_vs_speed(run, os.path.join(plots, "error_vs_speed.png")), "error_vs_speed.png",
-        "error against speed", "not measured in this run.")
     add(plot_isa_speedup(run, os.path.join(plots, "isa_speedup.png")), "isa_speedup.png",
         "speed-up per ISA", "not measured in this run.")
     if history_drawn is not None:
         add(history_drawn, "history.png", "history", "the headline configuration is not in the history.")
     return section("Plots", body[:-1])
+
+
+TABLES = [("Techniques x layers, per heightfield", "techniques-x-layers-per-heightfield"),
+          ("CPU against GLSL (OSMesa llvmpipe)", "cpu-against-glsl-osmesa-llvmpipe"),
+          ("Every backend", "every-backend"),
+          ("The searches at every ISA, against llvmpipe", "the-searches-at-every-isa-against-llvmpipe"),
+          ("The exact reference's speed", "the-exact-references-speed"),
+          ("Thread scaling (%s-%s)" % (HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS), "thread-scaling-pom-32"),
+          ("Gallery", "gallery")]
 
 
 def main():
@@ -780,23 +483,45 @@ def main():
     parser.add_argument("--history", help="history CSV to append this run's timed rows to, and to plot")
     args = parser.parse_args()
     try:
-        run, claims = load_run(args.run_dir)
-        history_drawn = history.record(args.run_dir, args.history) if args.history else None
-        faults = []
-        # sections first: the warnings at the top name the faults they find
-        summary = section_summary(run, claims)
-        sections = (section_matrix(run) + section_glsl(run) + section_every_backend(run, faults)
-                    + section_searches_per_isa(run) + section_exact_speed(run) + section_threads(run) + section_plots(run, args.run_dir, history_drawn) + section_gallery(run, args.run_dir))
-    except (InputError, Unusable) as e:
+        run = load_run(args.run_dir)
+        claims = read_claims(os.path.join(args.run_dir, "claims.json"))
+        recommendation = read_optional(os.path.join(args.run_dir, "recommendation.json"), "heightmarch-recommendation")
+        history_drawn = record_run.record(args.run_dir, args.history)[0] if args.history else None
+        recorded = history.read(args.history) if args.history else None
+        alerts = read_optional(os.path.join(args.run_dir, "alerts.json"), "heightmarch-alerts")
+        faults = []  # the tables find them, the warnings on the first screen name them
+        tables = (section_matrix(run) + section_glsl(run) + section_every_backend(run, faults)
+                  + section_searches_per_isa(run) + section_exact_speed(run) + section_threads(run) + section_gallery(run))
+        plots = section_plots(run, recommendation, history_drawn)
+    except Unusable as e:
         print("report.py: %s" % e, file=sys.stderr)
         return 2
-    md = ["# heightmarch report", "",
+    p = run.provenance
+    title = "%s run of %s, commit %s" % (run.plan.get("name", "?"), p.get("date", "?"), p.get("commit", "?"))
+    md = ["# heightmarch report: " + title, "",
           "Parallax-mapping techniques on the CPU (packet kernels per ISA) and as GLSL (OSMesa llvmpipe), measured "
-          "against the exact ray/heightfield intersection. Speeds: median (min-max) of the repetitions; ratios: median "
-          "(min-max) of the per-round ratios. What every measure means: [docs/measures.md](../../docs/measures.md); "
-          "how to reproduce: [docs/reproducing.md](../../docs/reproducing.md).", ""]
-    md += summary + section_warnings(run, faults) + [""] + section_machine(run) + sections
+          "against the exact ray/heightfield intersection on %s (%s cores, %s). Explore it: [report.html](report.html) "
+          "(every configuration on its error-against-cost frontier, with filters and images); the long tables: "
+          "[tables.md](tables.md); the rows: [measurements.csv](measurements.csv), "
+          "[measurements.json](measurements.json). What every measure means: [docs/measures.md](%s); the files: "
+          "[docs/measurements.md](%s)." % (p.get("cpu", "?"), p.get("cores", "?"), run.best_isa,
+                                           docs_link(run, "measures.md"), docs_link(run, "measurements.md"))]
+    if run.load.get("busy"):  # the speeds below carry it; the warnings after the summary say why
+        md += ["", "*The machine was busy during this run: speeds and ratios may be disturbed (see the warnings below). "
+                   "Errors and samples per ray are deterministic and unaffected.*"]
+    md += section_alerts(alerts) + section_recommendation(run, recommendation)
+    md += section_claims(run, claims) + section_ratios(run) + section_warnings(run, faults)
+    md += section("The tables", ["In [tables.md](tables.md): " + "; ".join(
+        "[%s](tables.md#%s)" % (t, anchor) for t, anchor in TABLES) + "."])
+    md += plots + section_machine(run)
+    tables_md = ["# heightmarch tables: " + title, "",
+                 "The long tables of [report.md](report.md). Speeds: median (min-max) of the repetitions; ratios: "
+                 "median (min-max) of the per-round ratios."] + tables
+    atomic_write(os.path.join(args.run_dir, "measurements.csv"), measurements_csv(run.rows))
+    atomic_write(os.path.join(args.run_dir, "tables.md"), "\n".join(tables_md) + "\n")
     atomic_write(os.path.join(args.run_dir, "report.md"), "\n".join(md) + "\n")
+    report_page.write_page(run, claims, recommendation, alerts, recorded, warnings(run, faults), faults,
+                           backend_colours(run.backend_names()))
     print("report: %s" % os.path.join(args.run_dir, "report.md"))
     return 0
 

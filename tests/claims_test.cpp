@@ -55,7 +55,7 @@ TEST(Claims, RulesReadOnlyDeclaredRowsAndThePlanMeasuresThem) {
   std::vector<ClaimResult> results;
   ASSERT_NO_THROW(results = evaluate_claims(d));
   for (const ClaimResult& r : results) EXPECT_NE(r.verdict, Verdict::not_measured) << r.id;
-  PlanSettings s = suite_settings(false, {}, 1, false);
+  PlanSettings s = suite_settings(false, 1);
   const std::vector<Configuration> plan = claims_plan(s);
   for (const Claim& claim : claims())
     for (const ClaimRow& row : claim.rows) {
@@ -249,7 +249,8 @@ TEST(Claims, OffsetLimitingAtGrazingAngles) {
     d.figures.push_back(figure("bricks", "parallax-limited", "1", 2.0, 1e7, 0.0, 1.0, theta));
   }
   EXPECT_EQ(claim(evaluate_claims(d), "C2").verdict, Verdict::holds);
-  const std::string md = claims_markdown(evaluate_claims(d), "provenance", "configurations");
+  const std::string md =
+      claims_markdown(evaluate_claims(d), "provenance", "configurations", "recommendation");
   EXPECT_NE(md.find("Rule: Per heightfield and grazing angle"), std::string::npos);
   EXPECT_LT(md.find("Rule:"), md.find("limited 2.000 vs plain 5.000"));  // the rule precedes the figures
 }
@@ -320,7 +321,7 @@ TEST(Claims, SecantAgainstBinaryRefinementAtEqualSamples) {
 }
 
 TEST(Claims, ConsecutiveComputationsGiveIdenticalVerdicts) {
-  PlanSettings s = suite_settings(true, {}, 1, false);
+  PlanSettings s = suite_settings(true, 1);
   s.heightfields = {parse_heightfield("builtin:bricks", 64), parse_heightfield("builtin:waves", 64)};
   s.view_size = 64;
   s.sweep_size = 16;

@@ -16,36 +16,36 @@
 namespace heightmarch {
 namespace {
 
-// GLSL against the scalar reference. llvmpipe's GL_LINEAR rounds differently from the sampling formula
+// GLSL against the scalar reference. llvmpipe's GL_LINEAR rounds differently from the sampling
 // formula in the last bit for a few percent of samples (its lerp is fused), which moves POM's hit
-// depth by an ulp. Every technique but the shadow must then still take identical sample counts on
-// 99.9% of rays. The shadow loop of the "Parallax Occlusion Mapping in GLSL" tutorial runs while h - k h / N > 0, whose last step lands
-// within an ulp of 0, so its step count flips by one on a few percent of rays (7% on white noise
+// depth by an ulp. Every technique that writes no shadow factor must then still take identical
+// sample counts on 99.9% of rays. The soft shadow's loop (as the tutorials write it) runs while
+// h - k h / N > 0, whose last step lands within an ulp of 0, so its step count flips by one on a few percent of rays (7% on white noise
 // at 4 layers); that step is the k = N one, weighted by 1 - k / N = 0, so it never changes the
-// factor. The shadow is therefore measured by its factor (agreeing within 1e-4 on 99.9% of rays)
-// and by sample counts within one, not by identical sample counts, which the flip dominates.
+// factor. A technique that writes a shadow factor is therefore measured by its factor (agreeing
+// within 1e-4 on 99.9% of rays) and by sample counts within one on 99.9% of rays, not by identical
+// counts, which the flip dominates: its own search is still held to the 99.9% every technique
+// meets, and where that search's one-sample flip meets the shadow's on a ray the two add up.
 struct ShadowConformance {
-  double same_samples = 0, same_factor = 0, uv_p99 = 0;
-  unsigned max_sample_difference = 0;
+  double same_samples = 0, samples_within_one = 0, same_factor = 0, uv_p99 = 0;
 };
 
 ShadowConformance compare_hits(const RayBatch& rays, const HitBuffers& glsl, const HitBuffers& reference,
                                const DepthMap& map) {
   ShadowConformance c;
-  std::size_t n = 0, same = 0, factor = 0;
+  std::size_t n = 0, same = 0, within_one = 0, factor = 0;
   std::vector<float> differences;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     if (rays.is_padding(i)) continue;
     ++n;
     same += glsl.samples[i] == reference.samples[i];
     factor += std::fabs(glsl.shadow[i] - reference.shadow[i]) <= 1e-4f;
-    c.max_sample_difference = std::max(c.max_sample_difference, glsl.samples[i] > reference.samples[i]
-                                                                    ? glsl.samples[i] - reference.samples[i]
-                                                                    : reference.samples[i] - glsl.samples[i]);
+    within_one += std::max(glsl.samples[i], reference.samples[i]) - std::min(glsl.samples[i], reference.samples[i]) <= 1;
     differences.push_back(uv_error_texels(glsl.u[i], glsl.v[i], reference.u[i], reference.v[i], map.width, map.height));
   }
   std::sort(differences.begin(), differences.end());
   c.same_samples = double(same) / double(n);
+  c.samples_within_one = double(within_one) / double(n);
   c.same_factor = double(factor) / double(n);
   c.uv_p99 = differences[differences.size() * 99 / 100];
   return c;
@@ -79,7 +79,7 @@ TEST_P(GlslConformance, MatchesTheScalarReference) {
     if (writes_shadow(info(technique))) {
       // A shadow factor is measured by itself: see ShadowConformance.
       EXPECT_GE(c.same_factor, 0.999) << "share of rays whose shadow factors agree within 1e-4";
-      EXPECT_LE(c.max_sample_difference, 1u);
+      EXPECT_GE(c.samples_within_one, 0.999) << "share of rays whose sample counts are within one";
     } else {
       EXPECT_GE(c.same_samples, 0.999) << "share of rays with identical sample counts";
     }
@@ -103,7 +103,7 @@ TEST(GlslShadow, FactorAgreesOnANoiseFieldAtFourLayers) {
   const HitBuffers glsl = glsl_hits(map, params, rays, samples_known);
   const ShadowConformance c = compare_hits(rays, glsl, reference, map);
   EXPECT_GE(c.same_factor, 0.999) << "share of rays whose shadow factors agree within 1e-4";
-  EXPECT_LE(c.max_sample_difference, 1u);
+  EXPECT_GE(c.samples_within_one, 0.999) << "share of rays whose sample counts are within one";
   EXPECT_LE(c.uv_p99, 1e-3) << "p99 uv difference in texels";
 }
 

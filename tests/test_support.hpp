@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -101,6 +102,37 @@ inline CliResult run_command(const std::string& command_line) {
 // Runs build/heightmarch with the arguments (a shell string), capturing its output.
 inline CliResult run_cli(const std::string& arguments) { return run_command(std::string(HEIGHTMARCH_CLI) + " " + arguments); }
 #endif
+
+struct PeakRun {
+  int status = -1;
+  std::string output;   // stdout and stderr together
+  double peak_mib = 0;  // the largest resident set of the command and its children
+};
+
+// Runs a shell command line as a child of its own, so wait4 gives its peak memory alone.
+inline PeakRun run_with_peak(const std::string& command_line) {
+  PeakRun run;
+  int fds[2];
+  if (::pipe(fds) != 0) return run;
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::dup2(fds[1], 1);
+    ::dup2(fds[1], 2);
+    ::close(fds[0]);
+    ::execl("/bin/sh", "sh", "-c", command_line.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  ::close(fds[1]);
+  char buffer[4096];
+  for (ssize_t n; (n = ::read(fds[0], buffer, sizeof buffer)) > 0;) run.output.append(buffer, std::size_t(n));
+  ::close(fds[0]);
+  int status = 0;
+  rusage usage{};
+  ::wait4(pid, &status, 0, &usage);
+  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  run.peak_mib = double(usage.ru_maxrss) / 1024.0;
+  return run;
+}
 
 // A fresh empty directory under the system temp directory, unique to this process.
 inline std::string temp_dir(const std::string& name) {

@@ -104,8 +104,13 @@ std::vector<ClaimResult> evaluate_claims(const ClaimsData& data);
 // median and min-max of the timed repetitions; "not timed" without timings.
 std::string compare_speeds(const ClaimFigure& a, const ClaimFigure& b);
 
+// claims.md: the verdicts, the recommendation over the same rows (Markdown, recommendation.hpp),
+// then each claim's rule and checks.
 std::string claims_markdown(const std::vector<ClaimResult>& results, const std::string& provenance_line,
-                            const std::string& configurations);
+                            const std::string& configurations, const std::string& recommendation);
+// claims.json: {"format": "heightmarch-claims", "format_version": 2, "claims": [...]} (version 1
+// was the bare list).
+inline constexpr int kClaimsFormatVersion = 2;
 std::string claims_json(const std::vector<ClaimResult>& results);
 
 }  // namespace heightmarch

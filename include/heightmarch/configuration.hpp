@@ -64,6 +64,7 @@ enum Purpose : unsigned {
   kPurposeExact = 1u << 10,    // the exact reference's own speed
 };
 inline constexpr unsigned kPurposeCount = 11;
+inline constexpr unsigned kAllPurposes = (1u << kPurposeCount) - 1;
 std::string purpose_name(unsigned single_purpose_bit);
 
 // A GLSL file brought in with `glsl --shader`, run instead of a registry technique. It is named

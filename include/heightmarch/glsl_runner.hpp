@@ -4,12 +4,14 @@
 // heightmarch-glsl-worker (src/glsl/worker_main.cpp), so only GLSL runs load libOSMesa and
 // libLLVM, and each llvmpipe thread count (read once per process) gets its own context.
 //
-// The worker is found next to the running executable, or at $HEIGHTMARCH_GLSL_WORKER. A draw
-// may take 10 s + 100 ns per ray and bound of its samples (2 x max layers + refine steps + 8),
-// some 25 times what the slowest built-in technique needs at one llvmpipe thread; other requests
-// 600 s. A worker that crashes, exits, does not answer in time or draws past its bound is killed
-// (the call throws one line: an InputError when a brought-in shader's draw ran past its bound)
-// and the next prepare starts a new one.
+// The worker is found next to the running executable, or at $HEIGHTMARCH_GLSL_WORKER. It runs
+// under an OS memory limit derived from the memory budget (memory_budget.hpp) and checks every
+// message it is sent (src/glsl/protocol.hpp). A program's compile and link may take 20 s; a draw
+// 10 s + 100 ns per ray and bound of its samples (2 x max layers + refine steps + 8), some 25
+// times what the slowest built-in technique needs at one llvmpipe thread; other requests 600 s.
+// A worker that crashes, exits, does not answer in time or compiles or draws past its bound is
+// killed (the call throws one line: an InputError naming a brought-in shader when the worker died
+// or ran past a bound while compiling or drawing it) and the next prepare starts a new one.
 //
 // Brought-in shaders (--shader FILE): the file defines LearnOpenGL's
 //   vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)

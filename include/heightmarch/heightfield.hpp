@@ -20,12 +20,22 @@ enum class Convention { depth, height };  // height: white = high, turned into d
 // Largest accepted side of a depth map, loaded or built in.
 inline constexpr int kMaxDepthMapSide = 16384;
 
+// What a run holds per texel of its depth map, asked of the memory budget before one is made:
+// the map (4 bytes), the sampler's padded copy (4) and the exact reference's min-depth pyramid
+// (4/3 x 4), rounded up; a technique's other precomputed textures ask when they are built.
+inline constexpr double kBytesPerDepthTexel = 14.0;
+
 // Loads any image OpenImageIO reads, a regular file; its channel `channel` (default the first)
 // is the depth, unassociated from alpha. Throws InputError on special or unreadable files, files
 // with errors in their pixel data (a truncated JPEG), absurd sizes (also an image declaring far
 // more pixels than its bytes can hold), a missing channel and NaN/Inf texels; values outside
 // [0, 1] are clamped with a warning on stderr.
 DepthMap load_depth_map(const std::string& path, Convention convention, int channel = 0);
+
+// The one check of a depth map handed over whole (a loaded image, a GLSL worker's message):
+// sides from 1 to kMaxDepthMapSide, W x H texels, all finite and in [0, 1]. Throws InputError
+// "<what>: ..." naming the first bad texel.
+void check_depth_map(const DepthMap& map, const std::string& what);
 
 // --channel: an index from 0, or r, g, b, a (either case) for 0 to 3. Throws InputError.
 int parse_channel(const std::string& text);
@@ -51,8 +61,10 @@ struct HeightfieldSource {
   std::uint64_t seed = 1;
   Convention convention = Convention::depth;
   int channel = 0;  // of an image file, from 0
+  // The label results carry, when give_unique_labels() chose one; else label() derives it.
+  std::string name;
 
-  std::string label() const;     // "bricks", or the file name without directories
+  std::string label() const;     // "bricks", the file name without directories, or `name`
   std::string describe() const;  // "builtin:bricks", or the path
   friend bool operator==(const HeightfieldSource&, const HeightfieldSource&) = default;
 };
@@ -64,5 +76,10 @@ HeightfieldSource parse_heightfield(const std::string& text, int resolution = 51
                                     int channel = 0);
 
 DepthMap load_heightfield(const HeightfieldSource& source);
+
+// Drops repeated sources and labels the others so no two results share a label: a builtin's
+// name, a file's name, or its path as given where file names collide (a/rock.png, b/rock.png).
+// Throws InputError when two would still share one (a file named like a builtin, given bare).
+void give_unique_labels(std::vector<HeightfieldSource>& sources);
 
 }  // namespace heightmarch

@@ -35,9 +35,14 @@ struct ErrorSummary {
   std::optional<double> within_one_layer_step;
 };
 
-// The error measures as (name, value), named as Google Benchmark counters (uv_error_mean, ...,
-// wrong_surface_rate, depth_error_mean, and the shadow's two where it has them): the one list
-// that heightmarch-bench's counters and a suite's bench.json share.
+// Every error measure as (name, value): uv_error_mean, uv_error_rms, uv_error_p50, uv_error_p95,
+// uv_error_p99, uv_error_max, wrong_surface_rate, depth_error_mean, shadow_error_mean,
+// shadow_mismatch_rate; NaN for the shadow's two where the row has no shadow factor. The one list
+// of the measures' names: measurements.json, metrics.json, measurements.csv, bench.json and
+// heightmarch-bench's counters use them.
+std::vector<std::pair<std::string, double>> error_measures(const ErrorSummary& errors);
+
+// The measures the row has (error_measures without the NaN ones), as Google Benchmark counters.
 std::vector<std::pair<std::string, double>> error_counters(const ErrorSummary& errors);
 
 // Errors per ray (0 for padding and discarded rays) and their summary.

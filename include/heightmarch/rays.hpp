@@ -41,6 +41,10 @@ struct RayBatch {
   bool is_padding(std::size_t i) const { return origin[i] == kPaddingRay; }
 };
 
+// The default view's span of view angles, degrees from the normal.
+inline constexpr float kDefaultNearDegrees = 30.0f, kDefaultFarDegrees = 80.0f;
+inline constexpr float kMaxViewDegrees = 89.0f;
+
 // Where a batch's rays come from: the perspective benchmark view, a sweep of one V over a grid
 // of T, or a CSV file of rays (width x height is then rows x 1, known once loaded).
 struct ViewSpec {
@@ -49,6 +53,9 @@ struct ViewSpec {
   int width = 1024;
   int height = 1024;
   float theta_degrees = 0.0f;   // sweep: angle of V from the normal
+  // perspective: the view angle from the normal at the near edge of the plane (v = 0) and at the
+  // far edge (v = 1), on the centre line: the span of angles a scene shows the surface at
+  float near_degrees = kDefaultNearDegrees, far_degrees = kDefaultFarDegrees;
   float phi_degrees = 270.0f;   // sweep: azimuth of V (270: eye towards -v, as the default view)
   std::string rays_path;        // rays_file: the CSV
   int tile_size = 32;           // tile side in pixels (rays_file: tile_size^2 rays per tile)
@@ -73,21 +80,30 @@ inline double padding_factor(int tile_size) {
 }
 inline constexpr int kDefaultTileSize = 32;
 
-// "default" or "sweep:THETA[,PHI]" (degrees); throws InputError.
+// "default", "default:NEAR-FAR" (the perspective view's span of angles) or "sweep:THETA[,PHI]"
+// (degrees); throws InputError.
 ViewSpec parse_view(const std::string& text, int width, int height);
+// "NEAR-FAR" in degrees, 0 <= NEAR < FAR <= kMaxViewDegrees, into the view; throws InputError.
+void parse_view_angles(const std::string& text, ViewSpec& view);
 ViewSpec sweep_view(double theta_degrees, int width, int height);  // at the default azimuth
 ViewSpec rays_file_view(const std::string& path);
-std::string describe(const ViewSpec& view);  // "default 1024x1024", "sweep:70,270 128x128", "rays:FILE"
+// "default 1024x1024", "default:45-85 1024x1024" (angles other than 30-80), "sweep:70,270 128x128",
+// "rays:FILE"
+std::string describe(const ViewSpec& view);
 
-// The default view: a perspective camera at (0.5, -0.113, 0.196) looking at the plane so view
-// angles span 30 degrees (near edge) to 80 degrees (far edge). The sweep view: one fixed V over a
-// width x height grid of T at pixel centres of [0,1]^2.
-// A rays_file view loads its CSV (load_rays_csv).
+// The default view: a perspective camera looking at the plane so view angles span near_degrees
+// (near edge) to far_degrees (far edge); at 30 and 80, from (0.5, -0.113, 0.196). The sweep view: one fixed V
+// over a width x height grid of T at pixel centres of [0,1]^2. A rays_file view loads its CSV
+// (load_rays_csv).
 RayBatch make_view_rays(const ViewSpec& view);
 
 // A CSV file with header tx,ty,vx,vy,vz; rays keep their input order, cut into tiles of
 // tile_size^2 rays. V is normalised; vz <= 0, NaN and malformed rows are InputErrors.
 RayBatch load_rays_csv(const std::string& path, int tile_size = kDefaultTileSize);
+
+// The one check of a batch handed over whole (a GLSL worker's message): the five arrays of one
+// length, T finite within 1e6, V finite with V.z > 0. Throws InputError naming the first bad ray.
+void check_rays(const RayBatch& rays);
 
 // Builds a batch from explicit rays (used by the CSV loader and tests).
 RayBatch make_ray_list(const std::vector<float>& tx, const std::vector<float>& ty,

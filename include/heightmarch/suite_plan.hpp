@@ -13,22 +13,35 @@ namespace heightmarch {
 struct PlanSettings {
   std::string name;                            // "default", "quick"
   std::vector<HeightfieldSource> heightfields;
-  std::vector<LayerSpec> layer_specs;          // of the matrix (and GLSL)
+  // The candidates: the techniques and layer specs of the matrix (and GLSL); the techniques of the
+  // searches timed at every ISA, the sweeps and the gallery too. The claims read their own rows.
+  std::vector<Technique> techniques;
+  std::vector<LayerSpec> layer_specs;
+  std::vector<LayerSpec> few_layer_specs;    // the sweeps' and GLSL's at fewer threads: 8, 32, 8-32
+  float scale = 0.1f;                        // height scale of every configuration
+  float near_degrees = kDefaultNearDegrees;  // the default view's span of view angles
+  float far_degrees = kDefaultFarDegrees;
   int view_size = 1024;                        // default view side, pixels
   int sweep_size = 128;                        // sweep views: side, pixels
   std::vector<double> sweep_angles;            // degrees
   int gallery_width = 512, gallery_height = 384;
-  Isa best_isa = Isa::scalar;
-  std::vector<Isa> isas;                       // every ISA the CPU runs
-  int threads = 1;                             // all cores, or --threads
+  Isa best_isa = Isa::scalar;         // the matrix's: the widest of isas
+  std::vector<Isa> isas;              // every ISA the CPU runs, or those asked for
+  int threads = 1;                    // the most of thread_counts: the matrix's
+  std::vector<int> thread_counts{1};  // timed side by side: one and all cores, or those asked for
   bool glsl = true;
+  unsigned parts = kAllPurposes;  // the purposes measured (--parts)
   int repetitions = 5;
   double min_seconds = 0.04;                   // per repetition
   bool large_maps = true;                      // P2's rows on the builtins at kLargeMapSide
 };
 
-// The default or quick settings; extra files are measured beside the builtins.
-PlanSettings suite_settings(bool quick, const std::vector<HeightfieldSource>& extra, int threads, bool glsl);
+// The default or quick settings: that plan's builtins, every technique, every ISA the CPU runs,
+// one thread and `threads` (all cores).
+PlanSettings suite_settings(bool quick, int threads);
+
+// Sweep angles every 5 degrees over the default view's span (its ends included).
+std::vector<double> sweep_angles(float near_degrees, float far_degrees);
 
 // Everything a suite run measures: the matrix, POM-32 at every ISA and thread count, GLSL, the
 // roofline, the naive port, sweeps, the gallery and the claims' rows.

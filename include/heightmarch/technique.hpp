@@ -99,8 +99,13 @@ struct TechniqueParams {
   int refine_steps() const { return refine.value_or(info(technique).refine); }
 };
 
-// Throws InputError for a scale outside [0, 1] (NaN included), bad refine counts, a light below
-// the plane; normalises the light.
+// The one check of a run's parameters, for the command line and every message the GLSL worker
+// takes alike: a technique of the registry, layers within [1, kMaxLayers] (min <= max), a scale
+// in [0, 1], refine steps in [0, kMaxRefineSteps], a known wrap mode, a finite light above the
+// plane and not grazing it (NaN fails every test). Throws InputError.
+void check(const TechniqueParams& params);
+
+// check(), then normalises the light.
 void validate(TechniqueParams& params);
 
 }  // namespace heightmarch

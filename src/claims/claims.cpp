@@ -2,11 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdarg>
 #include <cstdio>
 #include <stdexcept>
 
 #include "io/json_writer.hpp"
+#include "io/markdown.hpp"
+#include "util/string_format.hpp"
 
 namespace heightmarch {
 
@@ -44,24 +45,11 @@ std::string describe(const ClaimRow& row) {
 
 namespace {
 
-std::string fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));
-std::string fmt(const char* format, ...) {  // any length: a rule runs to several hundred characters
-  va_list args, again;
-  va_start(args, format);
-  va_copy(again, args);
-  const int length = std::vsnprintf(nullptr, 0, format, args);
-  va_end(args);
-  std::string text(std::size_t(std::max(length, 0)), '\0');
-  std::vsnprintf(text.data(), text.size() + 1, format, again);
-  va_end(again);
-  return text;
-}
-
 // A speed as median (min-max) Mrays/s over the timed repetitions, or "not timed".
 std::string speed(const ClaimFigure& f) {
   if (f.rays_per_second <= 0) return "not timed";
-  return fmt("%.1f (%.1f-%.1f) Mrays/s", f.rays_per_second / 1e6, f.rays_per_second_min / 1e6,
-             f.rays_per_second_max / 1e6);
+  return string_format("%.1f (%.1f-%.1f) Mrays/s", f.rays_per_second / 1e6, f.rays_per_second_min / 1e6,
+                       f.rays_per_second_max / 1e6);
 }
 
 }  // namespace
@@ -161,15 +149,18 @@ ClaimResult claim_c1(const Claim& claim, const ClaimsData& d) {
       const double low = std::max(relative_error(*a20), relative_error(*a30));
       const double high = std::min(relative_error(*a70), relative_error(*a80));
       c.check(hf + ", view angle",
-              fmt("relative error %.3f at 70-80 deg vs %.3f at 20-30 deg (uv error %.3f and %.3f texels)", high, low,
-                  std::min(a70->uv_error_mean, a80->uv_error_mean), std::max(a20->uv_error_mean, a30->uv_error_mean)),
+              string_format(
+                  "relative error %.3f at 70-80 deg vs %.3f at 20-30 deg (uv error %.3f and %.3f texels)",
+                  high, low, std::min(a70->uv_error_mean, a80->uv_error_mean),
+                  std::max(a20->uv_error_mean, a30->uv_error_mean)),
               high >= 2 * low);
     }
     if (const ClaimFigure* f = c.get(hf, at(T::parallax, "1")); f && f->per_ray.sharp_error_mean >= 0)
-      c.check(hf + ", sharp depth changes",
-              fmt("error %.3f texels where |grad D| is in the top decile vs %.3f in the bottom half", f->per_ray.sharp_error_mean,
-                  f->per_ray.smooth_error_mean),
-              f->per_ray.sharp_error_mean >= 2 * f->per_ray.smooth_error_mean);
+      c.check(
+          hf + ", sharp depth changes",
+          string_format("error %.3f texels where |grad D| is in the top decile vs %.3f in the bottom half",
+                        f->per_ray.sharp_error_mean, f->per_ray.smooth_error_mean),
+          f->per_ray.sharp_error_mean >= 2 * f->per_ray.smooth_error_mean);
   }
   return c.finish();
 }
@@ -181,8 +172,10 @@ ClaimResult claim_c2(const Claim& claim, const ClaimsData& d) {
       const ClaimFigure *plain = c.get(hf, swept(T::parallax, "1", theta)),
                         *limited = c.get(hf, swept(T::parallax_limited, "1", theta));
       if (plain && limited)
-        c.check(hf + fmt(", %.0f deg", theta), fmt("limited %.3f vs plain %.3f texels", limited->uv_error_mean, plain->uv_error_mean),
-                limited->uv_error_mean < plain->uv_error_mean);
+        c.check(
+            hf + string_format(", %.0f deg", theta),
+            string_format("limited %.3f vs plain %.3f texels", limited->uv_error_mean, plain->uv_error_mean),
+            limited->uv_error_mean < plain->uv_error_mean);
     }
   return c.finish();
 }
@@ -195,7 +188,7 @@ ClaimResult claim_c3(const Claim& claim, const ClaimsData& d) {
       const ClaimFigure *fewer = c.get(hf, at(T::steep, counts[i])), *more = c.get(hf, at(T::steep, counts[i + 1]));
       if (fewer && more)
         c.check(hf + ", " + counts[i] + " -> " + counts[i + 1] + " layers",
-                fmt("%.3f -> %.3f texels", fewer->uv_error_mean, more->uv_error_mean),
+                string_format("%.3f -> %.3f texels", fewer->uv_error_mean, more->uv_error_mean),
                 more->uv_error_mean < fewer->uv_error_mean);
     }
   return c.finish();
@@ -206,9 +199,11 @@ ClaimResult claim_c4(const Claim& claim, const ClaimsData& d) {
   for (const std::string& hf : c.heightfields()) {
     const ClaimFigure *plain = c.get(hf, at(T::parallax, "1")), *steep = c.get(hf, at(T::steep, "10"));
     if (plain && steep)
-      c.check(hf, fmt("mean %.3f vs %.3f texels, p95 %.3f vs %.3f texels", steep->uv_error_mean, plain->uv_error_mean,
-                      steep->uv_error_p95, plain->uv_error_p95),
-              steep->uv_error_mean <= 0.5 * plain->uv_error_mean && steep->uv_error_p95 <= 0.5 * plain->uv_error_p95);
+      c.check(hf,
+              string_format("mean %.3f vs %.3f texels, p95 %.3f vs %.3f texels", steep->uv_error_mean,
+                            plain->uv_error_mean, steep->uv_error_p95, plain->uv_error_p95),
+              steep->uv_error_mean <= 0.5 * plain->uv_error_mean &&
+                  steep->uv_error_p95 <= 0.5 * plain->uv_error_p95);
   }
   return c.finish();
 }
@@ -244,19 +239,22 @@ ClaimResult claim_c5(const Claim& claim, const ClaimsData& d) {
         const double curve = fixed_curve_error(c, hf, technique, dynamic->samples_per_ray, between);
         if (curve >= 0)
           c.check(hf + ", " + name + ", default view",
-                  fmt("8-32: %.3f texels at %.2f samples/ray; fixed counts at the same samples: %.3f texels (between ",
-                      dynamic->uv_error_mean, dynamic->samples_per_ray, curve) + between + ")",
+                  string_format("8-32: %.3f texels at %.2f samples/ray; fixed counts at the same samples: "
+                                "%.3f texels (between ",
+                                dynamic->uv_error_mean, dynamic->samples_per_ray, curve) +
+                      between + ")",
                   dynamic->uv_error_mean <= curve);
       }
       for (double theta : kNearNormal) {
         const ClaimFigure *dynamic = c.get(hf, swept(technique, "8-32", theta)),
                           *fixed = c.get(hf, swept(technique, "32", theta));
         if (dynamic && fixed)
-          c.check(hf + ", " + name + fmt(", %.0f deg", theta),
-                  fmt("%.2f vs %.2f samples/ray, error %.3f vs %.3f texels", dynamic->samples_per_ray,
-                      fixed->samples_per_ray, dynamic->uv_error_mean, fixed->uv_error_mean),
-                  dynamic->samples_per_ray <= 0.8 * fixed->samples_per_ray &&
-                      close_in_quality(dynamic->uv_error_mean, fixed->uv_error_mean, 1.25));
+          c.check(
+              hf + ", " + name + string_format(", %.0f deg", theta),
+              string_format("%.2f vs %.2f samples/ray, error %.3f vs %.3f texels", dynamic->samples_per_ray,
+                            fixed->samples_per_ray, dynamic->uv_error_mean, fixed->uv_error_mean),
+              dynamic->samples_per_ray <= 0.8 * fixed->samples_per_ray &&
+                  close_in_quality(dynamic->uv_error_mean, fixed->uv_error_mean, 1.25));
       }
     }
   return c.finish();
@@ -267,7 +265,8 @@ ClaimResult claim_c6(const Claim& claim, const ClaimsData& d) {
   for (const std::string& hf : c.heightfields())
     for (const char* layers : {"8", "16", "32"})
       if (const ClaimFigure* f = c.get(hf, at(T::steep, layers)))
-        c.check(hf + ", " + layers + " layers", fmt("%.2f%% of rays within one layer", 100 * f->within_one_layer),
+        c.check(hf + ", " + layers + " layers",
+                string_format("%.2f%% of rays within one layer", 100 * f->within_one_layer),
                 f->within_one_layer >= 0.99);
   return c.finish();
 }
@@ -278,7 +277,8 @@ ClaimResult claim_c7(const Claim& claim, const ClaimsData& d) {
     for (const char* layers : {"8", "16", "32"}) {
       const ClaimFigure *pom = c.get(hf, at(T::pom, layers)), *steep = c.get(hf, at(T::steep, layers));
       if (pom && steep)
-        c.check(hf + ", " + layers + " layers", fmt("POM %.3f vs steep %.3f texels", pom->uv_error_mean, steep->uv_error_mean),
+        c.check(hf + ", " + layers + " layers",
+                string_format("POM %.3f vs steep %.3f texels", pom->uv_error_mean, steep->uv_error_mean),
                 pom->uv_error_mean <= 0.5 * steep->uv_error_mean);
     }
   return c.finish();
@@ -292,12 +292,16 @@ ClaimResult claim_c8(const Claim& claim, const ClaimsData& d) {
                         *steep = c.get(hf, at(T::steep, layers));
       if (!relief || !pom || !steep) continue;
       c.check(hf + ", " + layers + " layers, accuracy",
-              fmt("relief %.3f, POM %.3f, steep %.3f texels", relief->uv_error_mean, pom->uv_error_mean, steep->uv_error_mean),
+              string_format("relief %.3f, POM %.3f, steep %.3f texels", relief->uv_error_mean,
+                            pom->uv_error_mean, steep->uv_error_mean),
               relief->uv_error_mean <= std::min(pom->uv_error_mean, steep->uv_error_mean));
       c.check(hf + ", " + layers + " layers, cost",
-              fmt("relief %.2f vs POM %.2f samples/ray; ", relief->samples_per_ray, pom->samples_per_ray) + "relief " +
-                  speed(*relief) + " vs POM " + speed(*pom) + ": relief " + compare_speeds(*relief, *pom),
-              relief->samples_per_ray > pom->samples_per_ray && relief->samples_per_ray <= 2.0 * pom->samples_per_ray);
+              string_format("relief %.2f vs POM %.2f samples/ray; ", relief->samples_per_ray,
+                            pom->samples_per_ray) +
+                  "relief " + speed(*relief) + " vs POM " + speed(*pom) + ": relief " +
+                  compare_speeds(*relief, *pom),
+              relief->samples_per_ray > pom->samples_per_ray &&
+                  relief->samples_per_ray <= 2.0 * pom->samples_per_ray);
     }
   return c.finish();
 }
@@ -308,12 +312,15 @@ ClaimResult claim_c9(const Claim& claim, const ClaimsData& d) {
     for (const char* layers : {"8", "16", "32"}) {
       const ClaimFigure *relief = c.get(hf, at(T::relief, layers)), *pom = c.get(hf, at(T::pom, layers));
       if (relief && pom)
-        c.check(hf + ", " + layers + " layers",
-                fmt("error POM %.3f vs relief %.3f texels, ", pom->uv_error_mean, relief->uv_error_mean) +
-                    fmt("%.2f vs %.2f samples/ray; ", pom->samples_per_ray, relief->samples_per_ray) + "POM " +
-                    speed(*pom) + " vs relief " + speed(*relief) + ": POM " + compare_speeds(*pom, *relief),
-                close_in_quality(pom->uv_error_mean, relief->uv_error_mean, 1.5) &&
-                    pom->samples_per_ray < relief->samples_per_ray);
+        c.check(
+            hf + ", " + layers + " layers",
+            string_format("error POM %.3f vs relief %.3f texels, ", pom->uv_error_mean,
+                          relief->uv_error_mean) +
+                string_format("%.2f vs %.2f samples/ray; ", pom->samples_per_ray, relief->samples_per_ray) +
+                "POM " + speed(*pom) + " vs relief " + speed(*relief) + ": POM " +
+                compare_speeds(*pom, *relief),
+            close_in_quality(pom->uv_error_mean, relief->uv_error_mean, 1.5) &&
+                pom->samples_per_ray < relief->samples_per_ray);
     }
   return c.finish();
 }
@@ -328,12 +335,13 @@ ClaimResult claim_c10(const Claim& claim, const ClaimsData& d) {
         auto tunnelling = [&](const std::string& what, double a, double b) {
           if (a < 0 || b < 0) return;
           c.check(hf + ", " + to_string(technique) + " " + layers + " vs 64 layers, " + what,
-                  fmt("%.2f%% vs %.2f%% beyond one layer step (all rays: %.2f%% vs %.2f%%)", 100 * a, 100 * b,
-                      100 * few->per_ray.beyond_one_layer, 100 * many->per_ray.beyond_one_layer),
+                  string_format("%.2f%% vs %.2f%% beyond one layer step (all rays: %.2f%% vs %.2f%%)",
+                                100 * a, 100 * b, 100 * few->per_ray.beyond_one_layer,
+                                100 * many->per_ray.beyond_one_layer),
                   a >= 2 * b && a >= b + 0.01);
         };
-        tunnelling(fmt("thin features (%.1f%% of rays)", 100 * few->per_ray.thin_share), few->per_ray.thin_beyond_one_layer,
-                   many->per_ray.thin_beyond_one_layer);
+        tunnelling(string_format("thin features (%.1f%% of rays)", 100 * few->per_ray.thin_share),
+                   few->per_ray.thin_beyond_one_layer, many->per_ray.thin_beyond_one_layer);
         tunnelling("sharp depth changes", few->per_ray.sharp_beyond_one_layer, many->per_ray.sharp_beyond_one_layer);
       }
   return c.finish();
@@ -353,12 +361,17 @@ ClaimResult claim_p1(const Claim& claim, const ClaimsData& d) {
           (!cheapest || cone->samples_per_ray < cheapest->samples_per_ray))
         cheapest = cone;
     if (cheapest)
-      c.check(hf, fmt("cone %s: %.3f texels at %.2f samples/ray; relief 32: %.3f texels at %.2f samples/ray",
-                      to_string(cheapest->row.layers).c_str(), cheapest->uv_error_mean, cheapest->samples_per_ray,
-                      relief->uv_error_mean, relief->samples_per_ray),
+      c.check(hf,
+              string_format(
+                  "cone %s: %.3f texels at %.2f samples/ray; relief 32: %.3f texels at %.2f samples/ray",
+                  to_string(cheapest->row.layers).c_str(), cheapest->uv_error_mean, cheapest->samples_per_ray,
+                  relief->uv_error_mean, relief->samples_per_ray),
               cheapest->samples_per_ray <= 0.5 * relief->samples_per_ray);
     else if (c.get(hf, at(T::cone, "32")))
-      c.check(hf, fmt("no cone configuration within 0.05 texel of relief 32's %.3f texels", relief->uv_error_mean), false);
+      c.check(hf,
+              string_format("no cone configuration within 0.05 texel of relief 32's %.3f texels",
+                            relief->uv_error_mean),
+              false);
   }
   return c.finish();
 }
@@ -367,14 +380,15 @@ ClaimResult claim_p2(const Claim& claim, const ClaimsData& d) {
   ClaimBuilder c(claim, d);
   auto exact = [&](const std::string& where, const ClaimFigure* f) {
     if (f)
-      c.check(where + ", exact", fmt("p99 %.2g texel (mean %.2g, wrong surface %.3f%%)", f->uv_error_p99, f->uv_error_mean,
-                                     100 * f->wrong_surface_rate),
+      c.check(where + ", exact",
+              string_format("p99 %.2g texel (mean %.2g, wrong surface %.3f%%)", f->uv_error_p99,
+                            f->uv_error_mean, 100 * f->wrong_surface_rate),
               f->uv_error_p99 <= kExactUvErrorP99);
   };
   for (const std::string& hf : c.heightfields()) exact(hf, c.get(hf, at(T::maxmip, "1")));
   for (const std::string& hf : c.heightfields(true)) {
     const ClaimFigure* maxmip = c.get(hf, on_large_map(T::maxmip, "1"));
-    const std::string where = hf + fmt(" at %d", kLargeMapSide);
+    const std::string where = hf + string_format(" at %d", kLargeMapSide);
     exact(where, maxmip);
     const ClaimFigure *equal = nullptr, *closest = nullptr;
     for (const char* layers : kLargeMapLayers)
@@ -388,10 +402,12 @@ ClaimResult claim_p2(const Claim& claim, const ClaimsData& d) {
     if (!maxmip || !linear) continue;
     const std::string speeds = compare_speeds(*maxmip, *linear);
     c.check(where + ", speed",
-            fmt("maxmip %.2f samples/ray, p99 %.2g texel; ", maxmip->samples_per_ray, maxmip->uv_error_p99) +
+            string_format("maxmip %.2f samples/ray, p99 %.2g texel; ", maxmip->samples_per_ray,
+                          maxmip->uv_error_p99) +
                 to_string(linear->row.technique) + " " + to_string(linear->row.layers) +
-                fmt(" (%s): %.2f samples/ray, p99 %.2g texel; maxmip ", equal ? "as accurate" : "the most accurate",
-                    linear->samples_per_ray, linear->uv_error_p99) +
+                string_format(" (%s): %.2f samples/ray, p99 %.2g texel; maxmip ",
+                              equal ? "as accurate" : "the most accurate", linear->samples_per_ray,
+                              linear->uv_error_p99) +
                 speed(*maxmip) + " vs " + speed(*linear) + ": maxmip " + speeds,
             speeds == "faster");
   }
@@ -407,10 +423,13 @@ ClaimResult claim_p3(const Claim& claim, const ClaimsData& d) {
       std::string between;
       const double relief = fixed_curve_error(c, hf, T::relief, secant->samples_per_ray, between);
       if (relief >= 0)
-        c.check(hf + ", secant " + layers + " layers",
-                fmt("secant %.4f texels at %.2f samples/ray; relief at the same samples: %.4f texels (between ",
-                    secant->uv_error_mean, secant->samples_per_ray, relief) + between + ")",
-                secant->uv_error_mean < relief);
+        c.check(
+            hf + ", secant " + layers + " layers",
+            string_format(
+                "secant %.4f texels at %.2f samples/ray; relief at the same samples: %.4f texels (between ",
+                secant->uv_error_mean, secant->samples_per_ray, relief) +
+                between + ")",
+            secant->uv_error_mean < relief);
     }
   return c.finish();
 }
@@ -500,17 +519,25 @@ std::vector<Claim> make_claims() {
   std::vector<ClaimRow> p2 = rows({T::maxmip}, {"1"}) + rows({T::maxmip}, {"1"}, ClaimView::large_map);
   for (const char* layers : kLargeMapLayers)
     for (Technique t : {T::relief, T::secant}) p2.push_back(on_large_map(t, layers));
-  list.push_back({"P2", "maximum-mipmap tracing is exact, and on large depth maps faster than linear search at equal accuracy",
-                  "Tevs, Ihrke and Seidel, I3D 2008",
-                  fmt("Exact: per heightfield, at the default view and on the large map, maxmip's p99 uv error is at most "
-                      "%g texel. Faster: per builtin at %d x %d (view %d x %d), maxmip's rays/s against the linear search "
-                      "of equal accuracy, relief and secant (linear layers, then binary or secant refinement) at 64, 256 "
-                      "and 1024 layers: the fastest of those whose p99 uv error is at most %g texel, or, where none is, "
-                      "the most accurate one (equal accuracy would take it more layers, so more time). Passes when maxmip "
-                      "is faster with spreads apart; a time claim, so speeds decide it, and overlapping spreads fail it.",
-                      kExactUvErrorP99, kLargeMapSide, kLargeMapSide, kLargeMapViewSide, kLargeMapViewSide,
-                      kExactUvErrorP99),
-                  p2, claim_p2});
+  list.push_back(
+      {"P2",
+       "maximum-mipmap tracing is exact, and on large depth maps faster than linear search at equal accuracy",
+       "Tevs, Ihrke and Seidel, I3D 2008",
+       string_format(
+           "Exact: per heightfield, at the default view and on the large map, maxmip's p99 uv error is at "
+           "most "
+           "%g texel. Faster: per builtin at %d x %d (view %d x %d), maxmip's rays/s against the linear "
+           "search "
+           "of equal accuracy, relief and secant (linear layers, then binary or secant refinement) at 64, "
+           "256 "
+           "and 1024 layers: the fastest of those whose p99 uv error is at most %g texel, or, where none is, "
+           "the most accurate one (equal accuracy would take it more layers, so more time). Passes when "
+           "maxmip "
+           "is faster with spreads apart; a time claim, so speeds decide it, and overlapping spreads fail "
+           "it.",
+           kExactUvErrorP99, kLargeMapSide, kLargeMapSide, kLargeMapViewSide, kLargeMapViewSide,
+           kExactUvErrorP99),
+       p2, claim_p2});
   list.push_back({"P3", "secant refinement is more accurate than binary refinement at the same number of samples",
                   "Risser, Shah and Pattanaik, Interval Mapping (2007)",
                   "Per heightfield at the default view and secant layer count (4, 8, 16, 32; 5 refinement steps each): "
@@ -535,7 +562,7 @@ std::vector<ClaimResult> evaluate_claims(const ClaimsData& data) {
 }
 
 std::string claims_markdown(const std::vector<ClaimResult>& results, const std::string& provenance_line,
-                            const std::string& configurations) {
+                            const std::string& configurations, const std::string& recommendation) {
   std::string md = "# The tutorials' and the papers' claims, measured\n\n" + provenance_line + "\n\n" + configurations +
                    "\n\nEach rule was fixed in the source (src/claims/claims.cpp) before any figure was measured; "
                    "docs/claims.md gives each claim's words and source (the tutorials C1-C10, the papers P1-P3) and "
@@ -544,15 +571,18 @@ std::string claims_markdown(const std::vector<ClaimResult>& results, const std::
                    "| claim | verdict | checks passed |\n|---|---|---|\n";
   for (const ClaimResult& r : results) {
     const auto passed = std::count_if(r.checks.begin(), r.checks.end(), [](auto& c) { return c.passed; });
-    md += "| [" + r.id + "](#" + r.id + ") " + r.claim + " | **" + to_string(r.verdict) + "** | " +
-          std::to_string(passed) + " / " + std::to_string(r.checks.size()) + " |\n";
+    md += "| [" + r.id + "](#" + r.id + ") " + markdown_cell(r.claim) + " | **" + to_string(r.verdict) +
+          "** | " + std::to_string(passed) + " / " + std::to_string(r.checks.size()) + " |\n";
   }
+  md += "\n## What to ship on these rows\n\n" + recommendation;
   for (const ClaimResult& r : results) {
     md += "\n<a id=\"" + r.id + "\"></a>\n## " + r.id + ": " + r.claim + "\n\n";
     md += "Source: " + r.source + " (docs/claims.md gives the words and the pages).\n\nRule: " + r.rule + "\n\n";
     if (!r.checks.empty()) {
       md += "| where | figures | passes |\n|---|---|---|\n";
-      for (const ClaimCheck& c : r.checks) md += "| " + c.where + " | " + c.figures + " | " + (c.passed ? "yes" : "**no**") + " |\n";
+      for (const ClaimCheck& c : r.checks)
+        md += "| " + markdown_cell(c.where) + " | " + markdown_cell(c.figures) + " | " +
+              (c.passed ? "yes" : "**no**") + " |\n";
     }
     md += "\nVerdict: **" + to_string(r.verdict) + "**";
     if (r.verdict == Verdict::holds_partly) {
@@ -568,7 +598,10 @@ std::string claims_markdown(const std::vector<ClaimResult>& results, const std::
 
 std::string claims_json(const std::vector<ClaimResult>& results) {
   JsonWriter json;
-  json.begin_array();
+  json.begin_object()
+      .value("format", "heightmarch-claims")
+      .value("format_version", kClaimsFormatVersion)
+      .begin_array("claims");
   for (const ClaimResult& r : results) {
     json.begin_object().value("id", r.id).value("claim", r.claim).value("source", r.source).value("rule", r.rule);
     json.value("verdict", to_string(r.verdict));
@@ -577,7 +610,7 @@ std::string claims_json(const std::vector<ClaimResult>& results) {
       json.begin_object().value("where", c.where).value("figures", c.figures).value("passed", c.passed).end_object();
     json.end_array().end_object();
   }
-  json.end_array();
+  json.end_array().end_object();
   return json.str() + "\n";
 }
 

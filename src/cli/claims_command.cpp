@@ -1,5 +1,5 @@
 // heightmarch claims: measures the claims' rows of the plan (the same rows a suite measures for
-// them) and writes claims.md, claims.json and measurements.json.
+// them) and writes claims.md, claims.json, measurements.json and recommendation.json.
 #include <algorithm>
 #include <cstdio>
 #include <memory>
@@ -8,28 +8,65 @@
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
 #include "cli/progress.hpp"
+#include "cli/run_directory.hpp"
 #include "cli/suite_command.hpp"
+#include "heightmarch/error.hpp"
 #include "heightmarch/run_outputs.hpp"
 #include "io/atomic_file.hpp"
 #include "io/provenance.hpp"
+#include "util/string_format.hpp"
 
 namespace heightmarch::cli {
 
 void add_plan_options(CLI::App& command, PlanOptions& o, const std::string& quick_help) {
   command.add_flag("--quick", o.quick, quick_help);
-  command.add_option("--heightmap", o.heightmap, "extra depth map files, comma-separated, measured beside the builtins");
-  command.add_option("--threads", o.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 1024));
+  command.add_option("--heightmap", o.heightmap,
+                     "depth map files, comma-separated, measured beside the builtins");
+  command
+      .add_flag("--no-builtins", o.no_builtins,
+                "measure the --heightmap files alone, without the builtin heightfields")
+      ->needs(command.get_option("--heightmap"));
+  command
+      .add_option("--threads", o.threads,
+                  "thread counts, comma-separated (0: all cores; default: 1 and all cores)")
+      ->delimiter(',')
+      ->check(CLI::Range(0, 1024));
   command.add_option("--repetitions", o.repetitions, "timed repetitions per configuration (at least 5 for published figures)")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
+  command.add_option("--scale", o.scale, "height scale s of every configuration, in (0, 1] (default 0.1)");
+  command.add_option(
+      "--view-angles", o.view_angles,
+      "NEAR-FAR: the view angles from the normal, in degrees, that the default view spans from its near "
+      "edge to its far edge (default 30-80); the sweeps cover the same span");
 }
 
 PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
-  std::vector<HeightfieldSource> extra;
+  std::vector<int> threads;
+  for (int t : o.threads) threads.push_back(resolve_threads(t));
+  std::sort(threads.begin(), threads.end());
+  threads.erase(std::unique(threads.begin(), threads.end()), threads.end());
+  PlanSettings settings = suite_settings(o.quick, threads.empty() ? resolve_threads(0) : threads.back());
+  if (!threads.empty()) settings.thread_counts = threads;
+  if (o.no_builtins) settings.heightfields.clear();
   std::stringstream in(o.heightmap);
   for (std::string path; std::getline(in, path, ',');)
-    if (!path.empty()) extra.push_back(parse_heightfield(path));
-  PlanSettings settings = suite_settings(o.quick, extra, resolve_threads(o.threads), glsl);
+    if (!path.empty()) settings.heightfields.push_back(parse_heightfield(path));
+  if (settings.heightfields.empty()) throw InputError("--heightmap '" + o.heightmap + "' names no depth map");
+  give_unique_labels(settings.heightfields);  // one label per map in every result
+  if (o.scale) {
+    if (!(*o.scale > 0 && *o.scale <= 1))
+      throw InputError("--scale " + std::to_string(*o.scale) + " must be in (0, 1]");
+    settings.scale = float(*o.scale);
+  }
+  if (!o.view_angles.empty()) {
+    ViewSpec view;
+    parse_view_angles(o.view_angles, view);
+    settings.near_degrees = view.near_degrees;
+    settings.far_degrees = view.far_degrees;
+    settings.sweep_angles = sweep_angles(view.near_degrees, view.far_degrees);
+  }
+  settings.glsl = glsl;
   settings.repetitions = o.repetitions;
   return settings;
 }
@@ -71,7 +108,8 @@ std::string claim_rows_text(ClaimView view) {
 
 }  // namespace
 
-void write_claims(const std::string& dir, const ClaimsData& data, const PlanSettings& settings) {
+void write_claims(const std::string& dir, const ClaimsData& data, const PlanSettings& settings,
+                  const Recommendation& recommendation) {
   const std::vector<ClaimResult> results = evaluate_claims(data);
   const Provenance p = provenance();
   const std::string provenance_line = "Measured " + p.date + " on " + p.cpu + " (" + std::to_string(p.cores) +
@@ -81,24 +119,34 @@ void write_claims(const std::string& dir, const ClaimsData& data, const PlanSett
   std::string heightfields;
   for (const auto& hf : settings.heightfields) heightfields += (heightfields.empty() ? "" : ", ") + hf.label();
   const std::string configurations =
-      "Configurations: heightfields " + heightfields + " (builtins at " + std::to_string(settings.heightfields.front().resolution) +
-      " x " + std::to_string(settings.heightfields.front().resolution) +
-      "), scale 0.1, REPEAT; on the default view at " + std::to_string(settings.view_size) + " x " +
-      std::to_string(settings.view_size) + " pixels (the same rows as the report's tables): " +
-      claim_rows_text(ClaimView::default_view) + "; on sweep views of " + std::to_string(settings.sweep_size) + " x " +
+      "Configurations: heightfields " + heightfields + " (builtins at " +
+      std::to_string(settings.heightfields.front().resolution) + " x " +
+      std::to_string(settings.heightfields.front().resolution) + "), scale " +
+      string_format("%g", settings.scale) + ", REPEAT; on the default view at " +
+      std::to_string(settings.view_size) + " x " + std::to_string(settings.view_size) +
+      " pixels, view angles " +
+      string_format("%g to %g degrees", settings.near_degrees, settings.far_degrees) +
+      " (the same rows as the report's tables): " + claim_rows_text(ClaimView::default_view) +
+      "; on sweep views of " + std::to_string(settings.sweep_size) + " x " +
       std::to_string(settings.sweep_size) + " rays: " + claim_rows_text(ClaimView::sweep) +
-      (settings.large_maps ? "; for P2, the builtins at " + std::to_string(kLargeMapSide) + " x " + std::to_string(kLargeMapSide) +
-                                 " on the default view at " + std::to_string(kLargeMapViewSide) + " x " +
-                                 std::to_string(kLargeMapViewSide) + " pixels: " + claim_rows_text(ClaimView::large_map)
-                           : std::string()) +
+      (settings.large_maps
+           ? "; for P2, the builtins at " + std::to_string(kLargeMapSide) + " x " +
+                 std::to_string(kLargeMapSide) + " on the default view at " +
+                 std::to_string(kLargeMapViewSide) + " x " + std::to_string(kLargeMapViewSide) +
+                 " pixels: " + claim_rows_text(ClaimView::large_map)
+           : std::string()) +
       ". Errors are uv errors in "
-      "texels against the exact intersection; sharp depth changes (|grad D| at the exact hit, top decile of the view's "
-      "rays against its bottom half) and thin features (the ray leaves the solid again within 1/8 of the depth range) "
+      "texels against the exact intersection; sharp depth changes (|grad D| at the exact hit, top decile of "
+      "the view's "
+      "rays against its bottom half) and thin features (the ray leaves the solid again within 1/8 of the "
+      "depth range) "
       "are measured per ray from each depth map, never from its name. Costs are height samples per ray "
       "(deterministic); speeds are rays/s of the CPU packet kernels, the median (min-max) of " +
-      std::to_string(settings.repetitions) + " interleaved repetitions, shown beside the costs and deciding no verdict but "
+      std::to_string(settings.repetitions) +
+      " interleaved repetitions, shown beside the costs and deciding no verdict but "
       "P2's, a claim about time.";
-  write_file_atomically(dir + "/claims.md", claims_markdown(results, provenance_line, configurations));
+  write_file_atomically(dir + "/claims.md", claims_markdown(results, provenance_line, configurations,
+                                                            recommendation_markdown(recommendation)));
   write_file_atomically(dir + "/claims.json", claims_json(results));
   for (const ClaimResult& r : results)
     std::printf("%-4s %-13s %s\n", r.id.c_str(), to_string(r.verdict).c_str(), r.claim.c_str());
@@ -108,7 +156,8 @@ namespace {
 
 struct ClaimsOptions {
   PlanOptions plan;
-  std::string out = ".";
+  RecommendationTarget target;
+  OutOptions out{"."};
   std::string isa;
   bool list = false;
 };
@@ -120,9 +169,11 @@ Command add_claims_command(CLI::App& app) {
       app.add_subcommand("claims", "measure the tutorials' claims C1-C10 and the papers' P1-P3 and write claims.md");
   auto o = std::make_shared<ClaimsOptions>();
   add_plan_options(*command, o->plan, "the quick plan's heightfields and sizes");
-  command->add_option("--out", o->out, "directory for claims.md, claims.json and measurements.json")->capture_default_str();
+  add_out_options(*command, o->out,
+                  "directory for claims.md, claims.json, measurements.json and recommendation.json");
   command->add_option("--isa", o->isa, isa_names() + " or auto");
   command->add_flag("--list", o->list, "list the claims (id, words, the rows each reads) and measure nothing");
+  add_target_options(*command, o->target);
   return [o] {
     if (o->list) {
       for (const Claim& claim : claims()) std::printf("%s\t%s\t%zu rows\n", claim.id.c_str(), claim.claim.c_str(), claim.rows.size());
@@ -130,14 +181,19 @@ Command add_claims_command(CLI::App& app) {
     }
     PlanSettings settings = plan_settings(o->plan, false);
     settings.best_isa = select_isa(o->isa);
+    validate(o->target);
+    RunDirectory dir(o->out.out, o->out.existing());  // checked and locked before the run
     Progress progress("claims");
     progress.stage("measuring " + std::to_string(settings.heightfields.size()) + " heightfields");
     ClaimsCollector claims;
     const MeasuredPlan run = measure_with_progress(claims_plan(settings), settings, progress,
                                                    [&](const TracedRow& traced) { claims.observe(traced); });
-    std::filesystem::create_directories(o->out);
-    write_file_atomically(o->out + "/measurements.json", measurements_json(run, settings.name + " claims"));
-    write_claims(o->out, claims.data(run.rows), settings);
+    write_file_atomically(dir.path() + "/measurements.json", measurements_json(run, settings.name + " claims"));
+    dir.finished("measurements.json");
+    const Recommendation recommendation = recommend(candidates(run.rows), o->target);
+    write_recommendation(dir.path(), recommendation);
+    write_claims(dir.path(), claims.data(run.rows), settings, recommendation);
+    dir.complete();
     return 0;
   };
 }

@@ -2,13 +2,7 @@
 
 #include <tbb/info.h>
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
-#include <filesystem>
 #include <sstream>
 
 #include "heightmarch/error.hpp"
@@ -27,7 +21,10 @@ void add_trace_options(CLI::App& app, TraceOptions& o, bool exact_allowed) {
       ->check(CLI::IsMember({"depth", "height"}))->capture_default_str();
   app.add_option("--channel", o.channel, "the depth map file's channel holding the depth: an index from 0, or r, g, b, a "
                  "(default: the first)");
-  app.add_option("--view", o.view, "default, or sweep:THETA[,PHI] in degrees")->capture_default_str();
+  app.add_option("--view", o.view,
+                 "default, default:NEAR-FAR (the span of view angles, degrees; default 30-80), or "
+                 "sweep:THETA[,PHI] in degrees")
+      ->capture_default_str();
   app.add_option("--size", o.size, "view size WxH in pixels")->capture_default_str();
   app.add_option("--rays", o.rays, "CSV file of rays (tx,ty,vx,vy,vz; V towards the eye) instead of a view")
       ->excludes(app.get_option("--view"))->excludes(app.get_option("--size"));
@@ -46,7 +43,7 @@ void add_trace_options(CLI::App& app, TraceOptions& o, bool exact_allowed) {
   app.add_option("--threads", o.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
   app.add_option("--repetitions", o.repetitions, "timed repetitions (speed: their median, min and max)")
       ->check(CLI::Range(1, 1000))->capture_default_str();
-  app.add_option("--out", o.out, "directory for hits.exr, error.png, render.png and metrics.json (with --rays: metrics.json and rays.csv)");
+  add_out_options(app, o.out, "directory for hits.exr, error.png, render.png and metrics.json (with --rays: metrics.json and rays.csv)");
   app.add_flag("--json", o.json, "print the metrics as JSON");
 }
 
@@ -71,16 +68,12 @@ void parse_size(const std::string& text, int& width, int& height) {
 
 }  // namespace
 
-void prepare_out_directory(const std::string& dir) {
-  if (dir.empty()) return;
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw InputError("--out " + dir + ": cannot create the directory (" + ec.message() + ")");
-  const std::string probe = dir + "/.probe-" + std::to_string(::getpid());
-  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-  if (fd < 0) throw InputError("--out " + dir + ": cannot write into it (" + std::strerror(errno) + ")");
-  ::close(fd);
-  ::unlink(probe.c_str());
+void add_out_options(CLI::App& command, OutOptions& options, const std::string& help) {
+  CLI::Option* out = command.add_option("--out", options.out, help);
+  if (!options.out.empty()) out->capture_default_str();
+  command.add_flag("--replace", options.replace,
+                   "write into a --out that holds another run's results, removing them first (without it such a "
+                   "directory is refused)");
 }
 
 void check_depth_map_files(const std::vector<Configuration>& plan) {

@@ -5,9 +5,21 @@
 #include <optional>
 #include <string>
 
+#include "cli/run_directory.hpp"
 #include "heightmarch/configuration.hpp"
 
 namespace heightmarch::cli {
+
+// --out (with `help`) and --replace on a command that writes results (trace, glsl, claims, suite),
+// declared once for all; the directory's guard is RunDirectory.
+struct OutOptions {
+  std::string out;
+  bool replace = false;
+  RunDirectory::Existing existing() const {
+    return replace ? RunDirectory::Existing::replace : RunDirectory::Existing::refuse;
+  }
+};
+void add_out_options(CLI::App& command, OutOptions& options, const std::string& help);
 
 struct TraceOptions {
   // The scene
@@ -31,7 +43,7 @@ struct TraceOptions {
   // The run
   int threads = 0;
   int repetitions = 5;
-  std::string out;
+  OutOptions out;
   bool json = false;
 };
 
@@ -41,10 +53,6 @@ void add_trace_options(CLI::App& command, TraceOptions& options, bool exact_allo
 // The configuration the options describe (kind exact for --technique exact when allowed).
 // Throws InputError naming the option for values CLI11 cannot check on its own.
 Configuration trace_configuration(const TraceOptions& options, RunKind kind);
-
-// Creates --out's directory and writes a probe file into it, before the run: a bad --out is one
-// line (InputError) at once, not after the whole run. Empty: no --out, nothing to do.
-void prepare_out_directory(const std::string& dir);
 
 // Reads every depth map file the plan names (each once), before the run: a bad one is one line.
 void check_depth_map_files(const std::vector<Configuration>& plan);

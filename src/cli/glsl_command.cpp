@@ -141,7 +141,8 @@ Command add_glsl_command(CLI::App& app) {
     Configuration glsl = trace_configuration(o->trace, RunKind::glsl);
     if (!o->shader.empty()) glsl.shader = BroughtInShader{o->shader};
     if (!o->shader.empty()) user_source(read_input_file(o->shader, "shader file", kMaxShaderBytes), o->shader);  // before the run
-    prepare_out_directory(o->trace.out);
+    std::optional<RunDirectory> dir;  // checked and locked before the run
+    if (!o->trace.out.out.empty()) dir.emplace(o->trace.out.out, o->trace.out.existing());
     std::vector<Configuration> plan = {glsl};
     if (compare->count() > 0)
       for (Technique technique : compared_techniques(glsl, o->compare_with)) {
@@ -162,7 +163,7 @@ Command add_glsl_command(CLI::App& app) {
     measure.on_traced = [&](const TracedRow& traced) {
       if (traced.row.id == 0) {
         if (plan.size() > 1) glsl_hits = traced.hits;
-        if (!o->trace.out.empty()) write_run_outputs(o->trace.out, traced);
+        if (dir) write_run_outputs(dir->path(), traced);
       } else {
         comparisons[traced.row.id - 1].conformance =
             conformance(traced.rays, glsl_hits, traced.hits, traced.map.width, traced.map.height);
@@ -170,7 +171,10 @@ Command add_glsl_command(CLI::App& app) {
     };
     const MeasuredPlan run = measure_plan(plan, measure);
     const Measurement& g = run.rows.front();
-    if (!o->trace.out.empty()) write_file_atomically(o->trace.out + "/metrics.json", metrics_json(g));
+    if (dir) {
+      write_file_atomically(dir->path() + "/metrics.json", metrics_json(g));
+      dir->complete();
+    }
     // The closest CPU technique: the lowest uv difference p99 (the first of equals).
     std::optional<std::size_t> closest;
     for (std::size_t k = 0; k < comparisons.size(); ++k) {

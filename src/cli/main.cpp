@@ -20,15 +20,23 @@ int main(int argc, char** argv) {
                                         provenance().build_type + ")");
   app.require_subcommand(1);
   std::map<const CLI::App*, cli::Command> commands;
-  for (auto add : {cli::add_trace_command, cli::add_suite_command, cli::add_claims_command, cli::add_glsl_command}) {
+  std::string memory_limit;
+  for (auto add : {cli::add_trace_command, cli::add_suite_command, cli::add_claims_command,
+                   cli::add_recommend_command, cli::add_glsl_command}) {
     cli::Command run = add(app);
-    commands[app.get_subcommands({}).back()] = std::move(run);
+    CLI::App* command = app.get_subcommands({}).back();
+    command->add_option("--memory-limit", memory_limit,
+                        "the most memory the run may hold, its own code and libraries included (bytes, or with a "
+                        "suffix K, M, G or T: 512M, 1.5G; default: $HEIGHTMARCH_MEMORY_LIMIT, else half the RAM)");
+    commands[command] = std::move(run);
   }
   const auto subcommands = app.get_subcommands({});
   const bool known = argc >= 2 && std::any_of(subcommands.begin(), subcommands.end(),
                                               [&](const CLI::App* c) { return c->get_name() == argv[1]; });
   if (argc >= 2 && argv[1][0] != '-' && !known) {
-    std::fprintf(stderr, "heightmarch: unknown command '%s' (trace, glsl, suite, claims; see --help)\n", argv[1]);
+    std::fprintf(stderr,
+                 "heightmarch: unknown command '%s' (trace, glsl, suite, claims, recommend; see --help)\n",
+                 printable(argv[1]).c_str());
     return 2;
   }
   try {
@@ -41,12 +49,15 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::string message = e.what();
-    if (message.empty() || argc < 2) message = "a command is required (trace, glsl, suite, claims; see --help)";
-    std::fprintf(stderr, "heightmarch: %s\n", message.c_str());
+    if (message.empty() || argc < 2)
+      message = "a command is required (trace, glsl, suite, claims, recommend; see --help)";
+    std::fprintf(stderr, "heightmarch: %s\n", printable(message).c_str());
     return 2;
   }
   try {
-    memory_budget();  // a malformed HEIGHTMARCH_MEMORY_LIMIT is refused before any work
+    // The budget before any work: a malformed one, or one below what the program itself holds.
+    if (!memory_limit.empty()) set_memory_budget(parse_memory_limit(memory_limit, "--memory-limit"));
+    check_memory_budget_covers_footprint("heightmarch");
     return commands.at(app.get_subcommands().front())();
   } catch (const InputError& e) {
     std::fprintf(stderr, "heightmarch: %s\n", e.what());
@@ -55,7 +66,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "heightmarch: out of memory\n");
     return 3;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "heightmarch: %s\n", e.what());
+    std::fprintf(stderr, "heightmarch: %s\n", printable(e.what()).c_str());
     return 1;
   }
 }

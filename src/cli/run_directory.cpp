@@ -2,37 +2,69 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 
 #include "heightmarch/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/provenance.hpp"
+#include "util/input_file.hpp"
 
 namespace heightmarch::cli {
 
 namespace fs = std::filesystem;
 
-RunDirectory::RunDirectory(std::string path) : path_(std::move(path)) {
+namespace {
+
+// The files a command writes at the top of its directory: trace and glsl (metrics.json and the
+// images), claims (claims.md, claims.json, measurements.json, recommendation.json), suite (all of these but trace's,
+// bench.json, report.md) and the marker of a run under way. Any of them means the directory
+// holds a run's results. Not rays.csv: a name the user's own rays file may have (trace --rays
+// rewrites it whole).
+const char* const kRunFiles[] = {"INCOMPLETE", "measurements.json", "metrics.json", "claims.json", "claims.md",
+                                 "recommendation.json", "bench.json",  "report.md",         "hits.exr",     "error.png",   "render.png",
+                                 "cost.png"};
+
+}  // namespace
+
+RunDirectory::RunDirectory(std::string path, Existing existing) : path_(std::move(path)) {
   std::error_code ec;
   fs::create_directories(path_, ec);
-  if (ec) throw InputError(path_ + ": cannot create the run directory (" + ec.message() + ")");
-  lock_fd_ = ::open((path_ + "/.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (lock_fd_ < 0) throw InputError(path_ + ": cannot create its lock file");
+  struct stat st {};
+  if (::stat(path_.c_str(), &st) == 0 && !S_ISDIR(st.st_mode))
+    throw InputError(path_ + ": is " + file_kind(st.st_mode) + ", not a directory for the run's results");
+  if (ec) throw InputError(path_ + ": cannot create the directory (" + ec.message() + ")");
+  // O_NOFOLLOW: a link planted at .lock is refused, never opened (nor created through).
+  lock_fd_ = ::open((path_ + "/.lock").c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (lock_fd_ < 0)
+    throw InputError(path_ + ": cannot write into it (its .lock: " + std::strerror(errno) + ")");
   if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
     ::close(lock_fd_);
     lock_fd_ = -1;
     throw InputError(path_ + ": another run is writing into this directory (it holds " + path_ + "/.lock)");
   }
-  for (const char* file : {"measurements.json", "INCOMPLETE"})
-    if (fs::exists(path_ + "/" + file)) {
+  for (const char* file : kRunFiles) {
+    if (existing == Existing::beside) break;  // the run's files stay
+    const std::string at = path_ + "/" + file;
+    if (!fs::exists(fs::symlink_status(at, ec))) continue;  // a link counts, dangling or not
+    if (existing == Existing::replace) {
+      if (::unlink(at.c_str()) == 0 || errno == ENOENT) continue;  // unlink: a link goes, not its target
+      const std::string why = std::strerror(errno);
       ::close(lock_fd_);
       lock_fd_ = -1;
-      throw InputError(path_ + ": already holds a run (" + file + "); choose another --out or remove it");
+      throw InputError(at + ": cannot replace it (" + why + ")");
     }
-  finished("");
+    ::close(lock_fd_);
+    lock_fd_ = -1;
+    throw InputError(path_ + ": already holds a run's results (" + file +
+                     "); choose another --out, or --replace to replace them");
+  }
+  if (existing != Existing::beside) finished("");
 }
 
 RunDirectory::~RunDirectory() {

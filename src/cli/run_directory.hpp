@@ -1,15 +1,25 @@
 #pragma once
-// A run's directory: fresh for every run, locked while the run writes into it, and marked
-// INCOMPLETE (listing the finished stages) until the run completes.
+// The one guard of every command that writes results (trace, glsl, claims, suite): the directory
+// is created, checked and locked before any work, so a bad --out (a file's child, /dev/null) or
+// a directory another run holds is one line at once, not after the measurements; it is marked
+// INCOMPLETE (listing the finished stages) until the run completes; and a directory that holds
+// another run's results is refused unless --replace asks to replace them.
 #include <string>
 
 namespace heightmarch::cli {
 
 class RunDirectory {
  public:
-  // Creates and locks path. Throws InputError when another run holds its lock, or when the
-  // directory already holds a run (measurements.json or INCOMPLETE).
-  explicit RunDirectory(std::string path);
+  // What to do with a directory that already holds a run's results: refuse it, replace them, or
+  // write beside them (a command that adds one file made from them, written atomically: nothing
+  // is removed and no INCOMPLETE marker is left on the run).
+  enum class Existing { refuse, replace, beside };
+
+  // Creates path (and its parents) and locks it (.lock, never a link). Throws InputError when it
+  // is no directory this process can write into, when another run holds its lock, or when it
+  // holds a run's results (any of the files a command writes at its top) and `existing` is
+  // refuse; with replace, those files are removed first; with beside, they stay.
+  RunDirectory(std::string path, Existing existing);
   ~RunDirectory();
   RunDirectory(const RunDirectory&) = delete;
   RunDirectory& operator=(const RunDirectory&) = delete;

@@ -1,14 +1,20 @@
 // heightmarch suite: the main job. Builds the typed plan (suite_plan.hpp), measures every
 // configuration once, and writes the run's files from its rows into a fresh directory:
-// measurements.json, bench.json, the gallery, claims.md/claims.json and report.md.
+// measurements.json, bench.json, recommendation.json, the gallery, claims.md/claims.json, and
+// through scripts/report.py measurements.csv, report.md and report.html.
+#include "cli/suite_command.hpp"
+
+#include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
 #include "cli/run_directory.hpp"
-#include "cli/suite_command.hpp"
 #include "heightmarch/error.hpp"
 #include "heightmarch/run_outputs.hpp"
 #include "io/atomic_file.hpp"
@@ -19,12 +25,101 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The candidates a user measures: names checked against the registries, turned into typed values.
+struct CandidateOptions {
+  std::vector<std::string> techniques, layers, isas, parts;
+};
+
 struct SuiteOptions {
   PlanOptions plan;
-  std::string out;
+  CandidateOptions candidates;
+  RecommendationTarget target;
+  OutOptions out;
   bool no_glsl = false;
   bool record = false;
+  bool dry_run = false;
 };
+
+std::vector<std::string> technique_name_list() {
+  std::vector<std::string> names;
+  for (const TechniqueInfo& t : techniques()) names.emplace_back(t.name);
+  return names;
+}
+
+std::vector<std::string> isa_name_list() {
+  std::vector<std::string> names;
+  for (Isa isa : all_isas()) names.push_back(to_string(isa));
+  return names;
+}
+
+// The purposes a user may leave out or keep (every one but `command`, which trace and glsl use).
+std::vector<std::string> part_names() {
+  std::vector<std::string> names;
+  for (unsigned i = 0; i < kPurposeCount; ++i)
+    if ((1u << i) != kPurposeCommand) names.push_back(purpose_name(1u << i));
+  return names;
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string text;
+  for (const std::string& n : names) text += (text.empty() ? "" : ", ") + n;
+  return text;
+}
+
+void add_candidate_options(CLI::App& command, CandidateOptions& o) {
+  command
+      .add_option(
+          "--techniques", o.techniques,
+          "the candidate techniques, comma-separated (default: all): " + joined(technique_name_list()))
+      ->delimiter(',')
+      ->check(CLI::IsMember(technique_name_list()));
+  command
+      .add_option("--layers", o.layers,
+                  "the candidate layer specs of the layered techniques, comma-separated: N or A-B "
+                  "(default: 4, 8, 10, 16, 32, 64, 8-32; quick: 8, 32, 8-32); the sweeps and GLSL at "
+                  "fewer threads take them too")
+      ->delimiter(',');
+  command
+      .add_option("--isas", o.isas,
+                  "the ISAs to measure, comma-separated (default: every one the CPU runs; the widest is "
+                  "the matrix's): " + joined(isa_name_list()))
+      ->delimiter(',')
+      ->check(CLI::IsMember(isa_name_list()));
+  command
+      .add_option("--parts", o.parts,
+                  "the parts of the plan to measure, comma-separated (default: all): " + joined(part_names()))
+      ->delimiter(',')
+      ->check(CLI::IsMember(part_names()));
+}
+
+void apply(const CandidateOptions& o, PlanSettings& s) {
+  if (!o.techniques.empty()) {
+    s.techniques.clear();
+    for (const std::string& name : o.techniques) {
+      const Technique t = parse_technique(name);
+      if (std::find(s.techniques.begin(), s.techniques.end(), t) == s.techniques.end())
+        s.techniques.push_back(t);
+    }
+  }
+  if (!o.layers.empty()) {
+    s.layer_specs.clear();
+    for (const std::string& text : o.layers) s.layer_specs.push_back(parse_layer_spec(text));
+    s.few_layer_specs = s.layer_specs;
+  }
+  if (!o.isas.empty()) {
+    s.isas.clear();
+    for (Isa isa : all_isas())  // narrowest first, as the plan lists them
+      if (std::find(o.isas.begin(), o.isas.end(), to_string(isa)) != o.isas.end())
+        s.isas.push_back(parse_isa(to_string(isa)));
+    s.best_isa = s.isas.back();
+  }
+  if (!o.parts.empty()) {
+    s.parts = 0;
+    for (unsigned i = 0; i < kPurposeCount; ++i)
+      if (std::find(o.parts.begin(), o.parts.end(), purpose_name(1u << i)) != o.parts.end())
+        s.parts |= 1u << i;
+  }
+}
 
 std::string shell_quote(const std::string& s) {
   std::string q = "'";
@@ -38,10 +133,12 @@ std::string gallery_stem(const Configuration& c) {
   return "gallery/" + c.heightfield.label() + "-" + what;
 }
 
-// The render, error map and cost map of a gallery row, as PNGs beside each other in gallery/.
+// The render, error map and cost map of a gallery row, as PNGs beside each other in gallery/,
+// written into a fresh directory of its own (mkdtemp: nothing planted there is written through).
 void write_gallery_images(const std::string& dir, const TracedRow& traced) {
-  const std::string tmp = dir + "/" + gallery_stem(traced.row.config) + ".tmp";
   const std::string stem = dir + "/" + gallery_stem(traced.row.config);
+  std::string tmp = stem + ".tmp-XXXXXX";
+  if (!::mkdtemp(tmp.data())) throw std::runtime_error(stem + ": cannot write (" + std::strerror(errno) + ")");
   try {
     write_run_outputs(tmp, traced);
     fs::rename(tmp + "/render.png", stem + "-render.png");
@@ -61,17 +158,38 @@ Command add_suite_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand("suite", "the main job: the measured plan, gallery, claims and report into results/");
   auto o = std::make_shared<SuiteOptions>();
   add_plan_options(*command, o->plan, "a smoke run of a minute or two: two heightfields, small views");
-  command->add_option("--out", o->out, "run directory (default: a fresh results/<date>-<commit>-<time>)");
+  add_out_options(*command, o->out, "run directory (default: a fresh results/<date>-<commit>-<time>)");
   command->add_flag("--no-glsl", o->no_glsl, "skip the GLSL (OSMesa) rows");
   command->add_flag("--record", o->record,
                     "with --quick: still point results/latest at the run and add it to results/history.csv");
+  add_candidate_options(*command, o->candidates);
+  add_target_options(*command, o->target);
+  command->add_flag(
+      "--dry-run", o->dry_run,
+      "list the configurations the run would measure (heightfield, kind, technique, layers, backend, "
+      "threads, view, timed or accuracy only, purposes; tab-separated) and measure nothing");
   return [o] {
-    const PlanSettings settings = plan_settings(o->plan, !o->no_glsl);
+    PlanSettings settings = plan_settings(o->plan, !o->no_glsl);
+    apply(o->candidates, settings);
+    validate(o->target);
     const std::vector<Configuration> plan = suite_plan(settings);
+    if (o->dry_run) {
+      for (const Configuration& c : plan) {
+        std::string purposes;
+        for (unsigned i = 0; i < kPurposeCount; ++i)
+          if (c.purposes & (1u << i)) purposes += (purposes.empty() ? "" : ",") + purpose_name(1u << i);
+        const std::string layers = c.kind == RunKind::exact ? "" : to_string(c.params.layers);
+        std::printf("%s\t%s\t%s\t%s\t%s\t%d\t%s\t%s\t%s\n", c.heightfield.label().c_str(),
+                    to_string(c.kind).c_str(), c.label().c_str(), layers.c_str(), c.backend().c_str(),
+                    c.threads, describe(c.view).c_str(), c.timed ? "timed" : "accuracy", purposes.c_str());
+      }
+      std::printf("%zu configurations\n", plan.size());
+      return 0;
+    }
     check_depth_map_files(plan);  // before the run directory exists
-    const bool default_out = o->out.empty();
+    const bool default_out = o->out.out.empty();
     const std::string run_name = fresh_run_name(o->plan.quick);
-    RunDirectory dir(default_out ? "results/" + run_name : o->out);
+    RunDirectory dir(default_out ? "results/" + run_name : o->out.out, o->out.existing());
     const bool record = default_out && (!o->plan.quick || o->record);
     Progress progress("suite");
     std::size_t timed = 0;
@@ -92,18 +210,25 @@ Command add_suite_command(CLI::App& app) {
       }
     dir.finished("measurements and gallery images");
     if (run.load.busy)
-      for (const std::string& reason : run.load.busy_reasons) std::fprintf(stderr, "suite: warning: busy machine: %s\n", reason.c_str());
+      for (const std::string& reason : run.load.busy_reasons)
+        std::fprintf(stderr, "suite: warning: busy machine: %s\n", reason.c_str());
     write_file_atomically(dir.path() + "/measurements.json", measurements_json(run, settings.name));
     write_file_atomically(dir.path() + "/bench.json", benchmark_json(run));
     dir.finished("measurements.json, bench.json");
-    progress.stage("claims");
-    write_claims(dir.path(), claims.data(run.rows), settings);
-    dir.finished("claims.md, claims.json");
+    const Recommendation recommendation = recommend(candidates(run.rows), o->target);
+    write_recommendation(dir.path(), recommendation);
+    dir.finished("recommendation.json");
+    if (settings.parts & kPurposeClaims) {
+      progress.stage("claims");
+      write_claims(dir.path(), claims.data(run.rows), settings, recommendation);
+      dir.finished("claims.md, claims.json");
+    }
     progress.stage("report");
     std::string report = "/usr/bin/python3 " + shell_quote(std::string(HEIGHTMARCH_SOURCE_DIR) + "/scripts/report.py") + " " +
                          shell_quote(dir.path());
     if (record) report += " --history results/history.csv";
-    if (std::system(report.c_str()) != 0) throw std::runtime_error("scripts/report.py failed for " + dir.path());
+    if (std::system(report.c_str()) != 0)
+      throw std::runtime_error("scripts/report.py failed for " + dir.path());
     dir.complete();
     if (record) {
       std::error_code ec;

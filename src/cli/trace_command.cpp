@@ -1,6 +1,7 @@
 // heightmarch trace: one technique (or the exact reference) on one scene with the CPU kernels.
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
@@ -19,12 +20,12 @@ Command add_trace_command(CLI::App& app) {
   return [options, isa] {
     Configuration config = trace_configuration(*options, options->technique == "exact" ? RunKind::exact : RunKind::trace);
     config.isa = select_isa(*isa);
-    prepare_out_directory(options->out);
+    std::optional<RunDirectory> dir;  // checked and locked before the run
+    if (!options->out.out.empty()) dir.emplace(options->out.out, options->out.existing());
     MeasureOptions measure;
     measure.repetitions = options->repetitions;
     measure.min_seconds = 0.05;
-    if (!options->out.empty())
-      measure.on_traced = [&](const TracedRow& traced) { write_run_outputs(options->out, traced); };
+    if (dir) measure.on_traced = [&](const TracedRow& traced) { write_run_outputs(dir->path(), traced); };
     // On a terminal, a run that takes more than about 2 s shows how far it is; logs stay clean.
     Progress progress("trace");
     if (progress.interactive())
@@ -35,7 +36,10 @@ Command add_trace_command(CLI::App& app) {
     progress.finish_line();
     const Measurement& row = run.rows.front();
     // metrics.json again, now with the timed repetitions.
-    if (!options->out.empty()) write_file_atomically(options->out + "/metrics.json", metrics_json(row));
+    if (dir) {
+      write_file_atomically(dir->path() + "/metrics.json", metrics_json(row));
+      dir->complete();
+    }
     std::fputs((options->json ? metrics_json(row) : summary_text(row)).c_str(), stdout);
     return row.failure.empty() ? 0 : 1;
   };

@@ -59,15 +59,20 @@ void add_to_plan(std::vector<Configuration>& plan, const Configuration& config) 
 
 std::string benchmark_name(const Configuration& c, int map_width, int map_height) {
   const RunKindInfo& kind = info(c.kind);
-  std::string name = std::string(kind.benchmark_prefix) + "/heightfield:" + c.heightfield.label();
+  // A name's fields are split at '/': a label that is a path (a/rock.png) keeps its slashes as %2F.
+  std::string label;
+  for (char ch : c.heightfield.label()) label += ch == '/' ? std::string("%2F") : std::string(1, ch);
+  std::string name = std::string(kind.benchmark_prefix) + "/heightfield:" + label;
   if (c.shader) name.append("/").append(c.shader->label());
   if (c.has_technique()) name += "/technique:" + to_string(c.params.technique);
   if (c.kind != RunKind::exact) name += "/layers:" + to_string(c.params.layers);
   name += "/isa:" + (kind.benchmark_isa_label.empty() ? c.backend() : std::string(kind.benchmark_isa_label)) +
           "/threads:" + std::to_string(c.threads);
-  name += c.view.kind == ViewSpec::Kind::perspective
-              ? "/view:" + std::to_string(c.view.width) + "x" + std::to_string(c.view.height)
-              : "/view:" + describe(c.view);
+  // The default view at its default angles by its size alone, as names have always read.
+  const bool plain = c.view.kind == ViewSpec::Kind::perspective &&
+                     c.view.near_degrees == kDefaultNearDegrees && c.view.far_degrees == kDefaultFarDegrees;
+  name += plain ? "/view:" + std::to_string(c.view.width) + "x" + std::to_string(c.view.height)
+                : "/view:" + describe(c.view);
   return name + "/depth_map:" + std::to_string(map_width) + "x" + std::to_string(map_height);
 }
 

@@ -24,29 +24,19 @@ void write_spread(JsonWriter& json, const std::string& key, const std::vector<do
   json.end_object();
 }
 
+// Every measure under its one name (error_measures: the shadow's two null for other techniques),
+// the rays discarded and, for layered techniques, the share within one layer step.
 void write_errors(JsonWriter& json, const std::optional<ErrorSummary>& errors) {
   if (!errors) {
     json.null("errors");
     return;
   }
   const ErrorSummary& e = *errors;
-  json.begin_object("errors")
-      .value("uv_mean", e.mean)
-      .value("uv_rms", e.rms)
-      .value("uv_p50", e.p50)
-      .value("uv_p95", e.p95)
-      .value("uv_p99", e.p99)
-      .value("uv_max", e.max)
-      .value("wrong_surface_rate", e.wrong_surface_rate)
-      .value("depth_error_mean", e.depth_error_mean)
-      .value("discarded", e.discarded);
+  json.begin_object("errors");
+  for (const auto& [name, value] : error_measures(e)) json.value(name, value);
+  json.value("discarded", e.discarded);
   e.within_one_layer_step ? json.value("within_one_layer_step", *e.within_one_layer_step)
                           : json.null("within_one_layer_step");
-  if (e.has_shadow)
-    json.value("shadow_error_mean", e.shadow_error_mean)
-        .value("shadow_mismatch_rate", e.shadow_mismatch_rate);
-  else
-    json.null("shadow_error_mean").null("shadow_mismatch_rate");
   json.end_object();
 }
 
@@ -86,6 +76,10 @@ void write_row(JsonWriter& json, const Measurement& m) {
     json.value("theta", double(c.view.theta_degrees)).value("phi", double(c.view.phi_degrees));
   else
     json.null("theta").null("phi");
+  if (c.view.kind == ViewSpec::Kind::perspective)
+    json.value("near_angle", double(c.view.near_degrees)).value("far_angle", double(c.view.far_degrees));
+  else
+    json.null("near_angle").null("far_angle");
   json.value("description", describe(c.view)).end_object();
   json.value("scale", double(c.params.scale))
       .value("wrap", c.params.wrap == Wrap::repeat ? "repeat" : "clamp")
@@ -178,7 +172,7 @@ void write_cost_image(const std::string& dir, const TracedRow& traced) {
 
 std::string metrics_json(const Measurement& row) {
   JsonWriter json;
-  json.begin_object();
+  json.begin_object().value("format", "heightmarch-metrics").value("format_version", kMetricsFormatVersion);
   write_row(json, row);
   write_provenance(json, provenance(), row.config.threads);
   json.end_object();
@@ -231,9 +225,10 @@ std::string summary_text(const Measurement& m) {
   if (!m.failure.empty()) return text + "  FAILED: " + m.failure + "\n";
   if (!m.errors) return text;
   const ErrorSummary& e = *m.errors;
+  // Four significant digits: an error of 3e-6 texels reads as such, never as a made-up 0.0000.
   std::snprintf(buf, sizeof buf,
-                "  uv error (texels): mean %.4f  rms %.4f  p50 %.4f  p95 %.4f  p99 %.4f  max %.4f\n"
-                "  wrong surface %.2f%%, depth error mean %.5f, discarded %zu\n",
+                "  uv error (texels): mean %.4g  rms %.4g  p50 %.4g  p95 %.4g  p99 %.4g  max %.4g\n"
+                "  wrong surface %.2f%%, depth error mean %.4g, discarded %zu\n",
                 e.mean, e.rms, e.p50, e.p95, e.p99, e.max, 100.0 * e.wrong_surface_rate, e.depth_error_mean,
                 e.discarded);
   text += buf;
@@ -306,22 +301,31 @@ void write_run_outputs(const std::string& dir, const TracedRow& traced) {
   std::vector<std::size_t> by_row(rays.ray_count);
   for (std::size_t i = 0; i < rays.size(); ++i)
     if (!rays.is_padding(i)) by_row[rays.origin[i]] = i;
-  char line[512];
+  std::string line;
   for (std::size_t i : by_row) {
-    const int length = std::snprintf(
-        line, sizeof line, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%s,%.9g,%.9g,%.9g,%.9g,%.9g,%s\n",
-        rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], hits.u[i], hits.v[i], hits.depth[i],
-        traced.row.samples_known ? std::to_string(hits.samples[i]).c_str() : "", exact.u[i], exact.v[i],
-        exact.depth[i], traced.uv_error[i], is_shadow ? hits.shadow[i] : 1.0f,
-        is_shadow ? (exact.shadow[i] >= 0.5f ? "1" : "0") : "");
-    csv.append(std::string_view(line, std::size_t(length)));
+    line.clear();
+    for (float value :
+         {rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], hits.u[i], hits.v[i], hits.depth[i]}) {
+      append_number(line, value);
+      line += ',';
+    }
+    if (traced.row.samples_known) line += std::to_string(hits.samples[i]);
+    for (float value :
+         {exact.u[i], exact.v[i], exact.depth[i], traced.uv_error[i], is_shadow ? hits.shadow[i] : 1.0f}) {
+      line += ',';
+      append_number(line, value);
+    }
+    line += is_shadow ? (exact.shadow[i] >= 0.5f ? ",1\n" : ",0\n") : ",\n";
+    csv.append(line);
   }
   csv.commit();
 }
 
 std::string measurements_json(const MeasuredPlan& run, const std::string& plan_name) {
   JsonWriter json;
-  json.begin_object().value("schema", "heightmarch-measurements/1");
+  json.begin_object()
+      .value("format", "heightmarch-measurements")
+      .value("format_version", kMeasurementsFormatVersion);
   int threads = 0;
   for (const Measurement& m : run.rows) threads = std::max(threads, m.config.threads);
   write_provenance(json, provenance(), threads);
@@ -395,6 +399,19 @@ std::string benchmark_json(const MeasuredPlan& run) {
     if (m.seconds.empty()) continue;
     const std::string name = benchmark_name(m.config, m.depth_map_width, m.depth_map_height) + "/manual_time";
     const std::vector<double> rays = m.rays_per_second(), samples = m.samples_per_second();
+    // One entry per repetition, then their median as Google Benchmark writes an aggregate, so that
+    // compare.py -a shows one line per benchmark.
+    auto times_and_counters = [&](double seconds, double rays_per_second, double samples_per_second) {
+      // Nanoseconds: compare.py prints times without decimals, and a trace takes 0.1 to 100 ms.
+      json.value("real_time", seconds * 1e9).value("cpu_time", seconds * 1e9).value("time_unit", "ns");
+      json.value("rays_per_second", rays_per_second);
+      if (m.samples_known)
+        json.value("samples_per_second", samples_per_second)
+            .value("samples_per_ray", m.rays ? double(m.samples) / double(m.rays) : 0.0);
+      if (m.config.kind == RunKind::trace) json.value("simd_utilization", m.simd_utilization);
+      if (m.errors)
+        for (const auto& [counter, value] : error_counters(*m.errors)) json.value(counter, value);
+    };
     for (std::size_t r = 0; r < m.seconds.size(); ++r) {
       json.begin_object()
           .value("name", name)
@@ -403,19 +420,22 @@ std::string benchmark_json(const MeasuredPlan& run) {
           .value("repetitions", m.seconds.size())
           .value("repetition_index", r)
           .value("threads", 1)
-          .value("iterations", 1)
-          .value("real_time", m.seconds[r] * 1e3)
-          .value("cpu_time", m.seconds[r] * 1e3)
-          .value("time_unit", "ms")
-          .value("rays_per_second", rays[r]);
-      if (m.samples_known)
-        json.value("samples_per_second", samples[r])
-            .value("samples_per_ray", m.rays ? double(m.samples) / double(m.rays) : 0.0);
-      if (m.config.kind == RunKind::trace) json.value("simd_utilization", m.simd_utilization);
-      if (m.errors)
-        for (const auto& [name, value] : error_counters(*m.errors)) json.value(name, value);
+          .value("iterations", 1);
+      times_and_counters(m.seconds[r], rays[r], m.samples_known ? samples[r] : 0.0);
       json.end_object();
     }
+    json.begin_object()
+        .value("name", name + "_median")
+        .value("run_name", name)
+        .value("run_type", "aggregate")
+        .value("repetitions", m.seconds.size())
+        .value("threads", 1)
+        .value("aggregate_name", "median")
+        .value("aggregate_unit", "time")
+        .value("iterations", m.seconds.size());
+    times_and_counters(spread_of(m.seconds).median, spread_of(rays).median,
+                       m.samples_known ? spread_of(samples).median : 0.0);
+    json.end_object();
   }
   json.end_array().end_object();
   return json.str() + "\n";

@@ -1,5 +1,7 @@
 #include "heightmarch/suite_plan.hpp"
 
+#include <algorithm>
+
 namespace heightmarch {
 namespace {
 
@@ -9,12 +11,15 @@ std::vector<LayerSpec> specs(std::initializer_list<const char*> texts) {
   return out;
 }
 
-// A configuration on the default view of a heightfield.
+// A configuration on the default view of a heightfield, at the plan's scale.
 Configuration on_view(const PlanSettings& s, const HeightfieldSource& hf, RunKind kind, unsigned purposes) {
   Configuration c;
   c.kind = kind;
   c.heightfield = hf;
   c.view = parse_view("default", s.view_size, s.view_size);
+  c.view.near_degrees = s.near_degrees;
+  c.view.far_degrees = s.far_degrees;
+  c.params.scale = s.scale;
   c.isa = s.best_isa;
   c.threads = s.threads;
   c.purposes = purposes;
@@ -27,34 +32,44 @@ Configuration with_technique(Configuration c, Technique technique, const LayerSp
   return c;
 }
 
-// Thread counts measured side by side: one and all.
-std::vector<int> thread_counts(const PlanSettings& s) {
-  return s.threads > 1 ? std::vector<int>{1, s.threads} : std::vector<int>{1};
+bool wanted(const PlanSettings& s, Technique t) {
+  return std::find(s.techniques.begin(), s.techniques.end(), t) != s.techniques.end();
 }
 
 }  // namespace
 
-PlanSettings suite_settings(bool quick, const std::vector<HeightfieldSource>& extra, int threads, bool glsl) {
+PlanSettings suite_settings(bool quick, int threads) {
   PlanSettings s;
   s.name = quick ? "quick" : "default";
   const int resolution = quick ? 256 : 512;
   for (const BuiltinHeightfield& b : builtin_heightfields())
     if (b.use == BuiltinHeightfield::in_quick_suite || (!quick && b.use == BuiltinHeightfield::in_suite))
       s.heightfields.push_back(parse_heightfield(std::string("builtin:") + b.name, resolution));
-  s.heightfields.insert(s.heightfields.end(), extra.begin(), extra.end());
+  for (const TechniqueInfo& t : techniques()) s.techniques.push_back(t.id);
   s.layer_specs = quick ? specs({"8", "32", "8-32"}) : specs({"4", "8", "10", "16", "32", "64", "8-32"});
+  s.few_layer_specs = specs({"8", "32", "8-32"});
   s.view_size = quick ? 256 : 1024;
   s.sweep_size = quick ? 48 : 128;
-  for (int a = 0; a <= 85; a += 5) s.sweep_angles.push_back(a);
+  // 0 to 85 degrees: from the normal to nearly grazing, beyond the default view's 30-80
+  s.sweep_angles = sweep_angles(0.0f, 85.0f);
   s.gallery_width = quick ? 256 : 512;
   s.gallery_height = quick ? 192 : 384;
   s.isas = supported_isas();
   s.best_isa = s.isas.back();
   s.threads = threads;
-  s.glsl = glsl;
+  s.thread_counts = threads > 1 ? std::vector<int>{1, threads} : std::vector<int>{1};
   s.min_seconds = quick ? 0.01 : 0.04;
   s.large_maps = !quick;
   return s;
+}
+
+std::vector<double> sweep_angles(float near_degrees, float far_degrees) {
+  std::vector<double> angles;
+  for (int a = 0; a <= int(kMaxViewDegrees); a += 5)
+    if (a >= near_degrees && a <= far_degrees) angles.push_back(a);
+  if (angles.empty() || angles.front() != near_degrees) angles.insert(angles.begin(), near_degrees);
+  if (angles.back() != far_degrees) angles.push_back(far_degrees);
+  return angles;
 }
 
 std::vector<Configuration> claims_plan(const PlanSettings& s) {
@@ -72,7 +87,7 @@ std::vector<Configuration> claims_plan(const PlanSettings& s) {
         }
         if (view == ClaimView::large_map) {
           c.heightfield.resolution = kLargeMapSide;
-          c.view = parse_view("default", kLargeMapViewSide, kLargeMapViewSide);
+          c.view.width = c.view.height = kLargeMapViewSide;
           c.purposes = kPurposeLargeMaps;
         }
         add_to_plan(plan, c);
@@ -94,8 +109,10 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
   for (const HeightfieldSource& hf : s.heightfields) {
     // Technique x layers at the best ISA and all threads, and the same as GLSL; adjacent, so the
     // CPU/GLSL pairs of a round are timed close together.
-    for (const TechniqueInfo& t : techniques())
-      for (const LayerSpec& layers : t.layered ? s.layer_specs : std::vector<LayerSpec>{LayerSpec{}}) {
+    for (Technique technique : s.techniques)
+      for (const LayerSpec& layers :
+           info(technique).layered ? s.layer_specs : std::vector<LayerSpec>{LayerSpec{}}) {
+        const TechniqueInfo& t = info(technique);
         add_to_plan(plan, with_technique(on_view(s, hf, RunKind::trace, kPurposeMatrix), t.id, layers));
         if (s.glsl) add_to_plan(plan, with_technique(on_view(s, hf, RunKind::glsl, kPurposeGlsl), t.id, layers));
       }
@@ -103,10 +120,10 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
     // llvmpipe); POM-32 with its anchors: the roofline and the
     // compute ceiling, the naive port and its auto-vectorised form; and the exact reference at
     // the best ISA.
-    for (int threads : thread_counts(s)) {
+    for (int threads : s.thread_counts) {
       for (Isa isa : s.isas) {
         for (const TechniqueInfo& t : techniques()) {
-          if (!t.search) continue;
+          if (!t.search || !wanted(s, t.id)) continue;
           Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeIsa), t.id, pom32);
           c.isa = isa;
           c.threads = threads;
@@ -133,10 +150,11 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
         naive.threads = threads;
         add_to_plan(plan, naive);
       }
-      if (s.glsl && threads != s.threads)  // llvmpipe at one thread too, for a few layer specs
-        for (const TechniqueInfo& t : techniques())
-          for (const char* layers : {"8", "32", "8-32"}) {
-            Configuration g = with_technique(on_view(s, hf, RunKind::glsl, kPurposeGlsl), t.id, parse_layer_spec(layers));
+      if (s.glsl && threads != s.threads)  // llvmpipe at fewer threads too, for a few layer specs
+        for (Technique technique : s.techniques)
+          for (const LayerSpec& layers : s.few_layer_specs) {
+            const TechniqueInfo& t = info(technique);
+            Configuration g = with_technique(on_view(s, hf, RunKind::glsl, kPurposeGlsl), t.id, layers);
             g.threads = threads;
             add_to_plan(plan, g);
             if (!t.layered) break;
@@ -144,10 +162,11 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
     }
     // Error against view angle: accuracy only.
     for (double theta : s.sweep_angles)
-      for (const TechniqueInfo& t : techniques()) {
+      for (Technique technique : s.techniques) {
+        const TechniqueInfo& t = info(technique);
         if (writes_shadow(t)) continue;  // its own measure is the shadow factor, not the hit
-        for (const char* layers : {"8", "32", "8-32"}) {
-          Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeSweep), t.id, parse_layer_spec(layers));
+        for (const LayerSpec& layers : s.few_layer_specs) {
+          Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeSweep), t.id, layers);
           c.view = sweep_view(theta, s.sweep_size, s.sweep_size);
           c.timed = false;
           add_to_plan(plan, c);
@@ -159,16 +178,21 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
   const HeightfieldSource& first = s.heightfields.front();
   auto gallery = [&](RunKind kind, Technique technique, const char* layers) {
     Configuration c = with_technique(on_view(s, first, kind, kPurposeGallery), technique, parse_layer_spec(layers));
-    c.view = parse_view("default", s.gallery_width, s.gallery_height);
+    c.view.width = s.gallery_width;
+    c.view.height = s.gallery_height;
     c.timed = false;
     add_to_plan(plan, c);
   };
   gallery(RunKind::exact, Technique::pom, "32");
-  for (const TechniqueInfo& t : techniques())
-    gallery(RunKind::trace, t.id, writes_shadow(t) ? "32" : "10");  // a shadow from a close hit
-  gallery(RunKind::trace, Technique::pom, "32");
+  for (Technique t : s.techniques)
+    gallery(RunKind::trace, t, writes_shadow(info(t)) ? "32" : "10");  // a shadow from a close hit
+  if (wanted(s, Technique::pom)) gallery(RunKind::trace, Technique::pom, "32");
   for (const Configuration& c : claims_plan(s)) add_to_plan(plan, c);
-  return plan;
+  // The parts asked for: a configuration stays for the purposes it serves among them.
+  std::vector<Configuration> kept;
+  for (Configuration& c : plan)
+    if ((c.purposes &= s.parts) != 0) kept.push_back(std::move(c));
+  return kept;
 }
 
 }  // namespace heightmarch

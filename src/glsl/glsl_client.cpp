@@ -1,7 +1,8 @@
 // GlslRunner as a client of heightmarch-glsl-worker (src/glsl/worker_main.cpp): one worker
 // process per llvmpipe thread count, spoken to over a socket pair (src/glsl/protocol.hpp).
+#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <tbb/info.h>
@@ -21,6 +22,7 @@
 #include "glsl/protocol.hpp"
 #include "heightmarch/error.hpp"
 #include "heightmarch/glsl_runner.hpp"
+#include "heightmarch/memory_budget.hpp"
 
 extern char** environ;
 
@@ -30,8 +32,17 @@ namespace {
 namespace protocol = glsl_protocol;
 using protocol::Message;
 
-constexpr auto kRequestTimeout = std::chrono::seconds(600);  // uploads and compiles; draws have their own bound
+constexpr auto kRequestTimeout = std::chrono::seconds(600);  // sending a request, uploads; draws have their own bound
 constexpr auto kExitGrace = std::chrono::seconds(5);  // for a worker told to stop, or closing after EOF
+// A program's compile and link, from the request sent to "compiled": the built-in techniques take
+// well under a second on llvmpipe (their JIT comes at the first draw, within the draw's bound); a
+// brought-in shader whose preprocessor or compiler runs away (nested #defines grow by some
+// 170 MB/s) is killed here.
+constexpr auto kCompileTimeout = std::chrono::seconds(20);
+// What an llvmpipe thread reserves of the worker's data (RLIMIT_DATA counts it) beyond what it
+// touches: its stack and buffers, 16.6 MiB a thread measured (1 thread: 29 MiB of data, 16: 277 MiB,
+// 59 MiB resident at either).
+constexpr double kReservedBytesPerThread = 32.0 * 1024 * 1024;
 
 // The draw watchdog. The slowest built-in technique (shadow: a march and a shadow march) takes
 // about 4 ns per sample at one llvmpipe thread on an AMD EPYC and at most 2 x max layers +
@@ -82,6 +93,9 @@ struct GlslRunner::Worker {
   pid_t pid = -1;
   int fd = -1;
   std::string failure;  // why the last worker is gone; empty while one runs
+  std::size_t memory_limit = 0;  // the budget it was given when it started
+  std::string how_it_ended;      // of the last worker: "exited with status 1", "was killed by signal 9 (Killed)"
+  bool out_of_memory = false;    // the last worker exited for an allocation that failed
   std::string renderer, version;
   // Copies of the depth map and rays the worker holds, as last sent (none: unknown, send them):
   // the suite prepares every configuration on the same scene, and these are 20+ MB at 1024x1024.
@@ -106,31 +120,58 @@ struct GlslRunner::Worker {
     return true;
   }
 
-  // Spawns the worker and reads its greeting; throws std::runtime_error when it cannot.
+  // Starts the worker under an OS memory limit (RLIMIT_DATA: what it may allocate; RLIMIT_AS would
+  // also count the libraries' mappings, 400 MiB and more) of the budget and what its threads
+  // reserve, which it lowers once its context exists (worker_main.cpp), and reads its greeting;
+  // throws std::runtime_error when it cannot.
   void start() {
     failure.clear();
     sent_map.reset();
     sent_rays.reset();
     prepared = false;
-    int fds[2];
+    int fds[2], exec_report[2];
     // Close-on-exec: no other child (another worker, a popen) keeps this worker's channel open.
     if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0)
       throw std::runtime_error(name + ": socketpair: " + std::strerror(errno));
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_adddup2(&actions, fds[1], STDIN_FILENO);
-    posix_spawn_file_actions_adddup2(&actions, fds[1], STDOUT_FILENO);
-    const std::string thread_text = std::to_string(threads);
+    if (::pipe2(exec_report, O_CLOEXEC) != 0) {
+      const int error = errno;
+      ::close(fds[0]);
+      ::close(fds[1]);
+      throw std::runtime_error(name + ": pipe: " + std::strerror(error));
+    }
+    memory_limit = memory_budget();
+    rlimit limit{};
+    ::getrlimit(RLIMIT_DATA, &limit);
+    const double data = double(memory_limit) + kReservedBytesPerThread * threads;
+    limit.rlim_cur = limit.rlim_max = std::min<rlim_t>(rlim_t(std::min(data, 0x1p62)), limit.rlim_max);
+    const std::string thread_text = std::to_string(threads), limit_text = std::to_string(memory_limit);
     char* argv[] = {const_cast<char*>(path.c_str()), const_cast<char*>("--threads"),
-                    const_cast<char*>(thread_text.c_str()), nullptr};
-    const int spawned = ::posix_spawn(&pid, path.c_str(), &actions, nullptr, argv, environ);
-    posix_spawn_file_actions_destroy(&actions);
+                    const_cast<char*>(thread_text.c_str()), const_cast<char*>("--memory-limit"),
+                    const_cast<char*>(limit_text.c_str()), nullptr};
+    pid = ::fork();
+    if (pid == 0) {
+      // The child: only async-signal-safe calls until exec; exec's errno goes back through the pipe.
+      ::dup2(fds[1], STDIN_FILENO);
+      ::dup2(fds[1], STDOUT_FILENO);
+      int error = ::setrlimit(RLIMIT_DATA, &limit) == 0 ? 0 : errno;
+      if (error == 0) ::execve(path.c_str(), argv, environ);
+      error = error ? error : errno;
+      [[maybe_unused]] const ssize_t reported = ::write(exec_report[1], &error, sizeof error);
+      ::_exit(127);
+    }
+    const int fork_error = pid < 0 ? errno : 0;
     ::close(fds[1]);
+    ::close(exec_report[1]);
     fd = fds[0];
-    if (spawned != 0) {
+    int exec_error = fork_error;
+    // Reads the child's report: nothing (EOF) once exec succeeded; EINTR repeats.
+    while (pid > 0 && ::read(exec_report[0], &exec_error, sizeof exec_error) < 0 && errno == EINTR) {}
+    ::close(exec_report[0]);
+    if (exec_error != 0) {
+      if (pid > 0) ::waitpid(pid, nullptr, 0);
       pid = -1;
       close_channel();
-      failure = std::string("cannot start: ") + std::strerror(spawned);
+      failure = std::string("cannot start: ") + std::strerror(exec_error);
       throw std::runtime_error(name + ": " + failure +
                                " (build the heightmarch-glsl-worker target, or set HEIGHTMARCH_GLSL_WORKER)");
     }
@@ -160,6 +201,7 @@ struct GlslRunner::Worker {
       done = ::waitpid(pid, &status, 0);
     }
     pid = -1;
+    out_of_memory = done > 0 && WIFEXITED(status) && WEXITSTATUS(status) == protocol::kOutOfMemoryStatus;
     return done < 0 ? std::string("was lost (") + std::strerror(errno) + ")" : describe_status(status);
   }
 
@@ -168,14 +210,16 @@ struct GlslRunner::Worker {
     fd = -1;
   }
 
-  // Sends the request (none: only reads the worker's greeting) and hands the answer, which must be
-  // of type `answer`, to `parse`, waiting `timeout` at most. The worker's errors come back as they
-  // were thrown there (its other errors named after it); losing the worker or a garbled answer is
-  // a runtime_error, and a draw past its bound a draw_timeout(). A worker that is gone is started
-  // again (revive()) before anything else is asked of it.
+  // Sends the request (none: only reads an answer) within kRequestTimeout, then waits `timeout`
+  // at most for an answer, which must be of type `answer`, and hands it to `parse`. The worker's
+  // errors come back as they were thrown there (its other errors named after it); losing the
+  // worker or a garbled answer is a runtime_error, or an InputError naming the brought-in shader
+  // `shader` when that is what the worker was compiling or drawing; a compile or a draw past its
+  // bound is compile_timeout() or draw_timeout(). A worker that is gone is started again
+  // (revive()) before anything else is asked of it.
   void call(std::optional<Message> request, const protocol::Writer& payload, Message answer, const char* what,
             const std::function<void(protocol::Reader&)>& parse,
-            std::chrono::duration<double> timeout = kRequestTimeout) {
+            std::chrono::duration<double> timeout = kRequestTimeout, const std::string& shader = "") {
     if (!failure.empty()) {
       const std::string why = failure;
       start();
@@ -183,12 +227,13 @@ struct GlslRunner::Worker {
     }
     Message type = Message::error;
     std::string text;
+    const auto after = [](std::chrono::duration<double> wait) {
+      return std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(wait);
+    };
     try {
-      const auto deadline =
-          std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(timeout);
-      if (request) protocol::send(fd, *request, payload, deadline);
+      if (request) protocol::send(fd, *request, payload, after(kRequestTimeout));
       std::vector<char> reply;
-      type = protocol::receive(fd, reply, deadline);
+      type = protocol::receive(fd, reply, after(timeout), memory_budget_left());
       protocol::Reader reader(reply);
       if (type == answer) {
         parse(reader);
@@ -200,15 +245,45 @@ struct GlslRunner::Worker {
         reader.finish();
       }
     } catch (const protocol::ChannelTimeout&) {
-      if (request == Message::draw) draw_timeout();
+      if (answer == Message::drawn) draw_timeout();
+      if (answer == Message::compiled) compile_timeout(shader);
       fail("no answer to " + std::string(what) + " within " + seconds_text(timeout.count()) + " s; killed", true);
     } catch (const protocol::ChannelClosed& e) {
-      fail(std::string(e.what()) + " during " + what, false);
+      lost(std::string(e.what()) + " during " + what, shader, what);
+    } catch (const protocol::BadMessage& e) {
+      end(std::string(e.what()) + " during " + what + "; killed", true);
+      throw std::runtime_error(name + ": " + failure);
     }
     if (type == Message::input_error) throw InputError(text);
     if (type == Message::error) throw std::runtime_error(name + ": " + text);
     const std::string received = std::to_string(unsigned(type));
     fail("answered " + std::string(what) + " with message type " + received + "; killed", true);
+  }
+
+  // The worker closed the channel: it exited or died. Reaped; while it compiled or drew a
+  // brought-in shader, the shader's fault, named (a worker killed there has most likely run into
+  // its memory limit), else a runtime_error.
+  [[noreturn]] void lost(const std::string& why, const std::string& shader, const char* doing) {
+    end(why, false);
+    const std::string budget = bytes_text(double(memory_limit)) + " (" + memory_budget_source() + ")";
+    const std::string after = "; it restarts for the next request";
+    if (out_of_memory)
+      throw InputError((shader.empty() ? "" : shader + ": ") + "the GLSL worker ran out of memory within its budget of " +
+                       budget + " during its " + doing + after);
+    if (shader.empty()) throw std::runtime_error(name + ": " + failure);
+    throw InputError(shader + ": the GLSL worker " + how_it_ended + " during its " + doing +
+                     " (a crash, or its memory limit of " + budget + " reached)" + after);
+  }
+
+  // A compile past kCompileTimeout: the brought-in shader's fault (an InputError), or a
+  // runtime_error for a built-in technique.
+  [[noreturn]] void compile_timeout(const std::string& shader) {
+    const std::string bound = "its bound of " + seconds_text(std::chrono::duration<double>(kCompileTimeout).count()) + " s";
+    const std::string what = "compiling it ran past " + bound;
+    end("a compile ran past " + bound + "; killed", true);
+    const std::string after = "; the GLSL worker was killed and restarts for the next request";
+    if (!shader.empty()) throw InputError(shader + ": " + what + " (does the preprocessor or the compiler run away?)" + after);
+    throw std::runtime_error(name + ": the built-in program's " + what + after);
   }
 
   static std::string seconds_text(double seconds) {
@@ -227,8 +302,8 @@ struct GlslRunner::Worker {
   void end(const std::string& why, bool kill) {
     if (kill && pid > 0) ::kill(pid, SIGKILL);
     close_channel();
-    const std::string how = reap();
-    failure = kill ? why : why + "; the worker " + how;
+    how_it_ended = reap();
+    failure = kill ? why : why + "; the worker " + how_it_ended;
   }
 
   [[noreturn]] void fail(const std::string& why, bool kill) {
@@ -289,7 +364,10 @@ void GlslRunner::prepare(const DepthMap& map, const TechniqueParams& params, con
   request.text(shader_path);
   w.prepared = false;
   try {
-    w.call(Message::prepare, request, Message::done, "prepare", [](protocol::Reader&) {});
+    // The compile under its own bound, then the uploads and precomputed textures.
+    w.call(Message::prepare, request, Message::compiled, "compile", [](protocol::Reader&) {}, kCompileTimeout,
+           shader_path);
+    w.call(std::nullopt, {}, Message::done, "prepare", [](protocol::Reader&) {});
   } catch (...) {
     // A prepare that failed may have replaced either or neither: the next one sends both.
     w.sent_map.reset();
@@ -308,14 +386,14 @@ double GlslRunner::draw() {
   Worker& w = *worker_;
   double seconds = 0.0;
   w.call(Message::draw, {}, Message::drawn, "draw", [&](protocol::Reader& reader) { reader.value(seconds); },
-         std::chrono::duration<double>(w.draw_bound));
+         std::chrono::duration<double>(w.draw_bound), w.shader_path);
   return seconds;
 }
 
 void GlslRunner::read(HitBuffers& hits, bool& samples_known) const {
   std::uint8_t known = 0;
   worker_->call(Message::read, {}, Message::hits, "read", [&](protocol::Reader& reader) {
-    protocol::read(reader, hits);
+    protocol::read(reader, hits, worker_->rays);
     reader.value(known);
   });
   samples_known = known != 0;

@@ -16,6 +16,7 @@
 #include "glsl/user_shader_text.hpp"
 #include "glsl_sources.hpp"
 #include "heightmarch/error.hpp"
+#include "heightmarch/memory_budget.hpp"
 #include "heightmarch/precomputed.hpp"
 #include "util/input_file.hpp"
 
@@ -26,6 +27,14 @@ namespace heightmarch {
 namespace {
 
 constexpr int kRowWidth = 1024;  // rays per framebuffer row
+// What the worker holds per ray of a batch beside the request it came in, asked of its budget
+// before the textures are made: their staging (32 bytes), the origin, direction, hit and shadow
+// textures (64), the read-back (32), the hits and their answer (42); measured, about 170 bytes a
+// ray at 1024 x 1024 rays.
+constexpr double kWorkerBytesPerRay = 176.0;
+// And per texel of a depth map: its texture and the copy kept for the precomputed textures (8),
+// the min-depth pyramid and its atlas when a technique reads them (11); a cone map asks itself.
+constexpr double kWorkerBytesPerTexel = 20.0;
 constexpr std::size_t kMaxPrograms = 64;
 const float kUndrawn = std::numeric_limits<float>::quiet_NaN();  // the hits' clear value  // far more than techniques, a bound for brought-in shaders
 
@@ -178,6 +187,9 @@ GLuint link_program(const std::string& fragment, const std::string& shader_path)
 void OsmesaRunner::set_depth_map(const DepthMap& map) {
   State& s = *state_;
   check_side(std::max(map.width, map.height));
+  check_memory_budget(kWorkerBytesPerTexel * double(map.texels.size()),
+                      "the GLSL textures of a " + std::to_string(map.width) + "x" + std::to_string(map.height) +
+                          " depth map");
   // R32F, GL_LINEAR on level 0; prepare() sets the run's wrap mode.
   s.depth_texture = float_texture(s.depth_texture, GL_R32F, GL_RED, map.width, map.height, map.texels.data(), GL_LINEAR, GL_REPEAT);
   s.map = map;
@@ -191,6 +203,7 @@ void OsmesaRunner::set_rays(const RayBatch& rays) {
   State& s = *state_;
   const int height = int((rays.size() + kRowWidth - 1) / kRowWidth);
   check_side(height);
+  check_memory_budget(kWorkerBytesPerRay * double(rays.size()), "the GLSL textures of " + std::to_string(rays.size()) + " rays");
   s.rays = rays.size();
   s.width = kRowWidth;
   s.height = height;
@@ -219,10 +232,9 @@ void OsmesaRunner::set_rays(const RayBatch& rays) {
   s.has_rays = true;
 }
 
-void OsmesaRunner::prepare(const TechniqueParams& params, const std::string& shader_path) {
+void OsmesaRunner::compile(const TechniqueParams& params, const std::string& shader_path) {
   State& s = *state_;
-  if (!s.has_map || !s.has_rays) throw std::logic_error("prepare before a depth map and rays were set");
-  s.discard = params.discard;
+  s.program = 0;
   s.shader_path = shader_path;
   // The program: the harness, then the technique and main; a brought-in file comes last, so its
   // conflicts with the harness's names are reported at its own lines.
@@ -249,6 +261,14 @@ void OsmesaRunner::prepare(const TechniqueParams& params, const std::string& sha
     }
     s.programs.emplace_back(std::move(fragment), s.program);
   }
+}
+
+void OsmesaRunner::prepare(const TechniqueParams& params) {
+  State& s = *state_;
+  if (!s.has_map || !s.has_rays || !s.program)
+    throw std::logic_error("prepare before a depth map and rays were set and a program compiled");
+  s.discard = params.discard;
+  const std::string& shader_path = s.shader_path;
   // The run's wrap mode on the kept depth texture.
   const GLint wrap = params.wrap == Wrap::repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE;
   glBindTexture(GL_TEXTURE_2D, s.depth_texture);

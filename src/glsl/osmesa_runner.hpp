@@ -28,8 +28,13 @@ class OsmesaRunner {
   // uploads neither again; rays need only tx, ty, vx, vy, vz.
   void set_depth_map(const DepthMap& map);
   void set_rays(const RayBatch& rays);
-  // As GlslRunner's, on the depth map and rays last set (both must have been).
-  void prepare(const TechniqueParams& params, const std::string& shader_path);
+  // The program of the technique, or of the brought-in shader when shader_path is not empty,
+  // compiled and linked (or taken from the last 64 kept); InputError for a brought-in shader's
+  // errors. Needs no depth map nor rays, so it runs under its own deadline.
+  void compile(const TechniqueParams& params, const std::string& shader_path);
+  // The rest of GlslRunner's prepare for the program last compiled, on the depth map and rays last
+  // set (both must have been): uniforms, wrap mode, precomputed textures.
+  void prepare(const TechniqueParams& params);
   // Fills the hits with a NaN sentinel, which read() finds where a fragment was discarded.
   void clear_hits();
   void draw();

@@ -6,38 +6,86 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstddef>
+#include <cstdio>
 #include <system_error>
+
+#include "heightmarch/error.hpp"
 
 namespace heightmarch::glsl_protocol {
 
 namespace {
 
-// The fields of TechniqueParams in wire order, once for both directions (Writer::value takes
-// const&, Reader::value &).
-template <class Io, class Params>
-void params_fields(Io& io, Params& params) {
-  io.value(params.technique);
-  io.value(params.layers.min_layers);
-  io.value(params.layers.max_layers);
-  io.value(params.scale);
-  io.value(params.wrap);
-  io.value(params.discard);
-  io.value(params.light);
+// TechniqueParams on the wire: every field as a plain integer or float.
+struct WireParams {
+  std::int32_t technique = 0;
+  float min_layers = 0, max_layers = 0, scale = 0;
+  std::int32_t wrap = 0;
+  std::uint8_t discard = 0;
+  float light[3] = {};
+  std::int32_t refine = 0;  // resolved: the registry's default where none was given
+};
+
+// The fields in wire order, once for both directions (Writer::value takes const&, Reader::value &).
+template <class Io, class Wire>
+void wire_fields(Io& io, Wire& p) {
+  io.value(p.technique);
+  io.value(p.min_layers);
+  io.value(p.max_layers);
+  io.value(p.scale);
+  io.value(p.wrap);
+  io.value(p.discard);
+  for (auto& l : p.light) io.value(l);
+  io.value(p.refine);
 }
+
+TechniqueParams read_params(Reader& r) {
+  WireParams wire;
+  wire_fields(r, wire);
+  if (wire.discard > 1) throw BadMessage("discard flag " + std::to_string(wire.discard) + " is not 0 or 1");
+  TechniqueParams params;
+  params.technique = Technique(wire.technique);
+  params.layers = {wire.min_layers, wire.max_layers};
+  params.scale = wire.scale;
+  params.wrap = Wrap(wire.wrap);
+  params.discard = wire.discard != 0;
+  std::copy(std::begin(wire.light), std::end(wire.light), params.light);
+  params.refine = wire.refine;
+  check(params);  // the command line's check: nothing here is acted on before it passed
+  return params;
+}
+
+DepthMap read_map(Reader& r) {
+  DepthMap map;
+  r.value(map.width);
+  r.value(map.height);
+  r.array(map.texels);
+  check_depth_map(map, "the depth map of a prepare request");
+  return map;
+}
+
+RayBatch read_rays(Reader& r) {
+  RayBatch rays;
+  for (auto* a : {&rays.tx, &rays.ty, &rays.vx, &rays.vy, &rays.vz}) r.array(*a);
+  check_rays(rays);
+  return rays;
+}
+
+constexpr std::size_t kMaxPathBytes = 4096;  // PATH_MAX
 
 }  // namespace
 
-// The refine count travels resolved (the registry's default where none was given).
 void write(Writer& w, const TechniqueParams& params) {
-  params_fields(w, params);
-  w.value(params.refine_steps());
-}
-
-void read(Reader& r, TechniqueParams& params) {
-  params_fields(r, params);
-  int refine = 0;
-  r.value(refine);
-  params.refine = refine;
+  WireParams wire;
+  wire.technique = std::int32_t(params.technique);
+  wire.min_layers = params.layers.min_layers;
+  wire.max_layers = params.layers.max_layers;
+  wire.scale = params.scale;
+  wire.wrap = std::int32_t(params.wrap);
+  wire.discard = params.discard ? 1 : 0;
+  std::copy(std::begin(params.light), std::end(params.light), wire.light);
+  wire.refine = params.refine_steps();
+  wire_fields(w, wire);
 }
 
 void write(Writer& w, const DepthMap& map) {
@@ -46,23 +94,8 @@ void write(Writer& w, const DepthMap& map) {
   w.array(map.texels);
 }
 
-void read(Reader& r, DepthMap& map) {
-  r.value(map.width);
-  r.value(map.height);
-  r.array(map.texels);
-  if (map.width < 0 || map.height < 0 ||
-      map.texels.size() != std::size_t(map.width) * std::size_t(map.height))
-    throw ChannelClosed("depth map size does not match its texels");
-}
-
 void write(Writer& w, const RayBatch& rays) {
   for (const auto* a : {&rays.tx, &rays.ty, &rays.vx, &rays.vy, &rays.vz}) w.array(*a);
-}
-
-void read(Reader& r, RayBatch& rays) {
-  for (auto* a : {&rays.tx, &rays.ty, &rays.vx, &rays.vy, &rays.vz}) r.array(*a);
-  for (const auto* a : {&rays.ty, &rays.vx, &rays.vy, &rays.vz})
-    if (a->size() != rays.tx.size()) throw ChannelClosed("ray arrays of different lengths");
 }
 
 void write(Writer& w, const HitBuffers& hits) {
@@ -71,19 +104,55 @@ void write(Writer& w, const HitBuffers& hits) {
   w.array(hits.discarded);
 }
 
-void read(Reader& r, HitBuffers& hits) {
+void read(Reader& r, HitBuffers& hits, std::size_t rays) {
   for (auto* a : {&hits.u, &hits.v, &hits.depth, &hits.shadow}) r.array(*a);
   r.array(hits.samples);
   r.array(hits.discarded);
-  const std::size_t n = hits.u.size();
-  if (hits.v.size() != n || hits.depth.size() != n || hits.shadow.size() != n || hits.samples.size() != n ||
-      hits.discarded.size() != n)
-    throw ChannelClosed("hit arrays of different lengths");
+  for (std::size_t n : {hits.u.size(), hits.v.size(), hits.depth.size(), hits.shadow.size(),
+                        hits.samples.size(), hits.discarded.size()})
+    if (n != rays)
+      throw BadMessage("hit arrays of " + std::to_string(n) + " for " + std::to_string(rays) + " rays");
+}
+
+Request read_request(Message type, const std::vector<char>& payload) {
+  Reader reader(payload);
+  switch (type) {
+    case Message::prepare: {
+      PrepareRequest request;
+      request.params = read_params(reader);
+      std::uint8_t map_sent = 0, rays_sent = 0;
+      reader.value(map_sent);
+      if (map_sent > 1) throw BadMessage("map flag " + std::to_string(map_sent) + " is not 0 or 1");
+      if (map_sent) request.map = read_map(reader);
+      reader.value(rays_sent);
+      if (rays_sent > 1) throw BadMessage("rays flag " + std::to_string(rays_sent) + " is not 0 or 1");
+      if (rays_sent) request.rays = read_rays(reader);
+      reader.text(request.shader_path);
+      reader.finish();
+      if (request.shader_path.size() > kMaxPathBytes || request.shader_path.find('\0') != std::string::npos)
+        throw InputError("a shader path of " + std::to_string(request.shader_path.size()) +
+                         " bytes that is no file name");
+      return request;
+    }
+    case Message::draw:
+      reader.finish();
+      return DrawRequest{};
+    case Message::read:
+      reader.finish();
+      return ReadRequest{};
+    default:
+      throw BadMessage("message type " + std::to_string(unsigned(type)) + " is no request");
+  }
 }
 
 namespace {
 
-constexpr std::uint64_t kMaxPayload = std::uint64_t(1) << 36;  // a corrupt header cannot ask for more
+// A payload grows by at most this much (or by what it holds, if more) before its bytes have come.
+constexpr std::size_t kPayloadStep = std::size_t(1) << 20;
+
+bool known(Message type) {
+  return unsigned(type) >= unsigned(Message::ready) && unsigned(type) <= unsigned(Message::compiled);
+}
 
 // Waits until fd is ready for `events`; false once the deadline has passed.
 bool wait_for(int fd, short events, Deadline deadline) {
@@ -118,18 +187,20 @@ void write_all(int fd, const char* data, std::size_t n, Deadline deadline) {
   }
 }
 
-void read_all(int fd, char* data, std::size_t n, Deadline deadline) {
-  // Every pass reads at least one byte or throws.
-  while (n > 0) {
+// Reads up to n bytes; fewer only at EOF.
+std::size_t read_all(int fd, char* data, std::size_t n, Deadline deadline) {
+  std::size_t got = 0;
+  // Every pass reads at least one byte, or ends at EOF, or throws.
+  while (got < n) {
     if (!wait_for(fd, POLLIN, deadline)) throw ChannelTimeout("timed out reading");
-    const ssize_t done = ::read(fd, data, n);
+    const ssize_t done = ::read(fd, data + got, n - got);
     if (done < 0 && (errno == EINTR || errno == EAGAIN)) continue;
-    if (done < 0 && errno == ECONNRESET) throw ChannelClosed("channel closed");
+    if (done < 0 && errno == ECONNRESET) break;
     if (done < 0) throw std::system_error(errno, std::generic_category(), "read");
-    if (done == 0) throw ChannelClosed("channel closed");
-    data += done;
-    n -= std::size_t(done);
+    if (done == 0) break;
+    got += std::size_t(done);
   }
+  return got;
 }
 
 }  // namespace
@@ -142,14 +213,37 @@ void send(int fd, Message type, const Writer& payload, Deadline deadline) {
   write_all(fd, payload.bytes().data(), payload.bytes().size(), deadline);
 }
 
-Message receive(int fd, std::vector<char>& payload, Deadline deadline) {
-  Header header;
-  read_all(fd, reinterpret_cast<char*>(&header), sizeof header, deadline);
-  if (header.magic != kMagic || header.size > kMaxPayload)
-    throw ChannelClosed("sent bytes that are no message");
-  payload.resize(header.size);
-  read_all(fd, payload.data(), payload.size(), deadline);
-  return header.type;
+Message receive(int fd, std::vector<char>& payload, Deadline deadline, std::uint64_t max_payload) {
+  // The header's fields as bytes: a type is compared as a number before it is taken as a Message.
+  char bytes[sizeof(Header)];
+  const std::size_t got = read_all(fd, bytes, sizeof bytes, deadline);
+  if (got == 0) throw ChannelClosed("channel closed");
+  if (got < sizeof bytes) throw BadMessage("the channel closed inside a message header");
+  std::uint32_t magic = 0, type = 0;
+  std::uint64_t size = 0;
+  std::memcpy(&magic, bytes + offsetof(Header, magic), sizeof magic);
+  std::memcpy(&type, bytes + offsetof(Header, type), sizeof type);
+  std::memcpy(&size, bytes + offsetof(Header, size), sizeof size);
+  char hex[16];
+  std::snprintf(hex, sizeof hex, "0x%08x", unsigned(magic));
+  if (magic != kMagic) throw BadMessage(std::string("bytes that are no message (magic ") + hex + ")");
+  if (!known(Message(type))) throw BadMessage("a message of unknown type " + std::to_string(type));
+  // A message of one step or less costs no more than the reader's buffers: always read.
+  if (size > kPayloadStep && size > max_payload)
+    throw BadMessage("a message of " + std::to_string(size) + " bytes, more than the " +
+                     std::to_string(max_payload) + " its reader's memory budget leaves");
+  payload.clear();
+  // Each pass reads a step's worth, so memory follows the bytes that came, not the header's claim.
+  while (payload.size() < size) {
+    const std::size_t at = payload.size();
+    const std::size_t step = std::size_t(std::min<std::uint64_t>(size - at, std::max(kPayloadStep, at)));
+    payload.resize(at + step);
+    const std::size_t read = read_all(fd, payload.data() + at, step, deadline);
+    if (read < step)
+      throw BadMessage("the channel closed after " + std::to_string(at + read) + " of a message's " +
+                       std::to_string(size) + " bytes");
+  }
+  return Message(type);
 }
 
 }  // namespace heightmarch::glsl_protocol

@@ -4,14 +4,21 @@
 //
 // A message is a Header and `size` bytes of payload: plain values and length-prefixed arrays in
 // host byte order (both ends are the same build on the same machine). The client sends one
-// request and reads one answer:
+// request and reads its answers:
 //   (at start)                  -> ready {u32 protocol version, renderer, version}
-//   prepare {params, u8 map follows, [map], u8 rays follow, [rays], shader path} -> done
+//   prepare {params, u8 map follows, [map], u8 rays follow, [rays], shader path}
+//                               -> compiled (the program is linked), then done (uploaded)
 //                               (a map or rays not sent: the worker's last ones, unchanged)
 //   draw                        -> drawn {f64 seconds of draw + glFinish, timed in the worker}
 //   read                        -> hits {HitBuffers, u8 samples known}
 // and any request may be answered input_error {text} (an InputError: the same one-line message)
 // or error {text} (anything else; the worker stays usable after both).
+//
+// Each end trusts nothing it reads: a message is refused (BadMessage) for a wrong magic, an
+// unknown type, a payload larger than what the reader's memory budget leaves (checked before it
+// allocates anything; a payload is then read piece by piece, so a header that lies about its size
+// costs only the bytes that came) or fields that do not fit it; the worker checks every field of
+// a request with the checks the command line uses (read_request) before it acts on any.
 #include <chrono>
 #include <cstdint>
 #include <cstring>
@@ -19,6 +26,7 @@
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <variant>
 #include <vector>
 
 #include "heightmarch/heightfield.hpp"
@@ -28,10 +36,23 @@
 
 namespace heightmarch::glsl_protocol {
 
-inline constexpr std::uint32_t kVersion = 2;
+inline constexpr std::uint32_t kVersion = 3;
 inline constexpr std::uint32_t kMagic = 0x4c474d48;  // "HMGL": a stray write to stdout is caught at once
+// The worker's exit status when an allocation failed outside a request (reading one, starting).
+inline constexpr int kOutOfMemoryStatus = 3;
 
-enum class Message : std::uint32_t { ready = 1, prepare, done, draw, drawn, read, hits, input_error, error };
+enum class Message : std::uint32_t {
+  ready = 1,
+  prepare,
+  done,
+  draw,
+  drawn,
+  read,
+  hits,
+  input_error,
+  error,
+  compiled
+};
 
 struct Header {
   std::uint32_t magic = kMagic;
@@ -39,8 +60,12 @@ struct Header {
   std::uint64_t size = 0;
 };
 
-// The other end closed the channel (it exited or crashed) or sent bytes that are no message.
+// The other end closed the channel between two messages (it exited, crashed or is done).
 struct ChannelClosed : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+// Bytes that are no message of this protocol, or a message whose fields do not fit its payload.
+struct BadMessage : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 // No whole message before the deadline.
@@ -77,36 +102,38 @@ class Writer {
   std::vector<char> bytes_;
 };
 
-// Reads a payload back; a short or overlong payload throws ChannelClosed.
+// Reads a payload back; a short or overlong payload throws BadMessage. Values are read as the
+// integers and floats they are on the wire: an enum or a bool is never read from raw bytes.
 class Reader {
  public:
   explicit Reader(const std::vector<char>& bytes) : bytes_(bytes) {}
   template <class T>
   void value(T& v) {
-    static_assert(std::is_trivially_copyable_v<T>);
+    static_assert(std::is_arithmetic_v<T>);
     std::memcpy(&v, take(sizeof v), sizeof v);
   }
   template <class T>
   void array(std::vector<T>& v) {
+    static_assert(std::is_arithmetic_v<T>);
     std::uint64_t n = 0;
     value(n);
-    if (n > (bytes_.size() - at_) / sizeof(T)) throw ChannelClosed("message array longer than its payload");
+    if (n > (bytes_.size() - at_) / sizeof(T)) throw BadMessage("message array longer than its payload");
     v.resize(n);
     if (n) std::memcpy(v.data(), take(n * sizeof(T)), n * sizeof(T));
   }
   void text(std::string& s) {
     std::uint64_t n = 0;
     value(n);
-    if (n > bytes_.size() - at_) throw ChannelClosed("message text longer than its payload");
+    if (n > bytes_.size() - at_) throw BadMessage("message text longer than its payload");
     s.assign(take(n), n);
   }
   void finish() const {
-    if (at_ != bytes_.size()) throw ChannelClosed("message payload longer than its fields");
+    if (at_ != bytes_.size()) throw BadMessage("message payload longer than its fields");
   }
 
  private:
   const char* take(std::size_t n) {
-    if (n > bytes_.size() - at_) throw ChannelClosed("message payload shorter than its fields");
+    if (n > bytes_.size() - at_) throw BadMessage("message payload shorter than its fields");
     const char* p = bytes_.data() + at_;
     at_ += n;
     return p;
@@ -117,19 +144,35 @@ class Reader {
 
 // The one place that knows TechniqueParams' fields (params_fields in protocol.cpp, for both directions).
 void write(Writer& w, const TechniqueParams& params);
-void read(Reader& r, TechniqueParams& params);
 void write(Writer& w, const DepthMap& map);
-void read(Reader& r, DepthMap& map);
 // Only T and V (tx, ty, vx, vy, vz): all the GL run reads of a batch.
 void write(Writer& w, const RayBatch& rays);
-void read(Reader& r, RayBatch& rays);
 void write(Writer& w, const HitBuffers& hits);
-void read(Reader& r, HitBuffers& hits);
+// Hits as the worker answers them, for `rays` rays: arrays of that length, or BadMessage.
+void read(Reader& r, HitBuffers& hits, std::size_t rays);
+
+// The requests the worker serves, read and checked whole before it acts on any.
+struct PrepareRequest {
+  TechniqueParams params;
+  std::optional<DepthMap> map;   // none: the worker's last one
+  std::optional<RayBatch> rays;  // only T and V; none: the worker's last ones
+  std::string shader_path;       // a brought-in shader's file, or empty
+};
+struct DrawRequest {};
+struct ReadRequest {};
+using Request = std::variant<PrepareRequest, DrawRequest, ReadRequest>;
+
+// The worker's message reader: BadMessage for a type that is no request or fields that do not fit
+// the payload, InputError for a value the command line would refuse (check(TechniqueParams),
+// check_depth_map, check_rays; a shader path that is no path).
+Request read_request(Message type, const std::vector<char>& payload);
 
 using Deadline = std::optional<std::chrono::steady_clock::time_point>;  // none: wait for EOF at most
 
 void send(int fd, Message type, const Writer& payload, Deadline deadline);
-// Throws ChannelClosed on EOF or a malformed header, ChannelTimeout after the deadline.
-Message receive(int fd, std::vector<char>& payload, Deadline deadline);
+// Throws ChannelClosed on EOF before a header, BadMessage on anything that is no message (EOF
+// inside one included) or a payload of more than max_payload bytes (what the reader's budget
+// leaves; a payload of up to 1 MiB is always read), ChannelTimeout after the deadline.
+Message receive(int fd, std::vector<char>& payload, Deadline deadline, std::uint64_t max_payload);
 
 }  // namespace heightmarch::glsl_protocol

@@ -97,8 +97,10 @@ std::string user_log(const std::string& log, const std::string& path) {
     const std::string line = log.substr(start, end - start);
     if (!line.empty()) joined += (joined.empty() ? "" : "; ") + map_locations(line, path);
     start = end + 1;
+    if (joined.size() > kMaxQuotedLogBytes) break;
   }
-  return joined;
+  if (joined.size() <= kMaxQuotedLogBytes) return joined;
+  return joined.substr(0, kMaxQuotedLogBytes) + " ... (the log goes on for " + std::to_string(log.size()) + " bytes)";
 }
 
 }  // namespace heightmarch

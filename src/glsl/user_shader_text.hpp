@@ -20,7 +20,9 @@ inline constexpr long long kHarnessFirstLine = 10'000'000;
 std::string user_source(const std::string& text, const std::string& path);
 
 // The compiler's log, lines joined with "; ", each "S:L(C)" location rewritten as "PATH:L:C" (a
-// line of the file) or "harness:L:C" (a line of heightmarch's own code).
+// line of the file) or "harness:L:C" (a line of heightmarch's own code); an error line quotes its
+// first kMaxQuotedLogBytes (the first errors are the ones that tell).
+inline constexpr std::size_t kMaxQuotedLogBytes = 2048;
 std::string user_log(const std::string& log, const std::string& path);
 
 }  // namespace heightmarch

@@ -187,7 +187,7 @@ DepthMap make_builtin_heightfield(const std::string& name, int resolution, std::
   if (resolution < 1 || resolution > kMaxDepthMapSide)
     throw InputError("builtin:" + name + ": resolution " + std::to_string(resolution) + " out of range [1, " +
                      std::to_string(kMaxDepthMapSide) + "]");
-  check_memory_budget(12.0 * resolution * resolution, "builtin:" + name + " at " + std::to_string(resolution));
+  check_memory_budget(kBytesPerDepthTexel * resolution * resolution, "builtin:" + name + " at " + std::to_string(resolution));
   for (const BuiltinHeightfield& b : builtin_heightfields())
     if (name == b.name) return b.make(resolution, seed);
   std::string names;

@@ -9,6 +9,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 #include "heightmarch/error.hpp"
@@ -60,9 +61,43 @@ std::string channel_list(const OIIO::ImageSpec& spec) {
   return names;
 }
 
+// Rows read per call: the decoder converts them into the depth map directly, so its own buffers
+// stay a few rows (or one row of tiles) deep.
+constexpr int kRowsPerRead = 64;
+
+// The decoder's own buffers while the image is read kRowsPerRead rows at a time. Measured with
+// OpenImageIO 2.4 on 4096 x 4096 images: the JPEG, TIFF (one strip, many strips or tiled),
+// OpenEXR, BMP, PNM, HDR, SGI and DPX readers held at most 9 MiB beyond the depth map (four
+// reads' worth of native rows covers them); Targa and WebP decode the whole image first, and so
+// does PNG when interlaced (OIIO's spec does not say which): these, and formats not measured,
+// count the whole image in its native type.
+double decoder_bytes(const std::string& format, const OIIO::ImageSpec& spec) {
+  static const char* const streaming[] = {"jpeg", "tiff", "openexr", "bmp", "pnm", "hdr", "sgi", "dpx"};
+  const bool streams = std::find(std::begin(streaming), std::end(streaming), format) != std::end(streaming);
+  const double row_bytes = double(spec.scanline_bytes(true));
+  if (!streams) return row_bytes * double(spec.height);
+  return 4.0 * row_bytes * double(std::max(kRowsPerRead, spec.tile_height));
+}
+
+// Readers that hold the whole file from the moment they open it, known by its first bytes, and
+// how many copies they keep (OpenImageIO 2.4's PNM reader: two, measured), asked of the budget
+// before the reader opens the file.
+double bytes_held_at_open(const std::string& path, std::uintmax_t file_bytes) {
+  char magic[2] = {};
+  if (std::FILE* file = std::fopen(path.c_str(), "rb")) {
+    if (std::fread(magic, 1, 2, file) != 2) magic[0] = 0;
+    std::fclose(file);
+  }
+  const bool pnm = magic[0] == 'P' && std::strchr("1234567fF", magic[1]) && magic[1];
+  return pnm ? 2.0 * double(file_bytes) : 0.0;
+}
+
 // Channel `channel` of subimage 0, level 0 (the first image of a multi-image file), as GLSL's
-// .r reads the first; integer formats normalised to [0, 1] by OIIO.
+// .r reads the first; integer formats normalised to [0, 1] by OIIO. Everything the load takes
+// is asked of the budget from the header, before any pixel is read.
 DepthMap read_channel(const std::string& path, std::uintmax_t file_bytes, int channel) {
+  if (const double held = bytes_held_at_open(path, file_bytes); held > 0)
+    check_memory_budget(held, path + " (its reader holds the whole file)");
   SilencedStderr silenced;
   // Unassociated: the depth is what GLSL's .r reads from the file, never colour times alpha (OIIO
   // premultiplies PNG colour by alpha unless asked not to).
@@ -86,11 +121,25 @@ DepthMap read_channel(const std::string& path, std::uintmax_t file_bytes, int ch
   if (channel >= spec.nchannels)
     throw InputError(path + ": has no channel " + std::to_string(channel) + " (--channel; its channels: " +
                      channel_list(spec) + ")");
-  check_memory_budget(12.0 * pixels, path);
+  check_memory_budget(kBytesPerDepthTexel * pixels + decoder_bytes(in->format_name(), spec),
+                      path + " (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) + ", " +
+                          std::to_string(spec.nchannels) + (spec.nchannels == 1 ? " channel of " : " channels of ") +
+                          spec.format.c_str() + ")");
   DepthMap map{spec.width, spec.height, std::vector<float>(std::size_t(spec.width) * std::size_t(spec.height))};
-  // has_error too: some readers (libjpeg on a truncated scan) fill the rest grey and return true.
-  if (!in->read_image(0, 0, channel, channel + 1, OIIO::TypeDesc::FLOAT, map.texels.data()) || in->has_error())
-    throw InputError(path + ": cannot read pixels (" + one_line(in->geterror()) + ")");
+  // A band of rows (a row of tiles) per pass, from the data window's first row; has_error too:
+  // some readers (libjpeg on a truncated scan) fill the rest grey and return true.
+  const int band = spec.tile_width > 0 ? std::max(1, spec.tile_height) : kRowsPerRead;
+  for (int y = 0; y < spec.height; y += band) {
+    const int end = std::min(spec.height, y + band);
+    float* rows = map.texels.data() + std::size_t(y) * std::size_t(spec.width);
+    const bool read =
+        spec.tile_width > 0
+            ? in->read_tiles(0, 0, spec.x, spec.x + spec.width, spec.y + y, spec.y + end, spec.z, spec.z + 1, channel,
+                             channel + 1, OIIO::TypeDesc::FLOAT, rows)
+            : in->read_scanlines(0, 0, spec.y + y, spec.y + end, spec.z, channel, channel + 1, OIIO::TypeDesc::FLOAT,
+                                 rows);
+    if (!read || in->has_error()) throw InputError(path + ": cannot read pixels (" + one_line(in->geterror()) + ")");
+  }
   return map;
 }
 
@@ -100,29 +149,45 @@ DepthMap load_depth_map(const std::string& path, Convention convention, int chan
   // A device or FIFO is refused before OIIO opens it (its IFF reader spins on /dev/zero).
   const std::uintmax_t file_bytes = check_input_file(path, "depth map", kMaxDepthMapFileBytes);
   DepthMap map = read_channel(path, file_bytes, channel);
-  std::size_t not_finite = 0, outside = 0, first = 0;
-  for (std::size_t k = 0; k < map.texels.size(); ++k) {
-    float& d = map.texels[k];
-    if (!std::isfinite(d)) {
-      if (not_finite++ == 0) first = k;
-      continue;
-    }
+  std::size_t outside = 0;
+  for (float& d : map.texels) {
+    if (!std::isfinite(d)) continue;  // check_depth_map names them
     if (d < 0.0f || d > 1.0f) {
       ++outside;
       d = std::fmin(1.0f, std::fmax(0.0f, d));
     }
     if (convention == Convention::height) d = 1.0f - d;
   }
-  if (not_finite)
-    throw InputError(path + ": " + std::to_string(not_finite) + " NaN/Inf texels (first at " +
-                     std::to_string(first % map.width) + "," + std::to_string(first / map.width) + ")");
+  check_depth_map(map, path);
   if (outside)
-    std::fprintf(stderr, "heightmarch: warning: %s: %zu texels outside [0, 1] clamped\n", path.c_str(), outside);
+    std::fprintf(stderr, "heightmarch: warning: %s: %zu texels outside [0, 1] clamped\n", printable(path).c_str(),
+                 outside);
   return map;
 }
 
 std::string HeightfieldSource::label() const {
+  if (!name.empty()) return name;
   return builtin.empty() ? std::filesystem::path(path).filename().string() : builtin;
+}
+
+void give_unique_labels(std::vector<HeightfieldSource>& sources) {
+  std::vector<HeightfieldSource> unique;
+  for (HeightfieldSource& s : sources) {
+    s.name.clear();
+    if (std::find(unique.begin(), unique.end(), s) == unique.end()) unique.push_back(s);
+  }
+  std::vector<std::string> labels;
+  for (const HeightfieldSource& s : unique) labels.push_back(s.label());
+  for (std::size_t i = 0; i < unique.size(); ++i) {
+    const bool shared = std::count(labels.begin(), labels.end(), labels[i]) > 1;
+    unique[i].name = shared && unique[i].builtin.empty() ? unique[i].path : labels[i];
+  }
+  for (std::size_t i = 0; i < unique.size(); ++i)
+    for (std::size_t j = i + 1; j < unique.size(); ++j)
+      if (unique[i].name == unique[j].name)
+        throw InputError("two heightfields would share the label '" + unique[i].name + "' (" + unique[i].describe() +
+                         " and " + unique[j].describe() + "); give a file by another path (./NAME)");
+  sources = std::move(unique);
 }
 
 std::string HeightfieldSource::describe() const { return builtin.empty() ? path : "builtin:" + builtin; }

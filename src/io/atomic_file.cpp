@@ -1,6 +1,7 @@
 #include "io/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <sys/random.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -13,14 +14,32 @@ namespace heightmarch {
 namespace {
 
 constexpr std::size_t kBufferBytes = std::size_t(1) << 20;
+// Names tried before giving up: 32 random bits each, so a second try is already rare.
+constexpr int kNameAttempts = 64;
+
+std::string random_suffix() {
+  std::uint32_t bits = 0;
+  // getrandom of 4 bytes never blocks once the kernel's pool is ready and never returns short.
+  if (::getrandom(&bits, sizeof bits, 0) != sizeof bits)
+    throw std::runtime_error(std::string("getrandom: ") + std::strerror(errno));
+  char text[16];
+  std::snprintf(text, sizeof text, "%08x", bits);
+  return text;
+}
 
 }  // namespace
 
-std::string temporary_path(const std::string& path) { return path + ".tmp-" + std::to_string(::getpid()); }
-
-AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), temporary_(temporary_path(path_)) {
-  fd_ = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw std::runtime_error(path_ + ": cannot write (" + std::strerror(errno) + ")");
+AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
+  // Each pass tries a fresh name; only a name taken (EEXIST) tries again.
+  for (int attempt = 0; attempt < kNameAttempts && fd_ < 0; ++attempt) {
+    temporary_ = path_ + ".tmp-" + random_suffix();
+    fd_ = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd_ < 0 && errno != EEXIST)
+      throw std::runtime_error(path_ + ": cannot write (" + std::strerror(errno) + ")");
+  }
+  if (fd_ < 0)
+    throw std::runtime_error(path_ + ": cannot write (" + std::to_string(kNameAttempts) +
+                             " temporary names beside it were all taken)");
   buffer_.reserve(kBufferBytes);
 }
 
@@ -47,6 +66,11 @@ void AtomicFile::append(std::string_view text) {
   } else {
     buffer_.append(text);
   }
+}
+
+int AtomicFile::descriptor() {
+  flush();
+  return fd_;
 }
 
 void AtomicFile::flush() {

@@ -1,15 +1,19 @@
 #pragma once
 // Results are written to a temporary file and renamed into place, so an interrupted run never
-// leaves a half-written file that looks complete.
+// leaves a half-written file that looks complete, and nothing planted in a shared directory can
+// redirect a write: the temporary is a new file with an unpredictable name, created exclusively
+// (O_CREAT | O_EXCL | O_NOFOLLOW: a link or a file already at that name is never opened), and the
+// rename replaces whatever is at the final name (a link there is replaced, not followed).
 #include <string>
 #include <string_view>
 
 namespace heightmarch {
 
-// A file written piece by piece (a 2-million-row rays.csv is 300 MB: never held whole) into
-// "PATH.tmp-PID", renamed to PATH by commit(). Failures throw std::runtime_error naming the path
-// and the system's reason (a full disk: "No space left on device") after removing the temporary;
-// so does destruction without commit(), silently: the final path is then untouched.
+// A file written piece by piece (a 2-million-row rays.csv is 300 MB: never held whole) into a
+// fresh "PATH.tmp-XXXXXXXX" beside PATH, renamed to PATH by commit(). Failures throw
+// std::runtime_error naming the path and the system's reason (a full disk: "No space left on
+// device") after removing the temporary; so does destruction without commit(), silently: the
+// final path is then untouched.
 class AtomicFile {
  public:
   explicit AtomicFile(std::string path);
@@ -18,6 +22,9 @@ class AtomicFile {
   AtomicFile& operator=(const AtomicFile&) = delete;
 
   void append(std::string_view text);
+  // The temporary's descriptor, for a writer that writes on its own (an image encoder); what it
+  // writes goes after the text appended so far.
+  int descriptor();
   void commit();
 
  private:
@@ -29,8 +36,5 @@ class AtomicFile {
 };
 
 void write_file_atomically(const std::string& path, const std::string& content);
-
-// The temporary beside path a write of this process uses: "PATH.tmp-PID".
-std::string temporary_path(const std::string& path);
 
 }  // namespace heightmarch

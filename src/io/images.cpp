@@ -1,42 +1,51 @@
 #include "io/images.hpp"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cmath>
-#include <filesystem>
+#include <cstdio>
+#include <cstring>
 #include <functional>
 #include <stdexcept>
+
+#include "io/atomic_file.hpp"
 
 namespace heightmarch {
 namespace {
 
-// OIIO chooses the writer by extension, so the temporary keeps it: "x.png" -> "x.tmp-PID.png".
+// The encoder writes through the atomic writer's temporary (OIIO's IOFile over its descriptor), so
+// it never opens a path itself; OIIO chooses it by the final name's extension.
 void write_image(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc type, const void* pixels) {
-  const std::filesystem::path final_path(path);
-  const std::string temporary = (final_path.parent_path() / (final_path.stem().string() + ".tmp-" +
-                                                               std::to_string(::getpid()) + final_path.extension().string()))
-                                    .string();
-  auto out = OIIO::ImageOutput::create(temporary);
-  if (!out || !out->open(temporary, spec) || !out->write_image(type, pixels) || !out->close()) {
-    std::string why = out ? out->geterror() : OIIO::geterror();
+  AtomicFile file(path);
+  const int fd = ::dup(file.descriptor());
+  std::FILE* stream = fd >= 0 ? ::fdopen(fd, "wb") : nullptr;
+  if (!stream) {
+    const int error = errno;
+    if (fd >= 0) ::close(fd);
+    throw std::runtime_error(path + ": cannot write (" + std::strerror(error) + ")");
+  }
+  std::string why;
+  {
+    OIIO::Filesystem::IOFile proxy(stream, OIIO::Filesystem::IOProxy::Write);
+    auto out = OIIO::ImageOutput::create(path);
+    if (!out || !out->set_ioproxy(&proxy) || !out->open(path, spec) || !out->write_image(type, pixels) || !out->close())
+      why = out ? out->geterror() : OIIO::geterror();
+  }
+  const bool write_failed = std::ferror(stream) != 0;
+  const int error = errno;
+  if (std::fclose(stream) != 0 && why.empty()) why = std::strerror(errno);
+  if (write_failed && why.empty()) why = std::strerror(error);
+  if (!why.empty()) {
     for (char& c : why)
       if (c == '\n') c = ' ';
-    out.reset();  // closes the file before it is removed
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw std::runtime_error(path + ": cannot write (" + why + ")");
+    throw std::runtime_error(path + ": cannot write (" + why + ")");  // the temporary goes with `file`
   }
-  out.reset();
-  std::error_code ec;
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) {
-    const std::string why = ec.message();
-    std::filesystem::remove(temporary, ec);
-    throw std::runtime_error(path + ": cannot write (" + why + ")");
-  }
+  file.commit();
 }
 
 using Colour = std::array<std::uint8_t, 3>;
@@ -151,22 +160,6 @@ std::vector<std::uint8_t> image_with_legend(int width, int height, const Palette
   return rgb;
 }
 
-// Ticks for a count scale from 0: a round step (1, 2 or 5 times a power of ten) giving at most
-// five ticks; `top` becomes the last tick, at or above the largest count.
-std::vector<LegendTick> count_ticks(std::uint32_t largest, std::uint32_t& top) {
-  constexpr std::uint64_t kMantissas[3] = {1, 2, 5};
-  std::uint64_t decade = 1, step = 1;
-  // 30 steps up reach 1e10, beyond any 32-bit count.
-  for (int k = 1; k <= 30 && step * 4 < largest; ++k) {
-    if (k % 3 == 0) decade *= 10;
-    step = kMantissas[k % 3] * decade;
-  }
-  top = std::uint32_t((std::max<std::uint64_t>(largest, 1) + step - 1) / step * step);
-  std::vector<LegendTick> ticks;
-  for (std::uint64_t v = 0; v <= top; v += step) ticks.push_back({double(v) / double(top), std::to_string(v)});
-  return ticks;
-}
-
 }  // namespace
 
 void write_png_rgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb) {
@@ -192,14 +185,19 @@ std::vector<std::uint8_t> error_heat_map(const std::vector<float>& error_texels,
 
 std::vector<std::uint8_t> cost_map(const std::vector<std::uint32_t>& samples, const std::vector<std::uint8_t>& has_ray,
                                    int width, int height, const std::string& unit, int& out_height) {
-  std::uint32_t largest = 0;
-  for (std::size_t p = 0; p < std::size_t(width) * std::size_t(height); ++p)
-    if (has_ray[p]) largest = std::max(largest, samples[p]);
-  std::uint32_t top = 1;
-  const std::vector<LegendTick> ticks = count_ticks(largest, top);
-  return image_with_legend(width, height, kViridis, ticks, unit, [&](std::size_t p) {
-    return has_ray[p] ? colour_at(kViridis, double(samples[p]) / double(top)) : kNoRay;
-  }, out_height);
+  // One log2 scale for every cost map, 1 to kCostMapMaxSamples: maps side by side (the gallery's
+  // column, a report's images) compare by colour. A tick every factor of 4.
+  const double top = std::log2(double(kCostMapMaxSamples));
+  std::vector<LegendTick> ticks;
+  for (std::uint32_t v = 1; v <= kCostMapMaxSamples; v *= 4)
+    ticks.push_back({std::log2(double(v)) / top, std::to_string(v)});
+  return image_with_legend(
+      width, height, kViridis, ticks, unit,
+      [&](std::size_t p) {
+        const double n = std::clamp(double(samples[p]), 1.0, double(kCostMapMaxSamples));
+        return has_ray[p] ? colour_at(kViridis, std::log2(n) / top) : kNoRay;
+      },
+      out_height);
 }
 
 std::vector<std::uint8_t> shade_render(const DepthMap& map, Wrap wrap, float scale, const std::vector<float>& u,

@@ -24,9 +24,13 @@ inline constexpr double kHeatMapMaxTexels = 10.0;
 std::vector<std::uint8_t> error_heat_map(const std::vector<float>& error_texels, const std::vector<std::uint8_t>& has_ray,
                                          int width, int height, int& out_height);
 
-// Per-pixel cost, the samples a pixel's ray took (exact: texel cells solved), as RGB (viridis from
-// 0 to a round count at or above the largest; grey where a pixel has no ray), with the same legend
-// strip as the heat map: ticks at round counts and `unit` ("samples", "cells") after the bar.
+// The cost map's fixed scale: log2 of the samples a pixel's ray took, from 1 to this many (more
+// are drawn as this many), the same for every cost map.
+inline constexpr std::uint32_t kCostMapMaxSamples = 1024;
+
+// Per-pixel cost, the samples a pixel's ray took (exact: texel cells solved), as RGB (viridis on
+// the fixed log scale; grey where a pixel has no ray), with the same legend strip as the heat
+// map: ticks at 1, 4, 16, ..., 1024 and `unit` ("samples", "cells") after the bar.
 std::vector<std::uint8_t> cost_map(const std::vector<std::uint32_t>& samples, const std::vector<std::uint8_t>& has_ray,
                                    int width, int height, const std::string& unit, int& out_height);
 

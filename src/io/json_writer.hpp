@@ -1,10 +1,23 @@
 #pragma once
-// A small JSON writer for metrics and reports: objects and arrays of numbers and strings.
+// A small JSON writer for metrics and reports: objects and arrays of numbers and strings; numbers in
+// their shortest form (append_number, which the CSV files use too).
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <string>
 
 namespace heightmarch {
+
+// The shortest text that reads back as the same number: 0.1f as "0.1", not "0.100000001". A
+// double that is exactly a float (the uv error percentiles, scales, angles, ray coordinates: float
+// values carried in doubles) is written as that float. For JSON and the CSV files alike.
+inline void append_number(std::string& out, double number) {
+  char buf[32];
+  const float narrow = float(number);
+  const auto end = double(narrow) == number ? std::to_chars(buf, buf + sizeof buf, narrow).ptr
+                                            : std::to_chars(buf, buf + sizeof buf, number).ptr;
+  out.append(buf, end);
+}
 
 class JsonWriter {
  public:
@@ -29,16 +42,13 @@ class JsonWriter {
     out_ += b ? "true" : "false";
     return *this;
   }
-  // Full float precision; NaN and infinities, which JSON lacks, as null.
+  // NaN and infinities, which JSON lacks, as null; other numbers as append_number writes them.
   JsonWriter& value(const std::string& key, double number) {
     prefix(key);
-    if (!std::isfinite(number)) {
+    if (std::isfinite(number))
+      append_number(out_, number);
+    else
       out_ += "null";
-    } else {
-      char buf[32];
-      std::snprintf(buf, sizeof buf, "%.9g", number);
-      out_ += buf;
-    }
     return *this;
   }
   JsonWriter& value(const std::string& key, long long number) {

@@ -77,15 +77,25 @@ ErrorSummary summarize_errors(const RayBatch& rays, const HitBuffers& hits, cons
   return s;
 }
 
+std::vector<std::pair<std::string, double>> error_measures(const ErrorSummary& e) {
+  const double shadow_error = e.has_shadow ? e.shadow_error_mean : std::nan("");
+  const double shadow_mismatch = e.has_shadow ? e.shadow_mismatch_rate : std::nan("");
+  return {{"uv_error_mean", e.mean},
+          {"uv_error_rms", e.rms},
+          {"uv_error_p50", e.p50},
+          {"uv_error_p95", e.p95},
+          {"uv_error_p99", e.p99},
+          {"uv_error_max", e.max},
+          {"wrong_surface_rate", e.wrong_surface_rate},
+          {"depth_error_mean", e.depth_error_mean},
+          {"shadow_error_mean", shadow_error},
+          {"shadow_mismatch_rate", shadow_mismatch}};
+}
+
 std::vector<std::pair<std::string, double>> error_counters(const ErrorSummary& e) {
-  std::vector<std::pair<std::string, double>> counters = {
-      {"uv_error_mean", e.mean}, {"uv_error_rms", e.rms}, {"uv_error_p50", e.p50},
-      {"uv_error_p95", e.p95},   {"uv_error_p99", e.p99}, {"uv_error_max", e.max},
-      {"wrong_surface_rate", e.wrong_surface_rate},       {"depth_error_mean", e.depth_error_mean}};
-  if (e.has_shadow) {
-    counters.emplace_back("shadow_error_mean", e.shadow_error_mean);
-    counters.emplace_back("shadow_mismatch_rate", e.shadow_mismatch_rate);
-  }
+  std::vector<std::pair<std::string, double>> counters;
+  for (const auto& [name, value] : error_measures(e))
+    if (!std::isnan(value)) counters.emplace_back(name, value);
   return counters;
 }
 

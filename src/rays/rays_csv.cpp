@@ -32,39 +32,95 @@ std::vector<std::string> split_fields(const std::string& line) {
   }
 }
 
+// The file's lines one at a time, read through a buffer of kChunkBytes (a 3 GB file is never
+// held whole); a line longer than kMaxLineBytes is an error, not a growing buffer.
+class LineReader {
+ public:
+  static constexpr std::size_t kChunkBytes = std::size_t(1) << 20;
+  static constexpr std::size_t kMaxLineBytes = 4096;
+
+  LineReader(InputFile& file, const std::string& path) : file_(file), path_(path) {}
+
+  bool next(std::string& line) {
+    // Each pass takes one line from the buffer, or reads more (at least a byte), or ends.
+    for (;;) {
+      const std::size_t newline = buffer_.find('\n', at_);
+      if (newline != std::string::npos) {
+        line.assign(buffer_, at_, newline - at_);
+        consumed_ += newline + 1 - at_;
+        at_ = newline + 1;
+        ++number_;
+        return true;
+      }
+      if (buffer_.size() - at_ > kMaxLineBytes)
+        throw InputError(path_ + ":" + std::to_string(number_ + 1) + ": a line longer than " +
+                         std::to_string(kMaxLineBytes) + " bytes");
+      buffer_.erase(0, at_);
+      at_ = 0;
+      const std::size_t kept = buffer_.size();
+      buffer_.resize(kept + kChunkBytes);
+      const std::size_t n = file_.read(buffer_.data() + kept, kChunkBytes);
+      buffer_.resize(kept + n);
+      if (n > 0) continue;
+      if (buffer_.empty()) return false;
+      line = std::move(buffer_);  // the last line, without a newline
+      consumed_ += line.size();
+      buffer_.clear();
+      ++number_;
+      return true;
+    }
+  }
+  std::size_t number() const { return number_; }        // of the last line returned, from 1
+  std::uintmax_t consumed() const { return consumed_; }  // bytes of the lines returned
+
+ private:
+  InputFile& file_;
+  const std::string& path_;
+  std::string buffer_;
+  std::size_t at_ = 0, number_ = 0;
+  std::uintmax_t consumed_ = 0;
+};
+
+// Lines whose mean length sets the first estimate of a file's rays.
+constexpr std::size_t kSampleLines = 1000;
+
 }  // namespace
 
 RayBatch load_rays_csv(const std::string& path, int tile_size) {
   // A regular file no larger than the budget: /dev/zero or a FIFO would read forever.
-  const std::string text = read_input_file(path, "rays file", memory_budget());
-  // The rays' memory, padding included, before any column is allocated: every line a ray.
-  const std::size_t lines = std::size_t(std::count(text.begin(), text.end(), '\n')) + 1;
-  check_memory_budget(double(text.size()) +
-                          (kBytesPerRayCsvRow + kBytesPerRay * padding_factor(tile_size)) * double(lines),
-                      path + " (up to " + std::to_string(lines) + " rays)");
-  // One line per call, read in place (a copy of a 100 MB file is 100 MB more).
-  std::size_t at = 0;
-  const auto next_line = [&](std::string& line) {
-    if (at >= text.size()) return false;
-    std::size_t end = text.find('\n', at);
-    if (end == std::string::npos) end = text.size();
-    line.assign(text, at, end - at);
-    at = end + 1;
-    return true;
+  InputFile file(path, "rays file", memory_budget());
+  LineReader lines(file, path);
+  // What a run holds per ray of the file (its columns as read, its batch with padding, hits,
+  // references, images), asked of the budget for the rays the file's size suggests at the mean
+  // line length so far: first after kSampleLines lines (or the whole file, if shorter), then again,
+  // for a quarter more at least, whenever the rays read pass the rays asked for.
+  const double bytes_per_ray = kBytesPerRayCsvRow + kBytesPerRay * padding_factor(tile_size);
+  double asked = 0.0;
+  const auto ask_budget = [&] {
+    const double mean_line = double(lines.consumed()) / double(std::max<std::size_t>(lines.number(), 1));
+    const double left = double(file.size()) - double(std::min<std::uintmax_t>(lines.consumed(), file.size()));
+    const double rays = std::max(std::ceil(double(lines.number()) + left / std::max(mean_line, 1.0)),
+                                 std::ceil(1.25 * asked));
+    if (rays > double(kMaxCsvRays))
+      throw InputError(path + ": about " + std::to_string((long long)rays) + " rays (" +
+                       std::to_string(file.size()) + " bytes at " + std::to_string((long long)mean_line) +
+                       " a line), more than the " + std::to_string(kMaxCsvRays) + " a rays file may have");
+    check_memory_budget(bytes_per_ray * rays, path + " (about " + std::to_string((long long)rays) + " rays)");
+    asked = rays;
   };
   std::string line;
-  if (!next_line(line)) throw InputError(path + ": empty rays file (expected header tx,ty,vx,vy,vz)");
+  if (!lines.next(line)) throw InputError(path + ": empty rays file (expected header tx,ty,vx,vy,vz)");
   if (line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark (spreadsheet exports)
   const std::vector<std::string> expected = {"tx", "ty", "vx", "vy", "vz"};
   if (split_fields(line) != expected)
     throw InputError(path + ":1: header must be tx,ty,vx,vy,vz (found '" + line.substr(0, 40) + "')");
   std::vector<float> columns[5];
-  std::size_t line_number = 1;
-  while (next_line(line)) {
-    ++line_number;
+  // One line per pass; the budget bounds the lines a pass may add before it is asked again.
+  while (lines.next(line)) {
+    if (lines.number() == kSampleLines || (asked > 0.0 && double(lines.number()) > asked)) ask_budget();
     if (trim(line).empty()) continue;
     const std::vector<std::string> fields = split_fields(line);
-    const std::string where = path + ":" + std::to_string(line_number) + ": ";
+    const std::string where = path + ":" + std::to_string(lines.number()) + ": ";
     if (fields.size() != 5)
       throw InputError(where + "expected 5 columns, found " + std::to_string(fields.size()));
     for (int c = 0; c < 5; ++c) {
@@ -80,9 +136,8 @@ RayBatch load_rays_csv(const std::string& path, int tile_size) {
         throw InputError(where + expected[c] + " '" + fields[c] + "' is beyond a float's range");
       columns[c].push_back(float(value));
     }
-    if (columns[0].size() > kMaxCsvRays)
-      throw InputError(path + ": more than " + std::to_string(kMaxCsvRays) + " rays");
   }
+  if (asked == 0.0) ask_budget();  // a file of fewer than kSampleLines lines, now read whole
   if (columns[0].empty()) throw InputError(path + ": no rays after the header");
   try {
     return make_ray_list(columns[0], columns[1], columns[2], columns[3], columns[4], tile_size);

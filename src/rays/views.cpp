@@ -11,12 +11,15 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kMinViewZ = 5e-7;  // V.z below this is a grazing ray: rejected
+constexpr float kMaxRayOrigin = 1e6f;  // |T.x|, |T.y|
 
-// The default camera: the near edge of the plane (v = 0) seen at 30 degrees from the normal,
-// the far edge (v = 1) at 80 degrees, on the centre line; eye height h and distance a before the
-// near edge follow from tan 30 = a / h and tan 80 = (1 + a) / h.
+// The default camera: the near edge of the plane (v = 0) seen at the near angle from the normal
+// (30 degrees unless asked), the far edge (v = 1) at the far angle (80), on the centre line; eye
+// height h and distance a before the near edge follow from tan near = a / h and tan far = (1 + a) / h.
 struct DefaultCamera {
-  double near_angle = 30.0 * kPi / 180.0, far_angle = 80.0 * kPi / 180.0;
+  explicit DefaultCamera(const ViewSpec& view)
+      : near_angle(view.near_degrees * kPi / 180.0), far_angle(view.far_degrees * kPi / 180.0) {}
+  double near_angle, far_angle;
   double height = 1.0 / (std::tan(far_angle) - std::tan(near_angle));
   double back = std::tan(near_angle) * height;
   double eye[3] = {0.5, -back, height};
@@ -90,9 +93,13 @@ ViewSpec parse_view(const std::string& text, int width, int height) {
   view.width = width;
   view.height = height;
   if (text == "default") return view;
+  if (text.rfind("default:", 0) == 0) {
+    parse_view_angles(text.substr(8), view);
+    return view;
+  }
   const std::string prefix = "sweep:";
   if (text.rfind(prefix, 0) != 0)
-    throw InputError("unknown view '" + text + "' (default or sweep:THETA[,PHI])");
+    throw InputError("unknown view '" + text + "' (default, default:NEAR-FAR or sweep:THETA[,PHI])");
   view.kind = ViewSpec::Kind::sweep;
   const std::string args = text.substr(prefix.size());
   const auto comma = args.find(',');
@@ -116,6 +123,26 @@ ViewSpec parse_view(const std::string& text, int width, int height) {
   return view;
 }
 
+void parse_view_angles(const std::string& text, ViewSpec& view) {
+  const auto dash = text.find('-', 1);
+  float near = 0, far = 0;
+  try {
+    if (dash == std::string::npos) throw std::invalid_argument("no dash");
+    std::size_t used_near = 0, used_far = 0;
+    const std::string a = text.substr(0, dash), b = text.substr(dash + 1);
+    near = std::stof(a, &used_near);
+    far = std::stof(b, &used_far);
+    if (used_near != a.size() || used_far != b.size()) throw std::invalid_argument("trailing");
+  } catch (const std::logic_error&) {
+    throw InputError("view angles '" + text + "' must be NEAR-FAR in degrees, e.g. 30-80");
+  }
+  if (!(near >= 0.0f && near < far && far <= kMaxViewDegrees))
+    throw InputError("view angles '" + text + "' must satisfy 0 <= NEAR < FAR <= " +
+                     std::to_string(int(kMaxViewDegrees)) + " degrees");
+  view.near_degrees = near;
+  view.far_degrees = far;
+}
+
 ViewSpec sweep_view(double theta_degrees, int width, int height) {
   ViewSpec view;
   view.kind = ViewSpec::Kind::sweep;
@@ -135,8 +162,13 @@ ViewSpec rays_file_view(const std::string& path) {
 std::string describe(const ViewSpec& view) {
   if (view.kind == ViewSpec::Kind::rays_file) return "rays:" + view.rays_path;
   const std::string size = std::to_string(view.width) + "x" + std::to_string(view.height);
-  if (view.kind == ViewSpec::Kind::perspective) return "default " + size;
   char buf[64];
+  if (view.kind == ViewSpec::Kind::perspective) {
+    if (view.near_degrees == kDefaultNearDegrees && view.far_degrees == kDefaultFarDegrees)
+      return "default " + size;
+    std::snprintf(buf, sizeof buf, "default:%g-%g ", view.near_degrees, view.far_degrees);
+    return buf + size;
+  }
   std::snprintf(buf, sizeof buf, "sweep:%g,%g ", view.theta_degrees, view.phi_degrees);
   return buf + size;
 }
@@ -150,7 +182,7 @@ RayBatch make_view_rays(const ViewSpec& view) {
   RayBatch batch;
   batch.image_width = view.width;
   batch.image_height = view.height;
-  const DefaultCamera camera;
+  const DefaultCamera camera(view);
   const double theta = view.theta_degrees * kPi / 180.0, phi = view.phi_degrees * kPi / 180.0;
   const float sweep_v[3] = {float(std::sin(theta) * std::cos(phi)), float(std::sin(theta) * std::sin(phi)),
                             float(std::cos(theta))};
@@ -178,6 +210,18 @@ RayBatch make_view_rays(const ViewSpec& view) {
   return batch;
 }
 
+void check_rays(const RayBatch& rays) {
+  const std::size_t n = rays.tx.size();
+  if (rays.ty.size() != n || rays.vx.size() != n || rays.vy.size() != n || rays.vz.size() != n)
+    throw InputError("a ray batch whose arrays differ in length");
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool finite = std::isfinite(rays.tx[i]) && std::isfinite(rays.ty[i]) && std::isfinite(rays.vx[i]) &&
+                        std::isfinite(rays.vy[i]) && std::isfinite(rays.vz[i]);
+    if (!finite || std::fabs(rays.tx[i]) > kMaxRayOrigin || std::fabs(rays.ty[i]) > kMaxRayOrigin || !(rays.vz[i] > 0.0f))
+      throw InputError("ray " + std::to_string(i + 1) + " of the batch: not finite, |T| beyond 1e6 or V.z <= 0");
+  }
+}
+
 RayBatch make_ray_list(const std::vector<float>& tx, const std::vector<float>& ty,
                        const std::vector<float>& vx, const std::vector<float>& vy,
                        const std::vector<float>& vz, int tile_size) {
@@ -203,7 +247,7 @@ RayBatch make_ray_list(const std::vector<float>& tx, const std::vector<float>& t
       throw InputError(ray() + ": V.z = " + value +
                        " after normalisation, must be >= 5e-7 (a ray from below or grazing the plane)");
     }
-    if (std::fabs(tx[i]) > 1e6f || std::fabs(ty[i]) > 1e6f) throw InputError(ray() + ": |T| beyond 1e6");
+    if (std::fabs(tx[i]) > kMaxRayOrigin || std::fabs(ty[i]) > kMaxRayOrigin) throw InputError(ray() + ": |T| beyond 1e6");
     builder.add({true, tx[i], ty[i], float(vx[i] / len), float(vy[i] / len), z}, std::uint32_t(i));
     if ((i + 1) % per_tile == 0) builder.end_tile();
   }

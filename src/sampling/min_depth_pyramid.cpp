@@ -1,6 +1,9 @@
 #include "heightmarch/min_depth_pyramid.hpp"
 
 #include <algorithm>
+#include <string>
+
+#include "heightmarch/memory_budget.hpp"
 
 namespace heightmarch {
 
@@ -19,6 +22,12 @@ MinDepthPyramid::MinDepthPyramid(const DepthMap& map, Wrap wrap) {
     blocks_y_.push_back(by);
     min_depth_.resize(min_depth_.size() + std::size_t(bx) * std::size_t(by), 1.0f);
   };
+  // Every level at once (a quarter of the one before, plus an edge): no reallocation doubles it.
+  const std::size_t entries = std::size_t(cells_x) * std::size_t(cells_y) * 4 / 3 +
+                              2 * (std::size_t(cells_x) + std::size_t(cells_y) + kMaxLevels);
+  check_memory_budget(4.0 * double(entries), "the min-depth pyramid of a " + std::to_string(map.width) + "x" +
+                                                  std::to_string(map.height) + " depth map");
+  min_depth_.reserve(entries);
   add_level(cells_x, cells_y);
   for (int j = 0; j < cells_y; ++j)
     for (int i = 0; i < cells_x; ++i)

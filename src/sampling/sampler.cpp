@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <string>
+
+#include "heightmarch/memory_budget.hpp"
 
 namespace heightmarch {
 namespace {
@@ -35,7 +38,10 @@ float sample_depth(const DepthMap& map, Wrap wrap, float u, float v) {
 
 SamplerTexture::SamplerTexture(const DepthMap& map, Wrap wrap_mode)
     : width(map.width), height(map.height), stride(map.width + 1), wrap(wrap_mode) {
-  texels.resize(std::size_t(stride) * std::size_t(height + 1));
+  const std::size_t count = std::size_t(stride) * std::size_t(height + 1);
+  check_memory_budget(4.0 * double(count), "the sampler's padded copy of a " + std::to_string(width) + "x" +
+                                               std::to_string(height) + " depth map");
+  texels.resize(count);
   // Column `width` and row `height` hold the texel the wrap mode reads after the last one.
   const int after_x = wrap == Wrap::repeat ? 0 : width - 1;
   const int after_y = wrap == Wrap::repeat ? 0 : height - 1;

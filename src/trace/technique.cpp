@@ -71,19 +71,35 @@ LayerSpec layers_for(Technique technique, const LayerSpec& spec) {
   return info(technique).layered ? spec : LayerSpec{1.0f, 1.0f};
 }
 
-void validate(TechniqueParams& params) {
+void check(const TechniqueParams& params) {
+  const int technique = int(params.technique);
+  if (technique < 0 || technique >= kTechniqueCount)
+    throw InputError("technique " + std::to_string(technique) + " is not one of the " +
+                     std::to_string(kTechniqueCount) + " of the registry");
+  const LayerSpec& l = params.layers;
+  if (!(l.min_layers >= 1.0f && l.min_layers <= l.max_layers && l.max_layers <= float(kMaxLayers)))
+    throw InputError("layers " + std::to_string(l.min_layers) + "-" + std::to_string(l.max_layers) +
+                     ": not a count or range within [1, " + std::to_string(kMaxLayers) + "]");
   if (!(params.scale >= 0.0f && params.scale <= 1.0f))
     throw InputError("scale " + std::to_string(params.scale) + " is outside [0, 1]");
   if (params.refine_steps() < 0 || params.refine_steps() > kMaxRefineSteps)
     throw InputError("refine steps " + std::to_string(params.refine_steps()) + " outside [0, " +
                      std::to_string(kMaxRefineSteps) + "]");
+  if (params.wrap != Wrap::repeat && params.wrap != Wrap::clamp)
+    throw InputError("wrap mode " + std::to_string(int(params.wrap)) + " is neither repeat nor clamp");
+  const float* l3 = params.light;
+  const float length = std::sqrt(l3[0] * l3[0] + l3[1] * l3[1] + l3[2] * l3[2]);
+  if (!std::isfinite(length) || !(l3[2] > 0.0f))
+    throw InputError("light direction must be finite and above the plane (z > 0)");
+  if (!(l3[2] / length >= 1e-3f))  // a light along the plane would need unbounded shadow marches
+    throw InputError("light direction grazes the plane: z / |L| = " + std::to_string(l3[2] / length) +
+                     ", must be at least 0.001 (0.06 degrees above it)");
+}
+
+void validate(TechniqueParams& params) {
+  check(params);
   const float* l = params.light;
   const float length = std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
-  if (!std::isfinite(length) || !(l[2] > 0.0f))
-    throw InputError("light direction must be finite and above the plane (z > 0)");
-  if (!(l[2] / length >= 1e-3f))  // a light along the plane would need unbounded shadow marches
-    throw InputError("light direction grazes the plane: z / |L| = " + std::to_string(l[2] / length) +
-                     ", must be at least 0.001 (0.06 degrees above it)");
   for (int i = 0; i < 3; ++i) params.light[i] = l[i] / length;
 }
 

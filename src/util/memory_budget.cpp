@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -54,16 +55,51 @@ std::size_t parse_memory_limit(const std::string& text, const std::string& name)
   return std::size_t(bytes);
 }
 
+namespace {
+
+// set_memory_budget's: 0 until called (once, at start-up, before other threads run).
+std::size_t g_set_budget = 0;
+std::string g_set_source;
+
+}  // namespace
+
+void set_memory_budget(std::size_t bytes, const std::string& source) {
+  g_set_budget = bytes;
+  g_set_source = source;
+}
+
 std::size_t memory_budget() {
+  if (g_set_budget) return g_set_budget;
   // Set but empty is unset, as a shell's `HEIGHTMARCH_MEMORY_LIMIT=` means.
   if (const char* limit = std::getenv("HEIGHTMARCH_MEMORY_LIMIT"); limit && *limit) return parse_memory_limit(limit);
   const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
   return pages > 0 && page > 0 ? std::size_t(pages) * std::size_t(page) / 2 : std::size_t(4) << 30;
 }
 
-namespace {
+std::string memory_budget_source() {
+  if (g_set_budget) return g_set_source;
+  if (const char* limit = std::getenv("HEIGHTMARCH_MEMORY_LIMIT"); limit && *limit) return "HEIGHTMARCH_MEMORY_LIMIT";
+  return "half the RAM";
+}
 
-// 512 bytes, 3.0 KiB, 17.2 MiB, 2.4 GiB, 1.0 TiB.
+ProcessMemory process_memory() {
+  // statm, in pages: size, resident, shared, text, lib (unused), data (+ stack).
+  std::FILE* statm = std::fopen("/proc/self/statm", "r");
+  if (!statm) return {};
+  unsigned long long pages[6] = {};
+  const bool read = std::fscanf(statm, "%llu %llu %llu %llu %llu %llu", &pages[0], &pages[1], &pages[2], &pages[3],
+                                &pages[4], &pages[5]) == 6;
+  std::fclose(statm);
+  const long page = sysconf(_SC_PAGE_SIZE);
+  if (!read || page <= 0) return {};
+  return {std::size_t(pages[1]) * std::size_t(page), std::size_t(pages[5]) * std::size_t(page)};
+}
+
+std::size_t memory_budget_left() {
+  const std::size_t budget = memory_budget(), held = resident_bytes();
+  return budget > held ? budget - held : 0;
+}
+
 std::string bytes_text(double bytes) {
   if (bytes < 1024.0) return std::to_string((long long)bytes) + " bytes";
   const char* const units[] = {"KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
@@ -74,13 +110,20 @@ std::string bytes_text(double bytes) {
   return text;
 }
 
-}  // namespace
-
 void check_memory_budget(double bytes, const std::string& what) {
-  const double budget = double(memory_budget());
-  if (bytes <= budget) return;
-  throw InputError(what + " needs " + bytes_text(bytes) + ", more than the " + bytes_text(budget) +
-                   " budget (HEIGHTMARCH_MEMORY_LIMIT)");
+  const double budget = double(memory_budget()), held = double(resident_bytes());
+  if (held + bytes <= budget) return;
+  throw InputError(what + " needs " + bytes_text(bytes) + ", more than the " + bytes_text(std::max(0.0, budget - held)) +
+                   " left of the " + bytes_text(budget) + " budget (" + memory_budget_source() + "; " +
+                   bytes_text(held) + " already in use)");
+}
+
+void check_memory_budget_covers_footprint(const std::string& program) {
+  const double budget = double(memory_budget()), held = double(resident_bytes());
+  if (held < budget) return;
+  throw InputError("a memory budget of " + bytes_text(budget) + " (" + memory_budget_source() + ") is below " +
+                   program + "'s own footprint of " + bytes_text(held) +
+                   " (its code and the libraries it loads, resident before any input)");
 }
 
 }  // namespace heightmarch

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Only heightmarch-glsl-worker links OSMesa (and so libLLVM): the CLI and the test binary start
-# without them and reach GLSL through the worker; and heightmarch::core configures without
-# OSMesa (HEIGHTMARCH_GLSL=OFF) where pkg-config cannot find it. Usage: test_no_gl_in_core.sh BUILD_DIR
+# without them and reach GLSL through the worker, which links no OpenImageIO; and heightmarch::core
+# configures without OSMesa (HEIGHTMARCH_GLSL=OFF) where pkg-config cannot find it.
+# Usage: test_no_gl_in_core.sh BUILD_DIR
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 build="${1:?usage: $0 BUILD_DIR}"
@@ -21,6 +22,14 @@ if ldd "$build/heightmarch-glsl-worker" | grep -i osmesa >/dev/null; then
 else
   echo "FAIL: heightmarch-glsl-worker does not link libOSMesa (is the check itself broken?)"
   status=1
+fi
+# The worker checks what it is sent without the image libraries, which would triple what it holds
+# before any input (about 60 MiB; OpenImageIO and its libraries add some 120).
+if ldd "$build/heightmarch-glsl-worker" | grep -i openimageio >/dev/null; then
+  echo "FAIL: heightmarch-glsl-worker links OpenImageIO"
+  status=1
+else
+  echo "ok: heightmarch-glsl-worker links no OpenImageIO"
 fi
 # Nor may --help load them at run time (a dlopen).
 loaded="$(LD_DEBUG=libs "$build/heightmarch" --help 2>&1 >/dev/null | grep 'calling init:' || true)"

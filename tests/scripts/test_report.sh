@@ -1,11 +1,17 @@
 #!/usr/bin/env bash
-# scripts/report.py on a small synthetic measurements.json (no build needed): the report opens with
-# its summary (cheapest configuration per error target, headline ratios, claims' verdicts), speeds
-# and ratios show their spread as `x (a-b)`, a planted roofline fraction above 100% is a fault and
-# not a result, a busy run says so at the top, every plot is drawn and no wider than 1600 px, a
-# gallery cost image is shown beside the error image, the POM table shows the compute ceiling's
-# fraction and the ratios to llvmpipe and the auto-vectorised port, --history appends rows with the new columns
-# (replacing a rerun's), and a missing measurements.json is a one-line error with exit status 2.
+# scripts/report.py on a small synthetic run (no build needed): report.md opens with the alerts
+# (alerts.json's, "no change beyond noise", or why there are none), then what to ship
+# (recommendation.json: the choice per backend and heightfield with its time, errors,
+# preprocessing and the next fastest), the claims' verdicts and the headline ratios; the long
+# tables go to tables.md; speeds and ratios show their spread as `x (a-b)`, a planted roofline
+# fraction above 100% is a fault and not a result, a busy run says so at the top, every plot is
+# drawn and no wider than 1600 px, zero errors read 0, a gallery cost image is shown beside the
+# error image, a '|' in a cell is escaped, the links to docs/ resolve from the run directory,
+# measurements.csv has a row per configuration with the measures' one names, report.html is one
+# file with Plotly inlined, --history appends rows with the machine's columns (replacing a rerun's) and
+# writes alerts.json, a filtered run's headline
+# ratios keep only the columns it measured, a format 1
+# measurements.json still reads, and a missing measurements.json is a one-line error, status 2.
 # Usage: test_report.sh [BUILD_DIR]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -39,8 +45,9 @@ def add(kind, purposes, technique, layers, backend, threads, rates, samples_per_
                  "max_layers": int(layers) if layers else None, "refine": 5, "backend": backend, "threads": threads,
                  "view": view, "scale": 0.1, "wrap": "repeat", "discard": False, "rays": rays, "samples": n,
                  "samples_known": backend != "glsl", "samples_per_ray": samples_per_ray, "simd_utilization": 1.0,
-                 "errors": None if kind == "roofline" else {"uv_mean": uv, "uv_p95": 2 * uv, "uv_max": 9 * uv,
-                                                             "wrong_surface_rate": 0.1},
+                 "errors": None if kind in ("roofline", "ceiling") else {
+                     "uv_error_mean": uv, "uv_error_p95": 2 * uv, "uv_error_p99": 3 * uv, "uv_error_max": 9 * uv,
+                     "wrong_surface_rate": 0.1 if uv else 0.0},
                  "speed": speed, "images": images})
 
 
@@ -48,6 +55,7 @@ add("trace", ["matrix"], "parallax", "1", "avx2", 2, [100e6, 101e6, 99e6, 100e6,
 add("trace", ["matrix", "isa"], "pom", "32", "avx2", 2, [40e6, 41e6, 39e6, 40e6, 42e6])
 # p95 = 2 uv: pom 32 reaches p95 <= 1 exactly; pom 64 (more samples, p95 0.2) is the cheapest for 0.25
 add("trace", ["matrix"], "pom", "64", "avx2", 2, [30e6, 31e6, 29e6, 30e6, 32e6], 20.0, uv=0.1)
+add("trace", ["matrix"], "maxmip", "1", "avx2", 2, [25e6, 25e6, 24e6, 25e6, 26e6], 12.0, uv=0.0)
 add("trace", ["isa"], "pom", "32", "avx2", 1, [20e6, 21e6, 20e6, 19e6, 20e6])
 add("trace", ["isa"], "pom", "32", "scalar", 1, [5e6, 5e6, 5e6, 5e6, 5e6])
 add("naive", ["naive"], "pom", "32", "naive", 1, [4e6, 4e6, 4e6, 4e6, 4e6])
@@ -66,11 +74,31 @@ add("trace", ["gallery"], "pom", "32", "avx2", 2, None,
     images={"render": "gallery/bricks-pom-32-render.png", "error": "gallery/bricks-pom-32-error.png"})
 os.makedirs(os.path.join(run, "gallery"))
 open(os.path.join(run, "gallery", "bricks-pom-32-cost.png"), "w").close()
-json.dump([{"id": "C7", "claim": "POM is much more accurate than steep parallax", "verdict": "holds partly"}],
+json.dump({"format": "heightmarch-claims", "format_version": 2,
+           "claims": [{"id": "C7", "claim": "POM is much more accurate than steep parallax", "verdict": "holds partly"}]},
           open(os.path.join(run, "claims.json"), "w"))
 techniques = [{"name": "parallax", "layered": False, "color": "#7f7f7f", "marker": "o", "description": "one sample"},
-              {"name": "pom", "layered": True, "color": "#d62728", "marker": "s", "description": "interpolated"}]
-data = {"schema": "heightmarch-measurements/1",
+              {"name": "pom", "layered": True, "color": "#d62728", "marker": "s", "description": "interpolated"},
+              {"name": "maxmip", "layered": False, "color": "#8c564b", "marker": "h", "description": "a pyramid walk"}]
+pick = lambda row_id, label, ns, hf="bricks": {
+    "technique": label.split()[0], "layers": label.split()[1] if " " in label else "1", "label": label,
+    "ns_per_ray": {"median": ns, "min": ns * 0.9, "max": ns * 1.1},
+    "rays_per_second": {"median": 1e9 / ns, "min": 1e9 / ns / 1.1, "max": 1e9 / ns / 0.9},
+    "rows": [{"id": row_id, "heightfield": hf, "uv_error_p99": 0.0 if "maxmip" in label else 0.3,
+              "wrong_surface_rate": 0.0 if "maxmip" in label else 0.004, "samples_per_ray": 12.0, "rays": 4096,
+              "ms_per_frame": {"median": 0.1, "min": 0.09, "max": 0.11},
+              "precompute_seconds": 0.5 if "maxmip" in label else None,
+              "precompute_ms_per_frame": 0.5 / 3600 * 1e3 if "maxmip" in label else None}]}
+answer = {"heightfield": "bricks", "settings": 3, "meeting": 2, "choice": pick(3, "maxmip", 40.0),
+          "runner_up": pick(2, "pom 64", 33.3), "runner_up_time_ratio": {"median": 0.83, "min": 0.8, "max": 1.2},
+          "closest": None}
+recommendation = {"format": "heightmarch-recommendation", "format_version": 1,
+                  "target": {"measure": "uv_error_p99", "uv_error_texels": 0.5, "wrong_surface_rate": 0.005, "frames": 3600,
+                             "description": "p99 <= 0.5 texel, wrong surface <= 0.5%"},
+                  "backends": [{"backend": "avx2", "threads": 2, "name": "avx2, 2 threads",
+                                "all_heightfields": dict(answer, heightfield=None), "per_heightfield": [answer]}]}
+json.dump(recommendation, open(os.path.join(run, "recommendation.json"), "w"))
+data = {"format": "heightmarch-measurements", "format_version": 2,
         "provenance": {"commit": "abc123", "dirty": False, "cpu": "Test CPU", "cores": 2, "compiler": "GNU 12",
                        "build_type": "Release", "date": "2026-01-01T00:00:00Z", "best_isa": "avx2", "threads": 2},
         "plan": {"name": "test", "repetitions": 5, "min_seconds_per_repetition": 0.01},
@@ -82,6 +110,7 @@ PY
 
 "$root/scripts/report.py" "$tmp/run" --history "$tmp/history.csv" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "report.py exited non-zero"; }
 report="$tmp/run/report.md"
+tables="$tmp/run/tables.md"
 [ "$(stat -c %a "$report")" = 644 ] || fail "report.md is not mode 0644"
 for png in error_vs_layers error_vs_angle error_vs_speed isa_speedup history; do
   [ -s "$tmp/run/plots/$png.png" ] || fail "missing plots/$png.png"
@@ -92,54 +121,159 @@ for png in error_vs_layers error_vs_angle error_vs_speed isa_speedup history; do
 done
 echo "ok: report.md (0644) and its plots, at most 1600 px wide"
 
-[ "$(grep -m1 '^## ' "$report")" = "## Summary" ] || fail "the first section is not the summary: $(grep -m1 '^## ' "$report")"
-summary="$(sed -n '/^## Summary/,/^## /p' "$report")"
-grep -q '| bricks | \*\*pom 32\*\*: 10.0 samples/ray, 40.0 (39.0-42.0) Mrays/s, p95 1.000 | \*\*pom 64\*\*: 20.0 samples/ray, 30.0 (29.0-32.0) Mrays/s, p95 0.200 | none (best: pom 64, p95 0.200) |' \
-  <<< "$summary" || fail "the summary's cheapest configurations per error target"
-grep -q '| bricks | 4.00x (3.80-4.20) | 5.00x (4.75-5.25) | 2.00x (1.95-2.11) | 4.00x (3.82-4.33) |' <<< "$summary" \
-  || fail "the summary's headline ratios"
-grep -q '^- \*\*C7 holds partly\*\*: POM is much more accurate than steep parallax$' <<< "$summary" \
-  || fail "the summary's claim verdicts"
-echo "ok: the summary comes first: cheapest configuration per target, headline ratios, claims"
+# Recording the run wrote its alerts.json (the agreed shape; its machine is unknown, a CPU without
+# family and model, so no series is tested), and the report opens with them.
+/usr/bin/python3 - "$tmp/run/alerts.json" <<'PY' || fail "the recorded run's alerts.json"
+import json, sys
+a = json.load(open(sys.argv[1]))
+assert sorted(a) == ["alerts", "format_version", "machine", "rule", "series_tested"], sorted(a)
+assert a["format_version"] == 1 and a["machine"] == "unknown-test-cpu-2c-avx2-gnu-12-release" and a["alerts"] == [], a
+assert a["series_tested"] == 0 and a["rule"], a
+PY
+[ "$(grep -m1 '^## ' "$report")" = "## Alerts" ] && grep -q 'No change beyond noise in 0 series' "$report" \
+  || fail "a recorded run's report does not open with its alerts"
+echo "ok: recording writes alerts.json; the report opens with it"
+
+# A run's alerts (as regression tracking writes them when a series moved) open the report.
+cat > "$tmp/run/alerts.json" <<'JSON'
+{"format_version": 1, "machine": "test-machine", "series_tested": 7, "rule": "median beyond the last runs' spread",
+ "alerts": [{"series": "BM_Trace/pom/32", "kind": "speed", "metric": "rays_per_second", "baseline": 40e6,
+             "baseline_spread": 1e6, "new": 30e6, "change": -0.25, "message": "POM-32 at avx2 25% slower"}]}
+JSON
+"$root/scripts/report.py" "$tmp/run" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "report.py exited non-zero"; }
+sections="$(grep '^## ' "$report" | head -5 | tr '\n' '/')"
+[ "$sections" = "## Alerts/## What to ship/## The claims: the tutorials' (C1-C10) and the papers' (P1-P3)/## Headline speed ratios/## Warnings/" ] \
+  || fail "report.md's first sections: $sections"
+grep -q '| avx2, 2 threads | \*\*every heightfield\*\* | \*\*maxmip\*\* | 40.00 (36.00-44.00) | 0 | 0.00% | 12.0 | 0.5 s once (0.139 ms a frame) | pom 64: 0.83x (0.80-1.20) the time (not distinguishable) |' \
+  "$report" || fail "the recommendation for every heightfield"
+grep -q '| avx2, 2 threads | bricks | \*\*maxmip\*\* |' "$report" || fail "the recommendation per heightfield"
+grep -q 'p99 <= 0.5 texel, wrong surface <= 0.5%' "$report" || fail "the recommendation's target"
+grep -q '| bricks | 4.00x (3.80-4.20) | 5.00x (4.75-5.25) | 2.00x (1.95-2.11) | 4.00x (3.82-4.33) |' "$report" \
+  || fail "the headline ratios"
+grep -q '^- \*\*C7 holds partly\*\*: POM is much more accurate than steep parallax$' "$report" || fail "the claims' verdicts"
+[ "$(wc -l < "$report")" -lt 120 ] || fail "report.md is $(wc -l < "$report") lines: the long tables belong in tables.md"
+echo "ok: report.md opens with the alerts, what to ship, the claims and the ratios; $(wc -l < "$report") lines"
+
+sed -n '/^## Alerts/,/^## What/p' "$report" | grep -q '\*\*1 alert\*\* in 7 series' || fail "the alert is not at the top"
+grep -q '| BM_Trace/pom/32 | speed | rays_per_second | 4e+07 (spread 1e+06) | 3e+07 | -25.0% | POM-32 at avx2 25% slower |' \
+  "$report" || fail "the alert's row"
+/usr/bin/python3 - "$root/scripts" "$tmp/run/alerts.json" <<'PY' || fail "no line for a run without alerts, or without alerts.json"
+import json, sys
+sys.path.insert(0, sys.argv[1])
+import report
+alerts = dict(json.load(open(sys.argv[2])), alerts=[])
+assert "No change beyond noise in 7 series." in "\n".join(report.section_alerts(alerts))
+assert "No alerts.json: this run was not recorded" in "\n".join(report.section_alerts(None))
+PY
+rm "$tmp/run/alerts.json"
+echo "ok: alerts.json's alerts open the report; 'no change beyond noise in N series'; or why there are none"
 
 grep -q '| pom 32 | !\[\](gallery/bricks-pom-32-render.png) | !\[\](gallery/bricks-pom-32-error.png) | !\[\](gallery/bricks-pom-32-cost.png) |' \
-  "$report" || fail "the gallery's cost image is not beside the error image"
-echo "ok: the gallery shows the cost image beside the error image"
+  "$tables" || fail "the gallery's cost image is not beside the error image"
+grep -q '| maxmip | 1 | 25.0 (24.0-26.0) | 12.00 | 0 | 0 | 0 | 0 | 0.00% |' "$tables" || fail "zero errors do not read 0"
+echo "ok: the gallery shows the cost image beside the error image; zero errors read 0"
 
-grep -q '| pom | 32 | 40.0 (39.0-42.0) |' "$report" || fail "a speed lacks its spread"
+grep -q '| pom | 32 | 40.0 (39.0-42.0) |' "$tables" || fail "a speed lacks its spread"
 # per-round ratios: 40/20, 41/21, 39/20, 40/19, 42/20 (not median over median with min over max)
-grep -q '| 2.00x (1.95-2.11) |' "$report" || fail "the thread speed-up is not the per-round ratio with its spread"
-grep -q '| 4.00x (3.82-4.33) |' "$report" || fail "CPU/GLSL is not the per-round ratio with its spread"
-grep -q '| 4.00x (3.80-4.20) | 5.00x (4.75-5.25) |' "$report" || fail "x scalar and x naive are not per-round ratios"
+grep -q '| 2.00x (1.95-2.11) |' "$tables" || fail "the thread speed-up is not the per-round ratio with its spread"
+grep -q '| 4.00x (3.82-4.33) |' "$tables" || fail "CPU/GLSL is not the per-round ratio with its spread"
+grep -q '| 4.00x (3.80-4.20) | 5.00x (4.75-5.25) |' "$tables" || fail "x scalar and x naive are not per-round ratios"
 echo "ok: speeds and ratios show median (min-max)"
 
-grep -q 'fault (>100%: timing disturbed)' "$report" || fail "the planted roofline fraction is not a fault"
-grep -q -i 'measurement faults' "$report" || fail "no measurement faults note"
-grep -q '| 50% (50-50) |' "$report" || fail "scalar's roofline fraction is not a result"
+grep -q 'fault (>100%: timing disturbed)' "$tables" || fail "the planted roofline fraction is not a fault"
+grep -q -i 'measurement faults' "$tables" || fail "no measurement faults note"
+grep -q '| 50% (50-50) |' "$tables" || fail "scalar's roofline fraction is not a result"
+grep -q 'roofline or ceiling fraction above 100%' "$report" || fail "report.md does not warn of the fault"
 echo "ok: a roofline fraction above 100% is a measurement fault"
 
 # avx2 1 thread: 20 Mrays/s, ceiling 400 Msamples/s (kernel 200: 50%), 2.5x its autovec, 4x llvmpipe
-grep -q '| bricks | avx2 | 1 | 20.0 (19.0-21.0) | 200 (190-210) | 150 (150-150) | fault (>100%: timing disturbed) | 50% (48-52) | 4.00x (3.80-4.20) | 5.00x (4.75-5.25) | 4.00x (3.80-4.20) | 2.50x (2.38-2.62) |' "$report" \
+grep -q '| bricks | avx2 | 1 | 20.0 (19.0-21.0) | 200 (190-210) | 150 (150-150) | fault (>100%: timing disturbed) | 50% (48-52) | 4.00x (3.80-4.20) | 5.00x (4.75-5.25) | 4.00x (3.80-4.20) | 2.50x (2.38-2.62) |' "$tables" \
   || fail "the POM table's ceiling fraction, x llvmpipe and x autovec"
-grep -q '| bricks | avx2 autovec | 1 | 8.0 (8.0-8.0) |' "$report" || fail "the auto-vectorised port's row"
+grep -q '| bricks | avx2 autovec | 1 | 8.0 (8.0-8.0) |' "$tables" || fail "the auto-vectorised port's row"
 echo "ok: the POM table shows the ceiling fraction, x llvmpipe and x the auto-vectorised port"
 
 grep -q 'Warning: the machine was busy' "$report" || fail "no busy warning"
 grep -q 'other processes used 25% of the CPU time' "$report" || fail "the busy warning lacks its reasons"
-[ "$(grep -n 'Warning: the machine was busy' "$report" | cut -d: -f1)" -lt "$(grep -n '^## Machine' "$report" | cut -d: -f1)" ] \
-  || fail "the busy warning is not at the top"
+[ "$(grep -n 'The machine was busy during this run' "$report" | cut -d: -f1)" -lt "$(grep -n '^## Alerts' "$report" | cut -d: -f1)" ] \
+  || fail "the busy note is not at the top"
 echo "ok: a busy run says so at the top"
 
-columns='date,commit,cpu,backend,threads,heightfield,technique,layers,view,depth_map,rays_per_second_median,rays_per_second_min,rays_per_second_max'
+/usr/bin/python3 - "$root/scripts" "$tmp/run" <<'PY' || fail "cells with '|', links to docs/"
+import os, re, sys
+sys.path.insert(0, sys.argv[1])
+import report
+table = report.md_table([("technique", False), ("figures", True)], [["pom 8", "|dx| + |dy| = 2"]])
+assert table[-1] == r"| pom 8 | \|dx\| + \|dy\| = 2 |", table[-1]
+run = sys.argv[2]
+links = re.findall(r"\]\(([^)]*docs/[^)#]*)", open(os.path.join(run, "report.md")).read())
+assert links and all(os.path.exists(os.path.join(run, link)) for link in links), links
+print("ok: a '|' in a cell is escaped; %d links to docs/ resolve from the run directory" % len(links))
+PY
+
+/usr/bin/python3 - "$tmp/run" <<'PY' || fail "measurements.csv"
+import csv, json, os, sys
+run = sys.argv[1]
+rows = list(csv.DictReader(open(os.path.join(run, "measurements.csv"))))
+data = json.load(open(os.path.join(run, "measurements.json")))
+assert len(rows) == len(data["rows"]), (len(rows), len(data["rows"]))
+for key in ("id", "kind", "technique", "layers", "backend", "threads", "heightfield.label", "view.kind",
+            "errors.uv_error_p95", "errors.wrong_surface_rate", "speed.rays_per_second.median", "speed.seconds"):
+    assert key in rows[0], key
+assert rows[1]["errors.uv_error_p95"] == "1.0" and rows[1]["speed.rays_per_second.median"] == "40000000.0", rows[1]
+assert rows[0]["discard"] == "false" and rows[8]["errors.uv_error_p95"] == "", (rows[0]["discard"], rows[8])
+print("ok: measurements.csv: %d rows, one per configuration, %d columns" % (len(rows), len(rows[0])))
+PY
+
+page="$tmp/run/report.html"
+grep -q 'plotly.js (basic - minified) v4.1.1' "$page" || fail "report.html does not inline Plotly 4.1.1"
+! grep -Eq '<script[^>]+src=|<link[^>]+href="http' "$page" || fail "report.html loads a script or style from elsewhere"
+grep -q '"technique":"maxmip"' "$page" || fail "report.html lacks the rows"
+echo "ok: report.html is one file: Plotly inlined, nothing loaded from elsewhere"
+
+columns='date,commit,machine,cpu,cores,best_isa,compiler,build_type,backend,threads,heightfield,technique,layers,view,depth_map,rays_per_second_median,rays_per_second_min,rays_per_second_max,samples_per_ray,uv_error_mean,uv_error_p95,wrong_surface_rate'
 [ "$(head -1 "$tmp/history.csv")" = "$columns" ] || fail "history columns: $(head -1 "$tmp/history.csv")"
-[ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 12 ] || fail "history rows: expected one per timed row (12)"
-grep -q '^2026-01-01T00:00:00Z,abc123,Test CPU,avx2-autovec,1,bricks,pom,32,' "$tmp/history.csv" \
+[ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 13 ] || fail "history rows: expected one per timed row (13)"
+grep -q '^2026-01-01T00:00:00Z,abc123,unknown-test-cpu-2c-avx2-gnu-12-release,Test CPU,2,avx2,GNU 12,Release,avx2-autovec,1,bricks,pom,32,' "$tmp/history.csv" \
   || fail "the auto-vectorised port's history row is not told apart from avx2's"
-grep -q '^2026-01-01T00:00:00Z,abc123,Test CPU,avx2,2,bricks,pom,32,default 64x64,32x32,4e+07,3.9e+07,4.2e+07$' "$tmp/history.csv" \
+grep -q '^2026-01-01T00:00:00Z,abc123,unknown-test-cpu-2c-avx2-gnu-12-release,Test CPU,2,avx2,GNU 12,Release,avx2,2,bricks,pom,32,default 64x64,32x32,4e+07,3.9e+07,4.2e+07,10,0.5,1,0.1$' "$tmp/history.csv" \
   || fail "history row of POM-32 at avx2"
 "$root/scripts/report.py" "$tmp/run" --history "$tmp/history.csv" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "rerun failed"; }
-[ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 12 ] || fail "a rerun of the same date and commit was appended, not replaced"
-echo "ok: --history appends one row per timed row with the new columns"
+[ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 13 ] || fail "a rerun of the same date and commit was appended, not replaced"
+echo "ok: --history appends one row per timed row with the machine's columns"
+
+# A filtered run (one ISA, no GLSL, no naive port) shows only the ratios it measured.
+/usr/bin/python3 - "$root/scripts" "$tmp/run" "$tmp/filtered" <<'PY' || fail "a filtered run's headline ratios"
+import json, os, sys
+sys.path.insert(0, sys.argv[1])
+import measurements, report
+data = json.load(open(os.path.join(sys.argv[2], "measurements.json")))
+data["rows"] = [r for r in data["rows"] if r["kind"] == "trace" and r["backend"] == "avx2"]
+os.makedirs(sys.argv[3])
+json.dump(data, open(os.path.join(sys.argv[3], "measurements.json"), "w"))
+table = report.section_ratios(measurements.load_run(sys.argv[3]))
+assert table[-3:] == ["| heightfield | 2 threads over 1 at avx2 |", "|---|---:|", "| bricks | 2.00x (1.95-2.11) |"], table
+PY
+echo "ok: a filtered run's headline ratios have no empty columns"
+
+# A format 1 measurements.json (the committed runs before format 2: uv_p95 for uv_error_p95) still reads.
+/usr/bin/python3 - "$tmp/run/measurements.json" <<'PY'
+import json, sys
+data = json.load(open(sys.argv[1]))
+del data["format"], data["format_version"]
+data["schema"] = "heightmarch-measurements/1"
+for r in data["rows"]:
+    if r["errors"]:
+        r["errors"] = {k.replace("uv_error_", "uv_"): v for k, v in r["errors"].items()}
+json.dump(data, open(sys.argv[1], "w"))
+PY
+/usr/bin/python3 - "$root/scripts" "$tmp/run" <<'PY' || fail "a format 1 run does not read"
+import sys
+sys.path.insert(0, sys.argv[1])
+import measurements, report
+table = "\n".join(report.section_matrix(measurements.load_run(sys.argv[2])))
+assert "| pom | 32 | 40.0 (39.0-42.0) | 10.00 | 0.5 | 1 | 1.5 | 4.5 | 10.00% |" in table, table
+PY
+echo "ok: a format 1 measurements.json reads, its measures under their one names"
 
 rm "$tmp/run/measurements.json"
 status=0

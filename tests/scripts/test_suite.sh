@@ -3,8 +3,10 @@
 # (every technique on the CPU and as GLSL, the searches at every ISA, roofline, naive port,
 # the exact reference timed, sweeps, gallery, claims), every
 # timed row with at least 5 repetitions and its spread, bench.json named as heightmarch-bench
-# names, the claims, the report with spreads, and a run directory that is fresh and locked; a
-# quick run neither moves results/latest nor writes results/history.csv.
+# names, the claims, the recommendation, the report with spreads, the result files against their
+# JSON Schemas, report.html in headless Chromium (check_report_page.py; its screenshot goes to
+# BUILD_DIR/report_page.png), and a run directory that is fresh and locked; a quick run neither
+# moves results/latest nor writes results/history.csv.
 # Usage: test_suite.sh BUILD_DIR
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -20,8 +22,8 @@ run="$(ls -d "$tmp"/cwd/results/*-quick)"
 [ "$(echo "$run" | wc -l)" -eq 1 ] || fail "expected one run directory, got: $run"
 [ ! -e "$tmp/cwd/results/latest" ] || fail "a quick run moved results/latest"
 [ ! -e "$tmp/cwd/results/history.csv" ] || fail "a quick run wrote results/history.csv"
-for f in measurements.json bench.json claims.md claims.json report.md \
-         plots/error_vs_layers.png plots/error_vs_angle.png plots/error_vs_speed.png plots/isa_speedup.png; do
+for f in measurements.json measurements.csv bench.json recommendation.json claims.md claims.json report.md tables.md \
+         report.html plots/error_vs_layers.png plots/error_vs_angle.png plots/error_vs_speed.png plots/isa_speedup.png; do
   [ -s "$run/$f" ] || fail "missing or empty $f"
 done
 [ ! -e "$run/INCOMPLETE" ] || fail "a completed run still says INCOMPLETE"
@@ -69,7 +71,7 @@ for r in rows:
     for rate, seconds in zip(rps["rounds"], s["seconds"]):
         assert abs(rate * seconds - r["rays"]) <= 1e-6 * r["rays"], r["id"]
     if r["kind"] in ("trace", "glsl"):
-        assert r["errors"] is not None and r["errors"]["uv_p95"] >= 0, r["id"]
+        assert r["errors"] is not None and r["errors"]["uv_error_p95"] >= 0, r["id"]
 for r in rows:
     if r["images"]:
         for path in r["images"].values():
@@ -79,20 +81,37 @@ bench = json.load(open(run + "/bench.json"))
 names = {b["name"] for b in bench["benchmarks"]}
 assert all("min_time" not in n and "/view:256x256/depth_map:256x256/manual_time" in n for n in names), sorted(names)[:3]
 assert any(n.startswith("BM_GLSL/heightfield:bricks/technique:pom/layers:32/isa:glsl/") for n in names)
-assert len(bench["benchmarks"]) == sum(r["speed"]["repetitions"] for r in rows if r["speed"])
+iterations = [b for b in bench["benchmarks"] if b["run_type"] == "iteration"]
+medians = [b for b in bench["benchmarks"] if b["run_type"] == "aggregate" and b["aggregate_name"] == "median"]
+assert len(iterations) == sum(r["speed"]["repetitions"] for r in rows if r["speed"])
+assert len(medians) == len(timed) and len(bench["benchmarks"]) == len(iterations) + len(medians)
+assert all(b["time_unit"] == "ns" and b["real_time"] >= 1000 for b in bench["benchmarks"])  # compare.py prints no decimals
 assert bench["context"]["heightmarch_view"] == "256x256" and bench["context"]["heightmarch_build_type"]
-claims = json.load(open(run + "/claims.json"))
+claims = json.load(open(run + "/claims.json"))["claims"]
 declared = [line.split("\t")[0] for line in open(sys.argv[2]).read().splitlines()]
 assert len(declared) >= 13 and [c["id"] for c in claims] == declared, ([c["id"] for c in claims], declared)
 assert all(c["verdict"] in ("holds", "holds partly", "refuted", "not measured") for c in claims)
-print("ok: %d rows (%d timed, each with >= 5 repetitions and its spread), bench.json of %d repetitions, claims %s"
-      % (len(rows), len(timed), len(bench["benchmarks"]), ", ".join(declared)))
+print("ok: %d rows (%d timed, each with >= 5 repetitions and its spread), bench.json of %d repetitions and their "
+      "medians in ns, claims %s" % (len(rows), len(timed), len(iterations), ", ".join(declared)))
 PY
 
-grep -q "## Techniques x layers" "$run/report.md" || fail "report lacks the technique table"
-grep -Eq "\| pom \| 32 \| [0-9.]+ \([0-9.]+-[0-9.]+\) \|" "$run/report.md" || fail "report shows no speed with its spread"
+grep -q "## Techniques x layers" "$run/tables.md" || fail "tables.md lacks the technique table"
+grep -Eq "\| pom \| 32 \| [0-9.]+ \([0-9.]+-[0-9.]+\) \|" "$run/tables.md" || fail "tables.md shows no speed with its spread"
+grep -q "## What to ship" "$run/report.md" || fail "report.md lacks the recommendation"
 grep -q "claims.md" "$run/report.md" || fail "report does not link claims.md"
-echo "ok: report.md has its tables, speeds with their spread, and links"
+echo "ok: report.md has the recommendation and links; tables.md its tables, speeds with their spread"
+
+# The result files against their JSON Schemas (docs/schemas/); metrics.json as trace --json prints it.
+"$build/heightmarch" trace --res 32 --size 16x16 --repetitions 1 --json > "$tmp/metrics.json" || fail "trace --json"
+/usr/bin/python3 "$root/tests/scripts/check_schemas.py" measurements "$run/measurements.json" claims "$run/claims.json" \
+  recommendation "$run/recommendation.json" metrics "$tmp/metrics.json" || fail "a result file does not conform to its schema"
+sed 's/"uv_error_p95"/"uv_p95"/' "$run/measurements.json" > "$tmp/old-names.json"
+! /usr/bin/python3 "$root/tests/scripts/check_schemas.py" measurements "$tmp/old-names.json" > /dev/null \
+  || fail "the schema accepts a measure under its format 1 name"
+echo "ok: measurements.json, claims.json, recommendation.json and metrics.json conform to their schemas"
+
+# report.html in headless Chromium: no console error, one point per configuration, hover, click.
+/usr/bin/python3 "$root/tests/scripts/check_report_page.py" "$run" "$build/report_page.png" || fail "report.html"
 
 # A second run into the same directory is refused, and so is one while another holds its lock.
 if "$build/heightmarch" suite --quick --no-glsl --out "$run" > "$tmp/again.out" 2>&1; then fail "a second run into a complete run's directory was accepted"; fi

@@ -1,0 +1,48 @@
+// Error lines quote untrusted text escaped: printable() on its own, and the CLI's error lines for a
+// file name, an option's value and a field of a rays file that carry terminal escapes and raw bytes.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "heightmarch/error.hpp"
+#include "test_support.hpp"
+
+namespace heightmarch {
+namespace {
+
+TEST(Printable, EscapesWhatATerminalActsOn) {
+  EXPECT_EQ(printable("plain text, ümlaut, 深さ"), "plain text, ümlaut, 深さ");
+  EXPECT_EQ(printable(std::string("a\x1b[31mred\nb\0c\x7f", 14)), "a\\x1b[31mred\\x0ab\\x00c\\x7f");
+  EXPECT_EQ(printable("\xc2\x9b"
+                      "2J"),
+            "\\xc2\\x9b2J");  // a C1 control (8-bit CSI) as UTF-8
+  EXPECT_EQ(printable("\xe2\x80\xae"
+                      "txt.exe"),
+            "\\xe2\\x80\\xaetxt.exe");             // a right-to-left override
+  EXPECT_EQ(printable("\xff\xc3"), "\\xff\\xc3");  // no UTF-8 character: a stray byte, a cut one
+  EXPECT_EQ(printable("\xc0\xaf"), "\\xc0\\xaf");  // an overlong '/'
+  const std::string once = printable(std::string("\x01\xc2\x85 x\xe2\x81\xa6", 9));
+  EXPECT_EQ(printable(once), once);  // twice changes nothing
+  EXPECT_STREQ(InputError("bad\x1b]0;title\x07").what(), "bad\\x1b]0;title\\x07");
+}
+
+// No raw control byte reaches the terminal, whichever input carried it.
+TEST(Printable, CliErrorLinesQuoteInputEscaped) {
+  const std::string dir = test::temp_dir("printable");
+  const std::string escape = "$'\\x1b[2J\\x1b]0;pwned\\x07'";
+  const std::string rays = dir + "/rays.csv";
+  std::ofstream(rays) << "tx,ty,vx,vy,vz\n0.5,\x1b[31m,0,0,1\n";
+  for (const std::string& args :
+       {"trace --heightmap " + dir + "/" + escape + ".png", "trace --layers " + escape,
+        "trace --technique " + escape, "trace --rays " + rays, "trace --view " + escape, escape}) {
+    const auto r = test::run_command("bash -c \"" + std::string(HEIGHTMARCH_CLI) + " " + args + "\"");
+    EXPECT_EQ(r.status, 2) << args << ": " << r.output;
+    EXPECT_EQ(r.output.find('\x1b'), std::string::npos) << args << ": " << r.output;
+    EXPECT_EQ(r.output.find('\x07'), std::string::npos) << args << ": " << r.output;
+    EXPECT_NE(r.output.find("\\x1b"), std::string::npos) << args << ": " << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": " << r.output;
+  }
+}
+
+}  // namespace
+}  // namespace heightmarch

@@ -1,0 +1,242 @@
+// The recommendation: ranked by time per ray (never by samples per ray) among the configurations
+// that meet both bounds, per heightfield and as one setting for all; the declared backends; the
+// nearest configuration where none meets; and `heightmarch recommend` reading a run's
+// measurements.json to the same answer the suite wrote from its rows. The suite's filters.
+#include "heightmarch/recommendation.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "heightmarch/error.hpp"
+#include "heightmarch/suite_plan.hpp"
+#include "test_support.hpp"
+
+namespace heightmarch {
+namespace {
+
+// A candidate at the avx2 2-thread grid (or GLSL): its time per ray in ns over 5 rounds.
+Candidate row(int id, const std::string& hf, Technique t, const char* layers, double ns, double p99,
+              double wrong, double samples = 10.0, RunKind kind = RunKind::trace, int threads = 2) {
+  Candidate c;
+  c.id = id;
+  c.heightfield = hf;
+  c.backend = {kind, kind == RunKind::trace ? Isa::avx2 : Isa::scalar, threads};
+  c.grid = kind == RunKind::trace;
+  c.technique = t;
+  c.layers = layers_for(t, parse_layer_spec(layers));
+  c.uv_error[int(ErrorPercentile::p99)] = p99;
+  c.uv_error[int(ErrorPercentile::max)] = 10 * p99;
+  c.wrong_surface_rate = wrong;
+  c.samples_per_ray = samples;
+  c.rays = 1000;
+  for (double f : {1.0, 1.02, 0.98, 1.01, 0.99}) c.seconds.push_back(ns * f * 1e-9 * double(c.rays));
+  return c;
+}
+
+const BackendRecommendation& cpu(const Recommendation& r) { return r.backends.at(0); }
+
+TEST(Recommendation, FastestByTimeNotBySamples) {
+  // cone takes fewer samples but more time than relief: relief is the answer.
+  const std::vector<Candidate> rows = {row(0, "bricks", Technique::cone, "10", 11.6, 0.3, 0.001, 7.9),
+                                       row(1, "bricks", Technique::relief, "10", 6.1, 0.4, 0.002, 15.0),
+                                       row(2, "bricks", Technique::pom, "8", 3.0, 0.2, 0.02, 9.0)};
+  const Recommendation r = recommend(rows, RecommendationTarget{});
+  ASSERT_EQ(r.backends.size(), 1u);
+  const Answer& a = cpu(r).per_heightfield.at(0);
+  ASSERT_TRUE(a.choice);
+  EXPECT_EQ(a.choice->label(), "relief 10");
+  EXPECT_EQ(a.meeting, 2) << "pom 8 has 2% wrong surface";
+  ASSERT_TRUE(a.runner_up && a.runner_up_ratio);
+  EXPECT_EQ(a.runner_up->label(), "cone 10");
+  EXPECT_NEAR(a.runner_up_ratio->median, 11.6 / 6.1, 1e-9) << "the per-round ratio of the times";
+  EXPECT_NEAR(a.choice->time().median, 6.1e-9, 1e-15);
+}
+
+TEST(Recommendation, BothBoundsApply) {
+  RecommendationTarget target;  // p99 <= 0.5 texel, wrong surface <= 0.5%
+  const std::vector<Candidate> rows = {
+      row(0, "bricks", Technique::pom, "10", 3.0, 0.4, 0.047),  // p99 fine, 4.7% wrong
+      row(1, "bricks", Technique::pom, "16", 4.0, 0.9, 0.004),  // few wrong, p99 too big
+      row(2, "bricks", Technique::relief, "64", 9.0, 0.06, 0.004)};
+  EXPECT_EQ(cpu(recommend(rows, target)).per_heightfield[0].choice->label(), "relief 64");
+  target.wrong_surface_rate = 0.05;
+  EXPECT_EQ(cpu(recommend(rows, target)).per_heightfield[0].choice->label(), "pom 10");
+  target.percentile = ErrorPercentile::max;  // max = 10 p99 here
+  target.uv_error_texels = 5.0;
+  EXPECT_EQ(cpu(recommend(rows, target)).per_heightfield[0].choice->label(), "pom 10");
+  target.uv_error_texels = 1.0;
+  EXPECT_EQ(cpu(recommend(rows, target)).per_heightfield[0].choice->label(), "relief 64");
+}
+
+TEST(Recommendation, OneSettingMeetsTheTargetOnEveryMap) {
+  // pom 16 is fastest on waves but fails bricks; relief 32 meets both; maxmip meets both, slower.
+  const std::vector<Candidate> rows = {row(0, "bricks", Technique::pom, "16", 3.0, 2.0, 0.03),
+                                       row(1, "bricks", Technique::relief, "32", 8.0, 0.1, 0.003),
+                                       row(2, "bricks", Technique::maxmip, "1", 25.0, 0.0, 0.0),
+                                       row(3, "waves", Technique::pom, "16", 3.0, 0.2, 0.001),
+                                       row(4, "waves", Technique::relief, "32", 6.0, 0.1, 0.001),
+                                       row(5, "waves", Technique::maxmip, "1", 20.0, 0.0, 0.0)};
+  const Recommendation r = recommend(rows, RecommendationTarget{});
+  const BackendRecommendation& b = cpu(r);
+  ASSERT_EQ(b.per_heightfield.size(), 2u);
+  EXPECT_EQ(b.per_heightfield[0].choice->label(), "relief 32");
+  EXPECT_EQ(b.per_heightfield[1].choice->label(), "pom 16");
+  const Answer& all = b.all_heightfields;
+  EXPECT_TRUE(all.heightfield.empty());
+  EXPECT_EQ(all.settings, 3);
+  EXPECT_EQ(all.meeting, 2);
+  ASSERT_TRUE(all.choice);
+  EXPECT_EQ(all.choice->label(), "relief 32");
+  ASSERT_EQ(all.choice->rows.size(), 2u);
+  EXPECT_EQ(all.choice->rows[0].id, 1);
+  EXPECT_EQ(all.choice->rows[1].id, 4);
+  EXPECT_NEAR(all.choice->time().median, 7e-9, 1e-15) << "the mean over the maps of the time per ray";
+  EXPECT_EQ(all.runner_up->label(), "maxmip");
+}
+
+TEST(Recommendation, NoneMeetsNamesTheNearest) {
+  const std::vector<Candidate> rows = {row(0, "bricks", Technique::steep, "8", 2.0, 30.0, 0.2),
+                                       row(1, "bricks", Technique::relief, "64", 9.0, 0.06, 0.006)};
+  const Recommendation r = recommend(rows, RecommendationTarget{});
+  const Answer& a = cpu(r).per_heightfield[0];
+  EXPECT_FALSE(a.choice);
+  EXPECT_EQ(a.meeting, 0);
+  ASSERT_TRUE(a.closest);
+  EXPECT_EQ(a.closest->label(), "relief 64");
+  const std::string text = recommendation_text(r);
+  EXPECT_NE(text.find("none of 2 meets the target; the nearest: relief 64"), std::string::npos) << text;
+}
+
+TEST(Recommendation, DeclaredBackendsAreTheGridsAndGlslAtItsThreads) {
+  const std::vector<Candidate> rows = {
+      row(0, "bricks", Technique::pom, "32", 4.0, 0.2, 0.001),
+      row(1, "bricks", Technique::pom, "32", 25.0, 0.2, 0.001, 10, RunKind::glsl, 2),
+      row(2, "bricks", Technique::pom, "32", 40.0, 0.2, 0.001, 10, RunKind::glsl, 1)};
+  const Recommendation r = recommend(rows, RecommendationTarget{});
+  ASSERT_EQ(r.backends.size(), 2u) << "GLSL at one thread is not a grid's backend";
+  EXPECT_EQ(r.backends[0].backend.name(), "avx2, 2 threads");
+  EXPECT_EQ(r.backends[1].backend.name(), "glsl, 2 threads");
+  const std::string json = recommendation_json(r);
+  for (const char* key : {"\"format\": \"heightmarch-recommendation\"", "\"format_version\": 1",
+                          "\"measure\": \"uv_error_p99\"", "\"all_heightfields\"", "\"per_heightfield\"",
+                          "\"ns_per_ray\"", "\"precompute_ms_per_frame\""})
+    EXPECT_NE(json.find(key), std::string::npos) << key;
+}
+
+TEST(Recommendation, TargetsOutsideTheirRangeAreRefused) {
+  RecommendationTarget t;
+  t.wrong_surface_rate = 1.5;
+  EXPECT_THROW(validate(t), InputError);
+  t = {};
+  t.uv_error_texels = -1;
+  EXPECT_THROW(validate(t), InputError);
+  t = {};
+  t.frames = 0;
+  EXPECT_THROW(validate(t), InputError);
+}
+
+// `heightmarch recommend` reads the run's measurements.json back to the answer the suite wrote from
+// its typed rows: one implementation, whichever way its rows come. Also: the suite's filters.
+TEST(Recommendation, RecommendReadsARunToTheSuitesAnswer) {
+  const std::string out = test::temp_dir("recommend") + "/run";
+  const auto run = test::run_cli(
+      "suite --quick --no-builtins --heightmap builtin:waves --techniques pom,relief,maxmip "
+      "--layers 8,32 --isas scalar --threads 1 --parts matrix --repetitions 1 --no-glsl --out " +
+      out);
+  ASSERT_EQ(run.status, 0) << run.output;
+  std::ifstream written(out + "/recommendation.json");
+  const std::string suite_json((std::istreambuf_iterator<char>(written)), {});
+  const auto again = test::run_cli("recommend " + out + " --json");
+  ASSERT_EQ(again.status, 0) << again.output;
+  EXPECT_EQ(again.output, suite_json);
+  EXPECT_NE(suite_json.find("\"backend\": \"scalar\""), std::string::npos) << suite_json;
+  const auto other =
+      test::run_cli("recommend " + out + " --percentile p95 --max-error 2 --max-wrong-surface 100");
+  ASSERT_EQ(other.status, 0) << other.output;
+  EXPECT_NE(other.output.find("at p95 <= 2 texel, wrong surface <= 100%"), std::string::npos) << other.output;
+  for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
+           {"recommend " + out + " --percentile p90", "--percentile: p90 not in"},
+           {"recommend " + out + " --max-wrong-surface 101", "--max-wrong-surface: Value 101 not in range"},
+           {"recommend /nonexistent", "/nonexistent: cannot read it"}}) {
+    const auto r = test::run_cli(args);
+    EXPECT_EQ(r.status, 2) << args << ": " << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << args << ": " << r.output;
+  }
+}
+
+TEST(SuiteFilters, TheUsersMapsTechniquesLayersIsasThreadsAndParts) {
+  PlanSettings s = suite_settings(true, 2);
+  s.heightfields = {parse_heightfield("builtin:waves", 64)};
+  s.techniques = {Technique::pom, Technique::cone};
+  s.layer_specs = s.few_layer_specs = {parse_layer_spec("16")};
+  s.isas = {Isa::scalar};
+  s.best_isa = Isa::scalar;
+  s.thread_counts = {2};
+  s.scale = 0.05f;
+  s.near_degrees = 45;
+  s.far_degrees = 85;
+  s.parts = kPurposeMatrix | kPurposeGlsl | kPurposeIsa;
+  for (const Configuration& c : suite_plan(s)) {
+    EXPECT_NE(c.purposes & s.parts, 0u);
+    EXPECT_EQ(c.purposes & ~s.parts, 0u) << "purposes left out are stripped";
+    EXPECT_EQ(c.params.scale, 0.05f);
+    EXPECT_EQ(c.view.near_degrees, 45.0f);
+    EXPECT_EQ(c.heightfield.label(), "waves");
+    EXPECT_EQ(c.threads, 2);
+    if (c.has_technique()) {
+      EXPECT_TRUE(c.params.technique == Technique::pom || c.params.technique == Technique::cone);
+      if (c.purposes & kPurposeMatrix) EXPECT_EQ(to_string(c.params.layers), "16");
+    }
+    if (c.on_isa()) EXPECT_EQ(c.isa, Isa::scalar);
+  }
+  const auto dry = test::run_cli(
+      "suite --quick --no-builtins --heightmap builtin:waves --techniques pom --layers 8 "
+      "--threads 1 --parts matrix --view-angles 45-85 --scale 0.05 --dry-run");
+  ASSERT_EQ(dry.status, 0) << dry.output;
+  EXPECT_NE(dry.output.find("waves\ttrace\tpom\t8\t"), std::string::npos) << dry.output;
+  EXPECT_NE(dry.output.find("default:45-85 256x256\ttimed\tmatrix\n1 configurations\n"), std::string::npos)
+      << dry.output;
+  for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
+           {"--techniques pom,bogus", "--techniques: bogus not in"},
+           {"--isas avx3", "--isas: avx3 not in"},
+           {"--parts matrix,everything", "--parts: everything not in"},
+           {"--layers 0", "layer"},
+           {"--view-angles 80-30", "view angles '80-30' must satisfy 0 <= NEAR < FAR <= 89"},
+           {"--scale 2", "--scale 2"},
+           {"--no-builtins", "--no-builtins requires --heightmap"}}) {
+    const auto r = test::run_cli("suite --quick --dry-run " + args);
+    EXPECT_EQ(r.status, 2) << args << ": " << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << args << ": " << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": " << r.output;
+  }
+}
+
+// The default view seen at the user's span of angles: the near edge's centre at NEAR degrees from
+// the normal, every ray beyond it; 30-80 is the default view itself, ray for ray.
+TEST(SuiteFilters, ViewAnglesPlaceTheDefaultCamera) {
+  const auto angles = [](const RayBatch& rays) {
+    double lo = 90, hi = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const double theta = std::acos(double(rays.vz[i])) * 180.0 / M_PI;
+      lo = std::min(lo, theta);
+      hi = std::max(hi, theta);
+    }
+    return std::pair<double, double>{lo, hi};
+  };
+  const auto [lo, hi] = angles(make_view_rays(parse_view("default:45-85", 64, 64)));
+  EXPECT_NEAR(lo, 45.0, 1.0);
+  EXPECT_GE(hi, 85.0 - 1.0);
+  const RayBatch a = make_view_rays(parse_view("default", 64, 64)),
+                 b = make_view_rays(parse_view("default:30-80", 64, 64));
+  EXPECT_EQ(a.vz, b.vz);
+  EXPECT_EQ(a.tx, b.tx);
+  EXPECT_EQ(describe(parse_view("default:30-80", 64, 64)), "default 64x64");
+  EXPECT_EQ(describe(parse_view("default:45-85", 64, 64)), "default:45-85 64x64");
+  for (const char* bad : {"default:80-30", "default:45", "default:-5-30", "default:45-90", "default:a-b"})
+    EXPECT_THROW(parse_view(bad, 64, 64), InputError) << bad;
+}
+
+}  // namespace
+}  // namespace heightmarch
