@@ -96,7 +96,9 @@ struct TechniqueParams {
   bool discard = false;          // the tutorial's discard of a final uv outside [0,1]^2
   float light[3] = {0.5773503f, 0.5773503f, 0.5773503f};  // unit vector towards the light
 
-  int refine_steps() const { return refine.value_or(info(technique).refine); }
+  // Not value_or, whose argument is always evaluated: a broken technique (a message) would index
+  // the registry.
+  int refine_steps() const { return refine ? *refine : info(technique).refine; }
 };
 
 // The one check of a run's parameters, for the command line and every message the GLSL worker

@@ -17,6 +17,7 @@
 #include <variant>
 #include <vector>
 
+#include "glsl/data_limit.hpp"
 #include "glsl/osmesa_runner.hpp"
 #include "glsl/protocol.hpp"
 #include "heightmarch/error.hpp"
@@ -63,7 +64,7 @@ void serve(OsmesaRunner& runner, Message type, const std::vector<char>& payload,
 void limit_data_to_budget() {
   const ProcessMemory now = process_memory();
   rlimit limit{};
-  if (now.data == 0 || ::getrlimit(RLIMIT_DATA, &limit) != 0) return;
+  if (!kWorkerDataLimit || now.data == 0 || ::getrlimit(RLIMIT_DATA, &limit) != 0) return;
   const rlim_t bytes = rlim_t(now.data + memory_budget_left());
   limit.rlim_cur = std::min(limit.rlim_cur, bytes);
   limit.rlim_max = std::min(limit.rlim_max, bytes);
