@@ -9,6 +9,7 @@
 #include <regex>
 
 #include "test_support.hpp"
+#include "util/sanitizers.hpp"
 
 namespace heightmarch {
 namespace {
@@ -57,13 +58,14 @@ TEST(MemoryBudget, BelowTheFootprintIsRefusedAtStartUp) {
 // From the header, before a pixel is read: the depth map and what derives from it (14 bytes a
 // texel) and, for a PNG (decoded whole when interlaced), its image in its own type.
 // Runs trace over `image` at `over_footprint_mib` above the footprint: refused in one line holding
-// `message`, at a peak of no more than the footprint and a little.
+// `message`, at a peak of no more than the footprint and a little (peaks are not checked in an
+// AddressSanitizer build, whose own memory swamps them: util/sanitizers.hpp).
 void expect_refused_from_header(const std::string& image, double over_footprint_mib, const std::string& message) {
   const auto r = test::run_with_peak(std::string(HEIGHTMARCH_CLI) + " trace --size 8x8 --heightmap " + image +
                                      " --memory-limit " + limit_above_footprint(over_footprint_mib));
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
-  EXPECT_LT(r.peak_mib, footprint_mib() + 16) << r.output;
+  if (!kAddressSanitizer) EXPECT_LT(r.peak_mib, footprint_mib() + 16) << r.output;
 }
 
 TEST(MemoryBudget, ImagesAreRefusedFromTheirHeader) {
@@ -95,7 +97,7 @@ TEST(MemoryBudget, HoldsAtThePeak) {
     EXPECT_TRUE(r.status == 0 ||
                 (r.status == 2 && r.output.find(" budget (--memory-limit; ") != std::string::npos))
         << limit << ": " << r.output;
-    EXPECT_LE(r.peak_mib, std::stod(limit)) << limit << ": " << r.output;
+    if (!kAddressSanitizer) EXPECT_LE(r.peak_mib, std::stod(limit)) << limit << ": " << r.output;
     passed = passed || r.status == 0;
   }
   EXPECT_TRUE(passed);
@@ -114,7 +116,7 @@ TEST(MemoryBudget, RaysFilesAreBoundedFromTheirSize) {
                                      "/rays.csv --memory-limit " + limit_above_footprint(24));
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("rays.csv (about "), std::string::npos) << r.output;
-  EXPECT_LT(r.peak_mib, footprint_mib() + 16) << r.output;
+  if (!kAddressSanitizer) EXPECT_LT(r.peak_mib, footprint_mib() + 16) << r.output;
   {
     std::ofstream csv(dir + "/huge.csv");
     csv << "tx,ty,vx,vy,vz\n";

@@ -19,11 +19,11 @@
 #include <thread>
 #include <vector>
 
-#include "glsl/data_limit.hpp"
 #include "glsl/protocol.hpp"
 #include "heightmarch/error.hpp"
 #include "heightmarch/glsl_runner.hpp"
 #include "heightmarch/memory_budget.hpp"
+#include "util/sanitizers.hpp"
 
 extern char** environ;
 
@@ -154,7 +154,7 @@ struct GlslRunner::Worker {
       // The child: only async-signal-safe calls until exec; exec's errno goes back through the pipe.
       ::dup2(fds[1], STDIN_FILENO);
       ::dup2(fds[1], STDOUT_FILENO);
-      int error = !kWorkerDataLimit || ::setrlimit(RLIMIT_DATA, &limit) == 0 ? 0 : errno;
+      int error = kAddressSanitizer || ::setrlimit(RLIMIT_DATA, &limit) == 0 ? 0 : errno;
       if (error == 0) ::execve(path.c_str(), argv, environ);
       error = error ? error : errno;
       [[maybe_unused]] const ssize_t reported = ::write(exec_report[1], &error, sizeof error);

@@ -17,11 +17,11 @@
 #include <variant>
 #include <vector>
 
-#include "glsl/data_limit.hpp"
 #include "glsl/osmesa_runner.hpp"
 #include "glsl/protocol.hpp"
 #include "heightmarch/error.hpp"
 #include "heightmarch/memory_budget.hpp"
+#include "util/sanitizers.hpp"
 
 namespace heightmarch {
 namespace {
@@ -64,7 +64,7 @@ void serve(OsmesaRunner& runner, Message type, const std::vector<char>& payload,
 void limit_data_to_budget() {
   const ProcessMemory now = process_memory();
   rlimit limit{};
-  if (!kWorkerDataLimit || now.data == 0 || ::getrlimit(RLIMIT_DATA, &limit) != 0) return;
+  if (kAddressSanitizer || now.data == 0 || ::getrlimit(RLIMIT_DATA, &limit) != 0) return;
   const rlim_t bytes = rlim_t(now.data + memory_budget_left());
   limit.rlim_cur = std::min(limit.rlim_cur, bytes);
   limit.rlim_max = std::min(limit.rlim_max, bytes);
