@@ -7,6 +7,7 @@
 
 #include <fstream>
 #include <regex>
+#include <vector>
 
 #include "test_support.hpp"
 #include "util/sanitizers.hpp"
@@ -89,7 +90,10 @@ TEST(MemoryBudget, HoldsAtThePeak) {
   const std::string dir = test::temp_dir("budget-peak");
   write_image(dir + "/grey.png", 2048, 1, OIIO::TypeDesc::UINT8);
   bool passed = false;
-  for (const double above : {60.0, 100.0, 140.0}) {
+  // An AddressSanitizer build's quarantine keeps freed memory in use: there a run needs more.
+  std::vector<double> budgets_above_footprint = {60.0, 100.0, 140.0};
+  if (kAddressSanitizer) budgets_above_footprint.push_back(1024.0);
+  for (const double above : budgets_above_footprint) {
     const std::string limit = limit_above_footprint(above);
     const auto r = test::run_with_peak(std::string(HEIGHTMARCH_CLI) +
                                        " trace --size 128x128 --repetitions 1 --heightmap " + dir +
