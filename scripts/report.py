@@ -99,6 +99,9 @@ def section_alerts(alerts):
     found = alerts.get("alerts") or []
     tested = alerts.get("series_tested", 0)
     rule = "Rule: %s. Machine: `%s`." % (alerts.get("rule", "?"), alerts.get("machine", "?"))
+    if not found and tested == 0:  # the machine's first recorded run, or too few before it
+        return section("Alerts", ["No series tested: this machine has too few earlier recorded runs to test "
+                                  "against yet. %s" % rule])
     if not found:
         return section("Alerts", ["No change beyond noise in %s. %s" % ("%d series" % tested, rule)])
     body = ["**%s** in %s of this machine's history. %s" % (counted(len(found), "alert"), "%d series" % tested, rule),

@@ -64,7 +64,8 @@
     }
     const found = a.alerts || [];
     body.append(el("p", {text: found.length ? `${found.length} alert(s) in ${a.series_tested} series of machine ${a.machine}. Rule: ${a.rule}.`
-                                            : `No change beyond noise in ${a.series_tested} series of machine ${a.machine}. Rule: ${a.rule}.`}));
+                             : a.series_tested ? `No change beyond noise in ${a.series_tested} series of machine ${a.machine}. Rule: ${a.rule}.`
+                             : `No series tested: machine ${a.machine} has too few earlier recorded runs to test against yet. Rule: ${a.rule}.`}));
     if (found.length) {
       const list = el("ul", {class: "alerts"});
       for (const x of found) list.append(el("li", {text: `${x.kind}: ${x.message}`}));

@@ -130,7 +130,7 @@ assert sorted(a) == ["alerts", "format_version", "machine", "rule", "series_test
 assert a["format_version"] == 1 and a["machine"] == "unknown-test-cpu-2c-avx2-gnu-12-release" and a["alerts"] == [], a
 assert a["series_tested"] == 0 and a["rule"], a
 PY
-[ "$(grep -m1 '^## ' "$report")" = "## Alerts" ] && grep -q 'No change beyond noise in 0 series' "$report" \
+[ "$(grep -m1 '^## ' "$report")" = "## Alerts" ] && grep -q 'No series tested: this machine has too few earlier recorded runs' "$report" \
   || fail "a recorded run's report does not open with its alerts"
 echo "ok: recording writes alerts.json; the report opens with it"
 
