@@ -174,7 +174,7 @@ Command add_recommend_command(CLI::App& app) {
     if (recommendation.backends.empty())
       throw InputError(
           path + ": no timed technique rows of the technique x layers grid or the claims to recommend from");
-    if (out) write_file_atomically(out->path() + "/recommendation.json", recommendation_json(recommendation));
+    if (out) write_recommendation(out->path(), recommendation);
     std::printf(
         "%s", (o->json ? recommendation_json(recommendation) : recommendation_text(recommendation)).c_str());
     return 0;

@@ -48,8 +48,8 @@ RunDirectory::RunDirectory(std::string path, Existing existing) : path_(std::mov
     lock_fd_ = -1;
     throw InputError(path_ + ": another run is writing into this directory (it holds " + path_ + "/.lock)");
   }
+  if (existing == Existing::beside) return;  // the run's files stay, and no INCOMPLETE is put on it
   for (const char* file : kRunFiles) {
-    if (existing == Existing::beside) break;  // the run's files stay
     const std::string at = path_ + "/" + file;
     if (!fs::exists(fs::symlink_status(at, ec))) continue;  // a link counts, dangling or not
     if (existing == Existing::replace) {
@@ -64,7 +64,7 @@ RunDirectory::RunDirectory(std::string path, Existing existing) : path_(std::mov
     throw InputError(path_ + ": already holds a run's results (" + file +
                      "); choose another --out, or --replace to replace them");
   }
-  if (existing != Existing::beside) finished("");
+  finished("");
 }
 
 RunDirectory::~RunDirectory() {
