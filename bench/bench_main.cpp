@@ -34,6 +34,7 @@ struct BenchOptions {
   std::vector<std::string> layers = {"4", "8", "16", "32", "64", "8-32"};
   std::vector<int> threads;  // empty: 1 and all cores
   std::vector<std::string> isas;  // empty: every ISA the CPU runs
+  std::vector<std::string> filters = {"bilinear"};
   double min_time = 0.2;
 };
 
@@ -82,19 +83,25 @@ std::vector<Configuration> bench_plan(const BenchOptions& o) {
   if (isas.empty()) isas = supported_isas();
   std::vector<LayerSpec> layer_specs;
   for (const std::string& text : o.layers) layer_specs.push_back(parse_layer_spec(text));
+  std::vector<Filter> filters;
+  for (const std::string& name : o.filters) filters.push_back(parse_filter(name));
   std::vector<Configuration> plan;
   for (const std::string& name : o.heightfields) {
     Configuration base;
     base.heightfield = parse_heightfield(name, o.res);
     base.view = parse_view("default", o.size, o.size);
+    // Under each filter asked for, the kinds that take one side by side (adjacent in the plan).
     auto add = [&](RunKind kind, Technique technique, const LayerSpec& layers, Isa isa, int t) {
-      Configuration c = base;
-      c.kind = kind;
-      c.params.technique = technique;
-      c.params.layers = layers_for(technique, layers);
-      c.isa = isa;
-      c.threads = t;
-      add_to_plan(plan, c);
+      for (Filter filter : filters) {
+        Configuration c = base;
+        c.kind = kind;
+        c.params.technique = technique;
+        c.params.layers = layers_for(technique, layers);
+        c.params.filter = takes_filter(kind) ? filter : Filter::bilinear;
+        c.isa = isa;
+        c.threads = t;
+        add_to_plan(plan, c);
+      }
     };
     for (const TechniqueInfo& t : techniques())
       for (const LayerSpec& layers : layer_specs)
@@ -149,6 +156,10 @@ int main(int argc, char** argv) {
   app.add_option("--hm_layers", o.layers, "layer specs (N or A-B)")->delimiter(',')->capture_default_str();
   app.add_option("--hm_threads", o.threads, "thread counts (default: 1 and all cores)")->delimiter(',')->check(CLI::Range(1, 1024));
   app.add_option("--hm_isas", o.isas, isa_names() + " (default: every ISA the CPU runs)")->delimiter(',');
+  app.add_option("--hm_filters", o.filters,
+                 "bilinear, trilinear or both: the kernels, their anchors and GLSL under each (names of trilinear "
+                 "ones end in /filter:trilinear)")
+      ->delimiter(',')->check(CLI::IsMember(filter_names()))->capture_default_str();
   app.add_option("--hm_min_time", o.min_time, "seconds per benchmark (Google Benchmark's --benchmark_min_time)")
       ->check(CLI::Range(0.0, 60.0))->capture_default_str();
   try {

@@ -49,6 +49,13 @@ struct RunKindInfo {
 const RunKindInfo& info(RunKind kind);
 std::string to_string(RunKind kind);
 
+// Whether a run kind samples with its configuration's filter (TechniqueParams::filter): the
+// kernels, their anchors and GLSL do; the ports are the tutorial's code as written (level 0), and
+// the exact reference intersects the level-0 surface whatever the filter.
+constexpr bool takes_filter(RunKind kind) {
+  return kind == RunKind::trace || kind == RunKind::glsl || kind == RunKind::roofline || kind == RunKind::ceiling;
+}
+
 // Which consumers of a run asked for a configuration; one configuration serves all of them.
 enum Purpose : unsigned {
   kPurposeMatrix = 1u << 0,    // technique x layers per heightfield
@@ -62,8 +69,9 @@ enum Purpose : unsigned {
   kPurposeCommand = 1u << 8,   // asked for on the command line (trace, glsl)
   kPurposeLargeMaps = 1u << 9, // the papers' claim on large depth maps (P2)
   kPurposeExact = 1u << 10,    // the exact reference's own speed
+  kPurposeFilters = 1u << 11,  // the matrix's accuracy under the other filters asked for
 };
-inline constexpr unsigned kPurposeCount = 11;
+inline constexpr unsigned kPurposeCount = 12;
 inline constexpr unsigned kAllPurposes = (1u << kPurposeCount) - 1;
 std::string purpose_name(unsigned single_purpose_bit);
 
@@ -81,7 +89,8 @@ struct Configuration {
   RunKind kind = RunKind::trace;
   HeightfieldSource heightfield;
   ViewSpec view;
-  TechniqueParams params;    // the technique is ignored by roofline, ceiling, exact and brought-in shader runs
+  TechniqueParams params;    // the technique is ignored by roofline, ceiling, exact and brought-in shader runs, the
+                             // filter by the kinds that do not take one (takes_filter)
   Isa isa = Isa::scalar;     // trace, roofline, ceiling, autovec and highway runs; exact runs: the ISA of its float pass
   int threads = 1;           // worker threads (never 0: resolved by the plan)
   std::optional<BroughtInShader> shader;  // glsl runs: a brought-in shader instead of the technique
@@ -111,7 +120,8 @@ void add_to_plan(std::vector<Configuration>& plan, const Configuration& config);
 // The Google Benchmark name of a configuration, the same in heightmarch-bench and in a suite's
 // bench.json: BM_Trace/heightfield:bricks/technique:pom/layers:32/isa:avx512/threads:2/
 // view:1024x1024/depth_map:512x512 (Google Benchmark appends /manual_time: each trace times itself).
-// A brought-in shader's segment is shader:FILE_NAME instead of technique:NAME.
+// A brought-in shader's segment is shader:FILE_NAME instead of technique:NAME; a trilinear
+// configuration's name ends in /filter:trilinear (bilinear has no segment, as before filters).
 std::string benchmark_name(const Configuration& config, int depth_map_width, int depth_map_height);
 
 }  // namespace heightmarch

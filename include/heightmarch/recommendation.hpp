@@ -52,6 +52,7 @@ struct Candidate {
   bool grid = false;  // of the technique x layers grid or the claims: its CPU backend is a declared one
   Technique technique = Technique::pom;
   LayerSpec layers;
+  Filter filter = Filter::bilinear;  // the run's: one filter per recommendation
   double uv_error[4] = {0, 0, 0, 0};  // by ErrorPercentile
   double wrong_surface_rate = 0;
   double samples_per_ray = 0;
@@ -94,11 +95,12 @@ struct BackendRecommendation {
 
 struct Recommendation {
   RecommendationTarget target;
+  Filter filter = Filter::bilinear;  // the one its candidates were measured with
   std::vector<BackendRecommendation> backends;
 };
 
 // The declared backends are those of the grid's CPU rows, and GLSL at their thread counts. Throws
-// InputError for a target validate() refuses.
+// InputError for a target validate() refuses, or candidates of more than one filter.
 Recommendation recommend(const std::vector<Candidate>& candidates, const RecommendationTarget& target);
 
 // recommendation.json (docs/measurements.md), and for people a few lines per backend.

@@ -19,6 +19,10 @@ struct PlanSettings {
   std::vector<LayerSpec> layer_specs;
   std::vector<LayerSpec> few_layer_specs;    // the sweeps' and GLSL's at fewer threads: 8, 32, 8-32
   float scale = 0.1f;                        // height scale of every configuration
+  // The filter every configuration that takes one reads with (takes_filter); and others whose
+  // effect the run shows: the technique x layers matrix under each, accuracy only (kPurposeFilters).
+  Filter filter = Filter::bilinear;
+  std::vector<Filter> compared_filters;
   float near_degrees = kDefaultNearDegrees;  // the default view's span of view angles
   float far_degrees = kDefaultFarDegrees;
   int view_size = 1024;                        // default view side, pixels
@@ -44,7 +48,8 @@ PlanSettings suite_settings(bool quick, int threads);
 std::vector<double> sweep_angles(float near_degrees, float far_degrees);
 
 // Everything a suite run measures: the matrix, POM-32 at every ISA and thread count, GLSL, the
-// roofline, the naive port, sweeps, the gallery and the claims' rows.
+// roofline, the naive port, sweeps, the gallery, the claims' rows and the matrix's accuracy
+// under the compared filters.
 std::vector<Configuration> suite_plan(const PlanSettings& settings);
 
 // The claims' rows alone (what `heightmarch claims` runs): every row each claim declares

@@ -39,6 +39,13 @@ void add_plan_options(CLI::App& command, PlanOptions& o, const std::string& quic
       "--view-angles", o.view_angles,
       "NEAR-FAR: the view angles from the normal, in degrees, that the default view spans from its near "
       "edge to its far edge (default 30-80); the sweeps cover the same span");
+  command
+      .add_option("--filter", o.filters,
+                  "the filter the run's figures are read with: bilinear (level 0, default) or trilinear (the mip "
+                  "chain, as shipped shaders read it); suite: a second, comma-separated, adds the technique x layers "
+                  "matrix's accuracy under it, which the report sets beside the first's")
+      ->delimiter(',')
+      ->check(CLI::IsMember(filter_names()));
 }
 
 PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
@@ -65,6 +72,14 @@ PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
     settings.near_degrees = view.near_degrees;
     settings.far_degrees = view.far_degrees;
     settings.sweep_angles = sweep_angles(view.near_degrees, view.far_degrees);
+  }
+  if (!o.filters.empty()) settings.filter = parse_filter(o.filters.front());
+  for (const std::string& name : o.filters) {
+    const Filter filter = parse_filter(name);
+    if (filter != settings.filter &&
+        std::find(settings.compared_filters.begin(), settings.compared_filters.end(), filter) ==
+            settings.compared_filters.end())
+      settings.compared_filters.push_back(filter);
   }
   settings.glsl = glsl;
   settings.repetitions = o.repetitions;
@@ -122,7 +137,8 @@ void write_claims(const std::string& dir, const ClaimsData& data, const PlanSett
       "Configurations: heightfields " + heightfields + " (builtins at " +
       std::to_string(settings.heightfields.front().resolution) + " x " +
       std::to_string(settings.heightfields.front().resolution) + "), scale " +
-      string_format("%g", settings.scale) + ", REPEAT; on the default view at " +
+      string_format("%g", settings.scale) + ", REPEAT, " + to_string(settings.filter) +
+      " filtering (docs/conventions.md#filters); on the default view at " +
       std::to_string(settings.view_size) + " x " + std::to_string(settings.view_size) +
       " pixels, view angles " +
       string_format("%g to %g degrees", settings.near_degrees, settings.far_degrees) +
@@ -180,6 +196,8 @@ Command add_claims_command(CLI::App& app) {
       return 0;
     }
     PlanSettings settings = plan_settings(o->plan, false);
+    if (!settings.compared_filters.empty())
+      throw InputError("claims --filter takes one filter: the claims are read under one (suite compares filters)");
     settings.best_isa = select_isa(o->isa);
     validate(o->target);
     RunDirectory dir(o->out.out, o->out.existing());  // checked and locked before the run

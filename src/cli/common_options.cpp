@@ -38,6 +38,11 @@ void add_trace_options(CLI::App& app, TraceOptions& o, bool exact_allowed) {
       ->check(CLI::Range(0, kMaxRefineSteps));
   app.add_option("--scale", o.scale, "height scale s, in [0, 1]")->capture_default_str();
   app.add_option("--wrap", o.wrap, "repeat or clamp")->check(CLI::IsMember({"repeat", "clamp"}))->capture_default_str();
+  app.add_option("--filter", o.filter,
+                 "bilinear (level 0, the surface the exact reference intersects) or trilinear (the depth map's mip "
+                 "chain at the level of each ray's pixel footprint, as a shipped shader reads it; a rays file has no "
+                 "pixel grid and reads level 0)")
+      ->check(CLI::IsMember(filter_names()))->capture_default_str();
   app.add_flag("--discard", o.discard, "discard rays whose final uv leaves [0,1]^2");
   app.add_option("--light", o.light, "x,y,z direction towards the light (shadow)")->capture_default_str();
   app.add_option("--threads", o.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
@@ -115,6 +120,7 @@ Configuration trace_configuration(const TraceOptions& o, RunKind kind) {
   if (!std::isfinite(o.scale)) throw InputError("--scale " + std::to_string(o.scale) + " is not a finite number");
   p.scale = float(o.scale);
   p.wrap = o.wrap == "repeat" ? Wrap::repeat : Wrap::clamp;
+  p.filter = parse_filter(o.filter);
   p.discard = o.discard;
   std::stringstream in(o.light);
   char c1 = 0, c2 = 0;

@@ -38,6 +38,7 @@ struct TraceOptions {
   std::optional<int> refine;  // none: the technique's default (the registry's)
   double scale = 0.1;
   std::string wrap = "repeat";
+  std::string filter = "bilinear";
   bool discard = false;
   std::string light = "1,1,1";
   // The run

@@ -96,6 +96,8 @@ std::optional<Candidate> candidate_of(const Json& row, int format_version) {
   c.grid = !glsl && (has_purpose(row, "matrix") || has_purpose(row, "claims"));
   c.technique = parse_technique(row.at("technique").get<std::string>());
   c.layers = parse_layer_spec(row.at("layers").get<std::string>());
+  // Runs before filters read level 0.
+  c.filter = parse_filter(row.value("filter", Json("bilinear")).get<std::string>());
   const Json& errors = row.at("errors");
   for (ErrorPercentile p : kErrorPercentiles)
     c.uv_error[int(p)] =

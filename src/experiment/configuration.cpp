@@ -17,7 +17,7 @@ std::string to_string(RunKind kind) { return std::string(info(kind).name); }
 std::string purpose_name(unsigned bit) {
   static const char* const names[kPurposeCount] = {"matrix", "isa",     "glsl",   "roofline", "naive",
                                                    "sweep",  "gallery", "claims", "command", "large-maps",
-                                                   "exact"};
+                                                   "exact",  "filters"};
   for (unsigned i = 0; i < kPurposeCount; ++i)
     if (bit == (1u << i)) return names[i];
   return "?";
@@ -41,7 +41,7 @@ bool Configuration::same_measurement(const Configuration& o) const {
   const TechniqueParams &a = params, &b = o.params;
   const bool same_params = (!has_technique() || a.technique == b.technique) && a.layers == b.layers &&
                            a.refine_steps() == b.refine_steps() && a.scale == b.scale && a.wrap == b.wrap &&
-                           a.discard == b.discard && std::memcmp(a.light, b.light, sizeof a.light) == 0;
+                           (!takes_filter(kind) || a.filter == b.filter) && a.discard == b.discard && std::memcmp(a.light, b.light, sizeof a.light) == 0;
   const bool same_isa = !on_isa() || isa == o.isa;
   return kind == o.kind && heightfield == o.heightfield && view == o.view && same_params && same_isa &&
          threads == o.threads && shader == o.shader;
@@ -73,7 +73,10 @@ std::string benchmark_name(const Configuration& c, int map_width, int map_height
                      c.view.near_degrees == kDefaultNearDegrees && c.view.far_degrees == kDefaultFarDegrees;
   name += plain ? "/view:" + std::to_string(c.view.width) + "x" + std::to_string(c.view.height)
                 : "/view:" + describe(c.view);
-  return name + "/depth_map:" + std::to_string(map_width) + "x" + std::to_string(map_height);
+  name += "/depth_map:" + std::to_string(map_width) + "x" + std::to_string(map_height);
+  // Bilinear by no segment, as names have always read.
+  if (takes_filter(c.kind) && c.params.filter != Filter::bilinear) name += "/filter:" + to_string(c.params.filter);
+  return name;
 }
 
 }  // namespace heightmarch

@@ -67,6 +67,7 @@ std::vector<Candidate> candidates(const std::vector<Measurement>& rows) {
     k.grid = c.purposes & (kPurposeMatrix | kPurposeClaims);
     k.technique = c.params.technique;
     k.layers = c.params.layers;
+    k.filter = c.params.filter;
     const ErrorSummary& e = *m.errors;
     k.uv_error[int(ErrorPercentile::p50)] = e.p50;
     k.uv_error[int(ErrorPercentile::p95)] = e.p95;
@@ -179,6 +180,11 @@ Recommendation recommend(const std::vector<Candidate>& all, const Recommendation
   validate(target);
   Recommendation out;
   out.target = target;
+  if (!all.empty()) out.filter = all.front().filter;
+  for (const Candidate& c : all)
+    if (c.filter != out.filter)
+      throw InputError("candidates read with both filters: a recommendation is made under one (rows " +
+                       std::to_string(all.front().id) + " and " + std::to_string(c.id) + ")");
   for (const RecommendationBackend& backend : declared_backends(all)) {
     std::vector<Candidate> rows;
     for (const Candidate& c : all)
@@ -317,6 +323,7 @@ std::string recommendation_json(const Recommendation& r) {
       .value("frames", r.target.frames)
       .value("description", describe(r.target))
       .end_object();
+  json.value("filter", to_string(r.filter));
   json.begin_array("backends");
   for (const BackendRecommendation& b : r.backends) {
     json.begin_object()
@@ -333,8 +340,8 @@ std::string recommendation_json(const Recommendation& r) {
 }
 
 std::string recommendation_markdown(const Recommendation& r) {
-  std::string md = "At " + describe(r.target) +
-                   ", the fastest configuration by time per ray (median (min-max) over "
+  std::string md = "At " + describe(r.target) + ", " + to_string(r.filter) +
+                   " filtering, the fastest configuration by time per ray (median (min-max) over "
                    "the repetitions) on each heightfield, and one setting for all of them:\n\n"
                    "| backend | heightfield | recommendation |\n|---|---|---|\n";
   for (const BackendRecommendation& b : r.backends) {
@@ -348,7 +355,8 @@ std::string recommendation_markdown(const Recommendation& r) {
 }
 
 std::string recommendation_text(const Recommendation& r) {
-  std::string text = "Recommendation at " + describe(r.target) + ", fastest by time per ray:\n";
+  std::string text =
+      "Recommendation at " + describe(r.target) + ", " + to_string(r.filter) + " filtering, fastest by time per ray:\n";
   for (const BackendRecommendation& b : r.backends) {
     text +=
         "  " + b.backend.name() + ", every heightfield: " + answer_line(b.all_heightfields, r.target) + "\n";

@@ -82,8 +82,9 @@ void write_row(JsonWriter& json, const Measurement& m) {
     json.null("near_angle").null("far_angle");
   json.value("description", describe(c.view)).end_object();
   json.value("scale", double(c.params.scale))
-      .value("wrap", c.params.wrap == Wrap::repeat ? "repeat" : "clamp")
-      .value("discard", c.params.discard)
+      .value("wrap", c.params.wrap == Wrap::repeat ? "repeat" : "clamp");
+  takes_filter(c.kind) ? json.value("filter", to_string(c.params.filter)) : json.null("filter");
+  json.value("discard", c.params.discard)
       .value("rays", m.rays);
   if (m.samples_known)
     json.value("samples", (long long)m.samples)

@@ -20,6 +20,7 @@ Configuration on_view(const PlanSettings& s, const HeightfieldSource& hf, RunKin
   c.view.near_degrees = s.near_degrees;
   c.view.far_degrees = s.far_degrees;
   c.params.scale = s.scale;
+  c.params.filter = takes_filter(kind) ? s.filter : Filter::bilinear;
   c.isa = s.best_isa;
   c.threads = s.threads;
   c.purposes = purposes;
@@ -115,6 +116,12 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
         const TechniqueInfo& t = info(technique);
         add_to_plan(plan, with_technique(on_view(s, hf, RunKind::trace, kPurposeMatrix), t.id, layers));
         if (s.glsl) add_to_plan(plan, with_technique(on_view(s, hf, RunKind::glsl, kPurposeGlsl), t.id, layers));
+        for (Filter filter : s.compared_filters) {
+          Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeFilters), t.id, layers);
+          c.params.filter = filter;
+          c.timed = false;
+          add_to_plan(plan, c);
+        }
       }
     // The registry's searches at 32 layers at every ISA and thread count (each against
     // llvmpipe); POM-32 with its anchors: the roofline and the

@@ -17,6 +17,7 @@
 #include "glsl_sources.hpp"
 #include "heightmarch/error.hpp"
 #include "heightmarch/memory_budget.hpp"
+#include "heightmarch/mip_chain.hpp"
 #include "heightmarch/precomputed.hpp"
 #include "util/input_file.hpp"
 
@@ -28,13 +29,16 @@ namespace {
 
 constexpr int kRowWidth = 1024;  // rays per framebuffer row
 // What the worker holds per ray of a batch beside the request it came in, asked of its budget
-// before the textures are made: their staging (32 bytes), the origin, direction, hit and shadow
-// textures (64), the read-back (32), the hits and their answer (42); measured, about 170 bytes a
-// ray at 1024 x 1024 rays.
-constexpr double kWorkerBytesPerRay = 176.0;
+// before the textures are made: their staging (48 bytes), the origin, direction, footprint, hit and
+// shadow textures (80), the read-back (32), the hits and their answer (42); measured, about 170
+// bytes a ray at 1024 x 1024 rays before the footprints' 32.
+constexpr double kWorkerBytesPerRay = 208.0;
 // And per texel of a depth map: its texture and the copy kept for the precomputed textures (8),
 // the min-depth pyramid and its atlas when a technique reads them (11); a cone map asks itself.
 constexpr double kWorkerBytesPerTexel = 20.0;
+// And per texel of a mip chain's levels 1 and up (a third of level 0's texels at most), uploaded on
+// the first trilinear prepare: their staging and texture (8; build_mip_chain asks for the chain).
+constexpr double kWorkerBytesPerMipTexel = 8.0;
 constexpr std::size_t kMaxPrograms = 64;
 const float kUndrawn = std::numeric_limits<float>::quiet_NaN();  // the hits' clear value  // far more than techniques, a bound for brought-in shaders
 
@@ -76,9 +80,13 @@ struct OsmesaRunner::State {
   OSMesaContext context = nullptr;
   std::vector<unsigned char> buffer = std::vector<unsigned char>(4 * 4 * 4);  // OSMesa wants a buffer bound
   GLuint vao = 0, framebuffer = 0, program = 0;
-  GLuint depth_texture = 0, origin_texture = 0, direction_texture = 0, hit_texture = 0, shadow_texture = 0;
+  GLuint depth_texture = 0, origin_texture = 0, direction_texture = 0, footprint_texture = 0, hit_texture = 0,
+         shadow_texture = 0;
   GLuint pyramid_texture = 0, cone_texture = 0;
   DepthMap map;              // kept for the textures derived from it
+  // The last level of the depth map's mip chain uploaded to its texture, and of the cone map's
+  // (trilinear: uploaded on the first trilinear prepare); 0: level 0 alone.
+  int depth_last_level = 0, cone_last_level = 0;
   // The precomputed textures last built (precomputed_needs) and their wrap mode; -1: none since
   // the depth map was set.
   PrecomputedTextures precomputed;
@@ -98,6 +106,10 @@ OsmesaRunner::OsmesaRunner(int threads) : state_(std::make_unique<State>()) {
   // llvmpipe reads LP_NUM_THREADS when the first context is created; 0 would mean "render on the
   // calling thread", which is one thread too.
   setenv("LP_NUM_THREADS", std::to_string(threads).c_str(), 1);
+  // llvmpipe takes a per-fragment level of detail once per 2 x 2 quad, from its first fragment,
+  // unless told otherwise (read once too): each fragment here is a ray of its own footprint, which
+  // trilinear filtering must read at its own level, as GL specifies.
+  setenv("GALLIVM_PERF", "no_quad_lod", 1);
   const int attributes[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0, OSMESA_STENCIL_BITS, 0,
                             OSMESA_PROFILE, OSMESA_CORE_PROFILE, OSMESA_CONTEXT_MAJOR_VERSION, 3,
                             OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
@@ -131,6 +143,32 @@ GLuint float_texture(GLuint texture, GLenum internal, GLenum format, int width, 
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
   glTexImage2D(GL_TEXTURE_2D, 0, GLint(internal), width, height, 0, format, GL_FLOAT, data);
   return texture;
+}
+
+// Levels 1 and up of a mip chain into the bound texture (level 0 is there), each level's
+// channels interleaved; returns the last level. The chain is heightmarch's (build_mip_chain), so
+// GL samples the same floats as the CPU, whatever its own glGenerateMipmap would make.
+int upload_mip_levels(GLenum internal, GLenum format, const std::vector<std::vector<DepthMap>>& channels) {
+  const std::vector<DepthMap>& first = channels.front();
+  std::vector<float> texels;
+  for (std::size_t level = 1; level < first.size(); ++level) {
+    const std::size_t count = first[level].texels.size();
+    texels.resize(count * channels.size());
+    for (std::size_t c = 0; c < channels.size(); ++c)
+      for (std::size_t i = 0; i < count; ++i) texels[i * channels.size() + c] = channels[c][level].texels[i];
+    glTexImage2D(GL_TEXTURE_2D, GLint(level), GLint(internal), first[level].width, first[level].height, 0, format,
+                 GL_FLOAT, texels.data());
+  }
+  return int(first.size()) - 1;
+}
+
+// The run's filter on a texture holding levels up to last_level: GL_LINEAR on level 0, or
+// GL_LINEAR_MIPMAP_LINEAR over the chain.
+void set_filter(GLuint texture, Filter filter, int last_level) {
+  glBindTexture(GL_TEXTURE_2D, texture);
+  const bool trilinear = filter == Filter::trilinear;
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, trilinear ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, trilinear ? last_level : 0);
 }
 
 // The min-depth pyramid in its flat layout (MinDepthPyramid), row after row of an R32F texture
@@ -192,6 +230,7 @@ void OsmesaRunner::set_depth_map(const DepthMap& map) {
                           " depth map");
   // R32F, GL_LINEAR on level 0; prepare() sets the run's wrap mode.
   s.depth_texture = float_texture(s.depth_texture, GL_R32F, GL_RED, map.width, map.height, map.texels.data(), GL_LINEAR, GL_REPEAT);
+  s.depth_last_level = 0;
   s.map = map;
   s.precomputed = {};
   s.precomputed_needs = Needs::nothing;
@@ -208,7 +247,8 @@ void OsmesaRunner::set_rays(const RayBatch& rays) {
   s.width = kRowWidth;
   s.height = height;
   // One texel each in batch order; the last row's tail repeats a harmless straight-down ray.
-  std::vector<float> origins(std::size_t(s.width) * s.height * 4, 0.5f), directions(origins.size(), 0.0f);
+  std::vector<float> origins(std::size_t(s.width) * s.height * 4, 0.5f), directions(origins.size(), 0.0f),
+      footprints(origins.size(), 0.0f);
   for (std::size_t i = 0; i < origins.size() / 4; ++i) directions[4 * i + 2] = 1.0f;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     origins[4 * i] = rays.tx[i];
@@ -216,9 +256,14 @@ void OsmesaRunner::set_rays(const RayBatch& rays) {
     directions[4 * i] = rays.vx[i];
     directions[4 * i + 1] = rays.vy[i];
     directions[4 * i + 2] = rays.vz[i];
+    footprints[4 * i] = rays.du_dx[i];
+    footprints[4 * i + 1] = rays.dv_dx[i];
+    footprints[4 * i + 2] = rays.du_dy[i];
+    footprints[4 * i + 3] = rays.dv_dy[i];
   }
   s.origin_texture = float_texture(s.origin_texture, GL_RGBA32F, GL_RGBA, s.width, s.height, origins.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
   s.direction_texture = float_texture(s.direction_texture, GL_RGBA32F, GL_RGBA, s.width, s.height, directions.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
+  s.footprint_texture = float_texture(s.footprint_texture, GL_RGBA32F, GL_RGBA, s.width, s.height, footprints.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
   s.hit_texture = float_texture(s.hit_texture, GL_RGBA32F, GL_RGBA, s.width, s.height, nullptr, GL_NEAREST, GL_CLAMP_TO_EDGE);
   s.shadow_texture = float_texture(s.shadow_texture, GL_RGBA32F, GL_RGBA, s.width, s.height, nullptr, GL_NEAREST, GL_CLAMP_TO_EDGE);
   glBindFramebuffer(GL_FRAMEBUFFER, s.framebuffer);
@@ -239,6 +284,7 @@ void OsmesaRunner::compile(const TechniqueParams& params, const std::string& sha
   // The program: the harness, then the technique and main; a brought-in file comes last, so its
   // conflicts with the harness's names are reported at its own lines.
   std::string fragment = "#version 330 core\n";
+  if (params.filter == Filter::trilinear) fragment += "#define TRILINEAR\n";
   if (shader_path.empty()) {
     fragment += glsl("prelude.glsl") + glsl("steep.glsl") + glsl("techniques.glsl") + "#define TECHNIQUE(T, V) " +
                 std::string(info(params.technique).glsl_call) + "\n" + glsl("main.glsl");
@@ -269,9 +315,19 @@ void OsmesaRunner::prepare(const TechniqueParams& params) {
     throw std::logic_error("prepare before a depth map and rays were set and a program compiled");
   s.discard = params.discard;
   const std::string& shader_path = s.shader_path;
-  // The run's wrap mode on the kept depth texture.
+  // The run's wrap mode and filter on the kept depth texture; its mip chain on the first
+  // trilinear prepare of the map (a brought-in shader's texture() reads it too).
   const GLint wrap = params.wrap == Wrap::repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE;
+  const bool trilinear = params.filter == Filter::trilinear;
+  glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, s.depth_texture);
+  if (trilinear && s.depth_last_level == 0 && mip_level_count(s.map.width, s.map.height) > 1) {
+    check_memory_budget(kWorkerBytesPerMipTexel * double(s.map.texels.size()) / 3.0,
+                        "the mip chain of a " + std::to_string(s.map.width) + "x" + std::to_string(s.map.height) +
+                            " depth map");
+    s.depth_last_level = upload_mip_levels(GL_R32F, GL_RED, {build_mip_chain(s.map)});
+  }
+  set_filter(s.depth_texture, params.filter, s.depth_last_level);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap);
   // Uniforms.
@@ -283,9 +339,15 @@ void OsmesaRunner::prepare(const TechniqueParams& params) {
   glBindTexture(GL_TEXTURE_2D, s.origin_texture);
   glActiveTexture(GL_TEXTURE2);
   glBindTexture(GL_TEXTURE_2D, s.direction_texture);
+  glActiveTexture(GL_TEXTURE5);
+  glBindTexture(GL_TEXTURE_2D, s.footprint_texture);
   glUniform1i(uniform("depthMap"), 0);
   glUniform1i(uniform("rayOrigins"), 1);
   glUniform1i(uniform("rayDirections"), 2);
+  if (trilinear) {
+    glUniform1i(uniform("rayFootprints"), 5);
+    glUniform1f(uniform("depthMaxRho2"), std::ldexp(1.0f, 2 * s.depth_last_level));
+  }
   glUniform1f(uniform("heightScale"), params.scale);
   glUniform1f(uniform("minLayers"), params.layers.min_layers);
   glUniform1f(uniform("maxLayers"), params.layers.max_layers);
@@ -315,6 +377,7 @@ void OsmesaRunner::prepare(const TechniqueParams& params) {
       glActiveTexture(GL_TEXTURE4);
       s.cone_texture = float_texture(s.cone_texture, GL_RG32F, GL_RG, cone->width, cone->height, texels.data(),
                                      GL_LINEAR, wrap);
+      s.cone_last_level = 0;
     }
     s.precomputed_wrap = int(params.wrap);
   }
@@ -331,6 +394,12 @@ void OsmesaRunner::prepare(const TechniqueParams& params) {
   if (has(needs, Needs::cone_map)) {
     glActiveTexture(GL_TEXTURE4);
     glBindTexture(GL_TEXTURE_2D, s.cone_texture);
+    const ConeMap& cone = *s.precomputed.cone_map;
+    if (trilinear && s.cone_last_level == 0 && mip_level_count(cone.width, cone.height) > 1)
+      s.cone_last_level = upload_mip_levels(
+          GL_RG32F, GL_RG, {build_mip_chain(DepthMap{cone.width, cone.height, cone.depth}),
+                            build_mip_chain(DepthMap{cone.width, cone.height, cone.ratio})});
+    set_filter(s.cone_texture, params.filter, s.cone_last_level);
     glUniform1i(uniform("coneMap"), 4);
   }
   if (glGetError() != GL_NO_ERROR) throw std::runtime_error("OSMesa: GL error while preparing the draw");

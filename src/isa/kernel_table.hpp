@@ -21,7 +21,7 @@ namespace heightmarch::HEIGHTMARCH_ISA_NS {
 #else
 #define HEIGHTMARCH_FLATTEN [[gnu::flatten]]
 #endif
-template <int W, Addressing ADDRESSING, class Kernel, Taps TAPS = Taps::memory>
+template <int W, Addressing ADDRESSING, class Kernel, Taps TAPS = Taps::memory, Filter FILTER = Filter::bilinear>
 HEIGHTMARCH_FLATTEN void trace_packets(const KernelTexture& texture, const KernelParams& params, const KernelRays& rays,
                    const KernelHits& hits, std::size_t begin, std::size_t end,
                    KernelCounters& counters) {
@@ -31,12 +31,15 @@ HEIGHTMARCH_FLATTEN void trace_packets(const KernelTexture& texture, const Kerne
   // would then be reloaded after every store.
   const KernelRays in = rays;
   const KernelHits out = hits;
-  KernelContext<W, ADDRESSING, TAPS> context(texture, params, local);
+  KernelContext<W, ADDRESSING, TAPS, FILTER> context(texture, params, local);
   const Kernel kernel;
   const vint<W> discard(params.discard ? 1 : 0);
   for (std::size_t i = begin; i < end; i += W) {
     const RayPacket<W> ray{F::load(in.tx + i), F::load(in.ty + i), F::load(in.vx + i), F::load(in.vy + i),
                            F::load(in.vz + i)};
+    if constexpr (FILTER == Filter::trilinear)
+      context.set_footprint(F::load(in.du_dx + i), F::load(in.dv_dx + i), F::load(in.du_dy + i),
+                            F::load(in.dv_dy + i));
     const HitPacket<W> hit = kernel(context, ray);
     hit.u.store(out.u + i);
     hit.v.store(out.v + i);
@@ -66,11 +69,22 @@ struct ExactBoundKernel {
 };
 
 // The addressing modes in Addressing's order.
-template <int W, class Kernel, Taps TAPS = Taps::memory>
+template <int W, class Kernel, Taps TAPS = Taps::memory, Filter FILTER = Filter::bilinear>
 constexpr void fill_addressing(TraceRangeFn (&row)[kAddressingCount]) {
-  row[int(Addressing::repeat_pow2)] = &trace_packets<W, Addressing::repeat_pow2, Kernel, TAPS>;
-  row[int(Addressing::repeat)] = &trace_packets<W, Addressing::repeat, Kernel, TAPS>;
-  row[int(Addressing::clamp)] = &trace_packets<W, Addressing::clamp, Kernel, TAPS>;
+  row[int(Addressing::repeat_pow2)] = &trace_packets<W, Addressing::repeat_pow2, Kernel, TAPS, FILTER>;
+  row[int(Addressing::repeat)] = &trace_packets<W, Addressing::repeat, Kernel, TAPS, FILTER>;
+  row[int(Addressing::clamp)] = &trace_packets<W, Addressing::clamp, Kernel, TAPS, FILTER>;
+}
+
+// Both filters' rows. A kernel that reads texels, never a filtered sample (Kernel::kReadsTexels:
+// maxmip's walk, texelFetch in GLSL), serves both with its one instantiation.
+template <int W, class Kernel, Taps TAPS = Taps::memory>
+constexpr void fill_filters(TraceRangeFn (&rows)[kFilterCount][kAddressingCount]) {
+  fill_addressing<W, Kernel, TAPS, Filter::bilinear>(rows[int(Filter::bilinear)]);
+  if constexpr (requires { Kernel::kReadsTexels; })
+    fill_addressing<W, Kernel, TAPS, Filter::bilinear>(rows[int(Filter::trilinear)]);
+  else
+    fill_addressing<W, Kernel, TAPS, Filter::trilinear>(rows[int(Filter::trilinear)]);
 }
 
 // MARCH_W and WALK_W: the packet widths of the ISA's list (cmake/isa_list.cmake) for each
@@ -81,14 +95,14 @@ constexpr KernelTable make_kernel_table() {
   static_assert(W % MARCH_W == 0 && W % WALK_W == 0, "tiles are padded to the wider packet");
   KernelTable table{};
   table.packet_width = W;
-#define HEIGHTMARCH_TECHNIQUE_ROW(id, name, layered, refine, needs, writes, search, shape, ...)       \
-  fill_addressing<shape == KernelShape::walk ? WALK_W : MARCH_W, TechniqueKernel<Technique::id>>( \
+#define HEIGHTMARCH_TECHNIQUE_ROW(id, name, layered, refine, needs, writes, search, shape, ...)     \
+  fill_filters<shape == KernelShape::walk ? WALK_W : MARCH_W, TechniqueKernel<Technique::id>>( \
       table.technique[int(Technique::id)]);
   HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_ROW)
 #undef HEIGHTMARCH_TECHNIQUE_ROW
-  fill_addressing<MARCH_W, SamplerRooflineKernel>(table.sampler_roofline);
-  fill_addressing<MARCH_W, ExactBoundKernel>(table.exact_bound);
-  fill_addressing<MARCH_W, TechniqueKernel<Technique::pom>, Taps::registers>(table.compute_ceiling);
+  fill_filters<MARCH_W, SamplerRooflineKernel>(table.sampler_roofline);
+  fill_addressing<MARCH_W, ExactBoundKernel>(table.exact_bound);  // the level-0 surface
+  fill_filters<MARCH_W, TechniqueKernel<Technique::pom>, Taps::registers>(table.compute_ceiling);
   table.autovec_pom = &autovec_pom;
   return table;
 }

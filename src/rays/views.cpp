@@ -1,6 +1,8 @@
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "heightmarch/error.hpp"
 #include "heightmarch/memory_budget.hpp"
@@ -59,6 +61,7 @@ class BatchBuilder {
     batch_.vx.push_back(r.vx);
     batch_.vy.push_back(r.vy);
     batch_.vz.push_back(r.vz);
+    for (auto* g : {&batch_.du_dx, &batch_.dv_dx, &batch_.du_dy, &batch_.dv_dy}) g->push_back(0.0f);
     batch_.origin.push_back(origin);
     ++batch_.ray_count;
   }
@@ -207,18 +210,61 @@ RayBatch make_view_rays(const ViewSpec& view) {
             }
       builder.end_tile();
     }
+  set_pixel_gradients(batch);
   return batch;
+}
+
+void set_pixel_gradients(RayBatch& rays) {
+  const std::size_t width = std::size_t(rays.image_width), height = std::size_t(rays.image_height);
+  check_memory_budget(4.0 * double(width) * double(height), "the pixel grid of a view");
+  constexpr std::uint32_t kNone = 0xffffffffu;
+  std::vector<std::uint32_t> ray_at(width * height, kNone);  // the ray of each pixel
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    if (rays.is_padding(i)) continue;
+    if (rays.origin[i] >= width * height) throw std::logic_error("a ray's pixel lies outside its view's grid");
+    ray_at[rays.origin[i]] = std::uint32_t(i);
+  }
+  // T's change to the next pixel along one axis (step: 1 pixel in x, or a row in y) at pixel p,
+  // its coordinate c along that axis of n pixels: towards the quad partner, else the other side.
+  const auto gradient = [&](std::size_t p, std::size_t c, std::size_t n, std::size_t step, float& du, float& dv) {
+    const std::size_t self = ray_at[p];
+    for (const bool up : {c % 2 == 0, c % 2 != 0}) {
+      if (up ? c + 1 >= n : c == 0) continue;
+      const std::size_t other = ray_at[up ? p + step : p - step];
+      if (other == kNone) continue;
+      const std::size_t from = up ? self : other, to = up ? other : self;
+      du = rays.tx[to] - rays.tx[from];
+      dv = rays.ty[to] - rays.ty[from];
+      return;
+    }
+    du = dv = 0.0f;
+  };
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    if (rays.is_padding(i)) {  // a copy of its tile's last ray (BatchBuilder)
+      rays.du_dx[i] = rays.du_dx[i - 1];
+      rays.dv_dx[i] = rays.dv_dx[i - 1];
+      rays.du_dy[i] = rays.du_dy[i - 1];
+      rays.dv_dy[i] = rays.dv_dy[i - 1];
+      continue;
+    }
+    const std::size_t p = rays.origin[i], x = p % width, y = p / width;
+    gradient(p, x, width, 1, rays.du_dx[i], rays.dv_dx[i]);
+    gradient(p, y, height, width, rays.du_dy[i], rays.dv_dy[i]);
+  }
 }
 
 void check_rays(const RayBatch& rays) {
   const std::size_t n = rays.tx.size();
-  if (rays.ty.size() != n || rays.vx.size() != n || rays.vy.size() != n || rays.vz.size() != n)
-    throw InputError("a ray batch whose arrays differ in length");
+  for (const auto* a : {&rays.ty, &rays.vx, &rays.vy, &rays.vz, &rays.du_dx, &rays.dv_dx, &rays.du_dy, &rays.dv_dy})
+    if (a->size() != n) throw InputError("a ray batch whose arrays differ in length");
+  const auto within = [](float x) { return std::isfinite(x) && std::fabs(x) <= kMaxRayOrigin; };
   for (std::size_t i = 0; i < n; ++i) {
-    const bool finite = std::isfinite(rays.tx[i]) && std::isfinite(rays.ty[i]) && std::isfinite(rays.vx[i]) &&
-                        std::isfinite(rays.vy[i]) && std::isfinite(rays.vz[i]);
-    if (!finite || std::fabs(rays.tx[i]) > kMaxRayOrigin || std::fabs(rays.ty[i]) > kMaxRayOrigin || !(rays.vz[i] > 0.0f))
-      throw InputError("ray " + std::to_string(i + 1) + " of the batch: not finite, |T| beyond 1e6 or V.z <= 0");
+    const bool finite = within(rays.tx[i]) && within(rays.ty[i]) && std::isfinite(rays.vx[i]) &&
+                        std::isfinite(rays.vy[i]) && std::isfinite(rays.vz[i]) && within(rays.du_dx[i]) &&
+                        within(rays.dv_dx[i]) && within(rays.du_dy[i]) && within(rays.dv_dy[i]);
+    if (!finite || !(rays.vz[i] > 0.0f))
+      throw InputError("ray " + std::to_string(i + 1) +
+                       " of the batch: not finite, |T| or a gradient beyond 1e6, or V.z <= 0");
   }
 }
 

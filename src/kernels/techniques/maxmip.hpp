@@ -26,6 +26,7 @@ HitPacket<W> maxmip(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
 
 template <>
 struct TechniqueKernel<Technique::maxmip> {
+  static constexpr bool kReadsTexels = true;  // one kernel for both filters (kernel_table.hpp)
   template <class Context, class Ray>
   auto operator()(Context& k, const Ray& ray) const {
     return maxmip(k, ray);
