@@ -11,7 +11,7 @@
 #include "heightmarch/glsl_runner.hpp"
 #include "heightmarch/metrics.hpp"
 #include "heightmarch/mip_chain.hpp"
-#include "heightmarch/trace.hpp"
+#include "heightmarch/tracer.hpp"
 #include "test_support.hpp"
 
 namespace heightmarch {
