@@ -191,8 +191,9 @@ TEST(Cli, MemoryBudgetCountsTilePadding) {
 }
 
 TEST(Cli, JsonHasTheSpecKeys) {
-  const auto r = test::run_cli("trace --res 64 --size 32x32 --technique relief --layers 8-32 --json --threads 1");
+  const auto r = test::run_cli("trace --res 64 --size 32x32 --technique relief --layers 8-32 --json --threads 1 --filter trilinear");
   ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("\"filter\": \"trilinear\""), std::string::npos) << r.output;
   for (const char* key : {"technique",
                           "layers",
                           "backend",
@@ -352,6 +353,7 @@ std::vector<BadInput> bad_inputs() {
       {"TruncatedImage", "trace --heightmap " + d + "/truncated.png", "truncated.png"},
       {"UnknownBuiltin", "trace --heightmap builtin:nope", "nope"},
       {"UnknownTechnique", "trace --technique nope", "unknown technique 'nope'"},
+      {"UnknownFilter", "trace --filter nearest", "--filter: nearest not in"},
       {"ZeroLayers", "trace --layers 0", "layer spec '0'"},
       {"ConeZeroLayers", "trace --technique cone --layers 0", "layer spec '0'"},
       {"ConeNegativeRefine", "trace --technique cone --refine -1", "--refine"},

@@ -8,7 +8,7 @@
 
 #include "heightmarch/mip_chain.hpp"
 #include "heightmarch/sampler.hpp"
-#include "heightmarch/trace.hpp"
+#include "heightmarch/tracer.hpp"
 #include "test_support.hpp"
 
 namespace heightmarch {

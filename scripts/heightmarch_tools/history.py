@@ -12,12 +12,14 @@ from .spreads import spread
 from .writers import atomic_write
 
 MACHINE_PARTS = ["cpu", "cores", "best_isa", "compiler", "build_type"]
-SERIES_FIELDS = ["backend", "threads", "heightfield", "technique", "layers", "view", "depth_map"]
+SERIES_FIELDS = ["backend", "threads", "heightfield", "technique", "layers", "view", "depth_map", "filter"]
 # Deterministic measures: any change at the same configuration is a behaviour change.
 MEASURES = ["samples_per_ray", "uv_error_mean", "uv_error_p95", "wrong_surface_rate"]
 COLUMNS = (["date", "commit", "machine"] + MACHINE_PARTS + SERIES_FIELDS
            + ["rays_per_second_median", "rays_per_second_min", "rays_per_second_max"] + MEASURES)
 UNKNOWN_PREFIX = "unknown-"
+# Columns of earlier histories, and what their rows were: before filters, every row read level 0.
+EARLIER_COLUMNS = [([c for c in COLUMNS if c != "filter"], {"filter": "bilinear"})]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -61,7 +63,9 @@ def series_fields(row):
     return {"backend": backend(row), "threads": str(row["threads"]), "heightfield": row["heightfield"]["label"],
             # rows without a technique (roofline, exact) are named by their kind
             "technique": row.get("technique") or row["kind"], "layers": row.get("layers") or "",
-            "view": view_name(row["view"]), "depth_map": depth_map(row)}
+            "view": view_name(row["view"]), "depth_map": depth_map(row),
+            # the exact reference is every filter's: its one series; runs before filters read level 0
+            "filter": row.get("filter", "bilinear") or ""}
 
 
 def series(row):
@@ -71,9 +75,10 @@ def series(row):
 
 def series_name(key):
     f = dict(zip(SERIES_FIELDS, key))
-    return "%s%s, %s, %s thread%s, %s %s, %s view" % (
+    return "%s%s, %s, %s thread%s, %s %s, %s view%s" % (
         f["technique"], " " + f["layers"] if f["layers"] not in ("", "1") else "", f["backend"],
-        f["threads"], "" if f["threads"] == "1" else "s", f["heightfield"], f["depth_map"], f["view"])
+        f["threads"], "" if f["threads"] == "1" else "s", f["heightfield"], f["depth_map"], f["view"],
+        ", " + f["filter"] if f["filter"] not in ("", "bilinear") else "")
 
 
 def measure(row, name):
@@ -109,9 +114,12 @@ def read(path, columns=COLUMNS):
         return []
     with open(path, newline="") as f:
         reader = csv.DictReader(f)
-        if reader.fieldnames != columns:
-            raise Unusable("%s: columns are not %s" % (path, ",".join(columns)))
-        return list(reader)
+        if reader.fieldnames == columns:
+            return list(reader)
+        for earlier, implied in EARLIER_COLUMNS if columns == COLUMNS else []:
+            if reader.fieldnames == earlier:
+                return [{**r, **implied} for r in reader]
+        raise Unusable("%s: columns are not %s" % (path, ",".join(columns)))
 
 
 def write(path, rows, columns=COLUMNS):

@@ -16,7 +16,8 @@ import statistics
 
 from . import cli, history, record_run, report_page
 from .measurements import (ANY, HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label,  # noqa: E402
-                          config, counted, depth_map, machine_rows, docs_link, glsl_pairs, groups, load_run, measurements_csv,
+                          config, counted, depth_map, machine_rows, docs_link, filter_pairs, glsl_pairs, groups, load_run,
+                          measurements_csv,
                           rays_rounds, read_claims, read_optional, samples_rounds, searches_per_isa,
                           speedup, view_name, backend_colours)
 from .report_plots import plot_error_vs_angle, plot_error_vs_layers, plot_error_vs_speed, plot_isa_speedup
@@ -222,6 +223,39 @@ def section_claims(run, claims):
             line += " (maxmip at a grazing one-texel peak: [docs/techniques.md](%s))" % docs_link(run, *MAXMIP_PEAK)
         body.append(line)
     return section("The claims: the tutorials' (C1-C10) and the papers' (P1-P3)", body)
+
+
+FILTER_DOCS = ("conventions.md", "filters")
+
+
+def filter_table(run, pairs):
+    """Per configuration of the matrix measured under the other filter too (there are two): its errors
+    and cost under both, as text cells."""
+    other = pairs[0][1]["filter"]
+    columns = [("heightfield", False), ("technique", False), ("layers", False)] + [
+        ("%s %s" % (title, f), True) for title in ("p99", "wrong surface", "samples/ray") for f in (run.filter, other)]
+    rows = []
+    for own, theirs in pairs:
+        e, o = own.get("errors") or {}, theirs.get("errors") or {}
+        rows.append([own["heightfield"]["label"], own["technique"], own["layers"],
+                     fmt_error(e.get("uv_error_p99")), fmt_error(o.get("uv_error_p99")),
+                     fmt(e.get("wrong_surface_rate"), 2, 100, "%"), fmt(o.get("wrong_surface_rate"), 2, 100, "%"),
+                     fmt(own.get("samples_per_ray"), 2), fmt(theirs.get("samples_per_ray"), 2)])
+    return columns, rows
+
+
+def section_filters(run):
+    pairs = filter_pairs(run)
+    if not pairs:
+        return []
+    columns, rows = filter_table(run, pairs)
+    return section("%s against %s filtering" % (run.filter.capitalize(), pairs[0][1]["filter"]), [
+        "The technique x layers matrix at %s read both ways: %s (this run's figures) and %s (accuracy only), "
+        "each against the same exact level-0 surface. Bilinear is the search's own error; trilinear is what a "
+        "player sees from a mipmapped depth map (the mip chain at each ray's level of detail): "
+        "[docs/conventions.md](%s), [docs/measures.md](%s). p99 in texels." % (
+            run.best_isa, run.filter, pairs[0][1]["filter"], docs_link(run, *FILTER_DOCS),
+            docs_link(run, "measures.md")), ""] + md_table(columns, rows))
 
 
 def section_machine(run):
@@ -493,18 +527,20 @@ def main(argv=None):
     p = run.provenance
     title = "%s run of %s, commit %s" % (run.plan.get("name", "?"), p.get("date", "?"), p.get("commit", "?"))
     md = ["# heightmarch report: " + title, "",
-          "Parallax-mapping techniques on the CPU (packet kernels per ISA) and as GLSL (OSMesa llvmpipe), measured "
+          "Parallax-mapping techniques on the CPU (packet kernels per ISA) and as GLSL (OSMesa llvmpipe), reading the "
+          "depth map with %s filtering ([docs/conventions.md](%s)), measured "
           "against the exact ray/heightfield intersection on %s (%s cores, %s). Explore it: [report.html](report.html) "
           "(every configuration on its error-against-cost frontier, with filters and images); the long tables: "
           "[tables.md](tables.md); the rows: [measurements.csv](measurements.csv), "
           "[measurements.json](measurements.json). What every measure means: [docs/measures.md](%s); the files: "
-          "[docs/measurements.md](%s)." % (p.get("cpu", "?"), p.get("cores", "?"), run.best_isa,
+          "[docs/measurements.md](%s)." % (run.filter, docs_link(run, *FILTER_DOCS), p.get("cpu", "?"), p.get("cores", "?"),
+                                           run.best_isa,
                                            docs_link(run, "measures.md"), docs_link(run, "measurements.md"))]
     if run.load.get("busy"):  # the speeds below carry it; the warnings after the summary say why
         md += ["", "*The machine was busy during this run: speeds and ratios may be disturbed (see the warnings below). "
                    "Errors and samples per ray are deterministic and unaffected.*"]
     md += section_alerts(alerts) + section_recommendation(run, recommendation)
-    md += section_claims(run, claims) + section_ratios(run) + section_warnings(run, faults)
+    md += section_claims(run, claims) + section_filters(run) + section_ratios(run) + section_warnings(run, faults)
     md += section("The tables", ["In [tables.md](tables.md): " + "; ".join(
         "[%s](tables.md#%s)" % (t, anchor) for t, anchor in TABLES) + "."])
     md += plots + section_machine(run)
@@ -514,8 +550,9 @@ def main(argv=None):
     atomic_write(os.path.join(args.run_dir, "measurements.csv"), measurements_csv(run.rows))
     atomic_write(os.path.join(args.run_dir, "tables.md"), "\n".join(tables_md) + "\n")
     atomic_write(os.path.join(args.run_dir, "report.md"), "\n".join(md) + "\n")
+    pairs = filter_pairs(run)
     report_page.write_page(run, claims, recommendation, alerts, recorded, warnings(run, faults), faults,
-                           backend_colours(run.backend_names()))
+                           backend_colours(run.backend_names()), filter_table(run, pairs) if pairs else None)
     print("report: %s" % os.path.join(args.run_dir, "report.md"))
     return 0
 

@@ -11,7 +11,8 @@ import json
 import os
 
 from .measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label, depth_map,
-                          docs_link, glsl_pairs, machine_rows, ns_per_ray_rounds, rays_rounds, searches_per_isa, speedup, view_name)
+                          docs_link, glsl_pairs, machine_rows, ns_per_ray_rounds, rays_rounds, searches_per_isa,
+                          speedup, view_name)
 from .spreads import spread
 from .writers import atomic_write
 
@@ -49,6 +50,8 @@ def page_rows(run):
     out = []
     for r in run.rows:
         if r.get("technique") not in run.style or not r.get("errors") or r.get("failure"):
+            continue
+        if r.get("filter") not in (None, run.filter):  # the other filter's rows: their own table
             continue
         rays, ns = spread(rays_rounds(r)), spread(ns_per_ray_rounds(r))
         out.append({
@@ -119,6 +122,20 @@ def isa_bars(found):
     return out
 
 
+def filters_html(run, filters):
+    """The matrix under both filters (report.py's filter_table: columns, text cells), or a line saying
+    it was not measured."""
+    if filters is None:
+        return "<p>Not measured in this run: every row is read with %s filtering (suite --filter bilinear,trilinear " \
+               "measures both).</p>" % html.escape(run.filter)
+    columns, rows = filters
+    return ("<p>The technique x layers matrix at %s read both ways, each against the same exact level-0 surface: "
+            "bilinear is the search's own error, trilinear what a player sees from a mipmapped depth map (%s). "
+            "p99 in texels.</p>" % (html.escape(run.best_isa or "?"),
+                                    link(docs_link(run, "conventions.md", "filters"), "docs/conventions.md"))
+            + table(columns, [[html.escape(str(c)) for c in cells] for cells in rows]))
+
+
 def claims_html(claims, maxmip_link):
     if not claims:
         return "<p>No claims in this run.</p>"
@@ -149,15 +166,15 @@ def machine_html(run, warning_lines):
 
 
 def history_series(run, recorded):
-    """The headline configuration (POM-32, 1 thread, default view, the first heightfield) over the
-    recorded runs, per machine (the history's machine column; the CPU where it has none) and backend."""
+    """The headline configuration (POM-32, 1 thread, default view, the first heightfield, the run's
+    filter) over the recorded runs, per machine (the history's machine column; the CPU where it has none) and backend."""
     if recorded is None:
         return None
     hf = run.heightfields[0] if run.heightfields else ""
     series = {}
     for r in recorded:
-        if (r.get("technique"), r.get("layers"), r.get("threads"), r.get("heightfield")) != (
-                HEADLINE_TECHNIQUE, HEADLINE_LAYERS, "1", hf) or not r.get("view", "").startswith("default"):
+        if (r.get("technique"), r.get("layers"), r.get("threads"), r.get("heightfield"), r.get("filter")) != (
+                HEADLINE_TECHNIQUE, HEADLINE_LAYERS, "1", hf, run.filter) or not r.get("view", "").startswith("default"):
             continue
         machine = r.get("machine") or r.get("cpu") or "?"
         series.setdefault(machine, {}).setdefault(r["backend"], []).append(
@@ -166,7 +183,7 @@ def history_series(run, recorded):
     return {"heightfield": hf, "machines": series}
 
 
-def write_page(run, claims, recommendation, alerts, recorded, warning_lines, faults, backend_colours):
+def write_page(run, claims, recommendation, alerts, recorded, warning_lines, faults, backend_colours, filters):
     found = searches_per_isa(run)
     data = {
         "title": "%s run of %s, commit %s" % (run.plan.get("name", "?"), run.provenance.get("date", "?"),
@@ -194,6 +211,8 @@ def write_page(run, claims, recommendation, alerts, recorded, warning_lines, fau
                        "(min-max) of the per-round ratios. See %s.</p>" % (html.escape(run.best_isa or "?"), shadow_link)
                        + glsl_table(run, glsl_pairs(run))) if glsl_pairs(run) else "<p>Not measured in this run.</p>",
         "machine": machine_html(run, warning_lines),
+        "filters": filters_html(run, filters),
+        "filter": html.escape(run.filter),
     }
     # "</" would end the script element early: JSON may escape the slash
     payload = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
@@ -222,7 +241,8 @@ TEMPLATE = """<!DOCTYPE html>
 <header>
 <h1>heightmarch: %(title)s</h1>
 <nav><a href="#alerts">alerts</a> <a href="#recommendation">what to ship</a> <a href="#frontier">frontier</a>
-<a href="#claims">claims</a> <a href="#speed">speed per ISA and GLSL</a> <a href="#history">history</a>
+<a href="#claims">claims</a> <a href="#filters-compared">filters</a> <a href="#speed">speed per ISA and GLSL</a>
+<a href="#history">history</a>
 <a href="#provenance">provenance and warnings</a> <a href="report.md">report.md</a> <a href="tables.md">tables.md</a>
 <a href="measurements.csv">measurements.csv</a></nav>
 </header>
@@ -240,6 +260,8 @@ in the grey band at the bottom.</p>
 <div id="detail"><p>Click a point to see its configuration, its render, its error map and the exact render.</p></div>
 </section>
 <section id="claims"><h2>The claims</h2>%(claims)s</section>
+<section id="filters-compared"><h2>Bilinear against trilinear filtering</h2>
+<p>This run's figures are read with %(filter)s filtering.</p>%(filters)s</section>
 <section id="speed"><h2>Speed per ISA, and CPU against GLSL</h2>
 <div id="isa-filters"></div><div id="isa-chart"></div>
 <details><summary>The searches at every ISA, against llvmpipe (table)</summary>%(isa_table)s</details>

@@ -3,6 +3,7 @@
 #include <tbb/info.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <sstream>
 
 #include "heightmarch/error.hpp"
@@ -121,6 +122,9 @@ Configuration trace_configuration(const TraceOptions& o, RunKind kind) {
   p.scale = float(o.scale);
   p.wrap = o.wrap == "repeat" ? Wrap::repeat : Wrap::clamp;
   p.filter = parse_filter(o.filter);
+  if (p.filter == Filter::trilinear && !o.rays.empty())
+    std::fprintf(stderr, "heightmarch: note: a rays file has no pixel grid: its rays read level 0 under --filter trilinear "
+                         "(docs/conventions.md#filters)\n");
   p.discard = o.discard;
   std::stringstream in(o.light);
   char c1 = 0, c2 = 0;

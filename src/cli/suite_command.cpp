@@ -169,7 +169,8 @@ Command add_suite_command(CLI::App& app) {
   command->add_flag(
       "--dry-run", o->dry_run,
       "list the configurations the run would measure (heightfield, kind, technique, layers, backend, "
-      "threads, view, timed or accuracy only, purposes; tab-separated) and measure nothing");
+      "threads, view, filter (- for the exact reference), timed or accuracy only, purposes; tab-separated) and "
+      "measure nothing");
   return [o] {
     PlanSettings settings = plan_settings(o->plan, !o->no_glsl);
     apply(o->candidates, settings);
@@ -181,9 +182,10 @@ Command add_suite_command(CLI::App& app) {
         for (unsigned i = 0; i < kPurposeCount; ++i)
           if (c.purposes & (1u << i)) purposes += (purposes.empty() ? "" : ",") + purpose_name(1u << i);
         const std::string layers = c.kind == RunKind::exact ? "" : to_string(c.params.layers);
-        std::printf("%s\t%s\t%s\t%s\t%s\t%d\t%s\t%s\t%s\n", c.heightfield.label().c_str(),
-                    to_string(c.kind).c_str(), c.label().c_str(), layers.c_str(), c.backend().c_str(),
-                    c.threads, describe(c.view).c_str(), c.timed ? "timed" : "accuracy", purposes.c_str());
+        const std::string filter = c.kind == RunKind::exact ? "-" : to_string(c.params.filter);
+        std::printf("%s\t%s\t%s\t%s\t%s\t%d\t%s\t%s\t%s\t%s\n", c.heightfield.label().c_str(),
+                    to_string(c.kind).c_str(), c.label().c_str(), layers.c_str(), c.backend().c_str(), c.threads,
+                    describe(c.view).c_str(), filter.c_str(), c.timed ? "timed" : "accuracy", purposes.c_str());
       }
       std::printf("%zu configurations\n", plan.size());
       return 0;

@@ -83,7 +83,8 @@ void write_row(JsonWriter& json, const Measurement& m) {
   json.value("description", describe(c.view)).end_object();
   json.value("scale", double(c.params.scale))
       .value("wrap", c.params.wrap == Wrap::repeat ? "repeat" : "clamp");
-  takes_filter(c.kind) ? json.value("filter", to_string(c.params.filter)) : json.null("filter");
+  // The ports read level 0 (bilinear); the exact reference is every filter's.
+  c.kind == RunKind::exact ? json.null("filter") : json.value("filter", to_string(c.params.filter));
   json.value("discard", c.params.discard)
       .value("rays", m.rays);
   if (m.samples_known)
