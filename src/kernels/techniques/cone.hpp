@@ -37,7 +37,7 @@ HitPacket<W> cone(KernelContext<W, ADDRESSING, Taps::memory, FILTER>& k, const R
   for (int step = 0; step < k.max_step_bound() && any(marching); ++step) {
     const F u = ray.tx - p_x * t, v = ray.ty - p_y * t;
     const F depth = k.sample(u, v, marching, samples);
-    const F c = k.read(k.texture.cone, u, v);  // the second channel of the read
+    const F c = k.read(k.texture.cone_map.texels, u, v);  // the second channel of the read
     const B stepping = marching & (depth - t > F(kConeReached));
     const B crossed = marching & (depth < t);
     above = select(stepping, t, above);
