@@ -18,6 +18,7 @@
 
 #include "baselines/naive_port.hpp"
 #include "heightmarch/error.hpp"
+#include "heightmarch/glsl_runner.hpp"
 #include "heightmarch/measurement.hpp"
 #include "heightmarch/trace.hpp"
 #include "io/atomic_file.hpp"
@@ -34,6 +35,8 @@ struct BenchOptions {
   std::vector<std::string> layers = {"4", "8", "16", "32", "64", "8-32"};
   std::vector<int> threads;  // empty: 1 and all cores
   std::vector<std::string> isas;  // empty: every ISA the CPU runs
+  std::vector<std::string> gl;    // GL paths of the GLSL benchmarks; empty: the worker's default
+  std::string gl_device;          // EGL's device for them; empty: EGL's first
   double min_time = 0.2;
 };
 
@@ -46,6 +49,9 @@ void set_counters(benchmark::State& state, const Measurement& m) {
   const double iterations = double(state.iterations());
   state.SetItemsProcessed(std::int64_t(m.rays) * state.iterations());
   state.counters["rays_per_second"] = benchmark::Counter(double(m.rays) * iterations, benchmark::Counter::kIsRate);
+  // A GLSL draw's two clocks, mean seconds of the timed draws (the manual time is one of them: GlDrawTime::seconds()).
+  if (!m.gl_wall_seconds.empty()) state.counters["gl_wall_seconds"] = spread_of(m.gl_wall_seconds).median;
+  if (!m.gl_timer_seconds.empty()) state.counters["gl_timer_seconds"] = spread_of(m.gl_timer_seconds).median;
   if (!m.samples_known) return;
   state.counters["samples_per_second"] = benchmark::Counter(double(m.samples) * iterations, benchmark::Counter::kIsRate);
   state.counters["samples_per_ray"] = m.rays ? double(m.samples) / double(m.rays) : 0.0;
@@ -64,11 +70,19 @@ void run_benchmark(benchmark::State& state, const Configuration& config) {
   const Measurement& m = it->second;
   if (!m.failure.empty()) return state.SkipWithError(m.failure.c_str());
   const ThreadLimit limit(config.threads);
-  const std::function<double()> once = session().trace_once(config);
+  const std::function<TraceTime()> once = session().trace_once(config);
   once();  // warm-up: llvmpipe compiles the shader on its first draw
-  // The trace's own time (for GLSL the worker's time of the draw, without the round trip to it).
-  for (auto _ : state) state.SetIterationTime(once());
-  set_counters(state, m);
+  // The trace's own time (for GLSL the worker's time of the draw, without the round trip to it);
+  // a GLSL draw's two clocks are kept for the counters.
+  Measurement timed = m;
+  for (auto _ : state) {
+    const TraceTime time = once();
+    state.SetIterationTime(time.seconds);
+    if (!time.gl) continue;
+    timed.gl_wall_seconds.push_back(time.gl->wall_seconds);
+    if (time.gl->timer_seconds) timed.gl_timer_seconds.push_back(*time.gl->timer_seconds);
+  }
+  set_counters(state, timed);
 }
 
 std::vector<Configuration> bench_plan(const BenchOptions& o) {
@@ -82,25 +96,34 @@ std::vector<Configuration> bench_plan(const BenchOptions& o) {
   if (isas.empty()) isas = supported_isas();
   std::vector<LayerSpec> layer_specs;
   for (const std::string& text : o.layers) layer_specs.push_back(parse_layer_spec(text));
+  // Each GL path asked for is a GLSL benchmark of its own (gl:PATH in its name), side by side.
+  std::vector<GlTarget> gl_targets;
+  for (const std::string& path : o.gl.empty() ? std::vector<std::string>{""} : o.gl) {
+    GlTarget target = parse_gl_target(path, o.gl_device);
+    target.path = resolved(target).path;
+    gl_targets.push_back(target);
+  }
   std::vector<Configuration> plan;
   for (const std::string& name : o.heightfields) {
     Configuration base;
     base.heightfield = parse_heightfield(name, o.res);
     base.view = parse_view("default", o.size, o.size);
-    auto add = [&](RunKind kind, Technique technique, const LayerSpec& layers, Isa isa, int t) {
+    auto add = [&](RunKind kind, Technique technique, const LayerSpec& layers, Isa isa, int t,
+                   const GlTarget& gl = {}) {
       Configuration c = base;
       c.kind = kind;
       c.params.technique = technique;
       c.params.layers = layers_for(technique, layers);
       c.isa = isa;
       c.threads = t;
+      c.gl = gl;
       add_to_plan(plan, c);
     };
     for (const TechniqueInfo& t : techniques())
       for (const LayerSpec& layers : layer_specs)
         for (int n : threads) {
           for (Isa isa : isas) add(RunKind::trace, t.id, layers, isa, n);
-          add(RunKind::glsl, t.id, layers, Isa::scalar, n);
+          for (const GlTarget& gl : gl_targets) add(RunKind::glsl, t.id, layers, Isa::scalar, n, gl);
         }
     for (int n : threads) {
       for (Isa isa : isas) {
@@ -149,6 +172,12 @@ int main(int argc, char** argv) {
   app.add_option("--hm_layers", o.layers, "layer specs (N or A-B)")->delimiter(',')->capture_default_str();
   app.add_option("--hm_threads", o.threads, "thread counts (default: 1 and all cores)")->delimiter(',')->check(CLI::Range(1, 1024));
   app.add_option("--hm_isas", o.isas, isa_names() + " (default: every ISA the CPU runs)")->delimiter(',');
+  app.add_option("--hm_gl", o.gl, "GL paths of the GLSL benchmarks, " + gl_path_names() +
+                 ", comma-separated: each its own benchmarks, side by side (default: osmesa where built, else egl)")
+      ->delimiter(',');
+  app.add_option("--hm_gl_device", o.gl_device,
+                 "EGL device of the GLSL benchmarks: software, or an index or name from `heightmarch glsl "
+                 "--list-devices` (default: EGL's first)");
   app.add_option("--hm_min_time", o.min_time, "seconds per benchmark (Google Benchmark's --benchmark_min_time)")
       ->check(CLI::Range(0.0, 60.0))->capture_default_str();
   try {

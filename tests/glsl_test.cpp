@@ -123,10 +123,10 @@ TEST(GlslRunner, OneAndTwoThreadsInOneProcessGiveIdenticalHits) {
   for (int t = 0; t < 2; ++t) {
     GlslRunner& runner = *runners[t];
     EXPECT_EQ(runner.threads(), t + 1);
-    EXPECT_NE(runner.renderer().find("llvmpipe"), std::string::npos) << runner.renderer();
+    EXPECT_NE(runner.renderer().renderer.find("llvmpipe"), std::string::npos) << runner.renderer().renderer;
     runner.prepare(map, params, rays);
     runner.draw();
-    const double seconds = runner.draw();
+    const double seconds = runner.draw().wall_seconds;
     EXPECT_GT(seconds, 0.0);
     EXPECT_LT(seconds, 60.0);
     bool samples_known = false;
@@ -271,7 +271,8 @@ TEST(GlslRunner, MissingWorkerIsAClearError) {
   }
   const auto r = test::run_cli("glsl --res 16 --size 8x8 --threads 1");
   EXPECT_EQ(r.status, 1) << r.output;
-  EXPECT_EQ(r.output.rfind("heightmarch: GLSL worker /nonexistent (1 thread): cannot start", 0), 0u)
+  // The tool's first question to the worker is which GL paths it has.
+  EXPECT_EQ(r.output.rfind("heightmarch: GLSL worker /nonexistent (asked which GL paths it has): cannot start", 0), 0u)
       << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "heightmarch/configuration.hpp"
+#include "heightmarch/gl_target.hpp"
 #include "heightmarch/hits.hpp"
 #include "heightmarch/metrics.hpp"
 
@@ -29,6 +30,11 @@ struct Measurement {
   std::optional<double> precompute_seconds;
   std::optional<ErrorSummary> errors;  // none for roofline runs
   std::vector<double> seconds;         // per repetition: one trace of the whole batch; empty if untimed
+  // GLSL rows: what the worker's context was (the renderer every figure of the row is named by),
+  // and each repetition's draws timed both ways (GlDrawTime): `seconds` holds the figure
+  // GlDrawTime::seconds() picks, the wall time on a software renderer, the timer query on a GPU.
+  std::optional<GlRenderer> gl;
+  std::vector<double> gl_wall_seconds, gl_timer_seconds;  // timer: empty where the driver answered none
   std::string render_image, error_image, cost_image;  // gallery rows: paths relative to the run directory
   std::string failure;         // non-empty: not measured (e.g. differs from the scalar reference)
 
@@ -75,6 +81,13 @@ struct MeasuredPlan {
   double min_seconds = 0;
 };
 
+// One trace's time, as a timer returns it: its seconds (for GLSL the figure GlDrawTime::seconds()
+// picks) and, for GLSL, the draw's two clocks.
+struct TraceTime {
+  double seconds = 0;
+  std::optional<GlDrawTime> gl;
+};
+
 // Single configurations outside a plan (what heightmarch-bench times): depth maps, scenes, exact
 // hits and scalar references are built on first use and kept until forget_scenes().
 class MeasurementSession {
@@ -89,9 +102,9 @@ class MeasurementSession {
 
   // One trace of the configuration's whole batch, for a timer to call repeatedly (after
   // measure()); prepares what it needs (the Tracer, the GLSL program) when called. Each call
-  // returns the seconds of that trace: wall time around a CPU trace, the GLSL worker's own time
-  // of a draw (without the round trip to it).
-  std::function<double()> trace_once(const Configuration& config);
+  // returns the time of that trace: wall time around a CPU trace, the GLSL worker's own times of
+  // a draw (without the round trip to it).
+  std::function<TraceTime()> trace_once(const Configuration& config);
 
   void forget_scenes();  // frees every scene but the depth maps
 
