@@ -247,20 +247,10 @@ TEST(GlslRunner, ShaderSyntaxErrorIsAnInputErrorAndTheWorkerLives) {
   EXPECT_EQ(hits.size(), rays.size());
 }
 
-// Sets an environment variable for one scope.
-class ScopedEnv {
- public:
-  ScopedEnv(const char* name, const char* value) : name_(name) { setenv(name, value, 1); }
-  ~ScopedEnv() { unsetenv(name_); }
-
- private:
-  const char* name_;
-};
-
 // Thread counts no other test asks for: a runner that failed to start is not kept, but one that
 // started would be.
 TEST(GlslRunner, MissingWorkerIsAClearError) {
-  const ScopedEnv env("HEIGHTMARCH_GLSL_WORKER", "/nonexistent");
+  const test::ScopedEnv env("HEIGHTMARCH_GLSL_WORKER", "/nonexistent");
   try {
     GlslRunner::instance(5);
     FAIL() << "a missing worker started";
@@ -278,7 +268,7 @@ TEST(GlslRunner, MissingWorkerIsAClearError) {
 }
 
 TEST(GlslRunner, WorkerThatExitsIsAClearError) {
-  const ScopedEnv env("HEIGHTMARCH_GLSL_WORKER", "/bin/true");
+  const test::ScopedEnv env("HEIGHTMARCH_GLSL_WORKER", "/bin/true");
   try {
     GlslRunner::instance(6);
     FAIL() << "/bin/true answered as a worker";
