@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -29,7 +30,7 @@ namespace {
 using namespace heightmarch;
 
 struct BenchOptions {
-  int size = 1024;
+  std::string size = "1024";  // the default view: N (N x N) or WxH pixels
   int res = 512;
   std::vector<std::string> heightfields = {"bricks", "terrain"};
   std::vector<std::string> layers = {"4", "8", "16", "32", "64", "8-32"};
@@ -85,7 +86,21 @@ void run_benchmark(benchmark::State& state, const Configuration& config) {
   set_counters(state, timed);
 }
 
+// --hm_size: N or WxH, each side in [1, kMaxViewSide]; InputError otherwise.
+void view_size(const std::string& text, int& width, int& height) {
+  const std::size_t x = text.find('x');
+  const std::string w = text.substr(0, x), h = x == std::string::npos ? w : text.substr(x + 1);
+  const auto side = [&](const std::string& digits, int& out) {
+    const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), out);
+    return error == std::errc() && end == digits.data() + digits.size() && out >= 1 && out <= kMaxViewSide;
+  };
+  if (!side(w, width) || !side(h, height))
+    throw InputError("--hm_size " + printable(text) + ": not N or WxH with sides in [1, " + std::to_string(kMaxViewSide) + "]");
+}
+
 std::vector<Configuration> bench_plan(const BenchOptions& o) {
+  int width = 0, height = 0;
+  view_size(o.size, width, height);
   std::vector<int> threads = o.threads;
   if (threads.empty()) {
     threads = {1};
@@ -107,7 +122,7 @@ std::vector<Configuration> bench_plan(const BenchOptions& o) {
   for (const std::string& name : o.heightfields) {
     Configuration base;
     base.heightfield = parse_heightfield(name, o.res);
-    base.view = parse_view("default", o.size, o.size);
+    base.view = parse_view("default", width, height);
     auto add = [&](RunKind kind, Technique technique, const LayerSpec& layers, Isa isa, int t,
                    const GlTarget& gl = {}) {
       Configuration c = base;
@@ -166,7 +181,7 @@ int main(int argc, char** argv) {
                "heightmarch-bench");
   app.allow_extras();
   app.set_help_flag("-h,--help", "this text, then Google Benchmark's flags");
-  app.add_option("--hm_size", o.size, "view side in pixels")->check(CLI::Range(1, kMaxViewSide))->capture_default_str();
+  app.add_option("--hm_size", o.size, "the view: N (N x N) or WxH pixels")->capture_default_str();
   app.add_option("--hm_res", o.res, "builtin depth map side")->check(CLI::Range(1, kMaxDepthMapSide))->capture_default_str();
   app.add_option("--hm_heightfields", o.heightfields, "builtin names or depth map files")->delimiter(',')->capture_default_str();
   app.add_option("--hm_layers", o.layers, "layer specs (N or A-B)")->delimiter(',')->capture_default_str();
@@ -264,7 +279,9 @@ int main(int argc, char** argv) {
   benchmark::AddCustomContext("heightmarch_compiler", prov.compiler);
   benchmark::AddCustomContext("heightmarch_build_type", prov.build_type);
   benchmark::AddCustomContext("heightmarch_best_isa", to_string(best_isa()));
-  benchmark::AddCustomContext("heightmarch_view", std::to_string(o.size) + "x" + std::to_string(o.size));
+  int view_width = 0, view_height = 0;
+  view_size(o.size, view_width, view_height);  // checked with the plan
+  benchmark::AddCustomContext("heightmarch_view", std::to_string(view_width) + "x" + std::to_string(view_height));
   benchmark::AddCustomContext("heightmarch_depth_map", std::to_string(o.res) + "x" + std::to_string(o.res));
   for (const Configuration& c : *plan) {
     const auto [width, height] = sizes.at(&c);

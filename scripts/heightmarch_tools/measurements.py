@@ -18,6 +18,7 @@ MEASUREMENTS_FORMAT = "heightmarch-measurements"
 MEASUREMENTS_VERSION = 2  # the newest this reads; 1: the measures were named uv_mean, uv_p95, ...
 CLAIMS_VERSION = 2        # 1: a bare list of claims
 KINDS = ("trace", "glsl", "roofline", "ceiling", "naive", "autovec", "exact")
+GL_FIELDS = ("path", "device", "renderer", "version", "driver", "label")  # a GLSL row's renderer (its "gl")
 NON_ISA_BACKENDS = ("glsl", "naive", "exact")
 # The configuration every backend runs (ISA sweep, naive port, roofline, thread scaling).
 HEADLINE_TECHNIQUE, HEADLINE_LAYERS = "pom", "32"
@@ -76,6 +77,9 @@ def validate(data):
         require(isinstance(hf, dict) and {"label", "width", "height"} <= set(hf), "%s: heightfield needs label, width, height" % where)
         require(isinstance(view, dict) and {"kind", "width", "height"} <= set(view), "%s: view needs kind, width, height" % where)
         require(row.get("errors") is None or isinstance(row["errors"], dict), "%s: errors is not an object" % where)
+        gl = row.get("gl")
+        require(gl is None or (isinstance(gl, dict) and all(isinstance(gl.get(k), str) for k in GL_FIELDS)),
+                "%s: gl needs %s as text" % (where, ", ".join(GL_FIELDS)))
         speed = row.get("speed")
         if speed is not None:
             seconds = speed.get("seconds") or []
@@ -161,6 +165,18 @@ def depth_map(row):
 def backend_label(row):
     """The backend as a reader tells rows apart: 'avx2', or 'avx2 autovec' for the auto-vectorised port."""
     return row["backend"] + (" autovec" if row["kind"] == "autovec" else "")
+
+
+def gl_label(row):
+    """What a GLSL row ran on, as results name it: its renderer's label ('glsl (llvmpipe, LLVM 15.0.6,
+    256 bits; OSMesa)'), or 'glsl' for a run from before rows recorded their renderer."""
+    return row["gl"]["label"] if row.get("gl") else row["backend"]
+
+
+def gl_renderers(rows):
+    """The GL renderers of a run's GLSL rows, each once in the rows' order, for the text that names
+    them: 'glsl (llvmpipe, LLVM 15.0.6, 256 bits; OSMesa)', or 'glsl' for a run that did not record it."""
+    return list(dict.fromkeys(gl_label(r) for r in rows if r["kind"] == "glsl"))
 
 
 def config(row):
@@ -316,7 +332,11 @@ def machine_rows(run):
                 plan.get("name", "?"), plan.get("repetitions", "?"), plan.get("min_seconds_per_repetition", "?"))),
             ("views", ", ".join(views) or "-"), ("depth maps", ", ".join(maps) or "-"),
             ("load averages (1/5/15 min)", "before %s, after %s" % (averages(load.get("before")), averages(load.get("after")))),
-            ("other processes' CPU share", "%.1f%%" % (100 * (load.get("other_cpu_share") or 0)))]
+            ("other processes' CPU share", "%.1f%%" % (100 * (load.get("other_cpu_share") or 0))),
+            ("GL renderer", "; ".join(list(dict.fromkeys(
+                "%s: %s, %s, device %s" % (r["gl"]["label"], r["gl"]["version"], r["gl"]["driver"], r["gl"]["device"])
+                if r.get("gl") else "not recorded (before renderers were)" for r in run.rows if r["kind"] == "glsl")))
+             or "no GLSL rows")]
 
 
 def docs_link(run, page, anchor=None):

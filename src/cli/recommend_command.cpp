@@ -93,6 +93,8 @@ std::optional<Candidate> candidate_of(const Json& row, int format_version) {
   c.backend = {glsl ? RunKind::glsl : RunKind::trace,
                glsl ? Isa::scalar : isa_named(row.at("backend").get<std::string>()),
                row.at("threads").get<int>()};
+  // Its renderer's label; a run from before rows recorded it names none.
+  if (const Json& gl = row.value("gl", Json()); glsl && !gl.is_null()) c.backend.gl = printable(gl.at("label").get<std::string>());
   c.grid = !glsl && (has_purpose(row, "matrix") || has_purpose(row, "claims"));
   c.technique = parse_technique(row.at("technique").get<std::string>());
   c.layers = parse_layer_spec(row.at("layers").get<std::string>());

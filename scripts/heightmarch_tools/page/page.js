@@ -41,7 +41,7 @@
 
   function describe(row) {
     const lines = [`<b>${label(row)}</b> (row ${row.id})`, `${row.heightfield}, ${row.view}`,
-                   `${row.backend}, ${row.threads} thread${row.threads === 1 ? "" : "s"}`];
+                   `${row.renderer}, ${row.threads} thread${row.threads === 1 ? "" : "s"}`];
     if (row.rays_per_second) lines.push(`Mrays/s ${spreadText(row.rays_per_second, 1, 1e-6)}`,
                                         `ns/ray ${spreadText(row.ns_per_ray, 2, 1)}`);
     else lines.push("not timed (accuracy only)");
@@ -158,7 +158,9 @@
                checkboxes("technique", "technique (registry colour and marker)",
                           DATA.techniques.map(t => t.name).filter(t => rows.some(r => r.technique === t)), swatch),
                el("div", {class: "selects"},
-                  select("backend", "backend", backends.map(b => [b, b]), rec ? rec.backend : backends[0]),
+                  // GLSL named by its renderer, as the rows of its backend name it
+                  select("backend", "backend", backends.map(b => [b, rows.find(r => r.backend === b).renderer]),
+                         rec ? rec.backend : backends[0]),
                   select("threads", "threads", [["all", "all"]].concat(threads.map(t => [String(t), String(t)])),
                          rec ? String(rec.threads) : "all"),
                   select("view", "view", views.map(v => [v, v]), recView || views.find(v => v.startsWith("default")) || views[0]),
@@ -281,7 +283,7 @@
     const box = document.getElementById("detail");
     box.textContent = "";
     if (!row) return;
-    box.append(el("h3", {text: `${label(row)} on ${row.heightfield}: ${row.backend}, ${row.threads} thread(s), ${row.view}`}));
+    box.append(el("h3", {text: `${label(row)} on ${row.heightfield}: ${row.renderer}, ${row.threads} thread(s), ${row.view}`}));
     const measures = el("p", {class: "figures"});
     measures.innerHTML = describe(row);
     box.append(measures);
@@ -355,14 +357,15 @@
     body.append(el("p", {text: `POM-32, 1 thread, default view, ${h.heightfield}, over the recorded runs of one machine ` +
                                "(median; bars: min-max). Alerts of this run are listed at the top of the page."}),
                 el("label", {}, "machine ", pick));
+    // A history series' colour: its backend's (GLSL series are named by their renderer: "glsl (...)").
+    const colour = backend => DATA.backend_colours[backend.startsWith("glsl (") ? "glsl" : backend.replace("-autovec", " autovec")];
     const draw = () => {
       const series = h.machines[pick.value];
       const runs = unique(Object.values(series).flat().map(p => `${p.date} ${p.commit}`)).sort();
       Plotly.react("history-chart", Object.entries(series).map(([backend, points]) => {
         points = points.slice().sort((a, b) => (a.date < b.date ? -1 : 1));
         return {type: "scatter", mode: "lines+markers", name: backend, x: points.map(p => `${p.date.slice(0, 16)} ${p.commit}`),
-                y: points.map(p => p.mrays[0]), marker: {color: DATA.backend_colours[backend.replace("-autovec", " autovec")]},
-                line: {color: DATA.backend_colours[backend.replace("-autovec", " autovec")]},
+                y: points.map(p => p.mrays[0]), marker: {color: colour(backend)}, line: {color: colour(backend)},
                 error_y: {type: "data", symmetric: false, array: points.map(p => p.mrays[2] - p.mrays[0]),
                           arrayminus: points.map(p => p.mrays[0] - p.mrays[1]), thickness: 1}};
       }), {height: 380, margin: {l: 70, r: 20, t: 20, b: 90}, xaxis: {type: "category", categoryarray: runs},
