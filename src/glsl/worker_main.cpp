@@ -1,7 +1,7 @@
 // heightmarch-glsl-worker --threads N --memory-limit BYTES [--gl PATH] [--gl-device DEVICE]: one GL
 // context (gl_context.hpp: OSMesa or EGL, and through EGL one of its devices; without --gl, OSMesa
 // where it was built with it, else EGL) with llvmpipe at N threads, driven by GlslRunner
-// (src/glsl/glsl_client.cpp) over stdin/stdout with the messages of src/glsl/protocol.hpp. It
+// (src/glsl/glsl_runner.cpp) over stdin/stdout with the messages of src/glsl/protocol.hpp. It
 // exits when its stdin closes, and when its client dies (the client starts it with a parent-death
 // signal; a thread here also watches the channel for the client's hang-up). BYTES is the run's
 // memory budget, which its own checks ask as heightmarch's do; its client starts it under an OS
