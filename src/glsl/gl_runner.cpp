@@ -49,20 +49,25 @@ std::string info_log(GLuint object, bool program) {
   return log;
 }
 
+// A shader compiled or a program linked, or its log thrown (and it deleted): an InputError at
+// the brought-in file's lines, a logic_error for a built-in one.
+GLuint checked(GLuint object, bool program, const std::string& user_path) {
+  GLint ok = 0;
+  program ? glGetProgramiv(object, GL_LINK_STATUS, &ok) : glGetShaderiv(object, GL_COMPILE_STATUS, &ok);
+  if (ok) return object;
+  const std::string log = info_log(object, program);
+  program ? glDeleteProgram(object) : glDeleteShader(object);
+  const std::string what = program ? "shader does not link: " : "shader does not compile: ";
+  if (!user_path.empty()) throw InputError(user_path + ": " + what + user_log(log, user_path));
+  throw std::logic_error("built-in " + what + log);
+}
+
 GLuint compile(GLenum type, const std::string& source, const std::string& user_path) {
   const GLuint shader = glCreateShader(type);
   const char* text = source.c_str();
   glShaderSource(shader, 1, &text, nullptr);
   glCompileShader(shader);
-  GLint ok = 0;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    const std::string log = info_log(shader, false);
-    glDeleteShader(shader);
-    if (!user_path.empty()) throw InputError(user_path + ": shader does not compile: " + user_log(log, user_path));
-    throw std::logic_error("built-in shader does not compile: " + log);
-  }
-  return shader;
+  return checked(shader, false, user_path);
 }
 
 }  // namespace
@@ -159,15 +164,7 @@ GLuint link_program(const std::string& fragment, const std::string& shader_path)
   glLinkProgram(program);
   glDeleteShader(vs);
   glDeleteShader(fs);
-  GLint linked = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &linked);
-  if (!linked) {
-    const std::string log = info_log(program, true);
-    glDeleteProgram(program);
-    if (!shader_path.empty()) throw InputError(shader_path + ": shader does not link: " + user_log(log, shader_path));
-    throw std::logic_error("built-in shader does not link: " + log);
-  }
-  return program;
+  return checked(program, true, shader_path);
 }
 
 }  // namespace
