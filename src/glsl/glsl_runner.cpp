@@ -63,7 +63,7 @@ constexpr double kReadSecondsPerRay = 200e-9;
 constexpr double kReservedBytesPerThread = 32.0 * 1024 * 1024;
 // What a GPU's driver may map beyond that before its context exists (the worker lowers its limit to
 // what it holds then plus the budget): NVIDIA's reserves large private ranges at start-up. An
-// allowance, not a measured figure: scripts/gpu_check records the worker's data after start-up.
+// allowance, not a measured figure: no GPU was at hand (docs/reproducing.md says so).
 constexpr double kGpuDriverBytes = 4.0 * 1024 * 1024 * 1024;
 
 // The draw watchdog. The slowest built-in technique (shadow: a march and a shadow march) takes
@@ -309,7 +309,8 @@ struct WorkerProcess {
         try {
           protocol::send(fd, *request, payload, after(send_timeout));
         } catch (const protocol::ChannelTimeout&) {
-          fail("took no " + std::string(what) + " request within " + seconds_text(send_timeout.count()) + " s; killed",
+          fail("did not take the " + std::string(what) + " request within " + seconds_text(send_timeout.count()) +
+                   " s; killed",
                true);
         }
       }
