@@ -25,7 +25,7 @@ namespace heightmarch {
 // - backend label: what results call the backend, "" for the ISA's name.
 #define HEIGHTMARCH_RUN_KINDS(X)                                                                  \
   X(trace, "trace", "BM_Trace", true, true, "", "")          /* a technique's packet kernel */   \
-  X(glsl, "glsl", "BM_GLSL", true, false, "glsl", "glsl")    /* the same as GLSL in llvmpipe */   \
+  X(glsl, "glsl", "BM_GLSL", true, false, "glsl", "glsl")    /* the same as GLSL (a GL path) */   \
   X(roofline, "roofline", "BM_SamplerRoofline", false, true, "", "") /* the sampler alone */     \
   X(ceiling, "ceiling", "BM_ComputeCeiling", false, true, "", "") /* POM on register taps */     \
   X(naive, "naive", "BM_NaivePort", true, false, "naive", "scalar-naive") /* the tutorial's POM in C++ */ \

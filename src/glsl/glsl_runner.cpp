@@ -246,11 +246,12 @@ struct WorkerProcess {
     check_version(protocol_version);
   }
 
-  // Starts the worker to answer one question (--paths, --list-devices) and reads its answer
-  // within `timeout`; the worker exits after it.
-  void ask(const std::vector<std::string>& args, Message answer, const char* what, Seconds timeout,
+  // Starts the worker to answer one question (--paths; --list-devices, which makes a context on
+  // each device, a GPU's among them) and reads its answer within `timeout`; the worker exits
+  // after it.
+  void ask(const std::vector<std::string>& args, bool gpu_driver, Message answer, const char* what, Seconds timeout,
            const std::function<void(protocol::Reader&)>& parse) {
-    spawn(args, false);
+    spawn(args, gpu_driver);
     std::uint32_t protocol_version = 0;
     call(std::nullopt, {}, answer, what, timeout, [&](protocol::Reader& reader) {
       reader.value(protocol_version);
@@ -428,7 +429,7 @@ std::vector<GlPath> gl_paths_built() {
   WorkerProcess w;
   ask_only(w, "asked which GL paths it has");
   std::vector<GlPath> paths;
-  w.ask({"--paths"}, Message::paths, "--paths", kStartupTimeout, [&](protocol::Reader& reader) {
+  w.ask({"--paths"}, false, Message::paths, "--paths", kStartupTimeout, [&](protocol::Reader& reader) {
     std::vector<std::uint32_t> ids;
     reader.array(ids);
     for (std::uint32_t id : ids) {
@@ -462,7 +463,7 @@ std::vector<GlDevice> list_gl_devices() {
   ask_only(w, "asked for EGL's devices");
   std::vector<GlDevice> devices;
   // Each device gets a context, as at a start-up.
-  w.ask({"--list-devices", "--memory-limit", std::to_string(memory_budget())}, Message::devices, "--list-devices",
+  w.ask({"--list-devices", "--memory-limit", std::to_string(memory_budget())}, true, Message::devices, "--list-devices",
         Seconds(kStartupTimeout.count() * 4), [&](protocol::Reader& reader) { protocol::read(reader, devices); });
   return devices;
 }
