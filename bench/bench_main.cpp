@@ -279,6 +279,7 @@ int main(int argc, char** argv) {
   benchmark::AddCustomContext("heightmarch_compiler", prov.compiler);
   benchmark::AddCustomContext("heightmarch_build_type", prov.build_type);
   benchmark::AddCustomContext("heightmarch_best_isa", to_string(best_isa()));
+  benchmark::AddCustomContext("heightmarch_error_measures", error_measure_names());
   int view_width = 0, view_height = 0;
   view_size(o.size, view_width, view_height);  // checked with the plan
   benchmark::AddCustomContext("heightmarch_view", std::to_string(view_width) + "x" + std::to_string(view_height));

@@ -11,7 +11,7 @@
 //                               (a map or rays not sent: the worker's last ones, unchanged)
 //   draw                        -> drawn {f64 seconds of draw + glFinish, timed in the worker,
 //                                  u8 timer query answered, f64 its seconds}
-//   read                        -> hits {HitBuffers, u8 samples known}
+//   read                        -> hits {HitBuffers' arrays in the list's order (hits.hpp), u8 samples known}
 // and any request may be answered input_error {text} (an InputError: the same one-line message)
 // or error {text} (anything else; the worker stays usable after both). Started to answer one
 // question instead (heightmarch-glsl-worker --paths, --list-devices), it sends one message and exits:
@@ -41,7 +41,7 @@
 
 namespace heightmarch::glsl_protocol {
 
-inline constexpr std::uint32_t kVersion = 4;
+inline constexpr std::uint32_t kVersion = 5;
 inline constexpr std::uint32_t kMagic = 0x4c474d48;  // "HMGL": a stray write to stdout is caught at once
 // The worker's exit status when an allocation failed outside a request (reading one, starting).
 inline constexpr int kOutOfMemoryStatus = 3;
