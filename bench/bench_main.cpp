@@ -50,7 +50,8 @@ void set_counters(benchmark::State& state, const Measurement& m) {
   const double iterations = double(state.iterations());
   state.SetItemsProcessed(std::int64_t(m.rays) * state.iterations());
   state.counters["rays_per_second"] = benchmark::Counter(double(m.rays) * iterations, benchmark::Counter::kIsRate);
-  // A GLSL draw's two clocks, mean seconds of the timed draws (the manual time is one of them: GlDrawTime::seconds()).
+  // A GLSL draw's two clocks, the median seconds of the timed draws (the manual time is one of them:
+  // GlDrawTime::seconds()).
   if (!m.gl_wall_seconds.empty()) state.counters["gl_wall_seconds"] = spread_of(m.gl_wall_seconds).median;
   if (!m.gl_timer_seconds.empty()) state.counters["gl_timer_seconds"] = spread_of(m.gl_timer_seconds).median;
   if (!m.samples_known) return;
