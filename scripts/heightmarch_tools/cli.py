@@ -49,14 +49,15 @@ class Parser(argparse.ArgumentParser):
 
 
 def run(prog, main, *args):
-    """The exit status of main(*args), or of the main() of this package's module named main
-    (imported once the handler is in place: Ctrl-C while matplotlib loads is one line too),
-    every way it can stop turned into one line and a status."""
+    """The exit status of main(*args), or of the function a "module:function" string names in
+    this package (main() by default; imported once the handler is in place: Ctrl-C while
+    matplotlib loads is one line too), every way it can stop turned into one line and a status."""
     for s in SIGNALS:
         signal.signal(s, _raise_interrupted)
     try:
         if isinstance(main, str):
-            main = importlib.import_module("." + main, __package__).main
+            module, _, function = main.partition(":")
+            main = getattr(importlib.import_module("." + module, __package__), function or "main")
         return main(*args)
     except Unusable as e:
         say(prog, str(e))

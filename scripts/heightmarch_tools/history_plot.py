@@ -42,6 +42,8 @@ def draw(data, rows, path):
     picked = [r for r in rows if r["technique"] == HEADLINE_TECHNIQUE and r["layers"] == HEADLINE_LAYERS
               and r["threads"] == "1" and all(r[k] == want[k] for k in ("heightfield", "view", "depth_map"))]
     machines = list(dict.fromkeys(r["machine"] for r in sorted(picked, key=lambda r: r["date"])))
+    if not machines:
+        return False
     runs = {m: sorted({(r["date"], r["commit"]) for r in picked if r["machine"] == m}) for m in machines}
     bases = list(dict.fromkeys(list(data["backends"]) + [r["backend"].replace("-autovec", "") for r in picked]))
     colours = backend_colours(bases + sorted({r["backend"] for r in picked} - set(bases)))

@@ -6,15 +6,16 @@ Usage: scripts/report RUN_DIR [--history results/history.csv]
 Inputs: measurements.json (the run's typed rows, docs/measurements.md; format 1 or 2) and, where
 the run has them, claims.json, recommendation.json and alerts.json. Every speed is the median of
 the repetitions with their min-max; every ratio of two rows is taken per round and shown as the
-median of the per-round ratios with their min-max. With --history, the run is recorded
-(scripts/record_run.py: its rows appended to the history CSV, RUN_DIR/alerts.json against its
-machine's earlier runs, the history plot); a run's alerts.json opens the report.
+median of the per-round ratios with their min-max. With --history, the run, once complete, is
+recorded (record_run.py: RUN_DIR/alerts.json against its machine's earlier runs, the history plot,
+then its rows into the history CSV, under the history's lock); a run's alerts.json opens the
+report.
 """
 import math
 import os
 import statistics
 
-from . import cli, history, record_run, report_page
+from . import cli, record_run, report_page
 from .measurements import (ANY, HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label,  # noqa: E402
                           config, counted, depth_map, machine_rows, docs_link, glsl_pairs, groups, load_run, measurements_csv,
                           rays_rounds, read_claims, read_optional, samples_rounds, searches_per_isa,
@@ -478,14 +479,24 @@ TABLES = [("Techniques x layers, per heightfield", "techniques-x-layers-per-heig
 def main(argv=None):
     parser = cli.Parser(prog="report", description=__doc__.splitlines()[0])
     parser.add_argument("run_dir")
-    parser.add_argument("--history", help="history CSV to append this run's timed rows to, and to plot")
+    parser.add_argument("--history", help="record the run (a complete one) into this history CSV, and plot it")
     args = parser.parse_args(argv)
     run = load_run(args.run_dir)
     claims = read_claims(os.path.join(args.run_dir, "claims.json"))
     recommendation = read_optional(os.path.join(args.run_dir, "recommendation.json"), "heightmarch-recommendation")
-    history_drawn = record_run.record(args.run_dir, args.history)[0] if args.history else None
-    recorded = history.read(args.history) if args.history else None
-    alerts = read_optional(os.path.join(args.run_dir, "alerts.json"), "heightmarch-alerts")
+    if args.history:  # the report is written while the run is recorded, before the history is
+        record_run.record(run.data, args.run_dir, args.history,
+                          lambda rows, drawn, found: write_report(run, claims, recommendation, found, rows, drawn))
+    else:
+        alerts = read_optional(os.path.join(args.run_dir, "alerts.json"), "heightmarch-alerts")
+        write_report(run, claims, recommendation, alerts, None, None)
+    print("report: %s" % os.path.join(args.run_dir, "report.md"))
+    return 0
+
+
+def write_report(run, claims, recommendation, alerts, recorded, history_drawn):
+    """report.md, tables.md, plots/, measurements.csv and report.html; recorded: the history's
+    rows when the run is being recorded (history_drawn: whether its plot was drawn)."""
     faults = []  # the tables find them, the warnings on the first screen name them
     tables = (section_matrix(run) + section_glsl(run) + section_every_backend(run, faults)
               + section_searches_per_isa(run) + section_exact_speed(run) + section_threads(run) + section_gallery(run))
@@ -511,11 +522,9 @@ def main(argv=None):
     tables_md = ["# heightmarch tables: " + title, "",
                  "The long tables of [report.md](report.md). Speeds: median (min-max) of the repetitions; ratios: "
                  "median (min-max) of the per-round ratios."] + tables
-    atomic_write(os.path.join(args.run_dir, "measurements.csv"), measurements_csv(run.rows))
-    atomic_write(os.path.join(args.run_dir, "tables.md"), "\n".join(tables_md) + "\n")
-    atomic_write(os.path.join(args.run_dir, "report.md"), "\n".join(md) + "\n")
+    atomic_write(os.path.join(run.dir, "measurements.csv"), measurements_csv(run.rows))
+    atomic_write(os.path.join(run.dir, "tables.md"), "\n".join(tables_md) + "\n")
+    atomic_write(os.path.join(run.dir, "report.md"), "\n".join(md) + "\n")
     report_page.write_page(run, claims, recommendation, alerts, recorded, warnings(run, faults), faults,
                            backend_colours(run.backend_names()))
-    print("report: %s" % os.path.join(args.run_dir, "report.md"))
-    return 0
 

@@ -1,7 +1,7 @@
 // heightmarch suite: the main job. Builds the typed plan (suite_plan.hpp), measures every
 // configuration once, and writes the run's files from its rows into a fresh directory:
 // measurements.json, bench.json, recommendation.json, the gallery, claims.md/claims.json, and
-// through scripts/report measurements.csv, report.md and report.html.
+// through the report (report_command.hpp) measurements.csv, report.md and report.html.
 #include "cli/suite_command.hpp"
 
 #include <algorithm>
@@ -14,6 +14,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
+#include "cli/report_command.hpp"
 #include "cli/run_directory.hpp"
 #include "heightmarch/error.hpp"
 #include "heightmarch/run_outputs.hpp"
@@ -121,12 +122,6 @@ void apply(const CandidateOptions& o, PlanSettings& s) {
   }
 }
 
-std::string shell_quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
 // gallery/<heightfield>-<technique>[-<layers>]: the stem of a gallery row's images.
 std::string gallery_stem(const Configuration& c) {
   const std::string what = c.kind == RunKind::exact ? "exact" : to_string(c.params.technique) + "-" + to_string(c.params.layers);
@@ -224,13 +219,11 @@ Command add_suite_command(CLI::App& app) {
       dir.finished("claims.md, claims.json");
     }
     progress.stage("report");
-    std::string report = "/usr/bin/python3 " + shell_quote(std::string(HEIGHTMARCH_SOURCE_DIR) + "/scripts/report") + " " +
-                         shell_quote(dir.path());
-    if (record) report += " --history results/history.csv";
-    if (std::system(report.c_str()) != 0)
-      throw std::runtime_error("scripts/report failed for " + dir.path());
+    write_report(dir.path(), "");
     dir.complete();
-    if (record) {
+    if (record) {  // only a complete run is recorded: the report again, now with the history and its alerts
+      progress.stage("recording into results/history.csv");
+      write_report(dir.path(), "results/history.csv");
       std::error_code ec;
       fs::remove("results/latest", ec);
       fs::create_directory_symlink(run_name, "results/latest");
