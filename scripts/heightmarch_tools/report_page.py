@@ -10,7 +10,7 @@ import os
 
 from .measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label, depth_map,
                           docs_link, glsl_pairs, machine_rows, ns_per_ray_rounds, rays_rounds, searches_per_isa, speedup, view_name)
-from .escape import html as esc, script_json
+from .escape import csv_cell, html as esc, script_json
 from .report_content import (alerts_summary, fmt_ratio, fmt_spread, recommendation_columns, recommendation_intro,
                              recommendation_rows)
 from .spreads import spread
@@ -147,14 +147,15 @@ def warnings_html(warnings):
 
 def history_series(run, recorded):
     """The headline configuration (POM-32, 1 thread, default view, the first heightfield) over the
-    recorded runs, per machine (the history's machine column; the CPU where it has none) and backend."""
+    recorded runs, per machine (the history's machine column; the CPU where it has none) and backend.
+    The history holds names as CSV cells (escape.csv_cell): the heightfield is matched so."""
     if recorded is None:
         return None
     hf = run.heightfields[0] if run.heightfields else ""
     series = {}
     for r in recorded:
         if (r.get("technique"), r.get("layers"), r.get("threads"), r.get("heightfield")) != (
-                HEADLINE_TECHNIQUE, HEADLINE_LAYERS, "1", hf) or not r.get("view", "").startswith("default"):
+                HEADLINE_TECHNIQUE, HEADLINE_LAYERS, "1", csv_cell(hf)) or not r.get("view", "").startswith("default"):
             continue
         machine = r.get("machine") or r.get("cpu") or "?"
         series.setdefault(machine, {}).setdefault(r["backend"], []).append(

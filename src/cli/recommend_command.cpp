@@ -66,7 +66,7 @@ using Json = nlohmann::json;
 // 18 MB beside its text); 8 with the text and room, checked against the memory budget first.
 constexpr double kJsonParseFactor = 8.0;
 constexpr std::uintmax_t kMaxMeasurementsBytes = std::uintmax_t(1) << 36;
-constexpr std::int64_t kMaxCount = std::int64_t(1) << 53;  // ids, rays, sizes: exact in a double
+constexpr std::int64_t kMaxRays = std::int64_t(1) << 53;  // exact in a double
 // Bounds no measurement reaches, so that no figure made of them overflows: a repetition of a
 // week; errors and samples per ray far beyond any map.
 constexpr double kMaxSeconds = 7 * 24 * 3600.0;
@@ -146,7 +146,7 @@ std::optional<Candidate> candidate_of(const RowFields& f, int format_version) {
   if (f.at("technique").is_null() || !f.optional("shader").is_null()) return std::nullopt;
   if (f.at("errors").is_null() || f.at("speed").is_null() || !f.at("failure").is_null()) return std::nullopt;
   if (f.text(f.at(f.at("view"), "kind", "view.kind"), "view.kind") != "default") return std::nullopt;
-  const std::int64_t rays = f.integer(f.at("rays"), "rays", 0, kMaxCount);
+  const std::int64_t rays = f.integer(f.at("rays"), "rays", 0, kMaxRays);
   if (rays == 0) return std::nullopt;
   Candidate c;
   c.id = int(f.integer(f.at("id"), "id", 0, std::numeric_limits<int>::max()));

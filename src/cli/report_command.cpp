@@ -63,8 +63,9 @@ std::vector<char*> pointers(std::vector<std::string>& strings) {
 void write_report(const std::string& run_dir, const std::string& history) {
   // -s: no user site-packages; -P: no current directory on the path, so nothing of the user's
   // directory is imported in place of the package or the standard library.
-  std::vector<std::string> args = {kPython, "-s", "-P", "-m", "heightmarch_tools", "report", run_dir};
+  std::vector<std::string> args = {kPython, "-s", "-P", "-m", "heightmarch_tools", "report"};
   if (!history.empty()) args.insert(args.end(), {"--history", history});
+  args.insert(args.end(), {"--", run_dir});  // a directory named like an option is still the run
   std::vector<std::string> env = {"PYTHONPATH=" + tools_directory()};
   for (char** e = environ; *e; ++e)
     if (std::strncmp(*e, "PYTHONPATH=", 11) != 0 && std::strncmp(*e, "PYTHONHOME=", 11) != 0) env.emplace_back(*e);
@@ -77,6 +78,7 @@ void write_report(const std::string& run_dir, const std::string& history) {
   for (std::size_t i = 0; i < std::size(kPassedOn); ++i) ::sigaction(kPassedOn[i], &pass, &previous[i]);
   const pid_t parent = ::getpid();
   const pid_t child = ::fork();
+  const int fork_errno = errno;
   if (child == 0) {
     for (int s : kPassedOn) ::signal(s, SIG_DFL);
     ::setpgid(0, 0);
@@ -94,7 +96,6 @@ void write_report(const std::string& run_dir, const std::string& history) {
     }
     g_child = 0;
   }
-  const int fork_errno = errno;
   for (std::size_t i = 0; i < std::size(kPassedOn); ++i) ::sigaction(kPassedOn[i], &previous[i], nullptr);
   if (child < 0) throw std::runtime_error(std::string("cannot start the report: ") + std::strerror(fork_errno));
   if (g_signal) {  // the report has ended (it said so); this process ends by the same signal

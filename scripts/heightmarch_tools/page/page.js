@@ -215,7 +215,7 @@
         const group = mine.filter(r => r.technique === t);
         const marker = SYMBOLS[STYLE[t].marker] || "circle";
         traces.push({
-          type: "scatter", mode: "markers", name: esc(t), uid: `cfg-${t}`, x: group.map(xOf), y: group.map(yOf),
+          type: "scatter", mode: "markers", name: esc(t), uid: `cfg-${DATA.techniques.findIndex(x => x.name === t)}`, x: group.map(xOf), y: group.map(yOf),
           customdata: group.map(r => r.id), text: group.map(hoverText), hovertemplate: "%{text}<extra></extra>",
           marker: {color: STYLE[t].color, size: 9, line: {color: STYLE[t].color, width: 1.5},
                    symbol: group.map(r => meetsWrongBound(r) ? marker : `${marker}-open`)},
