@@ -34,9 +34,23 @@ MAXMIP_PEAK = ("techniques.md", "maxmip-at-a-grazing-one-texel-peak")
 # ---------------------------------------------------------------------------------------------
 # Files
 
+# The measures of a file written before measurements.json listed them (docs/measurements.md: "the
+# ten above"); a newer file's own list ("measures") is read instead.
+FORMER_MEASURES = [{"name": n, "label": label} for n, label in (
+    ("uv_error_mean", "mean uv error (texels)"), ("uv_error_rms", "RMS uv error (texels)"),
+    ("uv_error_p50", "p50 uv error (texels)"), ("uv_error_p95", "p95 uv error (texels)"),
+    ("uv_error_p99", "p99 uv error (texels)"), ("uv_error_max", "max uv error (texels)"),
+    ("wrong_surface_rate", "wrong surface (share of rays)"), ("depth_error_mean", "mean depth error"),
+    ("shadow_error_mean", "mean shadow factor error"), ("shadow_mismatch_rate", "shadow mismatch (share)"))]
+MEASURE_NAME = re.compile(r"[a-z][a-z0-9_]*")
+
+
 def upgrade(data):
-    """A format 1 measurements.json as format 2: its measures under their one name (uv_p95 ->
-    uv_error_p95), as bench.json and every newer file name them."""
+    """An older measurements.json as the newest: the measures of format 1 under their one name
+    (uv_p95 -> uv_error_p95), as bench.json and every newer file name them; the list of measures
+    where the file has none."""
+    if isinstance(data, dict) and "measures" not in data:
+        data = dict(data, measures=FORMER_MEASURES)
     if data.get("schema") != MEASUREMENTS_FORMAT + "/1":
         return data
     data = dict(data, format=MEASUREMENTS_FORMAT, format_version=1)
@@ -88,6 +102,11 @@ def validate(data, where):
         w["color"].check(isinstance(t["color"], str) and COLOUR.fullmatch(t["color"]), "is not a colour #rrggbb")
         w["marker"].one_of(t["marker"], sorted(MARKERS))
         w["description"].text(t.get("description", ""))
+    for i, m in enumerate(where["measures"].list(data.get("measures"))):
+        where["measures"][i].object(m, ("name", "label"))
+        where["measures"][i]["name"].check(isinstance(m["name"], str) and MEASURE_NAME.fullmatch(m["name"]),
+                                           "is not a measure's name (lower case, digits, _)")
+        where["measures"][i]["label"].text(m["label"])
     backends = where["backends"].list(data.get("backends"))
     where["backends"].check(backends, "is empty")
     for i, b in enumerate(backends):
@@ -368,6 +387,7 @@ class Run:
         self.by_id = {r.get("id"): r for r in self.rows}
         self.timed = [r for r in self.rows if r.get("speed")]
         self.techniques = [t["name"] for t in data["techniques"]]
+        self.measures = data["measures"]  # [{"name", "label"}], the run's own list
         self.style = {t["name"]: t for t in data["techniques"]}
         self.backends = data["backends"]
         self.isas = [b for b in self.backends if b not in NON_ISA_BACKENDS]

@@ -20,8 +20,6 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 PLOTLY = os.path.join(HERE, "vendor", "plotly.js-basic-dist-min", "plotly-basic.min.js")
 PAGE_SCRIPT = os.path.join(HERE, "page", "page.js")
 PAGE_STYLE = os.path.join(HERE, "page", "page.css")
-MEASURES = ("uv_error_mean", "uv_error_rms", "uv_error_p50", "uv_error_p95", "uv_error_p99", "uv_error_max",
-            "wrong_surface_rate", "depth_error_mean", "shadow_error_mean", "shadow_mismatch_rate")
 
 
 def read(path):
@@ -61,7 +59,8 @@ def page_rows(run):
             "ns_per_ray": [rounded(x) for x in ns] if ns else None,
             "samples_per_ray": rounded(r.get("samples_per_ray")),
             "precompute_seconds": rounded(r.get("precompute_seconds")),
-            "errors": {m: rounded(r["errors"].get(m)) for m in MEASURES if r["errors"].get(m) is not None},
+            "errors": {m["name"]: rounded(r["errors"][m["name"]]) for m in run.measures
+                       if r["errors"].get(m["name"]) is not None},
             "images": r.get("images")})
     return out
 
@@ -170,6 +169,7 @@ def write_page(run, claims, recommendation, alerts, recorded, warnings, faults, 
         "title": "%s run of %s, commit %s" % (run.plan.get("name", "?"), run.provenance.get("date", "?"),
                                                run.provenance.get("commit", "?")),
         "techniques": run.data["techniques"],
+        "measures": run.measures,
         "backend_colours": backend_colours,
         "rows": page_rows(run),
         "recommendation": recommendation,

@@ -6,7 +6,7 @@ import sys
 
 import pytest
 
-from heightmarch_tools import measurements
+from heightmarch_tools import measurements, report_page
 from heightmarch_tools.errors import Unusable
 
 SCRIPTS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts")
@@ -38,6 +38,15 @@ def write_run(tmp_path, data):
 def test_a_valid_run_loads(tmp_path):
     run = measurements.load_run(write_run(tmp_path, run_data()))
     assert run.rows[0]["threads"] == 2 and run.heightfields == ["bricks"]
+    assert [m["name"] for m in run.measures][:2] == ["uv_error_mean", "uv_error_rms"]  # a file without the list
+
+
+def test_the_page_shows_the_measures_the_file_lists(tmp_path):
+    data = run_data()
+    data["measures"] = [{"name": "uv_error_p99", "label": "p99"}, {"name": "glint_error_mean", "label": "glint"}]
+    data["rows"][0]["errors"]["glint_error_mean"] = 0.25
+    run = measurements.load_run(write_run(tmp_path, data))
+    assert report_page.page_rows(run)[0]["errors"] == {"uv_error_p99": 1.5, "glint_error_mean": 0.25}
 
 
 def mutate(path, value):
@@ -65,6 +74,7 @@ BAD = [
     (mutate(("techniques", 0, "marker"), "$x$"), "techniques[0]: marker: is \"$x$\", none of"),
     (mutate(("rows",), [run_data()["rows"][0]] * 2), "rows[1]: id: is 0, the id of an earlier row"),
     (mutate(ROW + ("kind",), "\x1b[2J"), "rows[0]: kind: is \"\\u001b[2J\", none of"),
+    (mutate(("measures",), [{"name": "<b>", "label": "x"}]), "measures[0]: name: is not a measure's name"),
 ]
 
 

@@ -11,11 +11,7 @@
                    "<": "triangle-left", ">": "triangle-right", P: "cross", "+": "cross-thin", X: "x", x: "x-thin",
                    p: "pentagon", h: "hexagon", H: "hexagon2", "8": "octagon", "*": "star"};
   const STYLE = Object.fromEntries(DATA.techniques.map(t => [t.name, t]));
-  const MEASURES = [["uv_error_mean", "mean uv error (texels)"], ["uv_error_rms", "RMS uv error (texels)"],
-                    ["uv_error_p50", "p50 uv error (texels)"], ["uv_error_p95", "p95 uv error (texels)"],
-                    ["uv_error_p99", "p99 uv error (texels)"], ["uv_error_max", "max uv error (texels)"],
-                    ["wrong_surface_rate", "wrong surface (share of rays)"], ["depth_error_mean", "mean depth error"],
-                    ["shadow_error_mean", "mean shadow factor error"], ["shadow_mismatch_rate", "shadow mismatch (share)"]];
+  const MEASURES = DATA.measures.map(m => [m.name, m.label]);  // measurements.json's own list
   const COSTS = [["ns_per_ray", "time per ray (ns), median; bars: min-max"], ["samples_per_ray", "height samples per ray"]];
   const TARGET = DATA.recommendation ? DATA.recommendation.target : null;
   const PLOT_CONFIG = {displaylogo: false, responsive: true, modeBarButtonsToRemove: ["select2d", "lasso2d"]};
