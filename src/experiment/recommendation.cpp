@@ -47,7 +47,7 @@ std::string describe(const RecommendationTarget& t) {
 std::string RecommendationBackend::backend() const { return kind == RunKind::glsl ? "glsl" : to_string(isa); }
 
 std::string RecommendationBackend::name() const {
-  return backend() + ", " + std::to_string(threads) + (threads == 1 ? " thread" : " threads");
+  return (gl.empty() ? backend() : gl) + ", " + std::to_string(threads) + (threads == 1 ? " thread" : " threads");
 }
 
 std::vector<Candidate> candidates(const std::vector<Measurement>& rows) {
@@ -63,7 +63,7 @@ std::vector<Candidate> candidates(const std::vector<Measurement>& rows) {
     k.heightfield = c.heightfield.label();
     k.depth_map_width = m.depth_map_width;
     k.depth_map_height = m.depth_map_height;
-    k.backend = {c.kind, c.kind == RunKind::trace ? c.isa : Isa::scalar, c.threads};
+    k.backend = {c.kind, c.kind == RunKind::trace ? c.isa : Isa::scalar, c.threads, m.gl ? m.gl->label() : ""};
     k.grid = c.purposes & (kPurposeMatrix | kPurposeClaims);
     k.technique = c.params.technique;
     k.layers = c.params.layers;
@@ -345,11 +345,11 @@ std::string recommendation_markdown(const Recommendation& r) {
                    "the repetitions) on each heightfield, and one setting for all of them:\n\n"
                    "| backend | heightfield | recommendation |\n|---|---|---|\n";
   for (const BackendRecommendation& b : r.backends) {
-    md += "| " + markdown_cell(b.backend.name()) + " | **all** | " +
-          markdown_cell(answer_line(b.all_heightfields, r.target)) + " |\n";
+    md += "| " + markdown_text(b.backend.name()) + " | **all** | " +
+          markdown_text(answer_line(b.all_heightfields, r.target)) + " |\n";
     for (const Answer& a : b.per_heightfield)
-      md += "| " + markdown_cell(b.backend.name()) + " | " + markdown_cell(a.heightfield) + " | " +
-            markdown_cell(answer_line(a, r.target)) + " |\n";
+      md += "| " + markdown_text(b.backend.name()) + " | " + markdown_text(a.heightfield) + " | " +
+            markdown_text(answer_line(a, r.target)) + " |\n";
   }
   return md;
 }
@@ -361,7 +361,7 @@ std::string recommendation_text(const Recommendation& r) {
     text +=
         "  " + b.backend.name() + ", every heightfield: " + answer_line(b.all_heightfields, r.target) + "\n";
     for (const Answer& a : b.per_heightfield)
-      text += "    " + a.heightfield + ": " + answer_line(a, r.target) + "\n";
+      text += "    " + printable(a.heightfield) + ": " + answer_line(a, r.target) + "\n";
   }
   return text;
 }

@@ -23,6 +23,7 @@ Configuration on_view(const PlanSettings& s, const HeightfieldSource& hf, RunKin
   c.params.filter = takes_filter(kind) ? s.filter : Filter::bilinear;
   c.isa = s.best_isa;
   c.threads = s.threads;
+  if (kind == RunKind::glsl) c.gl = s.gl;
   c.purposes = purposes;
   return c;
 }
