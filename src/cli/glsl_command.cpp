@@ -138,7 +138,8 @@ Command add_glsl_command(CLI::App& app) {
           ->expected(0, 1)
           ->type_name("[TECHNIQUE]");
   return [o, compare] {
-    Configuration glsl = trace_configuration(o->trace, RunKind::glsl);
+    LayerSpec layers_asked;
+    Configuration glsl = trace_configuration(o->trace, RunKind::glsl, &layers_asked);
     if (!o->shader.empty()) glsl.shader = BroughtInShader{o->shader};
     if (!o->shader.empty()) user_source(read_input_file(o->shader, "shader file", kMaxShaderBytes), o->shader);  // before the run
     std::optional<RunDirectory> dir;  // checked and locked before the run
@@ -151,7 +152,7 @@ Command add_glsl_command(CLI::App& app) {
         cpu.shader.reset();
         cpu.isa = select_isa("");
         cpu.params.technique = technique;
-        cpu.params.layers = layers_for(technique, parse_layer_spec(o->trace.layers));  // the layers asked for
+        cpu.params.layers = layers_for(technique, layers_asked);
         cpu.params.refine = o->trace.refine;
         plan.push_back(cpu);
       }

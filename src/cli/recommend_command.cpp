@@ -59,13 +59,6 @@ namespace {
 
 using Json = nlohmann::json;
 
-// The ISA named in a row, whichever machine measured it (no check that this CPU runs it).
-Isa isa_named(const std::string& name) {
-  for (Isa isa : all_isas())
-    if (to_string(isa) == name) return isa;
-  throw InputError("backend '" + name + "' is no ISA of " + isa_names());
-}
-
 bool has_purpose(const Json& row, const std::string& name) {
   for (const Json& p : row.at("purposes"))
     if (p.get<std::string>() == name) return true;
