@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The history per machine and its change-point alerts (scripts/record_run.py, history.py,
-# alerts.py, history_plot.py) on synthetic runs, no build needed: every row names its machine
+# The history per machine and its change-point alerts (heightmarch_tools's record_run,
+# history, alerts and history_plot) on synthetic runs, no build needed: every row names its machine
 # (a CPU without family and model is an unknown machine), a rerun replaces its rows, five quiet
 # runs then a 20% step in one headline series raise exactly that speed alert, noise within the
 # rule raises none, a change of samples per ray is a behaviour alert, another machine's runs are
@@ -9,14 +9,14 @@
 # Usage: test_history.sh [BUILD_DIR] (unused)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
+export PYTHONPATH="$root/scripts"  # the package heightmarch_tools
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 
-/usr/bin/python3 - "$root/scripts" "$tmp" <<'PY'
+/usr/bin/python3 - "$tmp" <<'PY'
 import json, os, sys
-sys.path.insert(0, sys.argv[1])
-import history, record_run
-tmp = sys.argv[2]
+from heightmarch_tools import alerts, history, record_run
+tmp = sys.argv[1]
 hist = os.path.join(tmp, "history.csv")
 ZEN4 = "AMD EPYC (family 25, model 17)"
 
@@ -48,7 +48,7 @@ def run(day, cpu=ZEN4, speed=None, samples=None):
     d = os.path.join(tmp, "run-%02d-%s" % (day, cpu[:3]))
     os.makedirs(d, exist_ok=True)
     json.dump(data, open(os.path.join(d, "measurements.json"), "w"))
-    drawn, found = record_run.record(d, hist)
+    drawn, found = record_run.record(data, d, hist)
     on_disk = json.load(open(os.path.join(d, "alerts.json")))
     if on_disk != found or set(on_disk) != {"format_version", "machine", "series_tested", "rule", "alerts"} \
             or on_disk["format_version"] != 1 or not drawn:
@@ -99,8 +99,7 @@ if found["alerts"] or found["series_tested"] != 0 or found["machine"] != "unknow
     fail("an unknown machine's run was judged: %s" % found)
 print("ok: another machine's runs and an unknown machine's are never judged against this machine's")
 
-kept = history.read(os.path.join(tmp, "alerts.csv"), ["date", "commit", "machine", "series", "kind", "metric", "baseline",
-                                                      "baseline_spread", "new", "change", "message"])
+kept = history.read(os.path.join(tmp, "alerts.csv"), alerts.ALERTS)
 if [(r["commit"], r["kind"]) for r in kept] != [("c06", "speed"), ("c07", "speed"), ("c08", "behaviour")]:
     fail("alerts.csv: %s" % [(r["commit"], r["kind"]) for r in kept])
 print("ok: alerts.csv keeps every run's alerts")
