@@ -1,6 +1,6 @@
 # The ISAs the packet kernels are compiled for: one list per architecture, narrowest first, and
 # the only one. Everything else derives from it (see heightmarch_generate_isas below): the C++ list
-# (the generated heightmarch/isa_list.hpp: the Isa enum, names, CPU checks, packet widths), one
+# (the generated heightmarch/isa_list.hpp: the Isa enum, names, CPU features, packet widths), one
 # kernel and one auto-vectorised translation unit per ISA compiled with its flags, and the tests.
 #
 # heightmarch_isa(ID NAME HEADER WIDTH MARCH_PACKETS WALK_PACKETS HIGHWAY_TARGET CPU_FEATURES FLAGS
