@@ -50,6 +50,15 @@ bool Configuration::same_measurement(const Configuration& o) const {
          threads == o.threads && shader == o.shader && same_gl;
 }
 
+std::string plan_line(const Configuration& c) {
+  std::string purposes;
+  for (unsigned i = 0; i < kPurposeCount; ++i)
+    if (c.purposes & (1u << i)) purposes += (purposes.empty() ? "" : ",") + purpose_name(1u << i);
+  const std::string layers = c.kind == RunKind::exact ? "" : to_string(c.params.layers);
+  return c.heightfield.label() + "\t" + to_string(c.kind) + "\t" + c.label() + "\t" + layers + "\t" + c.backend() + "\t" +
+         std::to_string(c.threads) + "\t" + describe(c.view) + "\t" + (c.timed ? "timed" : "accuracy") + "\t" + purposes;
+}
+
 void add_to_plan(std::vector<Configuration>& plan, const Configuration& config) {
   for (Configuration& c : plan)
     if (c.same_measurement(config)) {
