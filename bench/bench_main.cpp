@@ -1,6 +1,7 @@
 // build/heightmarch-bench: Google Benchmark over the registries (techniques x layer specs x ISA
 // x threads, the same as GLSL, POM-32's anchors: the sampler roofline, the compute ceiling, the
-// naive port, its auto-vectorised form and its Highway form per ISA, and the exact reference) on the default view
+// naive port, its auto-vectorised form and its Highway form per ISA, the hand-written kernel's
+// structure on Highway's ops per ISA, and the exact reference) on the default view
 // of each heightfield. Names come from benchmark_name(), as in a suite's bench.json; counters
 // carry speed and accuracy. A configuration is checked against the scalar reference before it is
 // timed: a wrong kernel never produces a number.
@@ -17,6 +18,7 @@
 #include <optional>
 
 #include "baselines/naive_port.hpp"
+#include "baselines/structured_pom.hpp"
 #include "heightmarch/error.hpp"
 #include "heightmarch/measurement.hpp"
 #include "heightmarch/trace.hpp"
@@ -107,6 +109,8 @@ std::vector<Configuration> bench_plan(const BenchOptions& o) {
         for (RunKind anchor : {RunKind::roofline, RunKind::ceiling, RunKind::autovec})
           add(anchor, Technique::pom, parse_layer_spec("32"), isa, n);
         if (highway_port_runs(isa)) add(RunKind::highway, Technique::pom, parse_layer_spec("32"), isa, n);
+        if (highway_structured_runs(isa))
+          add(RunKind::highway_structured, Technique::pom, parse_layer_spec("32"), isa, n);
       }
       for (const char* layers : {"32", "8-32"}) add(RunKind::naive, Technique::pom, parse_layer_spec(layers), Isa::scalar, n);
       // The exact reference beside the techniques it measures (its float pass at the widest ISA asked for).

@@ -1,0 +1,50 @@
+#include "baselines/structured_pom.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+
+#include "baselines/highway_port.hpp"
+#include "heightmarch/error.hpp"
+
+namespace heightmarch {
+
+#ifndef HEIGHTMARCH_HAVE_HIGHWAY
+// Built without Google Highway (libhwy-dev): it runs nowhere.
+TraceRangeFn highway_structured_kernel(Isa) { return nullptr; }
+#endif
+
+bool highway_structured_runs(Isa isa) { return highway_structured_kernel(isa) != nullptr; }
+
+HighwayStructuredPom::HighwayStructuredPom(const DepthMap& map, const TechniqueParams& params, Isa isa)
+    : params_(params), kernel_(highway_structured_kernel(isa)), texture_(map, params.wrap) {
+  if (!kernel_)
+    throw InputError("the structured Highway POM does not run at ISA " + to_string(isa) + " in this build on this CPU");
+  if (params.technique != Technique::pom ||
+      addressing_of(map.width, map.height, params.wrap) != Addressing::repeat_pow2)
+    throw InputError("the structured Highway POM runs pom on REPEAT depth maps of power-of-two sides only");
+}
+
+TraceStats HighwayStructuredPom::run(const RayBatch& rays, HitBuffers& hits) const {
+  hits.resize(rays.size());
+  const KernelTexture texture{texture_.texels.data(), texture_.width, texture_.height, texture_.stride, texture_.wrap};
+  const KernelParams params{params_.layers.min_layers, params_.layers.max_layers, 0, params_.scale, params_.discard,
+                            {params_.light[0], params_.light[1], params_.light[2]}};
+  const KernelRays kernel_rays{rays.tx.data(), rays.ty.data(), rays.vx.data(), rays.vy.data(), rays.vz.data()};
+  const KernelHits kernel_hits{hits.u.data(), hits.v.data(), hits.depth.data(), hits.shadow.data(),
+                               hits.samples.data(), hits.discarded.data()};
+  tbb::combinable<KernelCounters> counters;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.tile_count(), 1), [&](const auto& tiles) {
+    for (std::size_t t = tiles.begin(); t != tiles.end(); ++t)
+      kernel_(texture, params, kernel_rays, kernel_hits, rays.tile_offsets[t], rays.tile_offsets[t + 1],
+              counters.local());
+  });
+  TraceStats stats;
+  counters.combine_each([&](const KernelCounters& c) {
+    stats.lane_samples += c.lane_samples;
+    stats.packet_samples += c.packet_samples;
+  });
+  return stats;
+}
+
+}  // namespace heightmarch
