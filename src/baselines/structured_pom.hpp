@@ -7,7 +7,7 @@
 #include "heightmarch/rays.hpp"
 #include "heightmarch/sampler.hpp"
 #include "heightmarch/technique.hpp"
-#include "heightmarch/trace.hpp"
+#include "heightmarch/tracer.hpp"
 #include "kernels/kernel_abi.hpp"
 
 namespace heightmarch {
