@@ -13,10 +13,12 @@ from .writers import atomic_write
 
 MACHINE_PARTS = ["cpu", "cores", "best_isa", "compiler", "build_type"]
 SERIES_FIELDS = ["backend", "threads", "heightfield", "technique", "layers", "view", "depth_map"]
-# Deterministic measures: any change at the same configuration is a behaviour change.
-MEASURES = ["samples_per_ray", "uv_error_mean", "uv_error_p95", "wrong_surface_rate"]
+# Deterministic measures: any change at the same configuration is a behaviour change. SIMD use
+# (the packet kernels' share of busy lanes) came last: older files lack its column.
+MEASURES = ["samples_per_ray", "uv_error_mean", "uv_error_p95", "wrong_surface_rate", "simd_utilization"]
 COLUMNS = (["date", "commit", "machine"] + MACHINE_PARTS + SERIES_FIELDS
            + ["rays_per_second_median", "rays_per_second_min", "rays_per_second_max"] + MEASURES)
+COLUMNS_BEFORE_SIMD_USE = COLUMNS[:-1]
 UNKNOWN_PREFIX = "unknown-"
 
 
@@ -81,6 +83,8 @@ def measure(row, name):
     errors = row.get("errors") or {}
     if name == "samples_per_ray":
         value = row.get("samples_per_ray") if row.get("samples_known") else None
+    elif name == "simd_utilization":
+        value = row.get("simd_utilization")
     else:
         # measurements.json names them as bench.json does (uv_error_mean) or, before, without "error_"
         value = errors.get(name, errors.get(name.replace("uv_error_", "uv_")))
@@ -109,9 +113,9 @@ def read(path, columns=COLUMNS):
         return []
     with open(path, newline="") as f:
         reader = csv.DictReader(f)
-        if reader.fieldnames != columns:
+        if reader.fieldnames != columns and not (columns == COLUMNS and reader.fieldnames == COLUMNS_BEFORE_SIMD_USE):
             raise Unusable("%s: columns are not %s" % (path, ",".join(columns)))
-        return list(reader)
+        return [{k: r.get(k, "") for k in columns} for r in reader]  # an older file: its SIMD use empty
 
 
 def write(path, rows, columns=COLUMNS):

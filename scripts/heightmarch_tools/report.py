@@ -18,7 +18,7 @@ from . import cli, history, record_run, report_page
 from .measurements import (ANY, HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label,  # noqa: E402
                           config, counted, depth_map, machine_rows, docs_link, glsl_pairs, groups, load_run, measurements_csv,
                           rays_rounds, read_claims, read_optional, samples_rounds, searches_per_isa,
-                          speedup, view_name, backend_colours)
+                          simd_use, speedup, view_name, walks_per_isa, backend_colours)
 from .report_plots import plot_error_vs_angle, plot_error_vs_layers, plot_error_vs_speed, plot_isa_speedup
 from .spreads import per_round, relative_spread, spread
 from .writers import atomic_write
@@ -366,6 +366,24 @@ def section_searches_per_isa(run):
     return section(title, body)
 
 
+def section_walks(run):
+    """The walks' samples/s with their SIMD use, at every ISA."""
+    title = "The walks' lanes at every ISA"
+    found = walks_per_isa(run)
+    if not found:
+        return section(title, [])
+    body = ["The techniques that walk the min-depth pyramid, a divergent walk per lane whose lanes take the tile's "
+            "next ray as theirs ends: Msamples/s median (min-max) and SIMD use (of the lanes the kernel read, the "
+            "share that belonged to a ray still walking) at every ISA.", ""]
+    cells = [[hf, technique, threads] + [
+        cell for isa in run.isas for cell in (
+            (msamples(by_isa[isa]), simd_use(by_isa[isa])) if isa in by_isa else ("-", "-"))]
+        for hf, technique, threads, _, by_isa in found]
+    body += md_table([("heightfield", False), ("technique", False), ("threads", True)] + [
+        column for isa in run.isas for column in (("%s Msamples/s" % isa, True), ("%s SIMD use" % isa, True))], cells)
+    return section(title, body)
+
+
 def section_exact_speed(run):
     """The exact reference's own speed, against POM-32 on the same rays, ISA and threads."""
     rows = sorted((r for r in run.timed if r["kind"] == "exact"), key=run.order)
@@ -470,6 +488,7 @@ TABLES = [("Techniques x layers, per heightfield", "techniques-x-layers-per-heig
           ("CPU against GLSL (OSMesa llvmpipe)", "cpu-against-glsl-osmesa-llvmpipe"),
           ("Every backend", "every-backend"),
           ("The searches at every ISA, against llvmpipe", "the-searches-at-every-isa-against-llvmpipe"),
+          ("The walks' lanes at every ISA", "the-walks-lanes-at-every-isa"),
           ("The exact reference's speed", "the-exact-references-speed"),
           ("Thread scaling (%s-%s)" % (HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS), "thread-scaling-pom-32"),
           ("Gallery", "gallery")]
@@ -488,7 +507,7 @@ def main(argv=None):
     alerts = read_optional(os.path.join(args.run_dir, "alerts.json"), "heightmarch-alerts")
     faults = []  # the tables find them, the warnings on the first screen name them
     tables = (section_matrix(run) + section_glsl(run) + section_every_backend(run, faults)
-              + section_searches_per_isa(run) + section_exact_speed(run) + section_threads(run) + section_gallery(run))
+              + section_searches_per_isa(run) + section_walks(run) + section_exact_speed(run) + section_threads(run) + section_gallery(run))
     plots = section_plots(run, recommendation, history_drawn)
     p = run.provenance
     title = "%s run of %s, commit %s" % (run.plan.get("name", "?"), p.get("date", "?"), p.get("commit", "?"))

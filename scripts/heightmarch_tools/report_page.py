@@ -11,7 +11,8 @@ import json
 import os
 
 from .measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label, depth_map,
-                          docs_link, glsl_pairs, machine_rows, ns_per_ray_rounds, rays_rounds, searches_per_isa, speedup, view_name)
+                          docs_link, glsl_pairs, machine_rows, ns_per_ray_rounds, rays_rounds, samples_rounds,
+                          searches_per_isa, simd_use, speedup, view_name, walks_per_isa)
 from .spreads import spread
 from .writers import atomic_write
 
@@ -107,6 +108,15 @@ def isa_table(run, found):
         c for isa in run.isas for c in (("%s Mrays/s" % isa, True), ("x llvmpipe", True))], rows)
 
 
+def walk_table(run, found):
+    rows = [[html.escape(hf), html.escape(technique), threads] + [
+        c for isa in run.isas for c in (
+            (spread_text(spread(samples_rounds(by_isa[isa])), 0, 1e-6), simd_use(by_isa[isa])) if isa in by_isa else ("-", "-"))]
+        for hf, technique, threads, _, by_isa in found]
+    return table([("heightfield", False), ("technique", False), ("threads", True)] + [
+        c for isa in run.isas for c in (("%s Msamples/s" % isa, True), ("%s SIMD use" % isa, True))], rows)
+
+
 def isa_bars(found):
     """The per-ISA chart's data: per heightfield, threads and search, Mrays/s (median, min, max) per backend."""
     out = []
@@ -190,6 +200,7 @@ def write_page(run, claims, recommendation, alerts, recorded, warning_lines, fau
     static = {
         "claims": claims_html(claims, maxmip_link),
         "isa_table": isa_table(run, found) if found else "<p>Not measured in this run.</p>",
+        "walk_table": walk_table(run, walks_per_isa(run)) if walks_per_isa(run) else "<p>Not measured in this run.</p>",
         "glsl_table": ("<p>The same rays and parameters on both sides; CPU at the best ISA (%s); CPU/GLSL: median "
                        "(min-max) of the per-round ratios. See %s.</p>" % (html.escape(run.best_isa or "?"), shadow_link)
                        + glsl_table(run, glsl_pairs(run))) if glsl_pairs(run) else "<p>Not measured in this run.</p>",
@@ -243,6 +254,7 @@ in the grey band at the bottom.</p>
 <section id="speed"><h2>Speed per ISA, and CPU against GLSL</h2>
 <div id="isa-filters"></div><div id="isa-chart"></div>
 <details><summary>The searches at every ISA, against llvmpipe (table)</summary>%(isa_table)s</details>
+<details><summary>The walks' samples/s and SIMD use at every ISA (table)</summary>%(walk_table)s</details>
 <details><summary>CPU against GLSL (table)</summary>%(glsl_table)s</details>
 </section>
 <section id="history"><h2>History of this machine</h2><div id="history-body"></div><div id="history-chart"></div></section>

@@ -16,3 +16,16 @@ def test_a_machine_without_family_model_or_a_part_is_unknown():
     assert history.machine_key(parts(cpu="AMD EPYC")) == "unknown-amd-epyc-2c-avx512-gnu-12.2.0-release"
     assert history.machine_key(parts(build_type="")) == "unknown-amd-epyc-f25m17-2c-avx512-gnu-12.2.0-?"
     assert not history.is_known(history.machine_key(parts(cores="")))
+
+
+def test_a_file_from_before_simd_use_reads_with_it_empty(tmp_path):
+    path = tmp_path / "history.csv"
+    old = history.COLUMNS_BEFORE_SIMD_USE
+    path.write_text(",".join(old) + "\n" + ",".join("x" for _ in old) + "\n")
+    rows = history.read(str(path))
+    assert rows[0]["simd_utilization"] == "" and rows[0]["backend"] == "x"
+
+
+def test_simd_use_is_recorded_for_the_rows_that_measure_it():
+    assert history.measure({"simd_utilization": 0.5}, "simd_utilization") == "0.5"
+    assert history.measure({"simd_utilization": None}, "simd_utilization") == ""
