@@ -39,7 +39,7 @@ using Ms = hn::Mask<StructuredTag>;
 // deinterleaved (the hand-written gather_pairs); single texels on HWY_SCALAR, whose one lane has
 // no halves.
 template <class D>
-void GatherPairs(D d, const float* base, hn::Vec<hn::RebindToSigned<D>> index, hn::Vec<D>& first, hn::Vec<D>& second) {
+HWY_INLINE void GatherPairs(D d, const float* base, hn::Vec<hn::RebindToSigned<D>> index, hn::Vec<D>& first, hn::Vec<D>& second) {
 #if HWY_TARGET == HWY_SCALAR
   first = hn::GatherIndex(d, base, index);
   second = hn::GatherIndex(d, base + 1, index);
@@ -59,7 +59,7 @@ void GatherPairs(D d, const float* base, hn::Vec<hn::RebindToSigned<D>> index, h
 // The four taps of each lane (fetch_taps): from a window of rows where every lane's taps lie in
 // it, else by gathers.
 template <class D>
-void FetchTaps(D d, const KernelTexture& t, hn::Vec<hn::RebindToSigned<D>> ix, hn::Vec<hn::RebindToSigned<D>> iy,
+HWY_INLINE void FetchTaps(D d, const KernelTexture& t, hn::Vec<hn::RebindToSigned<D>> ix, hn::Vec<hn::RebindToSigned<D>> iy,
                hn::Vec<D>& t00, hn::Vec<D>& t10, hn::Vec<D>& t01, hn::Vec<D>& t11) {
   using V = hn::Vec<D>;
   using VI = hn::Vec<hn::RebindToSigned<D>>;
@@ -114,7 +114,9 @@ void FetchTaps(D d, const KernelTexture& t, hn::Vec<hn::RebindToSigned<D>> ix, h
 }
 
 // The bilinear sample of docs/conventions.md on a REPEAT power-of-two map (PacketSampler's).
-Vs Sample(const KernelTexture& t, Vs u, Vs v) {
+// Internal: highway_port.cpp has a Sample of its own in the same namespace. Inlined, as the
+// hand-written sampler is: a call in the march would spill every vector register.
+static HWY_INLINE Vs Sample(const KernelTexture& t, Vs u, Vs v) {
   const StructuredTag d;
   const hn::RebindToSigned<StructuredTag> di;
   const Vs x = hn::Sub(hn::Mul(u, hn::Set(d, float(t.width))), hn::Set(d, 0.5f));
