@@ -1,7 +1,6 @@
 #include "baselines/structured_pom.hpp"
 
 #include <tbb/blocked_range.h>
-#include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
 
 #include "baselines/highway_port.hpp"
@@ -25,7 +24,7 @@ HighwayStructuredPom::HighwayStructuredPom(const DepthMap& map, const TechniqueP
     throw InputError("the structured Highway POM runs pom on REPEAT depth maps of power-of-two sides only");
 }
 
-TraceStats HighwayStructuredPom::run(const RayBatch& rays, HitBuffers& hits) const {
+void HighwayStructuredPom::run(const RayBatch& rays, HitBuffers& hits) const {
   hits.resize(rays.size());
   const KernelTexture texture{texture_.texels.data(), texture_.width, texture_.height, texture_.stride, texture_.wrap};
   const KernelParams params{params_.layers.min_layers, params_.layers.max_layers, 0, params_.scale, params_.discard,
@@ -33,18 +32,11 @@ TraceStats HighwayStructuredPom::run(const RayBatch& rays, HitBuffers& hits) con
   const KernelRays kernel_rays{rays.tx.data(), rays.ty.data(), rays.vx.data(), rays.vy.data(), rays.vz.data()};
   const KernelHits kernel_hits{hits.u.data(), hits.v.data(), hits.depth.data(), hits.shadow.data(),
                                hits.samples.data(), hits.discarded.data()};
-  tbb::combinable<KernelCounters> counters;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.tile_count(), 1), [&](const auto& tiles) {
+    KernelCounters counters;
     for (std::size_t t = tiles.begin(); t != tiles.end(); ++t)
-      kernel_(texture, params, kernel_rays, kernel_hits, rays.tile_offsets[t], rays.tile_offsets[t + 1],
-              counters.local());
+      kernel_(texture, params, kernel_rays, kernel_hits, rays.tile_offsets[t], rays.tile_offsets[t + 1], counters);
   });
-  TraceStats stats;
-  counters.combine_each([&](const KernelCounters& c) {
-    stats.lane_samples += c.lane_samples;
-    stats.packet_samples += c.packet_samples;
-  });
-  return stats;
 }
 
 }  // namespace heightmarch

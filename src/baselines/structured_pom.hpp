@@ -7,7 +7,6 @@
 #include "heightmarch/rays.hpp"
 #include "heightmarch/sampler.hpp"
 #include "heightmarch/technique.hpp"
-#include "heightmarch/tracer.hpp"
 #include "kernels/kernel_abi.hpp"
 
 namespace heightmarch {
@@ -22,8 +21,8 @@ class HighwayStructuredPom {
   // ISA's Highway target. Throws InputError for anything else or where it does not run.
   HighwayStructuredPom(const DepthMap& map, const TechniqueParams& params, Isa isa);
 
-  // The same hits as Tracer::run of the technique, bit for bit.
-  TraceStats run(const RayBatch& rays, HitBuffers& hits) const;
+  // The same hits as Tracer::run of the technique, bit for bit (and its SIMD use: the same march).
+  void run(const RayBatch& rays, HitBuffers& hits) const;
 
  private:
   TechniqueParams params_;
