@@ -56,12 +56,24 @@ HWY_INLINE void GatherPairs(D d, const float* base, hn::Vec<hn::RebindToSigned<D
 #endif
 }
 
+// Each lane's taps from registers holding the window: t00 and t10 at entries `at` and at + 1 of
+// `top`, t01 and t11 at the same entries of `below` (the window one row down).
+template <class D>
+HWY_INLINE void PickTaps(D d, hn::Vec<D> top, hn::Vec<D> below, hn::Vec<hn::RebindToSigned<D>> at, hn::Vec<D>& t00,
+                         hn::Vec<D>& t10, hn::Vec<D>& t01, hn::Vec<D>& t11) {
+  const auto left = hn::IndicesFromVec(d, at);
+  const auto right = hn::IndicesFromVec(d, hn::Add(at, hn::Set(hn::RebindToSigned<D>(), 1)));
+  t00 = hn::TableLookupLanes(top, left);
+  t10 = hn::TableLookupLanes(top, right);
+  t01 = hn::TableLookupLanes(below, left);
+  t11 = hn::TableLookupLanes(below, right);
+}
+
 // The four taps of each lane (fetch_taps): from a window of rows where every lane's taps lie in
 // it, else by gathers.
 template <class D>
 HWY_INLINE void FetchTaps(D d, const KernelTexture& t, hn::Vec<hn::RebindToSigned<D>> ix, hn::Vec<hn::RebindToSigned<D>> iy,
                hn::Vec<D>& t00, hn::Vec<D>& t10, hn::Vec<D>& t01, hn::Vec<D>& t11) {
-  using V = hn::Vec<D>;
   using VI = hn::Vec<hn::RebindToSigned<D>>;
   const hn::RebindToSigned<D> di;
   if constexpr (hn::MaxLanes(d) == 8) {
@@ -73,12 +85,7 @@ HWY_INLINE void FetchTaps(D d, const KernelTexture& t, hn::Vec<hn::RebindToSigne
                                 hn::And(hn::Lt(hn::Set(di, -1), dx), hn::Lt(dx, hn::Set(di, 7))));  // 0 <= dx <= 6
     if (t.stride >= 8 && hn::AllTrue(di, inside)) {
       const float* row = t.texels + std::ptrdiff_t(y0) * t.stride + x0;
-      const V row0 = hn::LoadU(d, row), row1 = hn::LoadU(d, row + t.stride);
-      const auto at = hn::IndicesFromVec(d, dx), right = hn::IndicesFromVec(d, hn::Add(dx, hn::Set(di, 1)));
-      t00 = hn::TableLookupLanes(row0, at);
-      t10 = hn::TableLookupLanes(row0, right);
-      t01 = hn::TableLookupLanes(row1, at);
-      t11 = hn::TableLookupLanes(row1, right);
+      PickTaps(d, hn::LoadU(d, row), hn::LoadU(d, row + t.stride), dx, t00, t10, t01, t11);
       return;
     }
   }
@@ -97,13 +104,7 @@ HWY_INLINE void FetchTaps(D d, const KernelTexture& t, hn::Vec<hn::RebindToSigne
       const auto two_rows = [&](int r) {
         return hn::Combine(d, hn::LoadU(dh, row + std::ptrdiff_t(r + 1) * t.stride), hn::LoadU(dh, row + std::ptrdiff_t(r) * t.stride));
       };
-      const V rows01 = two_rows(0), rows12 = two_rows(1);
-      const VI entry = hn::Add(hn::ShiftLeft<3>(dy), dx);
-      const auto at = hn::IndicesFromVec(d, entry), right = hn::IndicesFromVec(d, hn::Add(entry, hn::Set(di, 1)));
-      t00 = hn::TableLookupLanes(rows01, at);
-      t10 = hn::TableLookupLanes(rows01, right);
-      t01 = hn::TableLookupLanes(rows12, at);
-      t11 = hn::TableLookupLanes(rows12, right);
+      PickTaps(d, two_rows(0), two_rows(1), hn::Add(hn::ShiftLeft<3>(dy), dx), t00, t10, t01, t11);
       return;
     }
   }

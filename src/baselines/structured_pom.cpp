@@ -1,9 +1,7 @@
 #include "baselines/structured_pom.hpp"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include "baselines/highway_port.hpp"
+#include "baselines/naive_port.hpp"
 #include "heightmarch/error.hpp"
 
 namespace heightmarch {
@@ -25,18 +23,11 @@ HighwayStructuredPom::HighwayStructuredPom(const DepthMap& map, const TechniqueP
 }
 
 void HighwayStructuredPom::run(const RayBatch& rays, HitBuffers& hits) const {
-  hits.resize(rays.size());
   const KernelTexture texture{texture_.texels.data(), texture_.width, texture_.height, texture_.stride, texture_.wrap};
-  const KernelParams params{params_.layers.min_layers, params_.layers.max_layers, 0, params_.scale, params_.discard,
-                            {params_.light[0], params_.light[1], params_.light[2]}};
-  const KernelRays kernel_rays{rays.tx.data(), rays.ty.data(), rays.vx.data(), rays.vy.data(), rays.vz.data()};
-  const KernelHits kernel_hits{hits.u.data(), hits.v.data(), hits.depth.data(), hits.shadow.data(),
-                               hits.samples.data(), hits.discarded.data()};
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.tile_count(), 1), [&](const auto& tiles) {
-    KernelCounters counters;
-    for (std::size_t t = tiles.begin(); t != tiles.end(); ++t)
-      kernel_(texture, params, kernel_rays, kernel_hits, rays.tile_offsets[t], rays.tile_offsets[t + 1], counters);
-  });
+  trace_tiles(kernel_, texture,
+              KernelParams{params_.layers.min_layers, params_.layers.max_layers, 0, params_.scale, params_.discard,
+                           {params_.light[0], params_.light[1], params_.light[2]}},
+              rays, hits);
 }
 
 }  // namespace heightmarch
