@@ -27,17 +27,37 @@ RayPacket<W> load_rays(const KernelRays& in, std::size_t i) {
   return {F::load(in.tx + i), F::load(in.ty + i), F::load(in.vx + i), F::load(in.vy + i), F::load(in.vz + i)};
 }
 
+// An output's store: floats and counts as they are, flags as bytes.
 template <int W>
-void store_hits(const HitPacket<W>& hit, const KernelHits& out, std::size_t i, vint<W> discard, KernelCounters& local) {
+void store_channel(vfloat<W> value, float* to) {
+  value.store(to);
+}
+template <int W>
+void store_channel(vint<W> value, std::uint32_t* to) {
+  value.store(reinterpret_cast<std::int32_t*>(to));
+}
+template <int W>
+void store_channel(vint<W> value, std::uint8_t* to) {
+  store_bytes(value, to);
+}
+
+// Which outputs a kernel stores: a technique's (and the roofline's, the compute ceiling's) every
+// output but the exact pass's; the exact reference's float pass its own too.
+template <class Kernel>
+inline constexpr bool kStoresExactPass = false;
+constexpr bool stores(ChannelWriter writer, bool exact_pass) { return writer != ChannelWriter::exact_pass || exact_pass; }
+
+// Rays i .. i + W - 1's outputs, the discard flags set here, and their samples counted.
+template <class Kernel, int W>
+void store_hits(HitPacket<W> hit, const KernelHits& out, std::size_t i, vint<W> discard, KernelCounters& local) {
   using F = vfloat<W>;
-  hit.u.store(out.u + i);
-  hit.v.store(out.v + i);
-  hit.depth.store(out.depth + i);
-  hit.shadow.store(out.shadow + i);
-  hit.samples.store(reinterpret_cast<std::int32_t*>(out.samples + i));
   local.lane_samples += reduce_add(hit.samples);  // see KernelContext::count()
   const auto outside = (hit.u < F(0.0f)) | (hit.u > F(1.0f)) | (hit.v < F(0.0f)) | (hit.v > F(1.0f));
-  store_bytes(select(outside, discard, vint<W>(0)), out.discarded + i);
+  hit.discarded = select(outside, discard, vint<W>(0));
+#define HEIGHTMARCH_STORE_CHANNEL(name, type, initial, writer, ...) \
+  if constexpr (stores(ChannelWriter::writer, kStoresExactPass<Kernel>)) store_channel(hit.name, out.name + i);
+  HEIGHTMARCH_HIT_CHANNELS(HEIGHTMARCH_STORE_CHANNEL)
+#undef HEIGHTMARCH_STORE_CHANNEL
 }
 
 template <int W, Addressing ADDRESSING, class Kernel, Taps TAPS = Taps::memory>
@@ -52,7 +72,7 @@ HEIGHTMARCH_FLATTEN void trace_packets(const KernelTexture& texture, const Kerne
   KernelContext<W, ADDRESSING, TAPS> context(texture, params, local);
   const Kernel kernel;
   const vint<W> discard(params.discard ? 1 : 0);
-  for (std::size_t i = begin; i < end; i += W) store_hits(kernel(context, load_rays<W>(in, i)), out, i, discard, local);
+  for (std::size_t i = begin; i < end; i += W) store_hits<Kernel>(kernel(context, load_rays<W>(in, i)), out, i, discard, local);
   counters.lane_samples += local.lane_samples;
   counters.packet_samples += local.packet_samples;
 }
@@ -78,8 +98,8 @@ HEIGHTMARCH_FLATTEN void trace_walks(const KernelTexture& texture, const KernelP
     for (int i = 0; i < n; i += W) kernel.queue(context, load_rays<W>(in, first + i), queue, i);
     walker.run(queue, list, again, n, outcomes);
     for (int i = 0; i < n; i += W)
-      store_hits(kernel(context, load_rays<W>(in, first + i), PyramidWalk<W>::at(outcomes, i)), out, first + i,
-                 discard, local);
+      store_hits<Kernel>(kernel(context, load_rays<W>(in, first + i), PyramidWalk<W>::at(outcomes, i)), out,
+                         first + i, discard, local);
   }
   counters.lane_samples += local.lane_samples;
   counters.packet_samples += local.packet_samples;
@@ -104,6 +124,8 @@ struct ExactBoundKernel {
     return maxmip_exact_bound(k, ray, walk);
   }
 };
+template <>
+inline constexpr bool kStoresExactPass<ExactBoundKernel> = true;
 
 // The addressing modes in Addressing's order, each the packet loop of its kernel's shape.
 template <int W, class Kernel, Taps TAPS = Taps::memory, KernelShape SHAPE = KernelShape::march>

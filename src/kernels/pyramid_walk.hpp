@@ -212,7 +212,7 @@ template <int W, Addressing ADDRESSING>
 void queue_walk(const KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloat<W> y0, vfloat<W> dx, vfloat<W> dy,
                 vfloat<W> eta, WalkQueue& q, int i) {
   using F = vfloat<W>;
-  const int top = k.texture.pyramid_levels - 1;  // -1: no interior cell (CLAMP, one texel wide)
+  const int top = k.texture.min_depth_pyramid.levels - 1;  // -1: no interior cell (CLAMP, one texel wide)
   const F width(float(k.texture.width)), height(float(k.texture.height));
   const auto put = [&](WalkQueue::Field field, F value) { value.store(q.column[field] + i); };
   to_int(F::load(kWalkQueuePositions.values + i)).store(q.ray + i);
@@ -255,14 +255,14 @@ class PyramidWalker {
   explicit PyramidWalker(KernelContext<W, ADDRESSING>& k)
       : k_(k), texture_(k.texture), width_(float(k.texture.width)), height_(float(k.texture.height)),
         inv_width_(1.0f / float(k.texture.width)), inv_height_(1.0f / float(k.texture.height)),
-        top_(k.texture.pyramid_levels - 1), top_level_(top_ < 0 ? 0 : top_) {
+        top_(k.texture.min_depth_pyramid.levels - 1), top_level_(top_ < 0 ? 0 : top_) {
     // Per level: where its entries start (MinDepthPyramid's layout) and its blocks a side
     // (ceil(cells / 2^L)), looked up by each lane's level (register permutes where the ISA has
     // them) rather than carried along in selects at every change of level.
     static_assert(MinDepthPyramid::kMaxLevels <= 16, "the per-level tables are Table16s");
     const int last_cell_x = kRepeat ? texture_.width - 1 : texture_.width - 2;
     for (int l = 0; l <= std::max(top_, 0); ++l) {
-      level_offset_.values[l] = top_ < 0 ? 0 : texture_.level_offsets[l];
+      level_offset_.values[l] = top_ < 0 ? 0 : texture_.min_depth_pyramid.level_offsets[l];
       level_blocks_x_.values[l] = (last_cell_x >> l) + 1;
     }
   }
@@ -450,7 +450,7 @@ class PyramidWalker {
         }
         const I entry = lookup(level_offset_, l.level) + to_int(by) * lookup(level_blocks_x_, l.level) + to_int(bx);
         if constexpr (!CONSERVATIVE) k_.count(in_pyramid, l.samples, 1);
-        shallowest = select(in_pyramid, gather(texture_.pyramid, select(in_pyramid, entry, I(0))), F(-kInf));
+        shallowest = select(in_pyramid, gather(texture_.min_depth_pyramid.texels, select(in_pyramid, entry, I(0))), F(-kInf));
       }
       F clear_above = shallowest;  // the path is clear of the block above this depth
       if constexpr (CONSERVATIVE) clear_above = clear_above - l.eta;
