@@ -113,14 +113,16 @@ TexelPath<W> texel_path(const KernelContext<W, ADDRESSING>& k, const RayPacket<W
 // The walks of a range of rays keep every lane busy (the persistent threads of Aila and Laine
 // 2009, and the ray streams of Wald et al. and Embree, on SIMD lanes): a walk's pass reads a
 // pyramid entry, and a cell it may touch waits for a solve that reads four texels, so the two run
-// apart, each on full packets. Lanes walk rays from a queue and, once a ray ends its walk (a cell
-// to solve, clear beyond depth 1, or cut off by its bound), hand it to a list and take the
-// queue's next rays. The list is then solved a packet at a time; a ray whose cell it does not
-// touch goes on into the next round's queue. A lane computes the same for its ray whichever lane
-// it is and whenever it starts, so the outcome of every ray is that of a walk per packet.
+// apart, each on full packets. A lane walks a ray from a queue until it needs a cell solved (the
+// lane hands it to a list), has ended (clear beyond depth 1, or cut off by its bound: it leaves
+// its outcome), and takes the queue's next ray at the next pass. The list is then solved a packet
+// at a time; a ray whose path clears its cell goes on into the next round's queue. A lane computes
+// the same for its ray whichever lane it is and whenever it starts, so the outcome of every ray is
+// that of a walk per packet.
 //
-// The queues hold rays' lanes, a field a column; the outcomes are per ray at its index, from which
-// the caller makes the hits a packet at a time (src/isa/kernel_table.hpp, trace_walks).
+// The queues hold rays as the lanes do, a field a column; the outcomes are kept in the order the
+// walks ended, with each ray's position, from which the caller makes the hits a packet at a time
+// in ray order (src/isa/kernel_table.hpp, trace_walks).
 inline constexpr int kWalkQueueRays = 1024;  // a tile of the default 32 x 32 pixels
 inline constexpr int kWalkQueuePadding = 32;  // the widest packet: a pair of 16
 inline constexpr int kWalkQueueSize = kWalkQueueRays + kWalkQueuePadding;
