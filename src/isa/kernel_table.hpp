@@ -72,7 +72,8 @@ HEIGHTMARCH_FLATTEN void trace_packets(const KernelTexture& texture, const Kerne
   KernelContext<W, ADDRESSING, TAPS> context(texture, params, local);
   const Kernel kernel;
   const vint<W> discard(params.discard ? 1 : 0);
-  for (std::size_t i = begin; i < end; i += W) store_hits<Kernel>(kernel(context, load_rays<W>(in, i)), out, i, discard, local);
+  for (std::size_t i = begin; i < end; i += W)
+    store_hits<Kernel>(kernel(context, load_rays<W>(in, i)), out, i, discard, local);
   counters.lane_samples += local.lane_samples;
   counters.packet_samples += local.packet_samples;
 }
@@ -91,7 +92,7 @@ HEIGHTMARCH_FLATTEN void trace_walks(const KernelTexture& texture, const KernelP
   const Kernel kernel;
   const vint<W> discard(params.discard ? 1 : 0);
   PyramidWalker<Kernel::kConservative, W, ADDRESSING> walker(context);
-  WalkQueue queue, list, again;  // 210 KB together: within every thread's stack
+  WalkQueue queue, list, again;  // 220 KB with the outcomes: within every thread's stack
   WalkOutcomes outcomes;
   for (std::size_t first = begin; first < end; first += kWalkQueueRays) {
     const int n = int(std::min<std::size_t>(kWalkQueueRays, end - first));
