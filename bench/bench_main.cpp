@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -21,6 +22,7 @@
 #include "baselines/structured_pom.hpp"
 #include "experiment/measurement_session.hpp"
 #include "heightmarch/error.hpp"
+#include "heightmarch/glsl_runner.hpp"
 #include "heightmarch/tracer.hpp"
 #include "io/atomic_file.hpp"
 #include "io/provenance.hpp"
@@ -30,12 +32,14 @@ namespace {
 using namespace heightmarch;
 
 struct BenchOptions {
-  int size = 1024;
+  std::string size = "1024";  // the default view: N (N x N) or WxH pixels
   int res = 512;
   std::vector<std::string> heightfields = {"bricks", "terrain"};
   std::vector<std::string> layers = {"4", "8", "16", "32", "64", "8-32"};
   std::vector<int> threads;  // empty: 1 and all cores
   std::vector<std::string> isas;  // empty: every ISA the CPU runs
+  std::vector<std::string> gl;    // GL paths of the GLSL benchmarks; empty: the worker's default
+  std::string gl_device;          // EGL's device for them; empty: EGL's first
   double min_time = 0.2;
 };
 
@@ -48,6 +52,10 @@ void set_counters(benchmark::State& state, const Measurement& m) {
   const double iterations = double(state.iterations());
   state.SetItemsProcessed(std::int64_t(m.rays) * state.iterations());
   state.counters["rays_per_second"] = benchmark::Counter(double(m.rays) * iterations, benchmark::Counter::kIsRate);
+  // A GLSL draw's two clocks, the median seconds of the timed draws (the manual time is one of them:
+  // GlDrawTime::seconds()).
+  if (!m.gl_wall_seconds.empty()) state.counters["gl_wall_seconds"] = spread_of(m.gl_wall_seconds).median;
+  if (!m.gl_timer_seconds.empty()) state.counters["gl_timer_seconds"] = spread_of(m.gl_timer_seconds).median;
   if (!m.samples_known) return;
   state.counters["samples_per_second"] = benchmark::Counter(double(m.samples) * iterations, benchmark::Counter::kIsRate);
   state.counters["samples_per_ray"] = m.rays ? double(m.samples) / double(m.rays) : 0.0;
@@ -66,14 +74,36 @@ void run_benchmark(benchmark::State& state, const Configuration& config) {
   const Measurement& m = it->second;
   if (!m.failure.empty()) return state.SkipWithError(m.failure.c_str());
   const ThreadLimit limit(config.threads);
-  const std::function<double()> once = session().trace_once(config);
+  const std::function<TraceTime()> once = session().trace_once(config);
   once();  // warm-up: llvmpipe compiles the shader on its first draw
-  // The trace's own time (for GLSL the worker's time of the draw, without the round trip to it).
-  for (auto _ : state) state.SetIterationTime(once());
-  set_counters(state, m);
+  // The trace's own time (for GLSL the worker's time of the draw, without the round trip to it);
+  // a GLSL draw's two clocks are kept for the counters.
+  Measurement timed = m;
+  for (auto _ : state) {
+    const TraceTime time = once();
+    state.SetIterationTime(time.seconds);
+    if (!time.gl) continue;
+    timed.gl_wall_seconds.push_back(time.gl->wall_seconds);
+    if (time.gl->timer_seconds) timed.gl_timer_seconds.push_back(*time.gl->timer_seconds);
+  }
+  set_counters(state, timed);
+}
+
+// --hm_size: N or WxH, each side in [1, kMaxViewSide]; InputError otherwise.
+void view_size(const std::string& text, int& width, int& height) {
+  const std::size_t x = text.find('x');
+  const std::string w = text.substr(0, x), h = x == std::string::npos ? w : text.substr(x + 1);
+  const auto side = [&](const std::string& digits, int& out) {
+    const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), out);
+    return error == std::errc() && end == digits.data() + digits.size() && out >= 1 && out <= kMaxViewSide;
+  };
+  if (!side(w, width) || !side(h, height))
+    throw InputError("--hm_size " + printable(text) + ": not N or WxH with sides in [1, " + std::to_string(kMaxViewSide) + "]");
 }
 
 std::vector<Configuration> bench_plan(const BenchOptions& o) {
+  int width = 0, height = 0;
+  view_size(o.size, width, height);
   std::vector<int> threads = o.threads;
   if (threads.empty()) {
     threads = {1};
@@ -84,25 +114,34 @@ std::vector<Configuration> bench_plan(const BenchOptions& o) {
   if (isas.empty()) isas = supported_isas();
   std::vector<LayerSpec> layer_specs;
   for (const std::string& text : o.layers) layer_specs.push_back(parse_layer_spec(text));
+  // Each GL path asked for is a GLSL benchmark of its own (gl:PATH in its name), side by side.
+  std::vector<GlTarget> gl_targets;
+  for (const std::string& path : o.gl.empty() ? std::vector<std::string>{""} : o.gl) {
+    GlTarget target = parse_gl_target(path, o.gl_device);
+    target.path = resolved(target).path;
+    gl_targets.push_back(target);
+  }
   std::vector<Configuration> plan;
   for (const std::string& name : o.heightfields) {
     Configuration base;
     base.heightfield = parse_heightfield(name, o.res);
-    base.view = parse_view("default", o.size, o.size);
-    auto add = [&](RunKind kind, Technique technique, const LayerSpec& layers, Isa isa, int t) {
+    base.view = parse_view("default", width, height);
+    auto add = [&](RunKind kind, Technique technique, const LayerSpec& layers, Isa isa, int t,
+                   const GlTarget& gl = {}) {
       Configuration c = base;
       c.kind = kind;
       c.params.technique = technique;
       c.params.layers = layers_for(technique, layers);
       c.isa = isa;
       c.threads = t;
+      c.gl = gl;
       add_to_plan(plan, c);
     };
     for (const TechniqueInfo& t : techniques())
       for (const LayerSpec& layers : layer_specs)
         for (int n : threads) {
           for (Isa isa : isas) add(RunKind::trace, t.id, layers, isa, n);
-          add(RunKind::glsl, t.id, layers, Isa::scalar, n);
+          for (const GlTarget& gl : gl_targets) add(RunKind::glsl, t.id, layers, Isa::scalar, n, gl);
         }
     for (int n : threads) {
       for (Isa isa : isas) {
@@ -147,12 +186,18 @@ int main(int argc, char** argv) {
                "heightmarch-bench");
   app.allow_extras();
   app.set_help_flag("-h,--help", "this text, then Google Benchmark's flags");
-  app.add_option("--hm_size", o.size, "view side in pixels")->check(CLI::Range(1, kMaxViewSide))->capture_default_str();
+  app.add_option("--hm_size", o.size, "the view: N (N x N) or WxH pixels")->capture_default_str();
   app.add_option("--hm_res", o.res, "builtin depth map side")->check(CLI::Range(1, kMaxDepthMapSide))->capture_default_str();
   app.add_option("--hm_heightfields", o.heightfields, "builtin names or depth map files")->delimiter(',')->capture_default_str();
   app.add_option("--hm_layers", o.layers, "layer specs (N or A-B)")->delimiter(',')->capture_default_str();
   app.add_option("--hm_threads", o.threads, "thread counts (default: 1 and all cores)")->delimiter(',')->check(CLI::Range(1, 1024));
   app.add_option("--hm_isas", o.isas, isa_names() + " (default: every ISA the CPU runs)")->delimiter(',');
+  app.add_option("--hm_gl", o.gl, "GL paths of the GLSL benchmarks, " + gl_path_names() +
+                 ", comma-separated: each its own benchmarks, side by side (default: osmesa where built, else egl)")
+      ->delimiter(',');
+  app.add_option("--hm_gl_device", o.gl_device,
+                 "EGL device of the GLSL benchmarks: software, or an index or name from `heightmarch glsl "
+                 "--list-devices` (default: EGL's first)");
   app.add_option("--hm_min_time", o.min_time, "seconds per benchmark (Google Benchmark's --benchmark_min_time)")
       ->check(CLI::Range(0.0, 60.0))->capture_default_str();
   try {
@@ -240,7 +285,9 @@ int main(int argc, char** argv) {
   benchmark::AddCustomContext("heightmarch_build_type", prov.build_type);
   benchmark::AddCustomContext("heightmarch_best_isa", to_string(best_isa()));
   benchmark::AddCustomContext("heightmarch_error_measures", error_measure_names());
-  benchmark::AddCustomContext("heightmarch_view", std::to_string(o.size) + "x" + std::to_string(o.size));
+  int view_width = 0, view_height = 0;
+  view_size(o.size, view_width, view_height);  // checked with the plan
+  benchmark::AddCustomContext("heightmarch_view", std::to_string(view_width) + "x" + std::to_string(view_height));
   benchmark::AddCustomContext("heightmarch_depth_map", std::to_string(o.res) + "x" + std::to_string(o.res));
   for (const Configuration& c : *plan) {
     const auto [width, height] = sizes.at(&c);

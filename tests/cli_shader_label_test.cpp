@@ -63,10 +63,16 @@ TEST(ShaderLabel, LabelAndBenchmarkNameAreTheShaders) {
   c.shader = BroughtInShader{"some/dir/mine.glsl"};
   EXPECT_FALSE(c.has_technique());
   EXPECT_EQ(c.label(), "shader:mine.glsl");
+  c.gl.path = GlPath::osmesa;
   EXPECT_EQ(
       benchmark_name(c, 64, 64),
-      "BM_GLSL/heightfield:bricks/shader:mine.glsl/layers:32/isa:glsl/threads:1/view:48x40/depth_map:64x64");
+      "BM_GLSL/heightfield:bricks/shader:mine.glsl/layers:32/isa:glsl/threads:1/gl:osmesa/view:48x40/depth_map:64x64");
   EXPECT_NE(benchmark_name(c, 64, 64), technique_name);
+  // Another GL target is another measurement, named apart.
+  Configuration egl = c;
+  egl.gl = {GlPath::egl, "software"};
+  EXPECT_FALSE(c.same_measurement(egl));
+  EXPECT_NE(benchmark_name(egl, 64, 64).find("/threads:1/gl:egl@software/view:"), std::string::npos);
   Configuration other = c;
   other.shader = BroughtInShader{"other.glsl"};
   EXPECT_FALSE(c.same_measurement(other));

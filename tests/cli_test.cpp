@@ -415,6 +415,11 @@ std::vector<BadInput> bad_inputs() {
        "truncated.jpg: cannot read pixels"},
       {"DiscardingShader", "glsl --size 16x16 --repetitions 1 --shader " + d + "/discard.glsl",
        "discard.glsl: left 128 of 256 rays without a hit (does it call discard?)"},
+      {"NoSuchGlPath", "glsl --size 8x8 --gl vulkan", "--gl vulkan: not a GL path (osmesa|egl)"},
+      {"DeviceWithOsmesa", "glsl --size 8x8 --gl osmesa --gl-device software", "OSMesa has no devices"},
+      {"DeviceThatIsAPath", "glsl --size 8x8 --gl-device ../dri/card0", "--gl-device ../dri/card0: not a device"},
+      {"NoSuchDevice", "glsl --size 8x8 --gl-device 63", "--gl-device 63: EGL lists no such device; it lists 0 "},
+      {"SuiteNoSuchGlPath", "suite --quick --gl vulkan --out " + d + "/gl-suite", "--gl vulkan: not a GL path"},
   };
 }
 

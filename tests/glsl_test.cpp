@@ -123,10 +123,10 @@ TEST(GlslRunner, OneAndTwoThreadsInOneProcessGiveIdenticalHits) {
   for (int t = 0; t < 2; ++t) {
     GlslRunner& runner = *runners[t];
     EXPECT_EQ(runner.threads(), t + 1);
-    EXPECT_NE(runner.renderer().find("llvmpipe"), std::string::npos) << runner.renderer();
+    EXPECT_NE(runner.renderer().renderer.find("llvmpipe"), std::string::npos) << runner.renderer().renderer;
     runner.prepare(map, params, rays);
     runner.draw();
-    const double seconds = runner.draw();
+    const double seconds = runner.draw().wall_seconds;
     EXPECT_GT(seconds, 0.0);
     EXPECT_LT(seconds, 60.0);
     bool samples_known = false;
@@ -247,20 +247,10 @@ TEST(GlslRunner, ShaderSyntaxErrorIsAnInputErrorAndTheWorkerLives) {
   EXPECT_EQ(hits.size(), rays.size());
 }
 
-// Sets an environment variable for one scope.
-class ScopedEnv {
- public:
-  ScopedEnv(const char* name, const char* value) : name_(name) { setenv(name, value, 1); }
-  ~ScopedEnv() { unsetenv(name_); }
-
- private:
-  const char* name_;
-};
-
 // Thread counts no other test asks for: a runner that failed to start is not kept, but one that
 // started would be.
 TEST(GlslRunner, MissingWorkerIsAClearError) {
-  const ScopedEnv env("HEIGHTMARCH_GLSL_WORKER", "/nonexistent");
+  const test::ScopedEnv env("HEIGHTMARCH_GLSL_WORKER", "/nonexistent");
   try {
     GlslRunner::instance(5);
     FAIL() << "a missing worker started";
@@ -271,13 +261,14 @@ TEST(GlslRunner, MissingWorkerIsAClearError) {
   }
   const auto r = test::run_cli("glsl --res 16 --size 8x8 --threads 1");
   EXPECT_EQ(r.status, 1) << r.output;
-  EXPECT_EQ(r.output.rfind("heightmarch: GLSL worker /nonexistent (1 thread): cannot start", 0), 0u)
+  // The tool's first question to the worker is which GL paths it has.
+  EXPECT_EQ(r.output.rfind("heightmarch: GLSL worker /nonexistent (asked which GL paths it has): cannot start", 0), 0u)
       << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
 }
 
 TEST(GlslRunner, WorkerThatExitsIsAClearError) {
-  const ScopedEnv env("HEIGHTMARCH_GLSL_WORKER", "/bin/true");
+  const test::ScopedEnv env("HEIGHTMARCH_GLSL_WORKER", "/bin/true");
   try {
     GlslRunner::instance(6);
     FAIL() << "/bin/true answered as a worker";

@@ -4,14 +4,18 @@
 // brought-in shader that runs away while it compiles is stopped by the worker's memory limit and
 // named in one line.
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/socket.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <regex>
+#include <thread>
 
 #include "glsl/hit_outputs.hpp"
 #include "glsl/protocol.hpp"
@@ -136,14 +140,14 @@ TEST(GlslProtocol, ReceiveRefusesWhatIsNoMessageBeforeItAllocates) {
 
 // A prepare's payload as the client writes it, with the fields a test breaks.
 protocol::Writer prepare_payload(const TechniqueParams& params, const DepthMap& map, const RayBatch& rays,
-                                 std::uint8_t map_flag = 1) {
+                                 std::uint8_t map_flag = 1, const std::string& shader = "") {
   protocol::Writer w;
   protocol::write(w, params);
   w.value(map_flag);
   protocol::write(w, map);
   w.value(std::uint8_t(1));
   protocol::write(w, rays);
-  w.text("");
+  w.text(shader);
   return w;
 }
 
@@ -199,8 +203,7 @@ struct WorkerRun {
 WorkerRun run_worker(const std::string& stream, const std::string& memory_limit) {
   const std::string dir = test::temp_dir("worker-stream");
   std::ofstream(dir + "/in", std::ios::binary) << stream;
-  const std::string worker =
-      std::filesystem::path(HEIGHTMARCH_CLI).parent_path().string() + "/heightmarch-glsl-worker";
+  const std::string worker = test::glsl_worker();
   const auto r = test::run_with_peak(worker + " --threads 1 --memory-limit " + memory_limit + " < " + dir +
                                      "/in > " + dir + "/out 2> " + dir + "/err");
   std::ifstream out(dir + "/out", std::ios::binary), err(dir + "/err");
@@ -234,6 +237,50 @@ TEST(GlslWorker, SaysWhatIsWrongWithItsStreamAndExits) {
       "1G");
   EXPECT_EQ(answered.status, 0) << answered.errors;
   EXPECT_NE(answered.answers.find("technique 100000000 is not one of the"), std::string::npos);
+}
+
+// A worker started without a parent-death signal (as from a thread other than its client's main
+// one) still ends when its client hangs up, in the middle of a draw: it watches its channel.
+TEST(GlslWorker, EndsWhenItsClientHangsUpEvenWhileDrawing) {
+  const std::string dir = test::temp_dir("hang-up");
+  std::ofstream(dir + "/endless.glsl") << "vec2 ParallaxMapping(vec2 t, vec3 v) {\n"
+                                          "  while (texture(depthMap, t).r < 2.0) t += vec2(1e-7);\n  return t;\n}\n";
+  int fds[2];
+  ASSERT_EQ(::socketpair(AF_UNIX, SOCK_STREAM, 0, fds), 0);
+  const std::string worker = test::glsl_worker();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::dup2(fds[1], STDIN_FILENO);
+    ::dup2(fds[1], STDOUT_FILENO);
+    ::close(fds[0]);
+    ::execl(worker.c_str(), worker.c_str(), "--threads", "1", "--memory-limit", "1G", static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  ::close(fds[1]);
+  std::vector<char> reply;
+  ASSERT_EQ(protocol::receive(fds[0], reply, std::nullopt, 1 << 20), Message::ready);
+  const std::string request =
+      message(Message::prepare, prepare_payload(TechniqueParams(), make_builtin_heightfield("bricks", 64, 1),
+                                                make_view_rays(parse_view("default", 256, 256)), 1,
+                                                dir + "/endless.glsl")) +
+      header(Message::draw, 0);
+  ASSERT_EQ(::write(fds[0], request.data(), request.size()), ssize_t(request.size()));
+  ASSERT_EQ(protocol::receive(fds[0], reply, std::nullopt, 1 << 20), Message::compiled);
+  ASSERT_EQ(protocol::receive(fds[0], reply, std::nullopt, 1 << 20), Message::done);
+  std::this_thread::sleep_for(std::chrono::seconds(1));  // drawing: llvmpipe cuts this loop only after minutes
+  const auto closed = std::chrono::steady_clock::now();
+  ::close(fds[0]);
+  int status = 0;
+  // Polls every 50 ms for the worker's exit, for 5 s at most.
+  while (::waitpid(pid, &status, WNOHANG) == 0 &&
+         std::chrono::steady_clock::now() - closed < std::chrono::seconds(5))
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  const bool ended = ::waitpid(pid, &status, WNOHANG) != 0 || ::kill(pid, 0) != 0;
+  if (!ended) {
+    ::kill(pid, SIGKILL);
+    ::waitpid(pid, &status, 0);
+  }
+  EXPECT_TRUE(ended) << "the worker drew on for 5 s after its client hung up";
 }
 
 // What the tool holds before any input, in MiB, as it says when refusing a budget of 1 byte.

@@ -5,7 +5,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -101,7 +103,30 @@ inline CliResult run_command(const std::string& command_line) {
 #ifdef HEIGHTMARCH_CLI  // not in a build of the tracing core alone (HEIGHTMARCH_TRACE_ONLY)
 // Runs build/heightmarch with the arguments (a shell string), capturing its output.
 inline CliResult run_cli(const std::string& arguments) { return run_command(std::string(HEIGHTMARCH_CLI) + " " + arguments); }
+
+// The GLSL worker the tests run: $HEIGHTMARCH_GLSL_WORKER where set (tests/scripts/test_gl_paths.sh
+// sets one built with EGL alone), as GlslRunner finds it, else the one beside the tool.
+inline std::string glsl_worker() {
+  const char* set = std::getenv("HEIGHTMARCH_GLSL_WORKER");
+  return set && *set ? set : std::filesystem::path(HEIGHTMARCH_CLI).parent_path().string() + "/heightmarch-glsl-worker";
+}
 #endif
+
+// Sets an environment variable for one scope, then gives it back its value (or none).
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, const std::string& value) : name_(name) {
+    if (const char* old = std::getenv(name)) old_ = old;
+    setenv(name, value.c_str(), 1);
+  }
+  ~ScopedEnv() { old_ ? setenv(name_, old_->c_str(), 1) : unsetenv(name_); }
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+ private:
+  const char* name_;
+  std::optional<std::string> old_;
+};
 
 struct PeakRun {
   int status = -1;

@@ -1,15 +1,22 @@
 #pragma once
-// The techniques as GLSL (src/glsl/) in Mesa's OSMesa (llvmpipe), offscreen, on the same rays
-// and parameters as the CPU kernels. The GL context lives in a worker process,
-// heightmarch-glsl-worker (src/glsl/worker_main.cpp), so only GLSL runs load libOSMesa and
-// libLLVM, and each llvmpipe thread count (read once per process) gets its own context.
+// The techniques as GLSL (src/glsl/), offscreen, on the same rays and parameters as the CPU
+// kernels, in a GL context of one of the GL paths (heightmarch/gl_target.hpp): Mesa's OSMesa
+// (llvmpipe), or EGL's device platform (Mesa's software device, llvmpipe again, or a GPU's own
+// driver). The GL context lives in a worker process, heightmarch-glsl-worker
+// (src/glsl/worker_main.cpp), so only GLSL runs load the GL libraries and libLLVM, and each GL
+// target and llvmpipe thread count (read once per process) gets its own context.
 //
 // The worker is found next to the running executable, or at $HEIGHTMARCH_GLSL_WORKER. It runs
-// under an OS memory limit derived from the memory budget (memory_budget.hpp) and checks every
-// message it is sent (src/glsl/protocol.hpp). A program's compile and link may take 20 s; a draw
+// under an OS memory limit derived from the memory budget (memory_budget.hpp), checks every
+// message it is sent (src/glsl/protocol.hpp), and dies with its client: a parent-death signal
+// (when started from the process's main thread; the parent of a worker is the thread that
+// started it), and its own watch of the channel for the client's hang-up.
+// Every wait on it has its step's own bound: start-up (loading the libraries, making the
+// context) 20 s; a program's compile and link 20 s; the uploads (sending the request, the
+// textures, the precomputed ones) 10 s + 20 ns per byte sent + 1 us per texel of the depth map; a draw
 // 10 s + 100 ns per ray and bound of its samples (2 x max layers + refine steps + 8), some 25
-// times what the slowest built-in technique needs at one llvmpipe thread; other requests 600 s.
-// A worker that crashes, exits, does not answer in time or compiles or draws past its bound is
+// times what the slowest built-in technique needs at one llvmpipe thread; the read-back 10 s +
+// 200 ns per ray. A worker that crashes, exits, does not answer in time or compiles or draws past its bound is
 // killed (the call throws one line: an InputError naming a brought-in shader when the worker died
 // or ran past a bound while compiling or drawing it) and the next prepare starts a new one.
 //
@@ -21,8 +28,11 @@
 // #version line, are dropped so a tutorial's shader pasted as it is compiles. Its depth is the
 // depth map at the returned uv; its sample count is unknown.
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
+#include "heightmarch/gl_target.hpp"
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/hits.hpp"
 #include "heightmarch/rays.hpp"
@@ -30,15 +40,24 @@
 
 namespace heightmarch {
 
+// The GL paths heightmarch-glsl-worker was built with, in the list's order (asked of it once).
+std::vector<GlPath> gl_paths_built();
+// The target with its path resolved: one given, else OSMesa where the worker has it, else EGL.
+// InputError for a path the worker was built without, or a device the target cannot have.
+GlTarget resolved(const GlTarget& target);
+// EGL's devices as the worker finds them, each with its context's renderer (or why it made none).
+std::vector<GlDevice> list_gl_devices();
+
 class GlslRunner {
  public:
-  // The runner of `threads` llvmpipe threads (<= 0: all cores), its worker started on the first
-  // call for that count and kept until the process exits. Throws std::runtime_error when the
-  // worker cannot be started or creates no context. A runner serves one caller at a time.
-  static GlslRunner& instance(int threads);
+  // The runner of a GL target (resolved()) at `threads` llvmpipe threads (<= 0: all cores), its
+  // worker started on the first call for that pair and kept until the process exits. Throws
+  // std::runtime_error when the worker cannot be started or creates no context, InputError for a
+  // target it cannot draw in. A runner serves one caller at a time.
+  static GlslRunner& instance(int threads, const GlTarget& target = {});
 
-  const std::string& renderer() const { return renderer_; }
-  const std::string& version() const { return version_; }
+  // What the worker's context is: path, device, GL_RENDERER, GL_VERSION, GL_VENDOR.
+  const GlRenderer& renderer() const { return renderer_; }
   int threads() const { return threads_; }
 
   // Uploads the depth map and the rays and builds the program (the technique's, or the
@@ -48,10 +67,10 @@ class GlslRunner {
   void prepare(const DepthMap& map, const TechniqueParams& params, const RayBatch& rays,
                const std::string& shader_path = "");
 
-  // One draw over every ray, finished (glFinish); returns its seconds as timed in the worker,
-  // without the round trip. The first draw after prepare() may also JIT-compile the shader:
-  // time the ones after it.
-  double draw();
+  // One draw over every ray, finished (glFinish); its time as timed in the worker, without the
+  // round trip. The first draw after prepare() may also JIT-compile the shader: time the ones
+  // after it.
+  GlDrawTime draw();
 
   // Reads the hits of the last draw back, in batch order (samples: -1 cast for unknown). Throws
   // InputError when a brought-in shader left rays without a hit (it called discard).
@@ -62,10 +81,10 @@ class GlslRunner {
   ~GlslRunner();
 
  private:
-  explicit GlslRunner(int threads);
+  GlslRunner(int threads, const GlTarget& target);
   struct Worker;
   std::unique_ptr<Worker> worker_;
-  std::string renderer_, version_;
+  GlRenderer renderer_;
   int threads_;
 };
 

@@ -11,7 +11,7 @@ import re
 from .cli import Parser
 from .errors import Unusable
 from .escape import csv_cell, terminal
-from .measurements import depth_map, view_name
+from .measurements import depth_map, gl_label, view_name
 from .readers import Where, read_csv, read_text
 from .spreads import spread
 from .writers import atomic_write, locked
@@ -58,7 +58,11 @@ def is_known(machine):
 # Rows
 
 def backend(row):
-    """The backend as history tells rows apart: 'avx2', or 'avx2-autovec' for the auto-vectorised port."""
+    """The backend as history tells rows apart: 'avx2', 'avx2-autovec' for the auto-vectorised port,
+    and GLSL by its renderer ('glsl (llvmpipe, LLVM 15.0.6, 256 bits; OSMesa)'): another renderer, or
+    another GL path to it, is another series, as another machine is."""
+    if row["kind"] == "glsl":
+        return gl_label(row)
     return row["backend"] + ("-autovec" if row["kind"] == "autovec" else "")
 
 

@@ -19,6 +19,7 @@ MEASUREMENTS_FORMAT = "heightmarch-measurements"
 MEASUREMENTS_VERSION = 2  # the newest this reads; 1: the measures were named uv_mean, uv_p95, ...
 CLAIMS_VERSION = 2        # 1: a bare list of claims
 KINDS = ("trace", "glsl", "roofline", "ceiling", "naive", "autovec", "exact")
+GL_FIELDS = ("path", "device", "renderer", "version", "driver", "label")  # a GLSL row's renderer (its "gl")
 NON_ISA_BACKENDS = ("glsl", "naive", "exact")
 # The configuration every backend runs (ISA sweep, naive port, roofline, thread scaling).
 HEADLINE_TECHNIQUE, HEADLINE_LAYERS = "pom", "32"
@@ -153,6 +154,11 @@ def validate_row(row, where, techniques, backends):
     if errors is not None:
         for key, value in where["errors"].object(errors).items():
             where["errors"][key].number(value, 0, LARGEST, none=True)
+    gl = row.get("gl")  # a GLSL row's renderer (absent before rows recorded it)
+    if gl is not None:
+        where["gl"].object(gl, GL_FIELDS)
+        for key in GL_FIELDS:
+            where["gl"][key].text(gl[key])
     speed = row.get("speed")
     if speed is not None:
         w = where["speed"]
@@ -326,6 +332,18 @@ def backend_label(row):
     return row["backend"] + (" autovec" if row["kind"] == "autovec" else "")
 
 
+def gl_label(row):
+    """What a GLSL row ran on, as results name it: its renderer's label ('glsl (llvmpipe, LLVM 15.0.6,
+    256 bits; OSMesa)'), or 'glsl' for a run from before rows recorded their renderer."""
+    return row["gl"]["label"] if row.get("gl") else row["backend"]
+
+
+def gl_renderers(rows):
+    """The GL renderers of a run's GLSL rows, each once in the rows' order, for the text that names
+    them: 'glsl (llvmpipe, LLVM 15.0.6, 256 bits; OSMesa)', or 'glsl' for a run that did not record it."""
+    return list(dict.fromkeys(gl_label(r) for r in rows if r["kind"] == "glsl"))
+
+
 def config(row):
     """Every field that names a configuration; two rows with equal configs are the same measurement."""
     view = row["view"]
@@ -484,7 +502,11 @@ def machine_rows(run):
                 plan.get("name", "?"), plan.get("repetitions", "?"), plan.get("min_seconds_per_repetition", "?"))),
             ("views", ", ".join(views) or "-"), ("depth maps", ", ".join(maps) or "-"),
             ("load averages (1/5/15 min)", "before %s, after %s" % (averages(load.get("before")), averages(load.get("after")))),
-            ("other processes' CPU share", "%.1f%%" % (100 * (load.get("other_cpu_share") or 0)))]
+            ("other processes' CPU share", "%.1f%%" % (100 * (load.get("other_cpu_share") or 0))),
+            ("GL renderer", "; ".join(list(dict.fromkeys(
+                "%s: %s, %s, device %s" % (r["gl"]["label"], r["gl"]["version"], r["gl"]["driver"], r["gl"]["device"])
+                if r.get("gl") else "not recorded (before renderers were)" for r in run.rows if r["kind"] == "glsl")))
+             or "no GLSL rows")]
 
 
 def docs_link(run, page, anchor=None):

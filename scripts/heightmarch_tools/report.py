@@ -15,6 +15,7 @@ import os
 
 from . import cli, record_run, report_page
 from .measurements import (ANY, HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label,  # noqa: E402
+                           gl_label, gl_renderers,
                           config, counted, depth_map, machine_rows, docs_link, glsl_pairs, groups, load_run, measurements_csv,
                           rays_rounds, read_claims, read_optional, samples_rounds, searches_per_isa,
                           speedup, validate_alerts, validate_recommendation, view_name, backend_colours)
@@ -106,7 +107,7 @@ def headline_ratios(run):
     threads = max((r["threads"] for r in run.timed), default=1)
     columns = ["%s over %s, 1 thread" % (best, base), "%s over the naive port, 1 thread" % best,
                "%s over 1 at %s" % (counted(threads, "thread"), best),
-               "%s over GLSL (llvmpipe), %s" % (best, counted(threads, "thread"))]
+               "%s over %s, %s" % (best, " / ".join(gl_renderers(run.rows)) or "GLSL", counted(threads, "thread"))]
     return columns, ratios
 
 
@@ -180,16 +181,17 @@ def section_matrix(run):
 def section_glsl(run):
     pairs = glsl_pairs(run)
     if not pairs:
-        return section("CPU against GLSL (OSMesa llvmpipe)", [])
-    body = ["The same rays and parameters on both sides; CPU at the best ISA (%s). CPU/GLSL is the median "
-            "(min-max) of the per-round ratios. Where the shadow technique's sample counts differ between the "
-            "CPU and llvmpipe, and why: [docs/techniques.md](%s)." % (md(run.best_isa), markdown_target(
-                docs_link(run, *SHADOW_COUNTS))), ""]
+        return section("CPU against GLSL", [])
+    body = ["The GLSL rows: %s. The same rays and parameters on both sides; CPU at the best ISA (%s). CPU/GLSL is the "
+            "median (min-max) of the per-round ratios. Where the shadow technique's sample counts differ between "
+            "the CPU and llvmpipe, and why: [docs/techniques.md](%s)." % (
+                md(" and ".join(gl_renderers(run.rows))), md(run.best_isa),
+                markdown_target(docs_link(run, *SHADOW_COUNTS))), ""]
     body += md_table([("heightfield", False), ("technique", False), ("layers", False), ("threads", True),
                       ("CPU %s Mrays/s" % run.best_isa, True), ("GLSL Mrays/s", True), ("CPU/GLSL", True)],
                      [[g["heightfield"]["label"], g["technique"], g["layers"], g["threads"], mrays(c), mrays(g),
                        fmt_ratio(speedup(c, g))] for c, g in pairs])
-    return section("CPU against GLSL (OSMesa llvmpipe)", body)
+    return section("CPU against GLSL", body)
 
 
 def section_every_backend(run, faults):
@@ -202,9 +204,10 @@ def section_every_backend(run, faults):
     base = run.isas[0] if run.isas else None
     body = ["%s, %s layers. Roofline = the backend's bilinear sampler alone at the positions of the same march; "
             "ceiling = POM's march and bilinear arithmetic on taps held in registers, no memory access; each "
-            "fraction = the technique's samples/s over it. x llvmpipe: over GLSL at the same threads; x autovec: "
+            "fraction = the technique's samples/s over it. x GLSL: over the GLSL row (%s) at the same threads; x autovec: "
             "over the naive port vectorised by the compiler for the same ISA. Every ratio is the median (min-max) of "
-            "the per-round ratios." % (HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS), ""]
+            "the per-round ratios." % (HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS,
+                                       md(" and ".join(gl_renderers(run.rows)) or "not measured")), ""]
     cells = []
     for r in rows:
         fractions = []
@@ -222,11 +225,12 @@ def section_every_backend(run, faults):
         over = [run.partner(r, kind="trace", backend=base), run.partner(r, kind="naive", backend="naive"),
                 run.partner(r, kind="glsl", backend="glsl"),
                 run.partner(r, kind="autovec") if r["kind"] == "trace" else None]
-        cells.append([r["heightfield"]["label"], backend_label(r), r["threads"], mrays(r), msamples(r)] + fractions
+        cells.append([r["heightfield"]["label"], gl_label(r) if r["kind"] == "glsl" else backend_label(r), r["threads"],
+                      mrays(r), msamples(r)] + fractions
                      + [fmt_ratio(speedup(r, o)) if o is not r else "-" for o in over])
     body += md_table([("heightfield", False), ("backend", False), ("threads", True), ("Mrays/s", True),
                       ("Msamples/s", True), ("roofline Msamples/s", True), ("roofline fraction", True),
-                      ("ceiling fraction", True), ("x %s" % base, True), ("x naive", True), ("x llvmpipe", True),
+                      ("ceiling fraction", True), ("x %s" % base, True), ("x naive", True), ("x GLSL", True),
                       ("x autovec", True)], cells)
     if faults:
         body += ["", "**Measurement faults** (a fraction above 100% means the anchor or the kernel was "
@@ -235,8 +239,8 @@ def section_every_backend(run, faults):
 
 
 def section_searches_per_isa(run):
-    """The searches the plan times at every ISA (32 layers), each ISA against llvmpipe."""
-    title = "The searches at every ISA, against llvmpipe"
+    """The searches the plan times at every ISA (32 layers), each ISA against GLSL."""
+    title = "The searches at every ISA, against GLSL"
     found = searches_per_isa(run)
     if not found:
         return section(title, [])
@@ -244,11 +248,11 @@ def section_searches_per_isa(run):
         cell for isa in run.isas for cell in (
             (mrays(by_isa[isa]), fmt_ratio(speedup(by_isa[isa], glsl))) if isa in by_isa else ("-", "-"))]
         for hf, technique, threads, glsl, by_isa in found]
-    body = ["Each search at %s layers (maxmip: its one spec) at every ISA and the same as GLSL (llvmpipe) at the "
-            "same threads. Mrays/s: median (min-max); x llvmpipe: median (min-max) of the per-round ratios."
-            % HEADLINE_LAYERS, ""]
+    body = ["Each search at %s layers (maxmip: its one spec) at every ISA and the same as GLSL (%s) at the "
+            "same threads. Mrays/s: median (min-max); x GLSL: median (min-max) of the per-round ratios."
+            % (HEADLINE_LAYERS, md(" and ".join(gl_renderers(run.rows)))), ""]
     body += md_table([("heightfield", False), ("technique", False), ("threads", True), ("GLSL Mrays/s", True)] + [
-        column for isa in run.isas for column in (("%s Mrays/s" % isa, True), ("x llvmpipe", True))], cells)
+        column for isa in run.isas for column in (("%s Mrays/s" % isa, True), ("x GLSL", True))], cells)
     return section(title, body)
 
 
@@ -364,9 +368,9 @@ def section_plots(run, recommendation, history_drawn):
 
 
 TABLES = [("Techniques x layers, per heightfield", "techniques-x-layers-per-heightfield"),
-          ("CPU against GLSL (OSMesa llvmpipe)", "cpu-against-glsl-osmesa-llvmpipe"),
+          ("CPU against GLSL", "cpu-against-glsl"),
           ("Every backend", "every-backend"),
-          ("The searches at every ISA, against llvmpipe", "the-searches-at-every-isa-against-llvmpipe"),
+          ("The searches at every ISA, against GLSL", "the-searches-at-every-isa-against-glsl"),
           ("The walks' lanes at every ISA", "the-walks-lanes-at-every-isa"),
           ("The exact reference's speed", "the-exact-references-speed"),
           ("Thread scaling (%s-%s)" % (HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS), "thread-scaling-pom-32"),
@@ -402,12 +406,13 @@ def write_report(run, claims, recommendation, alerts, recorded, history_drawn):
     p = run.provenance
     title = "%s run of %s, commit %s" % (run.plan.get("name", "?"), p.get("date", "?"), p.get("commit", "?"))
     lines = ["# heightmarch report: " + md(title), "",
-          "Parallax-mapping techniques on the CPU (packet kernels per ISA) and as GLSL (OSMesa llvmpipe), measured "
+          "Parallax-mapping techniques on the CPU (packet kernels per ISA) and as GLSL (its rows: %s), measured "
           "against the exact ray/heightfield intersection on %s (%s cores, %s). Explore it: [report.html](report.html) "
           "(every configuration on its error-against-cost frontier, with filters and images); the long tables: "
           "[tables.md](tables.md); the rows: [measurements.csv](measurements.csv), "
           "[measurements.json](measurements.json). What every measure means: [docs/measures.md](%s); the files: "
-          "[docs/measurements.md](%s)." % (md(p.get("cpu", "?")), md(p.get("cores", "?")), md(run.best_isa),
+          "[docs/measurements.md](%s)." % (md(" and ".join(gl_renderers(run.rows)) or "none in this run"),
+                                           md(p.get("cpu", "?")), md(p.get("cores", "?")), md(run.best_isa),
                                            markdown_target(docs_link(run, "measures.md")),
                                            markdown_target(docs_link(run, "measurements.md")))]
     if run.load.get("busy"):  # the speeds below carry it; the warnings after the summary say why

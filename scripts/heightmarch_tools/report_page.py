@@ -9,7 +9,7 @@ fetched from the network when it opens. report.py calls write_page().
 import os
 
 from .measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label, depth_map,
-                          docs_link, glsl_pairs, machine_rows, ns_per_ray_rounds, rays_rounds, searches_per_isa, speedup, view_name)
+                          docs_link, gl_label, glsl_pairs, machine_rows, ns_per_ray_rounds, rays_rounds, searches_per_isa, speedup, view_name)
 from .escape import csv_cell, html as esc, script_json
 from .report_content import (alerts_summary, fmt_ratio, fmt_spread, recommendation_columns, recommendation_intro,
                              recommendation_rows, walks_table, WALKS_INTRO)
@@ -54,6 +54,7 @@ def page_rows(run):
         out.append({
             "id": r["id"], "heightfield": keys[id(r)], "label": r["heightfield"]["label"], "depth_map": depth_map(r),
             "technique": r["technique"], "layers": r["layers"], "kind": r["kind"], "backend": backend_label(r),
+            "renderer": gl_label(r) if r["kind"] == "glsl" else backend_label(r),
             "threads": r["threads"], "view": view_name(r["view"]), "purposes": r.get("purposes", []),
             "rays_per_second": [rounded(x) for x in rays] if rays else None,
             "ns_per_ray": [rounded(x) for x in ns] if ns else None,
@@ -98,7 +99,7 @@ def isa_table(run, found):
             (fmt_spread(spread(rays_rounds(by_isa[isa])), 1, 1e-6), fmt_ratio(speedup(by_isa[isa], glsl)))
             if isa in by_isa else ("-", "-"))] for hf, technique, threads, glsl, by_isa in found]
     return table([("heightfield", False), ("technique", False), ("threads", True), ("GLSL Mrays/s", True)] + [
-        c for isa in run.isas for c in (("%s Mrays/s" % isa, True), ("x llvmpipe", True))], rows)
+        c for isa in run.isas for c in (("%s Mrays/s" % isa, True), ("x GLSL", True))], rows)
 
 
 def isa_bars(found):
@@ -249,7 +250,7 @@ in the grey band at the bottom.</p>
 <section id="claims"><h2>The claims</h2>%(claims)s</section>
 <section id="speed"><h2>Speed per ISA, and CPU against GLSL</h2>
 <div id="isa-filters"></div><div id="isa-chart"></div>
-<details><summary>The searches at every ISA, against llvmpipe (table)</summary>%(isa_table)s</details>
+<details><summary>The searches at every ISA, against GLSL (table)</summary>%(isa_table)s</details>
 <details><summary>The walks' samples/s and SIMD use at every ISA (table)</summary>%(walk_table)s</details>
 <details><summary>CPU against GLSL (table)</summary>%(glsl_table)s</details>
 </section>

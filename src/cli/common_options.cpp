@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "heightmarch/error.hpp"
+#include "heightmarch/glsl_runner.hpp"
 
 namespace heightmarch::cli {
 
@@ -88,6 +89,17 @@ void check_depth_map_files(const std::vector<Configuration>& plan) {
 }
 
 int resolve_threads(int threads) { return threads > 0 ? threads : tbb::info::default_concurrency(); }
+
+void add_gl_options(CLI::App& command, GlOptions& o) {
+  command.add_option("--gl", o.path,
+                     "the GL path of the GLSL rows: " + gl_path_names() +
+                         " (default: osmesa where heightmarch was built with it, else egl; docs/techniques.md)");
+  command.add_option("--gl-device", o.device,
+                     "the EGL device of the GLSL rows: software, or an index or name from `heightmarch glsl "
+                     "--list-devices` (default: EGL's first); implies --gl egl");
+}
+
+GlTarget gl_target(const GlOptions& o) { return resolved(parse_gl_target(o.path, o.device)); }
 
 Configuration trace_configuration(const TraceOptions& o, RunKind kind) {
   Configuration c;

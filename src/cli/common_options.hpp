@@ -60,4 +60,12 @@ void check_depth_map_files(const std::vector<Configuration>& plan);
 // --threads 0 (the default) means all cores.
 int resolve_threads(int threads);
 
+// --gl and --gl-device, on the commands that run GLSL (glsl, suite).
+struct GlOptions {
+  std::string path, device;  // empty: not given
+};
+void add_gl_options(CLI::App& command, GlOptions& options);
+// The GL target they name, its path resolved (the worker is asked which paths it was built with).
+GlTarget gl_target(const GlOptions& options);
+
 }  // namespace heightmarch::cli

@@ -1,6 +1,7 @@
-// heightmarch glsl: the technique (or a brought-in shader) as GLSL in OSMesa (llvmpipe) on the
-// same rays as the CPU; --compare measures CPU kernels beside it, interleaved, and reports
-// conformance and the speed ratio with its spread.
+// heightmarch glsl: the technique (or a brought-in shader) as GLSL (OSMesa or EGL: --gl,
+// --gl-device) on the same rays as the CPU; --compare measures CPU kernels beside it,
+// interleaved, and reports conformance and the speed ratio with its spread; --list-devices lists
+// EGL's devices.
 #include <algorithm>
 #include <cstdio>
 #include <memory>
@@ -10,6 +11,7 @@
 #include "cli/common_options.hpp"
 #include "experiment/run_outputs.hpp"
 #include "glsl/user_shader_text.hpp"
+#include "heightmarch/error.hpp"
 #include "heightmarch/glsl_runner.hpp"
 #include "io/atomic_file.hpp"
 #include "io/json_writer.hpp"
@@ -20,9 +22,23 @@ namespace {
 
 struct GlslOptions {
   TraceOptions trace;
+  GlOptions gl;
   std::string shader;
   std::string compare_with;  // --compare's technique; empty: the same, or every one for a shader
+  bool list_devices = false;
 };
+
+// EGL's devices, one a line: index, name, renderer and GL version (or why no context was made),
+// extensions.
+int print_devices() {
+  const std::vector<GlDevice> devices = list_gl_devices();
+  if (devices.empty()) std::printf("no EGL devices (this heightmarch was built without EGL, or EGL lists none)\n");
+  for (const GlDevice& d : devices)
+    std::printf("%d\t%s\t%s\t%s\n", d.index, printable(d.name).c_str(),
+                printable(d.error.empty() ? d.renderer + ", " + d.version : "no context: " + d.error).c_str(),
+                printable(d.extensions).c_str());
+  return 0;
+}
 
 struct Conformance {
   double same_samples = 0;  // share of rays with identical sample counts
@@ -120,10 +136,13 @@ void print_comparison(const Measurement& glsl, const Measurement& cpu, const Com
 
 Command add_glsl_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand("glsl",
-                                         "run a technique, or a brought-in shader, as GLSL in OSMesa "
-                                         "(llvmpipe); --compare sets it beside the CPU");
+                                         "run a technique, or a brought-in shader, as GLSL in OSMesa or EGL "
+                                         "(llvmpipe, or a GPU through EGL); --compare sets it beside the CPU");
   auto o = std::make_shared<GlslOptions>();
   add_trace_options(*command, o->trace, false);
+  add_gl_options(*command, o->gl);
+  command->add_flag("--list-devices", o->list_devices,
+                    "list EGL's devices (index, name, renderer, extensions) for --gl-device, and run nothing");
   command
       ->add_option(
           "--shader", o->shader,
@@ -138,7 +157,9 @@ Command add_glsl_command(CLI::App& app) {
           ->expected(0, 1)
           ->type_name("[TECHNIQUE]");
   return [o, compare] {
+    if (o->list_devices) return print_devices();
     Configuration glsl = trace_configuration(o->trace, RunKind::glsl);
+    glsl.gl = gl_target(o->gl);
     if (!o->shader.empty()) glsl.shader = BroughtInShader{o->shader};
     if (!o->shader.empty()) user_source(read_input_file(o->shader, "shader file", kMaxShaderBytes), o->shader);  // before the run
     std::optional<RunDirectory> dir;  // checked and locked before the run
@@ -183,7 +204,7 @@ Command add_glsl_command(CLI::App& app) {
       if (c.conformance && (!closest || c.conformance->p99 < comparisons[*closest].conformance->p99))
         closest = k;
     }
-    GlslRunner& runner = GlslRunner::instance(g.config.threads);
+    const GlRenderer& renderer = *g.gl;
     if (o->trace.json) {
       if (comparisons.empty()) {
         std::fputs(metrics_json(g).c_str(), stdout);
@@ -192,8 +213,8 @@ Command add_glsl_command(CLI::App& app) {
       // One document: the GLSL row, each CPU row with what compares it, and the closest.
       JsonWriter json;
       json.begin_object()
-          .value("renderer", runner.renderer())
-          .value("version", runner.version())
+          .value("renderer", renderer.renderer)
+          .value("version", renderer.version)
           .raw("glsl", metrics_json(g));
       json.begin_array("comparisons");
       for (std::size_t k = 0; k < comparisons.size(); ++k)
@@ -204,7 +225,9 @@ Command add_glsl_command(CLI::App& app) {
       std::fputs((json.str() + "\n").c_str(), stdout);
       return 0;
     }
-    std::printf("GLSL on %s, %s\n", runner.renderer().c_str(), runner.version().c_str());
+    std::printf("GLSL through %s on %s (%s), %s, %s\n", display_name(renderer.path).c_str(),
+                printable(renderer.renderer).c_str(), printable(renderer.device).c_str(),
+                printable(renderer.version).c_str(), printable(renderer.driver).c_str());
     std::fputs(summary_text(g).c_str(), stdout);
     for (std::size_t k = 0; k < comparisons.size(); ++k) print_comparison(g, run.rows[k + 1], comparisons[k]);
     if (comparisons.size() > 1 && closest)

@@ -41,6 +41,7 @@ struct SuiteOptions {
   CandidateOptions candidates;
   RecommendationTarget target;
   OutOptions out;
+  GlOptions gl;
   bool no_glsl = false;
   bool record = false;
   bool dry_run = false;
@@ -182,7 +183,8 @@ Command add_suite_command(CLI::App& app) {
   auto o = std::make_shared<SuiteOptions>();
   add_plan_options(*command, o->plan, "a smoke run of a minute or two: two heightfields, small views");
   add_out_options(*command, o->out, "run directory (default: a fresh results/<date>-<commit>-<time>)");
-  command->add_flag("--no-glsl", o->no_glsl, "skip the GLSL (OSMesa) rows");
+  command->add_flag("--no-glsl", o->no_glsl, "skip the GLSL rows");
+  add_gl_options(*command, o->gl);
   command->add_flag("--record", o->record,
                     "with --quick: still point results/latest at the run and add it to results/history.csv");
   add_candidate_options(*command, o->candidates);
@@ -193,6 +195,7 @@ Command add_suite_command(CLI::App& app) {
       "threads, view, timed or accuracy only, purposes; tab-separated) and measure nothing");
   return [o] {
     PlanSettings settings = plan_settings(o->plan, !o->no_glsl);
+    if (settings.glsl) settings.gl = gl_target(o->gl);
     apply(o->candidates, settings);
     validate(o->target);
     const std::vector<Configuration> plan = suite_plan(settings);

@@ -18,11 +18,11 @@ using Clock = std::chrono::steady_clock;
 
 // A timer around a CPU trace: its wall time.
 template <class Trace>
-std::function<double()> wall_timed(Trace trace) {
+std::function<TraceTime()> wall_timed(Trace trace) {
   return [trace] {
     const Clock::time_point start = Clock::now();
     trace();
-    return std::chrono::duration<double>(Clock::now() - start).count();
+    return TraceTime{std::chrono::duration<double>(Clock::now() - start).count(), std::nullopt};
   };
 }
 
@@ -53,7 +53,7 @@ class TracerBackend : public Backend {
 
   bool has_accuracy() const override { return has_accuracy_; }
 
-  std::function<double()> timer(const Configuration& c, Scene& scene) override {
+  std::function<TraceTime()> timer(const Configuration& c, Scene& scene) override {
     const Tracer& t = tracer(c, scene);
     return wall_timed([&t, &scene, run = run_] { (t.*run)(scene.rays, scene.scratch); });
   }
@@ -99,11 +99,12 @@ void check_finite(const Configuration& c, const RayBatch& rays, const HitBuffers
                      std::to_string(rays.ty[first]) + "); an endless loop ends this way in llvmpipe");
 }
 
-// The technique (or a brought-in shader) as GLSL in llvmpipe, in the worker of its thread count.
+// The technique (or a brought-in shader) as GLSL, in the worker of its GL target and thread count.
 class GlslBackend : public Backend {
  public:
   void trace(const Configuration& c, Scene& scene, HitBuffers& hits, Measurement& row) override {
-    GlslRunner& runner = GlslRunner::instance(c.threads);
+    GlslRunner& runner = GlslRunner::instance(c.threads, c.gl);
+    row.gl = runner.renderer();
     runner.prepare(scene.map, c.params, scene.rays, c.shader_path());
     runner.draw();
     runner.read(hits, row.samples_known);
@@ -120,10 +121,13 @@ class GlslBackend : public Backend {
                        std::to_string(i) + "): not deterministic, as a non-finite uv or an endless loop cut off by llvmpipe");
   }
 
-  std::function<double()> timer(const Configuration& c, Scene& scene) override {
-    GlslRunner& runner = GlslRunner::instance(c.threads);
+  std::function<TraceTime()> timer(const Configuration& c, Scene& scene) override {
+    GlslRunner& runner = GlslRunner::instance(c.threads, c.gl);
     runner.prepare(scene.map, c.params, scene.rays, c.shader_path());
-    return [&runner] { return runner.draw(); };
+    return [&runner] {
+      const GlDrawTime time = runner.draw();
+      return TraceTime{time.seconds(runner.renderer()), time};
+    };
   }
 };
 
@@ -148,7 +152,7 @@ class PortBackend : public Backend {
     hits.depth = reference.depth;  // the port returns uv only
   }
 
-  std::function<double()> timer(const Configuration& c, Scene& scene) override {
+  std::function<TraceTime()> timer(const Configuration& c, Scene& scene) override {
     return wall_timed([this, &scene, c] { run(c, scene, scene.scratch); });
   }
 
@@ -200,7 +204,7 @@ class ExactBackend : public Backend {
     hits = scene.exact(c.params);
   }
 
-  std::function<double()> timer(const Configuration& c, Scene& scene) override {
+  std::function<TraceTime()> timer(const Configuration& c, Scene& scene) override {
     auto& slot = references_[&c];
     if (!slot) slot = std::make_unique<ExactReference>(scene.map, c.params, c.isa);
     const ExactReference& r = *slot;

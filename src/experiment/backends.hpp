@@ -25,9 +25,9 @@ class Backend {
   virtual bool has_accuracy() const { return true; }
 
   // Prepares one trace of the configuration's whole batch for a timer to call repeatedly; each
-  // call returns the seconds of that trace (wall time around a CPU trace; the GLSL worker's own
-  // time of a draw, without the round trip to it).
-  virtual std::function<double()> timer(const Configuration& config, Scene& scene) = 0;
+  // call returns the time of that trace (wall time around a CPU trace; the GLSL worker's own
+  // times of a draw, without the round trip to it).
+  virtual std::function<TraceTime()> timer(const Configuration& config, Scene& scene) = 0;
 
   // Frees what it keeps per configuration (tracers), with the scenes.
   virtual void forget() {}

@@ -3,6 +3,8 @@
 #include <cstring>
 #include <filesystem>
 
+#include "heightmarch/glsl_runner.hpp"
+
 namespace heightmarch {
 
 const RunKindInfo& info(RunKind kind) {
@@ -43,8 +45,9 @@ bool Configuration::same_measurement(const Configuration& o) const {
                            a.refine_steps() == b.refine_steps() && a.scale == b.scale && a.wrap == b.wrap &&
                            a.discard == b.discard && std::memcmp(a.light, b.light, sizeof a.light) == 0;
   const bool same_isa = !on_isa() || isa == o.isa;
+  const bool same_gl = kind != RunKind::glsl || gl == o.gl;
   return kind == o.kind && heightfield == o.heightfield && view == o.view && same_params && same_isa &&
-         threads == o.threads && shader == o.shader;
+         threads == o.threads && shader == o.shader && same_gl;
 }
 
 void add_to_plan(std::vector<Configuration>& plan, const Configuration& config) {
@@ -68,6 +71,10 @@ std::string benchmark_name(const Configuration& c, int map_width, int map_height
   if (c.kind != RunKind::exact) name += "/layers:" + to_string(c.params.layers);
   name += "/isa:" + (kind.benchmark_isa_label.empty() ? c.backend() : std::string(kind.benchmark_isa_label)) +
           "/threads:" + std::to_string(c.threads);
+  if (c.kind == RunKind::glsl) {
+    const GlTarget gl = c.gl.path ? c.gl : resolved(c.gl);
+    name += "/gl:" + to_string(*gl.path) + (gl.device.empty() ? "" : "@" + gl.device);
+  }
   // The default view at its default angles by its size alone, as names have always read.
   const bool plain = c.view.kind == ViewSpec::Kind::perspective &&
                      c.view.near_degrees == kDefaultNearDegrees && c.view.far_degrees == kDefaultFarDegrees;

@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "heightmarch/gl_target.hpp"
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/isa.hpp"
 #include "heightmarch/rays.hpp"
@@ -24,7 +25,7 @@ namespace heightmarch {
 // - backend label: what results call the backend, "" for the ISA's name.
 #define HEIGHTMARCH_RUN_KINDS(X)                                                                  \
   X(trace, "trace", "BM_Trace", true, true, "", "")          /* a technique's packet kernel */   \
-  X(glsl, "glsl", "BM_GLSL", true, false, "glsl", "glsl")    /* the same as GLSL in llvmpipe */   \
+  X(glsl, "glsl", "BM_GLSL", true, false, "glsl", "glsl")    /* the same as GLSL (a GL path) */   \
   X(roofline, "roofline", "BM_SamplerRoofline", false, true, "", "") /* the sampler alone */     \
   X(ceiling, "ceiling", "BM_ComputeCeiling", false, true, "", "") /* POM on register taps */     \
   X(naive, "naive", "BM_NaivePort", true, false, "naive", "scalar-naive") /* the tutorial's POM in C++ */ \
@@ -86,6 +87,7 @@ struct Configuration {
   Isa isa = Isa::scalar;     // trace, roofline, ceiling, autovec and highway runs; exact runs: the ISA of its float pass
   int threads = 1;           // worker threads (never 0: resolved by the plan)
   std::optional<BroughtInShader> shader;  // glsl runs: a brought-in shader instead of the technique
+  GlTarget gl;               // glsl runs: the GL path and device (no path: the worker's default)
   bool timed = true;         // false: accuracy only (sweeps, gallery)
   unsigned purposes = 0;
 
@@ -112,7 +114,9 @@ void add_to_plan(std::vector<Configuration>& plan, const Configuration& config);
 // The Google Benchmark name of a configuration, the same in heightmarch-bench and in a suite's
 // bench.json: BM_Trace/heightfield:bricks/technique:pom/layers:32/isa:avx512/threads:2/
 // view:1024x1024/depth_map:512x512 (Google Benchmark appends /manual_time: each trace times itself).
-// A brought-in shader's segment is shader:FILE_NAME instead of technique:NAME.
+// A brought-in shader's segment is shader:FILE_NAME instead of technique:NAME. A GLSL run's names
+// its GL path after its threads, and the device asked for: gl:osmesa, gl:egl, gl:egl@renderD128
+// (a path not given is resolved, by asking the worker).
 std::string benchmark_name(const Configuration& config, int depth_map_width, int depth_map_height);
 
 }  // namespace heightmarch

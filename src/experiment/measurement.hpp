@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "experiment/configuration.hpp"
+#include "heightmarch/gl_target.hpp"
 #include "heightmarch/hits.hpp"
 #include "heightmarch/metrics.hpp"
 
@@ -26,12 +27,24 @@ struct Measurement {
   std::optional<double> precompute_seconds;
   std::optional<ErrorSummary> errors;  // none for roofline runs
   std::vector<double> seconds;         // per repetition: one trace of the whole batch; empty if untimed
+  // GLSL rows: what the worker's context was (the renderer every figure of the row is named by),
+  // and each repetition's draws timed both ways (GlDrawTime): `seconds` holds the figure
+  // GlDrawTime::seconds() picks, the wall time on a software renderer, the timer query on a GPU.
+  std::optional<GlRenderer> gl;
+  std::vector<double> gl_wall_seconds, gl_timer_seconds;  // timer: empty where the driver answered none
   std::string render_image, error_image, cost_image;  // gallery rows: paths relative to the run directory
   std::string failure;         // non-empty: not measured (e.g. differs from the scalar reference)
 
   // Per repetition, and their median, min and max.
   std::vector<double> rays_per_second() const;
   std::vector<double> samples_per_second() const;
+};
+
+// One trace's time, as a timer returns it: its seconds (for GLSL the figure GlDrawTime::seconds()
+// picks) and, for GLSL, the draw's two clocks.
+struct TraceTime {
+  double seconds = 0;
+  std::optional<GlDrawTime> gl;
 };
 
 struct Spread {

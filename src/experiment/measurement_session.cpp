@@ -65,7 +65,7 @@ Measurement MeasurementSession::measure(const Configuration& c, int id,
   return row;
 }
 
-std::function<double()> MeasurementSession::trace_once(const Configuration& c) {
+std::function<TraceTime()> MeasurementSession::trace_once(const Configuration& c) {
   return state_->backend(c.kind).timer(c, state_->scenes.scene(c));
 }
 

@@ -21,9 +21,9 @@ class MeasurementSession {
 
   // One trace of the configuration's whole batch, for a timer to call repeatedly (after
   // measure()); prepares what it needs (the Tracer, the GLSL program) when called. Each call
-  // returns the seconds of that trace: wall time around a CPU trace, the GLSL worker's own time
-  // of a draw (without the round trip to it).
-  std::function<double()> trace_once(const Configuration& config);
+  // returns the time of that trace: wall time around a CPU trace, the GLSL worker's own times of
+  // a draw (without the round trip to it).
+  std::function<TraceTime()> trace_once(const Configuration& config);
 
   void forget_scenes();  // frees every scene but the depth maps
 

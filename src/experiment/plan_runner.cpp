@@ -57,7 +57,7 @@ class PlanRunner {
       if (plan_[i].timed && rows[i].failure.empty()) timed.push_back(i);
     for (int round = 0; round < options_.repetitions; ++round)
       for (std::size_t i : timed) {
-        rows[i].seconds.push_back(time_repetition(plan_[i]));
+        time_repetition(plan_[i], rows[i]);
         step(describe_row(rows[i]) + " (round " + std::to_string(round + 1) + ")");
       }
     session_.forget_scenes();
@@ -70,19 +70,26 @@ class PlanRunner {
     return what + " " + c.backend() + " x" + std::to_string(c.threads) + " " + describe(c.view);
   }
 
-  // One repetition: a warm-up trace, then traces until min_seconds have passed; the mean time of one.
-  double time_repetition(const Configuration& c) {
+  // One repetition: a warm-up trace, then traces until min_seconds have passed; the mean time of
+  // one added to the row (for GLSL, the mean of each of the draw's clocks too).
+  void time_repetition(const Configuration& c, Measurement& row) {
     const ThreadLimit limit(c.threads);
-    const std::function<double()> once = session_.trace_once(c);
+    const std::function<TraceTime()> once = session_.trace_once(c);
     once();  // warm-up: caches, TBB's workers, llvmpipe's JIT after a prepare
     const bool cpu = c.kind != RunKind::glsl;  // llvmpipe's own threads are not ours to count
     const CpuTicks ticks_before = cpu ? read_cpu_ticks() : CpuTicks{};
     const Clock::time_point start = Clock::now();
-    int runs = 0;
-    double traced = 0, elapsed = 0;
+    int runs = 0, timer_runs = 0;
+    double traced = 0, elapsed = 0, gl_wall = 0, gl_timer = 0;
     constexpr int kMaxRuns = 100000;
     do {
-      traced += once();
+      const TraceTime time = once();
+      traced += time.seconds;
+      if (time.gl) {
+        gl_wall += time.gl->wall_seconds;
+        timer_runs += time.gl->timer_seconds.has_value();
+        gl_timer += time.gl->timer_seconds.value_or(0.0);
+      }
       ++runs;
       elapsed = std::chrono::duration<double>(Clock::now() - start).count();
     } while (elapsed < options_.min_seconds && runs < kMaxRuns);
@@ -92,7 +99,10 @@ class PlanRunner {
                                         (ticks_after.self - ticks_before.self));
       timed_seconds_ += elapsed;
     }
-    return traced / runs;
+    row.seconds.push_back(traced / runs);
+    if (c.kind != RunKind::glsl) return;
+    row.gl_wall_seconds.push_back(gl_wall / runs);
+    if (timer_runs == runs) row.gl_timer_seconds.push_back(gl_timer / runs);  // every draw's, or none
   }
 
   const std::vector<Configuration>& plan_;

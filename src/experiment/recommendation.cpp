@@ -47,7 +47,7 @@ std::string describe(const RecommendationTarget& t) {
 std::string RecommendationBackend::backend() const { return kind == RunKind::glsl ? "glsl" : to_string(isa); }
 
 std::string RecommendationBackend::name() const {
-  return backend() + ", " + std::to_string(threads) + (threads == 1 ? " thread" : " threads");
+  return (gl.empty() ? backend() : gl) + ", " + std::to_string(threads) + (threads == 1 ? " thread" : " threads");
 }
 
 std::vector<Candidate> candidates(const std::vector<Measurement>& rows) {
@@ -63,7 +63,7 @@ std::vector<Candidate> candidates(const std::vector<Measurement>& rows) {
     k.heightfield = c.heightfield.label();
     k.depth_map_width = m.depth_map_width;
     k.depth_map_height = m.depth_map_height;
-    k.backend = {c.kind, c.kind == RunKind::trace ? c.isa : Isa::scalar, c.threads};
+    k.backend = {c.kind, c.kind == RunKind::trace ? c.isa : Isa::scalar, c.threads, m.gl ? m.gl->label() : ""};
     k.grid = c.purposes & (kPurposeMatrix | kPurposeClaims);
     k.technique = c.params.technique;
     k.layers = c.params.layers;

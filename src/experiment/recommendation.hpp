@@ -32,13 +32,16 @@ struct RecommendationTarget {
 void validate(const RecommendationTarget& target);
 std::string describe(const RecommendationTarget& target);  // "p99 <= 0.5 texel, wrong surface <= 0.5%"
 
-// Where a recommendation's time is measured: a CPU ISA at a thread count, or GLSL (llvmpipe).
+// Where a recommendation's time is measured: a CPU ISA at a thread count, or GLSL on a renderer.
 struct RecommendationBackend {
   RunKind kind = RunKind::trace;  // trace or glsl
   Isa isa = Isa::scalar;          // trace only
   int threads = 1;
+  // glsl: its renderer's label (GlRenderer::label(): another renderer is another backend); empty
+  // for a run from before rows recorded it.
+  std::string gl;
   std::string backend() const;  // "avx512", "glsl": as rows name it
-  std::string name() const;     // "avx512, 2 threads"
+  std::string name() const;     // "avx512, 2 threads", "glsl (llvmpipe, LLVM 15.0.6, 256 bits; OSMesa), 2 threads"
   friend bool operator==(const RecommendationBackend&, const RecommendationBackend&) = default;
 };
 

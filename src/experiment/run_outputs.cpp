@@ -84,6 +84,18 @@ void write_row(JsonWriter& json, const Measurement& m) {
         .value("min_layers", double(c.params.layers.min_layers))
         .value("max_layers", double(c.params.layers.max_layers));
   json.value("refine", c.params.refine_steps()).value("backend", c.backend()).value("threads", c.threads);
+  if (m.gl)
+    json.begin_object("gl")
+        .value("path", to_string(m.gl->path))
+        .value("device", m.gl->device)
+        .value("renderer", m.gl->renderer)
+        .value("version", m.gl->version)
+        .value("driver", m.gl->driver)
+        .value("software", m.gl->software)
+        .value("label", m.gl->label())
+        .end_object();
+  else
+    json.null("gl");
   json.begin_object("view").value("kind", c.view.kind == ViewSpec::Kind::perspective ? "default"
                                           : c.view.kind == ViewSpec::Kind::sweep     ? "sweep"
                                                                                      : "rays");
@@ -125,6 +137,17 @@ void write_row(JsonWriter& json, const Measurement& m) {
       write_spread(json, "samples_per_second", m.samples_per_second(), false);
     else
       json.null("samples_per_second");
+    // GLSL: the draws' two clocks per repetition, whichever `seconds` holds.
+    for (const auto& [key, values] : {std::pair{"gl_wall_seconds", &m.gl_wall_seconds},
+                                      std::pair{"gl_timer_seconds", &m.gl_timer_seconds}}) {
+      if (values->empty()) {
+        json.null(key);
+        continue;
+      }
+      json.begin_array(key);
+      for (double v : *values) json.value("", v);
+      json.end_array();
+    }
     json.end_object();
   }
   if (m.render_image.empty()) {
@@ -232,9 +255,23 @@ std::string summary_text(const Measurement& m) {
                                ? ", SIMD use " + std::to_string(int(100.0 * m.simd_utilization + 0.5)) + "%"
                            : c.kind == RunKind::glsl || c.kind == RunKind::naive || c.kind == RunKind::autovec ? ", SIMD use unknown"
                                                                                  : "";
-  std::snprintf(buf, sizeof buf, "  %s, %d thread%s: %s, %s%s\n", c.backend().c_str(), c.threads,
-                c.threads == 1 ? "" : "s", speed.c_str(), per_ray.c_str(), simd.c_str());
+  std::snprintf(buf, sizeof buf, "  %s, %d thread%s: %s, %s%s\n", m.gl ? m.gl->label().c_str() : c.backend().c_str(),
+                c.threads, c.threads == 1 ? "" : "s", speed.c_str(), per_ray.c_str(), simd.c_str());
   text += buf;
+  if (!m.gl_wall_seconds.empty()) {
+    // Both clocks of the draws, medians of the repetitions: which one the speed above is.
+    const double wall = spread_of(m.gl_wall_seconds).median;
+    std::string timer = "the timer query answered nothing";
+    if (!m.gl_timer_seconds.empty()) {
+      std::snprintf(buf, sizeof buf, "GL_TIME_ELAPSED %.3f ms", 1e3 * spread_of(m.gl_timer_seconds).median);
+      timer = buf;
+    }
+    std::snprintf(buf, sizeof buf, "  draw: wall (to glFinish) %.3f ms, %s; the speed is %s\n", 1e3 * wall,
+                  timer.c_str(),
+                  m.gl->software || m.gl_timer_seconds.empty() ? "the wall time's (a software renderer)"
+                                                               : "the timer query's (a GPU)");
+    text += buf;
+  }
   if (m.precompute_seconds) {
     std::snprintf(buf, sizeof buf,
                   "  precomputed textures built in %.3f s (once per depth map and wrap; not in the rays/s)\n",
@@ -424,9 +461,14 @@ std::string benchmark_json(const MeasuredPlan& run) {
     view = v;
     map = d;
   }
-  json.value("heightmarch_view", one_view ? view : "mixed")
-      .value("heightmarch_depth_map", one_map ? map : "mixed")
-      .end_object();
+  // The GL renderers of the timed GLSL rows (scripts/compare keeps runs of different ones apart).
+  std::string gl;
+  for (const Measurement& m : run.rows)
+    if (!m.seconds.empty() && m.gl && gl.find(m.gl->label()) == std::string::npos)
+      gl += (gl.empty() ? "" : "; ") + m.gl->label();
+  json.value("heightmarch_view", one_view ? view : "mixed").value("heightmarch_depth_map", one_map ? map : "mixed");
+  if (!gl.empty()) json.value("heightmarch_gl", gl);
+  json.end_object();
   json.begin_array("benchmarks");
   for (const Measurement& m : run.rows) {
     if (m.seconds.empty()) continue;

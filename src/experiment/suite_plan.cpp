@@ -22,6 +22,7 @@ Configuration on_view(const PlanSettings& s, const HeightfieldSource& hf, RunKin
   c.params.scale = s.scale;
   c.isa = s.best_isa;
   c.threads = s.threads;
+  if (kind == RunKind::glsl) c.gl = s.gl;
   c.purposes = purposes;
   return c;
 }

@@ -29,6 +29,7 @@ struct PlanSettings {
   int threads = 1;                    // the most of thread_counts: the matrix's
   std::vector<int> thread_counts{1};  // timed side by side: one and all cores, or those asked for
   bool glsl = true;
+  GlTarget gl;                        // the GLSL rows' GL path and device
   unsigned parts = kAllPurposes;  // the purposes measured (--parts)
   int repetitions = 5;
   double min_seconds = 0.04;                   // per repetition

@@ -112,6 +112,55 @@ void read(Reader& r, HitBuffers& hits, std::size_t rays) {
   });
 }
 
+namespace {
+
+GlPath read_path(Reader& r) {
+  std::uint32_t path = 0;
+  r.value(path);
+#define HEIGHTMARCH_GL_PATH_KNOWN(id, ...) if (path == std::uint32_t(GlPath::id)) return GlPath::id;
+  HEIGHTMARCH_GL_PATHS(HEIGHTMARCH_GL_PATH_KNOWN)
+#undef HEIGHTMARCH_GL_PATH_KNOWN
+  throw BadMessage("GL path " + std::to_string(path) + " is none of the list's");
+}
+
+}  // namespace
+
+void write(Writer& w, const GlRenderer& renderer) {
+  w.value(std::uint32_t(renderer.path));
+  for (const std::string* s : {&renderer.device, &renderer.renderer, &renderer.version, &renderer.driver}) w.text(*s);
+  w.value(std::uint8_t(renderer.software));
+}
+
+void read(Reader& r, GlRenderer& renderer) {
+  renderer.path = read_path(r);
+  for (std::string* s : {&renderer.device, &renderer.renderer, &renderer.version, &renderer.driver}) r.text(*s);
+  std::uint8_t software = 0;
+  r.value(software);
+  renderer.software = software != 0;
+}
+
+void write(Writer& w, const std::vector<GlDevice>& devices) {
+  w.value(std::uint64_t(devices.size()));
+  for (const GlDevice& d : devices) {
+    w.value(std::int32_t(d.index));
+    for (const std::string* s : {&d.name, &d.extensions, &d.renderer, &d.version, &d.error}) w.text(*s);
+  }
+}
+
+void read(Reader& r, std::vector<GlDevice>& devices) {
+  std::uint64_t count = 0;
+  r.value(count);
+  constexpr std::uint64_t kMaxDevices = 64;  // what the worker lists at most (egl_context.cpp)
+  if (count > kMaxDevices) throw BadMessage(std::to_string(count) + " devices, more than " + std::to_string(kMaxDevices));
+  devices.resize(count);
+  for (GlDevice& d : devices) {
+    std::int32_t index = 0;
+    r.value(index);
+    d.index = index;
+    for (std::string* s : {&d.name, &d.extensions, &d.renderer, &d.version, &d.error}) r.text(*s);
+  }
+}
+
 Request read_request(Message type, const std::vector<char>& payload) {
   Reader reader(payload);
   switch (type) {
@@ -149,7 +198,7 @@ namespace {
 constexpr std::size_t kPayloadStep = std::size_t(1) << 20;
 
 bool known(Message type) {
-  return unsigned(type) >= unsigned(Message::ready) && unsigned(type) <= unsigned(Message::compiled);
+  return unsigned(type) >= unsigned(Message::ready) && unsigned(type) <= unsigned(Message::devices);
 }
 
 // Waits until fd is ready for `events`; false once the deadline has passed.

@@ -5,14 +5,18 @@
 // A message is a Header and `size` bytes of payload: plain values and length-prefixed arrays in
 // host byte order (both ends are the same build on the same machine). The client sends one
 // request and reads its answers:
-//   (at start)                  -> ready {u32 protocol version, renderer, version}
+//   (at start)                  -> ready {u32 protocol version, GlRenderer}
 //   prepare {params, u8 map follows, [map], u8 rays follow, [rays], shader path}
 //                               -> compiled (the program is linked), then done (uploaded)
 //                               (a map or rays not sent: the worker's last ones, unchanged)
-//   draw                        -> drawn {f64 seconds of draw + glFinish, timed in the worker}
+//   draw                        -> drawn {f64 seconds of draw + glFinish, timed in the worker,
+//                                  u8 timer query answered, f64 its seconds}
 //   read                        -> hits {HitBuffers' arrays in the list's order (hits.hpp), u8 samples known}
 // and any request may be answered input_error {text} (an InputError: the same one-line message)
-// or error {text} (anything else; the worker stays usable after both).
+// or error {text} (anything else; the worker stays usable after both). Started to answer one
+// question instead (heightmarch-glsl-worker --paths, --list-devices), it sends one message and exits:
+//   paths {u32 protocol version, u32 array: the GL paths it was built with}
+//   devices {u32 protocol version, u64 count, GlDevice each}
 //
 // Each end trusts nothing it reads: a message is refused (BadMessage) for a wrong magic, an
 // unknown type, a payload larger than what the reader's memory budget leaves (checked before it
@@ -29,6 +33,7 @@
 #include <variant>
 #include <vector>
 
+#include "heightmarch/gl_target.hpp"
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/hits.hpp"
 #include "heightmarch/rays.hpp"
@@ -36,7 +41,7 @@
 
 namespace heightmarch::glsl_protocol {
 
-inline constexpr std::uint32_t kVersion = 4;
+inline constexpr std::uint32_t kVersion = 5;
 inline constexpr std::uint32_t kMagic = 0x4c474d48;  // "HMGL": a stray write to stdout is caught at once
 // The worker's exit status when an allocation failed outside a request (reading one, starting).
 inline constexpr int kOutOfMemoryStatus = 3;
@@ -51,7 +56,9 @@ enum class Message : std::uint32_t {
   hits,
   input_error,
   error,
-  compiled
+  compiled,
+  paths,
+  devices
 };
 
 struct Header {
@@ -150,6 +157,12 @@ void write(Writer& w, const RayBatch& rays);
 void write(Writer& w, const HitBuffers& hits);
 // Hits as the worker answers them, for `rays` rays: arrays of that length, or BadMessage.
 void read(Reader& r, HitBuffers& hits, std::size_t rays);
+// What the worker's context is (ready), and EGL's devices (devices); BadMessage for a path that
+// is none of the list's.
+void write(Writer& w, const GlRenderer& renderer);
+void read(Reader& r, GlRenderer& renderer);
+void write(Writer& w, const std::vector<GlDevice>& devices);
+void read(Reader& r, std::vector<GlDevice>& devices);
 
 // The requests the worker serves, read and checked whole before it acts on any.
 struct PrepareRequest {

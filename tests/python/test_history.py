@@ -119,3 +119,21 @@ def test_a_file_from_before_simd_use_reads_with_it_empty(tmp_path):
 def test_simd_use_is_recorded_for_the_rows_that_measure_it():
     assert history.measure({"simd_utilization": 0.5}, "simd_utilization") == "0.5"
     assert history.measure({"simd_utilization": None}, "simd_utilization") == ""
+
+
+def glsl_row(gl):
+    return {"kind": "glsl", "backend": "glsl", "threads": 2, "heightfield": {"label": "bricks", "width": 512, "height": 512},
+            "technique": "pom", "layers": "32", "view": {"kind": "default", "width": 256, "height": 256}, "gl": gl}
+
+
+def test_glsl_series_are_kept_apart_by_their_renderer():
+    def gl(renderer, path):
+        return {"path": path.lower(), "device": "software", "renderer": renderer, "version": "4.5", "driver": "Mesa",
+                "label": "glsl (%s; %s)" % (renderer, path)}
+    osmesa, egl = glsl_row(gl("llvmpipe, LLVM 15.0.6, 256 bits", "OSMesa")), glsl_row(gl("llvmpipe, LLVM 15.0.6, 256 bits", "EGL"))
+    gpu = glsl_row(gl("NVIDIA H100 80GB HBM3/PCIe/SSE2", "EGL"))
+    keys = {history.series(history.series_fields(r)) for r in (osmesa, egl, gpu)}
+    assert len(keys) == 3
+    assert history.series_fields(gpu)["backend"] == "glsl (NVIDIA H100 80GB HBM3/PCIe/SSE2; EGL)"
+    # a run from before rows recorded their renderer stays the series it was
+    assert history.series_fields(glsl_row(None))["backend"] == "glsl"

@@ -106,6 +106,27 @@ run unknown "$tmp/bare.json" "$tmp/old.json"
   || fail "a context without the keys: exit $rc or no unknown WARNING"
 echo "ok: build type differs: WARNING in the first lines; a context without the keys says unknown"
 
+# GLSL benchmarks on two GL renderers are kept apart (and a slower GPU is no regression); the
+# CPU's are compared as usual.
+/usr/bin/python3 - "$tmp/old.json" "$tmp/gl-a.json" "$tmp/gl-b.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+for b in d["benchmarks"]:
+    for key in ("name", "run_name"):
+        if "/technique:pom/" in b[key]:
+            b[key] = b[key].replace("BM_Trace/", "BM_GLSL/").replace("/isa:avx2/threads:1/", "/isa:glsl/threads:1/gl:egl/")
+for path, gl, scale in ((sys.argv[2], "glsl (llvmpipe, LLVM 15.0.6, 256 bits; EGL)", 1.0), (sys.argv[3], "glsl (GPU X; EGL)", 2.0)):
+    d["context"]["heightmarch_gl"] = gl
+    for b in d["benchmarks"]:
+        b["real_time"] *= scale if b["name"].startswith("BM_GLSL/") else 1.0
+    json.dump(d, open(path, "w"))
+PY
+run gl "$tmp/gl-a.json" "$tmp/gl-b.json"
+[ "$rc" = 0 ] && has "WARNING: GL renderer differs: OLD glsl (llvmpipe, LLVM 15.0.6, 256 bits; EGL), NEW glsl (GPU X; EGL): 1 GLSL benchmark(s) kept apart, not compared" \
+  && ! has "REGRESSION" && ! grep -v WARNING "$tmp/gl.out" | grep -q BM_GLSL && has "technique:steep" \
+  || fail "GLSL benchmarks of two renderers are compared (exit $rc)"
+echo "ok: GLSL benchmarks of two GL renderers are kept apart, the CPU's compared"
+
 write_run "$tmp/changed.json" '{"counter_scale": {"uv_error_mean": 1.001}}'
 write_run "$tmp/rounded.json" '{"counter_scale": {"uv_error_mean": 1.0000000001}}'
 run behaviour "$tmp/old.json" "$tmp/changed.json"

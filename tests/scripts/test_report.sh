@@ -28,6 +28,11 @@ view = {"kind": "default", "width": 64, "height": 64, "theta": None, "phi": None
 rows = []
 
 
+GL = {"path": "osmesa", "device": "software", "renderer": "llvmpipe (LLVM 15.0.6, 256 bits)",
+      "version": "4.5 (Core Profile) Mesa 22.3.6", "driver": "Mesa/X.org", "software": True,
+      "label": "glsl (llvmpipe, LLVM 15.0.6, 256 bits; OSMesa)"}
+
+
 def add(kind, purposes, technique, layers, backend, threads, rates, samples_per_ray=10.0, view=view, uv=0.5,
         images=None):
     rays = view["width"] * view["height"]
@@ -49,7 +54,7 @@ def add(kind, purposes, technique, layers, backend, threads, rates, samples_per_
                  "errors": None if kind in ("roofline", "ceiling") else {
                      "uv_error_mean": uv, "uv_error_p95": 2 * uv, "uv_error_p99": 3 * uv, "uv_error_max": 9 * uv,
                      "wrong_surface_rate": 0.1 if uv else 0.0},
-                 "speed": speed, "images": images})
+                 "speed": speed, "images": images, "gl": GL if kind == "glsl" else None})
 
 
 add("trace", ["matrix"], "parallax", "1", "avx2", 2, [100e6, 101e6, 99e6, 100e6, 102e6], 1.0, uv=20)
@@ -154,6 +159,12 @@ grep -qF 'p99 \<= 0.5 texel, wrong surface \<= 0.5%' "$report" || fail "the reco
 grep -q '| bricks | 4.00x (3.80-4.20) | 5.00x (4.75-5.25) | 2.00x (1.95-2.11) | 4.00x (3.82-4.33) |' "$report" \
   || fail "the headline ratios"
 grep -q '^- \*\*C7 holds partly\*\*: POM is much more accurate than steep parallax$' "$report" || fail "the claims' verdicts"
+# The GLSL figures name their renderer: the ratio's column, the provenance, the tables' rows.
+grep -q '| avx2 over glsl (llvmpipe, LLVM 15.0.6, 256 bits; OSMesa), 2 threads |' "$report" || fail "the GLSL ratio names no renderer"
+grep -q '| GL renderer | glsl (llvmpipe, LLVM 15.0.6, 256 bits; OSMesa): 4.5 (Core Profile) Mesa 22.3.6, Mesa/X.org, device software |' \
+  "$report" || fail "the provenance names no GL renderer"
+grep -q '^| bricks | glsl (llvmpipe, LLVM 15.0.6, 256 bits; OSMesa) | 2 |' "$tables" || fail "the GLSL row of every backend names no renderer"
+grep -q 'glsl (llvmpipe, LLVM 15.0.6, 256 bits; OSMesa)' "$tmp/run/report.html" || fail "report.html names no GL renderer"
 [ "$(wc -l < "$report")" -lt 120 ] || fail "report.md is $(wc -l < "$report") lines: the long tables belong in tables.md"
 echo "ok: report.md opens with the alerts, what to ship, the claims and the ratios; $(wc -l < "$report") lines"
 

@@ -72,6 +72,13 @@ for r in rows:
         assert abs(rate * seconds - r["rays"]) <= 1e-6 * r["rays"], r["id"]
     if r["kind"] in ("trace", "glsl"):
         assert r["errors"] is not None and r["errors"]["uv_error_p95"] >= 0, r["id"]
+    # A GLSL row names its renderer (the default path here: OSMesa) and keeps both of its draws' clocks.
+    assert (r["gl"] is not None) == (r["kind"] == "glsl"), r["id"]
+    if r["kind"] == "glsl":
+        assert r["gl"]["path"] == "osmesa" and "llvmpipe" in r["gl"]["renderer"] and r["gl"]["software"], r["gl"]
+        assert r["gl"]["label"].startswith("glsl (llvmpipe, LLVM ") and r["gl"]["label"].endswith("; OSMesa)"), r["gl"]
+        assert len(s["gl_wall_seconds"]) == s["repetitions"] and s["gl_wall_seconds"] == s["seconds"], r["id"]
+        assert s["gl_timer_seconds"] is None or len(s["gl_timer_seconds"]) == s["repetitions"], r["id"]
 for r in rows:
     if r["images"]:
         for path in r["images"].values():
@@ -80,7 +87,8 @@ timed = {r["id"] for r in rows if r["speed"]}
 bench = json.load(open(run + "/bench.json"))
 names = {b["name"] for b in bench["benchmarks"]}
 assert all("min_time" not in n and "/view:256x256/depth_map:256x256/manual_time" in n for n in names), sorted(names)[:3]
-assert any(n.startswith("BM_GLSL/heightfield:bricks/technique:pom/layers:32/isa:glsl/") for n in names)
+assert any(n.startswith("BM_GLSL/heightfield:bricks/technique:pom/layers:32/isa:glsl/threads:1/gl:osmesa/") for n in names)
+assert bench["context"]["heightmarch_gl"].startswith("glsl (llvmpipe, "), bench["context"]
 iterations = [b for b in bench["benchmarks"] if b["run_type"] == "iteration"]
 medians = [b for b in bench["benchmarks"] if b["run_type"] == "aggregate" and b["aggregate_name"] == "median"]
 assert len(iterations) == sum(r["speed"]["repetitions"] for r in rows if r["speed"])

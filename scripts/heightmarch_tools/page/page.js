@@ -42,7 +42,7 @@
   // A configuration's figures, as lines of text: the first names it.
   function describe(row) {
     const lines = [`${label(row)} (row ${row.id})`, `${row.heightfield}, ${row.view}`,
-                   `${row.backend}, ${row.threads} thread${row.threads === 1 ? "" : "s"}`];
+                   `${row.renderer}, ${row.threads} thread${row.threads === 1 ? "" : "s"}`];
     if (row.rays_per_second) lines.push(`Mrays/s ${spreadText(row.rays_per_second, 1, 1e-6)}`,
                                         `ns/ray ${spreadText(row.ns_per_ray, 2, 1)}`);
     else lines.push("not timed (accuracy only)");
@@ -139,7 +139,9 @@
                checkboxes("technique", "technique (registry colour and marker)",
                           DATA.techniques.map(t => t.name).filter(t => rows.some(r => r.technique === t)), swatch),
                el("div", {class: "selects"},
-                  select("backend", "backend", backends.map(b => [b, b]), rec ? rec.backend : backends[0]),
+                  // GLSL named by its renderer, as the rows of its backend name it
+                  select("backend", "backend", backends.map(b => [b, rows.find(r => r.backend === b).renderer]),
+                         rec ? rec.backend : backends[0]),
                   select("threads", "threads", [["all", "all"]].concat(threads.map(t => [String(t), String(t)])),
                          rec ? String(rec.threads) : "all"),
                   select("view", "view", views.map(v => [v, v]), recView || views.find(v => v.startsWith("default")) || views[0]),
@@ -264,7 +266,7 @@
     const box = document.getElementById("detail");
     box.textContent = "";
     if (!row) return;
-    box.append(el("h3", {text: `${label(row)} on ${row.heightfield}: ${row.backend}, ${row.threads} thread(s), ${row.view}`}));
+    box.append(el("h3", {text: `${label(row)} on ${row.heightfield}: ${row.renderer}, ${row.threads} thread(s), ${row.view}`}));
     const measures = el("p", {class: "figures"});
     for (const line of describe(row)) measures.append(el("span", {text: line}), el("br"));
     box.append(measures);
@@ -346,7 +348,8 @@
       const points = Object.values(series).flat().sort((a, b) => (a.date < b.date ? -1 : 1));
       Plotly.react("history-chart", Object.entries(series).map(([backend, mine]) => {
         mine = mine.slice().sort((a, b) => (a.date < b.date ? -1 : 1));
-        const colour = DATA.backend_colours[backend.replace("-autovec", " autovec")];
+        // GLSL series are named by their renderer ("glsl (...)"): GLSL's colour
+        const colour = DATA.backend_colours[backend.startsWith("glsl (") ? "glsl" : backend.replace("-autovec", " autovec")];
         return {type: "scatter", mode: "lines+markers", name: esc(backend), x: mine.map(runLabel),
                 y: mine.map(p => p.mrays[0]), marker: {color: colour}, line: {color: colour},
                 error_y: {type: "data", symmetric: false, array: mine.map(p => p.mrays[2] - p.mrays[0]),

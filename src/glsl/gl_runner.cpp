@@ -1,19 +1,16 @@
+#include "glsl/gl_runner.hpp"
+
 #include <algorithm>
-#include <cctype>
+#include <chrono>
 #include <cmath>
 #include <limits>
-#include <cstdlib>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
-#define GL_GLEXT_PROTOTYPES
-#include <GL/osmesa.h>
-#include <GL/glext.h>
-
+#include "glsl/gl_functions.hpp"
 #include "glsl/hit_outputs.hpp"
-#include "glsl/osmesa_runner.hpp"
 #include "glsl/user_shader_text.hpp"
 #include "glsl_sources.hpp"
 #include "heightmarch/error.hpp"
@@ -21,10 +18,8 @@
 #include "heightmarch/precomputed.hpp"
 #include "util/input_file.hpp"
 
-// GL entry points come from libOSMesa itself; linking libGL or libOpenGL as well would route
-// every call to a dispatch table no context of theirs fills, making each one a no-op.
-
 namespace heightmarch {
+using namespace gl;  // the GL functions, loaded from the context's library (gl_functions.hpp)
 namespace {
 
 constexpr int kRowWidth = 1024;  // rays per framebuffer row
@@ -36,8 +31,8 @@ constexpr double kWorkerBytesPerRay = 176.0;
 // And per texel of a depth map: its texture and the copy kept for the precomputed textures (8),
 // the min-depth pyramid and its atlas when a technique reads them (11); a cone map asks itself.
 constexpr double kWorkerBytesPerTexel = 20.0;
-constexpr std::size_t kMaxPrograms = 64;
-const float kUndrawn = std::numeric_limits<float>::quiet_NaN();  // the hits' clear value  // far more than techniques, a bound for brought-in shaders
+constexpr std::size_t kMaxPrograms = 64;  // far more than techniques, a bound for brought-in shaders
+const float kUndrawn = std::numeric_limits<float>::quiet_NaN();  // the hits' clear value
 
 const std::string& glsl(const std::string& name) {
   const auto& sources = embedded_glsl();
@@ -55,28 +50,32 @@ std::string info_log(GLuint object, bool program) {
   return log;
 }
 
+// A shader compiled or a program linked, or its log thrown (and it deleted): an InputError at
+// the brought-in file's lines, a logic_error for a built-in one.
+GLuint checked(GLuint object, bool program, const std::string& user_path) {
+  GLint ok = 0;
+  program ? glGetProgramiv(object, GL_LINK_STATUS, &ok) : glGetShaderiv(object, GL_COMPILE_STATUS, &ok);
+  if (ok) return object;
+  const std::string log = info_log(object, program);
+  program ? glDeleteProgram(object) : glDeleteShader(object);
+  const std::string what = program ? "shader does not link: " : "shader does not compile: ";
+  if (!user_path.empty()) throw InputError(user_path + ": " + what + user_log(log, user_path));
+  throw std::logic_error("built-in " + what + log);
+}
+
 GLuint compile(GLenum type, const std::string& source, const std::string& user_path) {
   const GLuint shader = glCreateShader(type);
   const char* text = source.c_str();
   glShaderSource(shader, 1, &text, nullptr);
   glCompileShader(shader);
-  GLint ok = 0;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    const std::string log = info_log(shader, false);
-    glDeleteShader(shader);
-    if (!user_path.empty()) throw InputError(user_path + ": shader does not compile: " + user_log(log, user_path));
-    throw std::logic_error("built-in shader does not compile: " + log);
-  }
-  return shader;
+  return checked(shader, false, user_path);
 }
 
 }  // namespace
 
-struct OsmesaRunner::State {
-  OSMesaContext context = nullptr;
-  std::vector<unsigned char> buffer = std::vector<unsigned char>(4 * 4 * 4);  // OSMesa wants a buffer bound
+struct GlRunner::State {
   GLuint vao = 0, framebuffer = 0, program = 0;
+  GLuint timer_query = 0;
   GLuint depth_texture = 0, origin_texture = 0, direction_texture = 0;
   std::vector<GLuint> output_textures;  // the hits' outputs' attachments (hit_outputs.hpp)
   // Per kind of precomputed texture (precomputed.hpp): its texture and its int uniforms.
@@ -101,29 +100,23 @@ struct OsmesaRunner::State {
   std::vector<std::pair<std::string, GLuint>> programs;
 };
 
-OsmesaRunner::OsmesaRunner(int threads) : state_(std::make_unique<State>()) {
-  // llvmpipe reads LP_NUM_THREADS when the first context is created; 0 would mean "render on the
-  // calling thread", which is one thread too.
-  setenv("LP_NUM_THREADS", std::to_string(threads).c_str(), 1);
-  const int attributes[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0, OSMESA_STENCIL_BITS, 0,
-                            OSMESA_PROFILE, OSMESA_CORE_PROFILE, OSMESA_CONTEXT_MAJOR_VERSION, 3,
-                            OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
-  state_->context = OSMesaCreateContextAttribs(attributes, nullptr);
-  if (!state_->context || !OSMesaMakeCurrent(state_->context, state_->buffer.data(), GL_UNSIGNED_BYTE, 4, 4))
-    throw std::runtime_error("OSMesa: could not create a GL 3.3 core context");
-  const GLubyte* renderer = glGetString(GL_RENDERER);
-  const GLubyte* version = glGetString(GL_VERSION);
-  if (!renderer || !version) throw std::runtime_error("OSMesa: the context answers no glGetString");
-  renderer_ = reinterpret_cast<const char*>(renderer);
-  version_ = reinterpret_cast<const char*>(version);
+GlRunner::GlRunner(std::unique_ptr<GlContext> context)
+    : context_(std::move(context)), state_(std::make_unique<State>()) {
+  load_functions([this](const char* name) { return context_->proc_address(name); });
+  const auto text = [](GLenum name) {
+    const GLubyte* value = glGetString(name);
+    if (!value) throw std::runtime_error("GL: the context answers no glGetString");
+    return std::string(reinterpret_cast<const char*>(value));
+  };
+  renderer_ = {context_->path(), context_->device(), text(GL_RENDERER), text(GL_VERSION), text(GL_VENDOR),
+               context_->software()};
   glGenVertexArrays(1, &state_->vao);  // the core profile draws nothing without a bound VAO
   glBindVertexArray(state_->vao);
   glGenFramebuffers(1, &state_->framebuffer);
+  glGenQueries(1, &state_->timer_query);
 }
 
-OsmesaRunner::~OsmesaRunner() {
-  if (state_->context) OSMesaDestroyContext(state_->context);
-}
+GlRunner::~GlRunner() = default;  // the context goes with context_, and its objects with it
 
 namespace {
 
@@ -163,20 +156,12 @@ GLuint link_program(const std::string& fragment, const std::string& shader_path)
   glLinkProgram(program);
   glDeleteShader(vs);
   glDeleteShader(fs);
-  GLint linked = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &linked);
-  if (!linked) {
-    const std::string log = info_log(program, true);
-    glDeleteProgram(program);
-    if (!shader_path.empty()) throw InputError(shader_path + ": shader does not link: " + user_log(log, shader_path));
-    throw std::logic_error("built-in shader does not link: " + log);
-  }
-  return program;
+  return checked(program, true, shader_path);
 }
 
 }  // namespace
 
-void OsmesaRunner::set_depth_map(const DepthMap& map) {
+void GlRunner::set_depth_map(const DepthMap& map) {
   State& s = *state_;
   check_side(std::max(map.width, map.height));
   check_memory_budget(kWorkerBytesPerTexel * double(map.texels.size()),
@@ -191,7 +176,7 @@ void OsmesaRunner::set_depth_map(const DepthMap& map) {
   s.has_map = true;
 }
 
-void OsmesaRunner::set_rays(const RayBatch& rays) {
+void GlRunner::set_rays(const RayBatch& rays) {
   State& s = *state_;
   const int height = int((rays.size() + kRowWidth - 1) / kRowWidth);
   check_side(height);
@@ -221,12 +206,12 @@ void OsmesaRunner::set_rays(const RayBatch& rays) {
   }
   glDrawBuffers(GLsizei(buffers.size()), buffers.data());
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw std::runtime_error("OSMesa: the RGBA32F framebuffer is incomplete");
+    throw std::runtime_error("GL: the RGBA32F framebuffer is incomplete");
   glViewport(0, 0, s.width, s.height);
   s.has_rays = true;
 }
 
-void OsmesaRunner::compile(const TechniqueParams& params, const std::string& shader_path) {
+void GlRunner::compile(const TechniqueParams& params, const std::string& shader_path) {
   State& s = *state_;
   s.program = 0;
   s.shader_path = shader_path;
@@ -257,7 +242,7 @@ void OsmesaRunner::compile(const TechniqueParams& params, const std::string& sha
   }
 }
 
-void OsmesaRunner::prepare(const TechniqueParams& params) {
+void GlRunner::prepare(const TechniqueParams& params) {
   State& s = *state_;
   if (!s.has_map || !s.has_rays || !s.program)
     throw std::logic_error("prepare before a depth map and rays were set and a program compiled");
@@ -321,10 +306,10 @@ void OsmesaRunner::prepare(const TechniqueParams& params) {
   }
   HEIGHTMARCH_PRECOMPUTED_TEXTURES(HEIGHTMARCH_BIND_PRECOMPUTED)
 #undef HEIGHTMARCH_BIND_PRECOMPUTED
-  if (glGetError() != GL_NO_ERROR) throw std::runtime_error("OSMesa: GL error while preparing the draw");
+  if (glGetError() != GL_NO_ERROR) throw std::runtime_error("GL: an error while preparing the draw");
 }
 
-void OsmesaRunner::clear_hits() {
+void GlRunner::clear_hits() {
   // Every fragment main.glsl writes has a number of samples (>= 0, or -1: unknown): a NaN left
   // there is a ray whose fragment was discarded.
   const float sentinel[4] = {kUndrawn, kUndrawn, kUndrawn, kUndrawn};
@@ -332,12 +317,22 @@ void OsmesaRunner::clear_hits() {
   glFinish();
 }
 
-void OsmesaRunner::draw() {
+DrawTimes GlRunner::draw() {
+  const auto start = std::chrono::steady_clock::now();
+  glBeginQuery(GL_TIME_ELAPSED, state_->timer_query);
   glDrawArrays(GL_TRIANGLES, 0, 3);
+  glEndQuery(GL_TIME_ELAPSED);
   glFinish();
+  DrawTimes times;
+  times.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // The query's result is there once glFinish returned; a driver that keeps none answers 0.
+  GLuint64 nanoseconds = 0;
+  glGetQueryObjectui64v(state_->timer_query, GL_QUERY_RESULT, &nanoseconds);
+  if (glGetError() == GL_NO_ERROR && nanoseconds > 0) times.timer_seconds = double(nanoseconds) * 1e-9;
+  return times;
 }
 
-void OsmesaRunner::read(HitBuffers& hits, bool& samples_known) const {
+void GlRunner::read(HitBuffers& hits, bool& samples_known) const {
   const State& s = *state_;
   std::vector<std::vector<float>> attachments(s.output_textures.size());
   for (std::size_t a = 0; a < attachments.size(); ++a) {

@@ -1,10 +1,13 @@
 #pragma once
-// The GL side of GlslRunner, in heightmarch-glsl-worker only (heightmarch_gl, the one target that
-// links OSMesa): one GL 3.3 core context in llvmpipe. See heightmarch/glsl_runner.hpp for the
-// brought-in shaders' contract.
+// The GL side of GlslRunner, in heightmarch-glsl-worker only: the one draw path of every GL path,
+// on a GL 3.3 core context that GlContext made (OSMesa or EGL: only that differs). See
+// heightmarch/glsl_runner.hpp for the brought-in shaders' contract.
 #include <memory>
+#include <optional>
 #include <string>
 
+#include "glsl/gl_context.hpp"
+#include "heightmarch/gl_target.hpp"
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/hits.hpp"
 #include "heightmarch/rays.hpp"
@@ -12,17 +15,22 @@
 
 namespace heightmarch {
 
-class OsmesaRunner {
- public:
-  // llvmpipe reads LP_NUM_THREADS once, when the process's first context is created: make one
-  // OsmesaRunner per process.
-  explicit OsmesaRunner(int threads);
-  ~OsmesaRunner();
-  OsmesaRunner(const OsmesaRunner&) = delete;
-  OsmesaRunner& operator=(const OsmesaRunner&) = delete;
+// One draw's time, both ways: the wall time of the draw and its glFinish in the worker, and the
+// GPU's own by a GL_TIME_ELAPSED query around the draw (none where the query answers nothing).
+struct DrawTimes {
+  double wall_seconds = 0;
+  std::optional<double> timer_seconds;
+};
 
-  const std::string& renderer() const { return renderer_; }
-  const std::string& version() const { return version_; }
+class GlRunner {
+ public:
+  // Takes the current context (make_gl_context) and loads its GL functions.
+  explicit GlRunner(std::unique_ptr<GlContext> context);
+  ~GlRunner();
+  GlRunner(const GlRunner&) = delete;
+  GlRunner& operator=(const GlRunner&) = delete;
+
+  const GlRenderer& renderer() const { return renderer_; }
 
   // The depth map and the rays stay in the context until replaced, so a prepare on the same scene
   // uploads neither again; rays need only tx, ty, vx, vy, vz.
@@ -37,13 +45,14 @@ class OsmesaRunner {
   void prepare(const TechniqueParams& params);
   // Fills the hits with a NaN sentinel, which read() finds where a fragment was discarded.
   void clear_hits();
-  void draw();
+  DrawTimes draw();
   void read(HitBuffers& hits, bool& samples_known) const;
 
  private:
+  std::unique_ptr<GlContext> context_;
   struct State;
   std::unique_ptr<State> state_;
-  std::string renderer_, version_;
+  GlRenderer renderer_;
 };
 
 }  // namespace heightmarch
