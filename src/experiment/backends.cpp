@@ -179,7 +179,7 @@ class StructuredBackend : public Backend {
       row.failure = "the structured Highway POM differs from the scalar reference at ray " + std::to_string(i);
   }
 
-  std::function<double()> timer(const Configuration& c, Scene& scene) override {
+  std::function<TraceTime()> timer(const Configuration& c, Scene& scene) override {
     const HighwayStructuredPom& k = kernel(c, scene);
     return wall_timed([&k, &scene] { k.run(scene.rays, scene.scratch); });
   }
