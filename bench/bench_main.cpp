@@ -1,8 +1,8 @@
 // build/heightmarch-bench: Google Benchmark over the suite's typed plan (suite_plan.hpp), filtered
 // as the suite filters it, timed rows only: the technique x layers matrix and the same as GLSL,
 // the searches at every ISA and thread count, POM-32's anchors (the sampler roofline, the compute
-// ceiling, the naive port, its auto-vectorised and its Highway forms per ISA) and the exact
-// reference, on the default view of each heightfield. Names come from benchmark_name(), as in a
+// ceiling, the naive port, its auto-vectorised and its Highway forms per ISA, the hand-written
+// kernel's structure on Highway's ops per ISA) and the exact reference, on the default view of each heightfield. Names come from benchmark_name(), as in a
 // suite's bench.json; counters carry speed and accuracy. A configuration is checked against the
 // scalar reference before it is timed: a wrong kernel never produces a number.
 #include <benchmark/benchmark.h>

@@ -9,6 +9,9 @@
 #   HEADER: its packet header in src/simd/, which defines vfloat<WIDTH> and friends.
 #   MARCH_PACKETS, WALK_PACKETS: native packets in flight per loop iteration (1 or 2, where 2
 #     uses src/simd/packet_pair.hpp) for the registry's two kernel shapes (technique_list.hpp).
+#     The walks refill their lanes (src/kernels/pyramid_walk.hpp) and hold a large state per
+#     lane: a pair of them spills on 16 registers (SSE4.2, AVX2) and is kept only on AVX-512's 32
+#     (docs/performance.md).
 #   HIGHWAY_TARGET: the Google Highway target of the same instructions (HWY_AVX2, ...; for scalar
 #     code Highway's portable one, which it compiles as HWY_EMU128 or HWY_SCALAR): where the
 #     Highway port of the tutorial's POM runs at this ISA (src/baselines/highway_port.cpp).

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "baselines/naive_port.hpp"
+#include "baselines/structured_pom.hpp"
 #include "experiment/plan_runner.hpp"
 #include "experiment/run_outputs.hpp"
 #include "heightmarch/error.hpp"
@@ -167,15 +168,17 @@ TEST(Plan, BenchmarkNamesCarryTheSizes) {
 
 // The anchors of POM-32 at every ISA: the auto-vectorised port and the Highway port (where this
 // build has it) take the naive port's samples and land within its tolerance of the reference; the
-// ceiling is the same on every ISA and marches every ray to its bound (depth 1 everywhere).
+// structured Highway POM (where it runs) equals the reference bit for bit (its backend checks);
+// the ceiling is the same on every ISA and marches every ray to its bound (depth 1 everywhere).
 TEST(Plan, AnchorsAreCheckedAtEveryIsa) {
   std::vector<Configuration> plan;
   Configuration naive = small(Technique::pom, "32", kPurposeNaive);
   naive.kind = RunKind::naive;
   plan.push_back(naive);
   for (Isa isa : supported_isas())
-    for (RunKind kind : {RunKind::autovec, RunKind::highway, RunKind::ceiling}) {
+    for (RunKind kind : {RunKind::autovec, RunKind::highway, RunKind::highway_structured, RunKind::ceiling}) {
       if (kind == RunKind::highway && !highway_port_runs(isa)) continue;
+      if (kind == RunKind::highway_structured && !highway_structured_runs(isa)) continue;
       Configuration c = small(Technique::pom, "32", kPurposeNaive);
       c.kind = kind;
       c.isa = isa;

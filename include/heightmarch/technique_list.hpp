@@ -20,7 +20,8 @@
 // - shape: KernelShape::march (a layered march: an ISA may run two packets in flight) or
 //   KernelShape::walk (a divergent walk with a large state per lane: one packet).
 // - kernel: its packet kernel in src/kernels/techniques/, called as kernel(k, ray) with the
-//   KernelContext and a RayPacket, returning a HitPacket (each ISA's table calls it).
+//   KernelContext and a RayPacket, returning a HitPacket (each ISA's table calls it); a walk's as
+//   kernel(k, ray, walk) with its rays' PyramidWalk, after its WalkSteps queued them.
 // The GLSL call is evaluated with `T` and `V` in scope. Colours and markers are the report's,
 // one per technique everywhere.
 #define HEIGHTMARCH_TECHNIQUES(X)                                                                       \

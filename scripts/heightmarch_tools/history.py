@@ -5,20 +5,22 @@ naming each.
 """
 import csv
 import io
+import os
 import re
 
 from .cli import Parser
 from .errors import Unusable
 from .escape import csv_cell, terminal
 from .measurements import depth_map, gl_label, view_name
-from .readers import Where, read_csv
+from .readers import Where, read_csv, read_text
 from .spreads import spread
 from .writers import atomic_write, locked
 
 MACHINE_PARTS = ["cpu", "cores", "best_isa", "compiler", "build_type"]
 SERIES_FIELDS = ["backend", "threads", "heightfield", "technique", "layers", "view", "depth_map"]
-# Deterministic measures: any change at the same configuration is a behaviour change.
-MEASURES = ["samples_per_ray", "uv_error_mean", "uv_error_p95", "wrong_surface_rate"]
+# Deterministic measures: any change at the same configuration is a behaviour change. SIMD use
+# (the packet kernels' share of busy lanes) came last: older files lack its column.
+MEASURES = ["samples_per_ray", "uv_error_mean", "uv_error_p95", "wrong_surface_rate", "simd_utilization"]
 COLUMNS = (["date", "commit", "machine"] + MACHINE_PARTS + SERIES_FIELDS
            + ["rays_per_second_median", "rays_per_second_min", "rays_per_second_max"] + MEASURES)
 UNKNOWN_PREFIX = "unknown-"
@@ -90,6 +92,8 @@ def measure(row, name):
     errors = row.get("errors") or {}
     if name == "samples_per_ray":
         value = row.get("samples_per_ray") if row.get("samples_known") else None
+    elif name == "simd_utilization":
+        value = row.get("simd_utilization")
     else:
         # measurements.json names them as bench.json does (uv_error_mean) or, before, without "error_"
         value = errors.get(name, errors.get(name.replace("uv_error_", "uv_")))
@@ -143,6 +147,9 @@ class Table:
 HISTORY = Table(COLUMNS, dict({"threads": 1, "rays_per_second_median": 0.0, "rays_per_second_min": 0.0,
                                "rays_per_second_max": 0.0}, **{m: 0.0 for m in MEASURES}),
                 may_be_empty=MEASURES, integers=("threads",))
+# A history from before SIMD use was recorded: its rows read with that column empty.
+HISTORY_BEFORE_SIMD_USE = Table(COLUMNS[:-1], {k: v for k, v in HISTORY.numbers.items() if k != "simd_utilization"},
+                                may_be_empty=MEASURES[:-1], integers=("threads",))
 REPAIR = "scripts/repair-history drops the rows it cannot read, naming each"
 
 
@@ -151,9 +158,18 @@ def as_written(row, table=HISTORY):
     return {k: csv_cell(v) if k in table.text_columns() else v for k, v in row.items()}
 
 
+def header(path):
+    """The first row of a CSV file; None where it does not exist or is empty."""
+    if not os.path.lexists(path):
+        return None
+    return next(csv.reader(io.StringIO(read_text(path), newline="")), None)
+
+
 def read(path, table=HISTORY):
     """The rows of a history file (or of alerts.csv, alerts.ALERTS), every cell checked; []
     where it does not exist yet. A malformed row is refused with its line number."""
+    if table is HISTORY and header(path) == HISTORY_BEFORE_SIMD_USE.columns:
+        return [dict(row, simd_utilization="") for row in read(path, HISTORY_BEFORE_SIMD_USE)]
     rows = []
     for line, cells in read_csv(path, table.columns):
         try:

@@ -522,6 +522,13 @@ def glsl_pairs(run):
         (r for r in run.timed if r["kind"] == "glsl"), key=run.order)]
 
 
+def walks_per_isa(run):
+    """searches_per_isa's entries of the walks: the techniques of shape "walk" (measurements.json's
+    techniques say; none in a run from before they did), whose SIMD use is their own measure."""
+    walks = {t["name"] for t in run.data["techniques"] if t.get("shape") == "walk"}
+    return [f for f in searches_per_isa(run) if any(r["technique"] in walks for r in f[4].values())]
+
+
 def searches_per_isa(run):
     """[(heightfield, technique label, threads, GLSL row, {isa: row})] of the searches timed at every ISA."""
     rows = sorted((r for r in run.timed if "isa" in r.get("purposes", []) and r["kind"] == "trace"

@@ -21,7 +21,8 @@ from .measurements import (ANY, HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK
                           speedup, validate_alerts, validate_recommendation, view_name, backend_colours)
 from .escape import markdown as md, markdown_target
 from .report_content import (alerts_summary, fmt, fmt_change, fmt_error, fmt_number, fmt_ratio, fmt_spread,
-                             recommendation_columns, recommendation_intro, recommendation_rows, warnings)
+                             recommendation_columns, recommendation_intro, recommendation_rows, walks_table, warnings,
+                             WALKS_INTRO)
 from .report_plots import plot_error_vs_angle, plot_error_vs_layers, plot_error_vs_speed, plot_isa_speedup
 from .spreads import per_round, spread
 from .writers import atomic_write
@@ -255,6 +256,13 @@ def section_searches_per_isa(run):
     return section(title, body)
 
 
+def section_walks(run):
+    """The walks' samples/s with their SIMD use, at every ISA."""
+    title = "The walks' lanes at every ISA"
+    walks = walks_table(run)
+    return section(title, [WALKS_INTRO, ""] + md_table(*walks) if walks else [])
+
+
 def section_exact_speed(run):
     """The exact reference's own speed, against POM-32 on the same rays, ISA and threads."""
     rows = sorted((r for r in run.timed if r["kind"] == "exact"), key=run.order)
@@ -363,6 +371,7 @@ TABLES = [("Techniques x layers, per heightfield", "techniques-x-layers-per-heig
           ("CPU against GLSL", "cpu-against-glsl"),
           ("Every backend", "every-backend"),
           ("The searches at every ISA, against GLSL", "the-searches-at-every-isa-against-glsl"),
+          ("The walks' lanes at every ISA", "the-walks-lanes-at-every-isa"),
           ("The exact reference's speed", "the-exact-references-speed"),
           ("Thread scaling (%s-%s)" % (HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS), "thread-scaling-pom-32"),
           ("Gallery", "gallery")]
@@ -392,7 +401,7 @@ def write_report(run, claims, recommendation, alerts, recorded, history_drawn):
     rows when the run is being recorded (history_drawn: whether its plot was drawn)."""
     faults = []  # the tables find them, the warnings on the first screen name them
     tables = (section_matrix(run) + section_glsl(run) + section_every_backend(run, faults)
-              + section_searches_per_isa(run) + section_exact_speed(run) + section_threads(run) + section_gallery(run))
+              + section_searches_per_isa(run) + section_walks(run) + section_exact_speed(run) + section_threads(run) + section_gallery(run))
     plots = section_plots(run, recommendation, history_drawn)
     p = run.provenance
     title = "%s run of %s, commit %s" % (run.plan.get("name", "?"), p.get("date", "?"), p.get("commit", "?"))

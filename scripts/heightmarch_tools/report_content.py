@@ -7,7 +7,7 @@ escape.html or the page's textContent), so the two cannot drift apart.
 import math
 import statistics
 
-from .measurements import HEADLINE_LAYERS, HEADLINE_TECHNIQUE, counted, rays_rounds
+from .measurements import HEADLINE_LAYERS, HEADLINE_TECHNIQUE, counted, rays_rounds, samples_rounds, walks_per_isa
 from .spreads import relative_spread, spread
 
 SPREAD_LIMIT = 0.20  # (max - min) / median above this is flagged as a disturbed timing
@@ -50,6 +50,30 @@ def fmt_change(value):
 
 def load_averages(values):
     return "/".join("%.2f" % x for x in values or []) or "?"
+
+
+# ---------------------------------------------------------------------------------------------
+# The walks' table
+
+WALKS_INTRO = ("The techniques that walk the min-depth pyramid, a divergent walk per lane whose lanes take the "
+               "tile's next ray as theirs ends: Msamples/s median (min-max) and SIMD use (of the lanes the kernel "
+               "read, the share that belonged to a ray still walking) at every ISA.")
+
+
+def walks_table(run):
+    """The walks' samples/s beside their SIMD use at every ISA: ([(title, numeric)], rows of text),
+    or None where the run timed no walk."""
+    found = walks_per_isa(run)
+    if not found:
+        return None
+    simd_use = lambda row: fmt(row.get("simd_utilization"), 0, 100, "%")
+    columns = [("heightfield", False), ("technique", False), ("threads", True)] + [
+        column for isa in run.isas for column in (("%s Msamples/s" % isa, True), ("%s SIMD use" % isa, True))]
+    rows = [[hf, technique, str(threads)] + [
+        cell for isa in run.isas for cell in (
+            (fmt_spread(spread(samples_rounds(by_isa[isa])), 0, 1e-6), simd_use(by_isa[isa])) if isa in by_isa
+            else ("-", "-"))] for hf, technique, threads, _, by_isa in found]
+    return columns, rows
 
 
 # ---------------------------------------------------------------------------------------------

@@ -12,7 +12,7 @@ from .measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHA
                           docs_link, gl_label, glsl_pairs, machine_rows, ns_per_ray_rounds, rays_rounds, searches_per_isa, speedup, view_name)
 from .escape import csv_cell, html as esc, script_json
 from .report_content import (alerts_summary, fmt_ratio, fmt_spread, recommendation_columns, recommendation_intro,
-                             recommendation_rows)
+                             recommendation_rows, walks_table, WALKS_INTRO)
 from .spreads import spread
 from .writers import atomic_write
 
@@ -166,6 +166,7 @@ def history_series(run, recorded):
 
 def write_page(run, claims, recommendation, alerts, recorded, warnings, faults, backend_colours):
     found = searches_per_isa(run)
+    walks = walks_table(run)
     data = {
         "title": "%s run of %s, commit %s" % (run.plan.get("name", "?"), run.provenance.get("date", "?"),
                                                run.provenance.get("commit", "?")),
@@ -195,6 +196,8 @@ def write_page(run, claims, recommendation, alerts, recorded, warnings, faults, 
     static = {
         "claims": claims_html(claims, maxmip_link),
         "isa_table": isa_table(run, found) if found else "<p>Not measured in this run.</p>",
+        "walk_table": ("<p>%s</p>" % esc(WALKS_INTRO) + table(walks[0], [[esc(c) for c in row] for row in walks[1]])
+                       if walks else "<p>Not measured in this run.</p>"),
         "glsl_table": ("<p>The same rays and parameters on both sides; CPU at the best ISA (%s); CPU/GLSL: median "
                        "(min-max) of the per-round ratios. See %s.</p>" % (esc(run.best_isa or "?"), shadow_link)
                        + glsl_table(run, glsl_pairs(run))) if glsl_pairs(run) else "<p>Not measured in this run.</p>",
@@ -248,6 +251,7 @@ in the grey band at the bottom.</p>
 <section id="speed"><h2>Speed per ISA, and CPU against GLSL</h2>
 <div id="isa-filters"></div><div id="isa-chart"></div>
 <details><summary>The searches at every ISA, against GLSL (table)</summary>%(isa_table)s</details>
+<details><summary>The walks' samples/s and SIMD use at every ISA (table)</summary>%(walk_table)s</details>
 <details><summary>CPU against GLSL (table)</summary>%(glsl_table)s</details>
 </section>
 <section id="history"><h2>History of this machine</h2><div id="history-body"></div><div id="history-chart"></div></section>

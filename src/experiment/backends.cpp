@@ -6,6 +6,7 @@
 #include <string>
 
 #include "baselines/naive_port.hpp"
+#include "baselines/structured_pom.hpp"
 #include "heightmarch/error.hpp"
 #include "heightmarch/glsl_runner.hpp"
 #include "heightmarch/metrics.hpp"
@@ -167,6 +168,34 @@ class PortBackend : public Backend {
   }
 };
 
+// The hand-written POM's structure on Google Highway's ops at the configuration's ISA's Highway
+// target, checked bit for bit against the technique's scalar reference (its hits are the same).
+class StructuredBackend : public Backend {
+ public:
+  void trace(const Configuration& c, Scene& scene, HitBuffers& hits, Measurement& row) override {
+    kernel(c, scene).run(scene.rays, hits);
+    const long long i = first_difference(scene.rays, hits, scene.reference(RunKind::trace, c.params, &Tracer::run));
+    if (i >= 0)
+      row.failure = "the structured Highway POM differs from the scalar reference at ray " + std::to_string(i);
+  }
+
+  std::function<TraceTime()> timer(const Configuration& c, Scene& scene) override {
+    const HighwayStructuredPom& k = kernel(c, scene);
+    return wall_timed([&k, &scene] { k.run(scene.rays, scene.scratch); });
+  }
+
+  void forget() override { kernels_.clear(); }
+
+ private:
+  const HighwayStructuredPom& kernel(const Configuration& c, Scene& scene) {
+    auto& slot = kernels_[&c];
+    if (!slot) slot = std::make_unique<HighwayStructuredPom>(scene.map, c.params, c.isa);
+    return *slot;
+  }
+
+  std::map<const Configuration*, std::unique_ptr<HighwayStructuredPom>> kernels_;
+};
+
 // The exact reference itself (its float pass at the configuration's ISA): its accuracy is zero by
 // definition; its speed is what is measured.
 class ExactBackend : public Backend {
@@ -200,6 +229,7 @@ std::unique_ptr<Backend> make_backend(RunKind kind) {
     case RunKind::naive:
     case RunKind::autovec:
     case RunKind::highway: return std::make_unique<PortBackend>();
+    case RunKind::highway_structured: return std::make_unique<StructuredBackend>();
     case RunKind::exact: return std::make_unique<ExactBackend>();
   }
   throw std::logic_error("no backend for run kind " + to_string(kind));

@@ -31,6 +31,7 @@ namespace heightmarch {
   X(naive, "naive", "BM_NaivePort", true, false, "naive", "scalar-naive") /* the tutorial's POM in C++ */ \
   X(autovec, "autovec", "BM_AutoVecPort", true, true, "", "") /* that port vectorised by the compiler */ \
   X(highway, "highway", "BM_HighwayPort", true, true, "", "") /* that port written with Google Highway */ \
+  X(highway_structured, "highway-structured", "BM_HighwayStructured", true, true, "", "") /* POM's kernel on Highway's ops */ \
   X(exact, "exact", "BM_Exact", false, true, "exact", "exact") /* the exact reference */
 
 #define HEIGHTMARCH_RUN_KIND_ENUM(id, ...) id,

@@ -416,6 +416,7 @@ std::string measurements_json(const MeasuredPlan& run, const std::string& plan_n
         .value("layered", t.layered)
         .value("color", std::string(t.color))
         .value("marker", std::string(t.marker))
+        .value("shape", t.shape == KernelShape::walk ? "walk" : "march")  // the report's walk table
         .value("description", std::string(t.description))
         .end_object();
   json.end_array().begin_array("measures");

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "baselines/naive_port.hpp"
+#include "baselines/structured_pom.hpp"
 #include "heightmarch/error.hpp"
 
 namespace heightmarch {
@@ -198,10 +199,11 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
           roofline.params.layers = kThirtyTwo;
           add_to_plan(plan, roofline);
         }
-        // The ports at the ISA: vectorised by the compiler, and written with Google Highway where
-        // this build has it for the ISA.
-        for (RunKind port : {RunKind::autovec, RunKind::highway}) {
+        // The ports at the ISA: vectorised by the compiler, and, where this build has Google Highway
+        // for the ISA, written with it (the naive port, and the hand-written kernel's structure).
+        for (RunKind port : {RunKind::autovec, RunKind::highway, RunKind::highway_structured}) {
           if (port == RunKind::highway && !(s.highway && highway_port_runs(isa))) continue;
+          if (port == RunKind::highway_structured && !(s.highway && highway_structured_runs(isa))) continue;
           Configuration c = with_technique(on_view(s, hf, port, kPurposeNaive), Technique::pom, kThirtyTwo);
           c.isa = isa;
           c.threads = threads;

@@ -34,8 +34,9 @@ struct PlanSettings {
   int repetitions = 5;
   double min_seconds = 0.04;                   // per repetition
   bool large_maps = true;                      // P2's rows on the builtins at kLargeMapSide
-  // heightmarch-bench's: POM-32's port written with Google Highway beside its auto-vectorised
-  // form, at every ISA it runs at (naive_port.hpp; the suite's report and history do not tell
+  // heightmarch-bench's: POM-32 written with Google Highway (the naive port beside its
+  // auto-vectorised form, and the hand-written kernel's structure), at every ISA it runs at
+  // (naive_port.hpp, structured_pom.hpp; the suite's report and history do not tell
   // its rows from the trace rows of the same backend yet), and the matrix at every ISA and thread
   // count (the regression tools time layer counts at several ISAs).
   bool highway = false;
