@@ -323,7 +323,8 @@ TEST(Claims, SecantAgainstBinaryRefinementAtEqualSamples) {
 TEST(Claims, ConsecutiveComputationsGiveIdenticalVerdicts) {
   PlanSettings s = suite_settings(true, 1);
   s.heightfields = {parse_heightfield("builtin:bricks", 64), parse_heightfield("builtin:waves", 64)};
-  s.view_size = 64;
+  s.window = around_window(64);
+  s.window.tile_size = 8;  // a tile for each view of the set
   s.sweep_size = 16;
   s.repetitions = 1;
   s.min_seconds = 0.0;

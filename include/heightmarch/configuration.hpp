@@ -62,8 +62,9 @@ enum Purpose : unsigned {
   kPurposeCommand = 1u << 8,   // asked for on the command line (trace, glsl)
   kPurposeLargeMaps = 1u << 9, // the papers' claim on large depth maps (P2)
   kPurposeExact = 1u << 10,    // the exact reference's own speed
+  kPurposeHeldOut = 1u << 11,  // a candidate's accuracy on the held-out view set (recommendation.hpp)
 };
-inline constexpr unsigned kPurposeCount = 11;
+inline constexpr unsigned kPurposeCount = 12;
 inline constexpr unsigned kAllPurposes = (1u << kPurposeCount) - 1;
 std::string purpose_name(unsigned single_purpose_bit);
 

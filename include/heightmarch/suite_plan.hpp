@@ -10,6 +10,9 @@
 
 namespace heightmarch {
 
+// The default view of side x side pixels seen around the surface, at the default span.
+ViewSpec around_window(int side);
+
 struct PlanSettings {
   std::string name;                            // "default", "quick"
   std::vector<HeightfieldSource> heightfields;
@@ -19,9 +22,11 @@ struct PlanSettings {
   std::vector<LayerSpec> layer_specs;
   std::vector<LayerSpec> few_layer_specs;    // the sweeps' and GLSL's at fewer threads: 8, 32, 8-32
   float scale = 0.1f;                        // height scale of every configuration
-  float near_degrees = kDefaultNearDegrees;  // the default view's span of view angles
-  float far_degrees = kDefaultFarDegrees;
-  int view_size = 1024;                        // default view side, pixels
+  // The window of the rows on the default view (the matrix, the searches at every ISA, GLSL, the
+  // anchors, the claims): the default view turned around the surface unless asked otherwise
+  // (--views), at its span of view angles; its held-out set checks the recommendation's candidates
+  // (docs/measures.md#view-sets). Sweeps are turned around too, unless the window is single.
+  ViewSpec window = around_window(1024);
   int sweep_size = 128;                        // sweep views: side, pixels
   std::vector<double> sweep_angles;            // degrees
   int gallery_width = 512, gallery_height = 384;
@@ -47,9 +52,18 @@ std::vector<double> sweep_angles(float near_degrees, float far_degrees);
 // roofline, the naive port, sweeps, the gallery and the claims' rows.
 std::vector<Configuration> suite_plan(const PlanSettings& settings);
 
+// The held-out twins of a plan's candidates (its technique rows on the window with the matrix,
+// GLSL or claims purpose): each the same configuration on the window's held-out set, for its
+// accuracy only (purpose held-out).
+std::vector<Configuration> held_out_plan(const std::vector<Configuration>& plan, const PlanSettings& settings);
+
+// The gallery's view: one perspective view of gallery_width x gallery_height at the window's span
+// (a picture of one camera, not a set's patchwork).
+ViewSpec gallery_view(const PlanSettings& settings);
+
 // The claims' rows alone (what `heightmarch claims` runs): every row each claim declares
-// (claims.hpp) on every heightfield, sweeps untimed, and with large_maps the large-map rows on
-// the builtins at kLargeMapSide.
+// (claims.hpp) on every heightfield, sweeps untimed, with large_maps the large-map rows on the
+// builtins at kLargeMapSide, and the held-out twins of the candidates among them.
 std::vector<Configuration> claims_plan(const PlanSettings& settings);
 
 }  // namespace heightmarch

@@ -39,6 +39,7 @@ void add_plan_options(CLI::App& command, PlanOptions& o, const std::string& quic
       "--view-angles", o.view_angles,
       "NEAR-FAR: the view angles from the normal, in degrees, that the default view spans from its near "
       "edge to its far edge (default 30-80); the sweeps cover the same span");
+  add_views_option(command, o.views, "around");
 }
 
 PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
@@ -60,12 +61,13 @@ PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
     settings.scale = float(*o.scale);
   }
   if (!o.view_angles.empty()) {
-    ViewSpec view;
-    parse_view_angles(o.view_angles, view);
-    settings.near_degrees = view.near_degrees;
-    settings.far_degrees = view.far_degrees;
-    settings.sweep_angles = sweep_angles(view.near_degrees, view.far_degrees);
+    parse_view_angles(o.view_angles, settings.window);
+    settings.sweep_angles = sweep_angles(settings.window.near_degrees, settings.window.far_degrees);
   }
+  // The window holds as many rays as the plan's frame, whichever it is.
+  const double rays = double(settings.window.width) * settings.window.height;
+  apply_views(o.views, settings.window);
+  size_views_for_rays(settings.window, rays);
   settings.glsl = glsl;
   settings.repetitions = o.repetitions;
   return settings;
@@ -122,18 +124,18 @@ void write_claims(const std::string& dir, const ClaimsData& data, const PlanSett
       "Configurations: heightfields " + heightfields + " (builtins at " +
       std::to_string(settings.heightfields.front().resolution) + " x " +
       std::to_string(settings.heightfields.front().resolution) + "), scale " +
-      string_format("%g", settings.scale) + ", REPEAT; on the default view at " +
-      std::to_string(settings.view_size) + " x " + std::to_string(settings.view_size) +
-      " pixels, view angles " +
-      string_format("%g to %g degrees", settings.near_degrees, settings.far_degrees) +
-      " (the same rows as the report's tables): " + claim_rows_text(ClaimView::default_view) +
+      string_format("%g", settings.scale) + ", REPEAT; on the window " + describe(settings.window) +
+      " (docs/measures.md#view-sets; the same rows as the report's tables): " +
+      claim_rows_text(ClaimView::default_view) +
       "; on sweep views of " + std::to_string(settings.sweep_size) + " x " +
-      std::to_string(settings.sweep_size) + " rays: " + claim_rows_text(ClaimView::sweep) +
+      std::to_string(settings.sweep_size) + " rays" +
+      (settings.window.kind == ViewSpec::Kind::perspective && !settings.window.around ? "" : " seen around") +
+      ": " + claim_rows_text(ClaimView::sweep) +
       (settings.large_maps
            ? "; for P2, the builtins at " + std::to_string(kLargeMapSide) + " x " +
-                 std::to_string(kLargeMapSide) + " on the default view at " +
+                 std::to_string(kLargeMapSide) + " on the window at about " +
                  std::to_string(kLargeMapViewSide) + " x " + std::to_string(kLargeMapViewSide) +
-                 " pixels: " + claim_rows_text(ClaimView::large_map)
+                 " rays: " + claim_rows_text(ClaimView::large_map)
            : std::string()) +
       ". Errors are uv errors in "
       "texels against the exact intersection; sharp depth changes (|grad D| at the exact hit, top decile of "

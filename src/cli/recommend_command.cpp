@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <nlohmann/json.hpp>
@@ -72,8 +73,45 @@ bool has_purpose(const Json& row, const std::string& name) {
   return false;
 }
 
+// A row's errors as the recommendation reads them; a run written before the intervals were
+// (measurements.json without errors.confidence) gives each figure as its own interval. Format 1
+// named the percentiles uv_p99.
+Accuracy accuracy_of(const Json& row, int format_version) {
+  const Json& errors = row.at("errors");
+  const Json confidence = errors.value("confidence", Json::object());
+  Accuracy a;
+  for (ErrorPercentile p : kErrorPercentiles) {
+    const double value = errors.at(format_version >= 2 ? measure_name(p) : "uv_" + to_string(p)).get<double>();
+    a.uv_error[int(p)] = value;
+    a.uv_error_ci[int(p)] = {value, value};
+    if (const auto ci = confidence.find(measure_name(p)); ci != confidence.end())
+      a.uv_error_ci[int(p)] = {ci->at(0).get<double>(), ci->at(1).get<double>()};
+  }
+  a.wrong_surface_rate = errors.at("wrong_surface_rate").get<double>();
+  a.wrong_surface_ci = {a.wrong_surface_rate, a.wrong_surface_rate};
+  if (const auto ci = confidence.find("wrong_surface_rate"); ci != confidence.end())
+    a.wrong_surface_ci = {ci->at(0).get<double>(), ci->at(1).get<double>()};
+  a.rays = row.at("rays").get<std::size_t>() - errors.at("discarded").get<std::size_t>();
+  return a;
+}
+
+// What a row and its held-out twin share (everything but the view's seed), with a seed: a
+// candidate's key at its seed + 1 is its twin's at its own.
+std::string twin_key(const Json& row, long long seed) {
+  Json key = Json::array();
+  for (const char* field : {"kind", "backend", "threads", "technique", "layers", "refine", "scale", "wrap", "discard"})
+    key.push_back(row.value(field, Json()));
+  key.push_back(row.at("heightfield").at("label"));
+  Json view = row.at("view");
+  view.erase("seed");
+  view.erase("description");
+  key.push_back(view);
+  key.push_back(seed);
+  return key.dump();
+}
+
 // A row of measurements.json as a candidate, or none for a row the recommendation does not read
-// (the same rows candidates() takes from a run's Measurements). Format 1 named the percentiles uv_p99.
+// (the same rows candidates() takes from a run's Measurements).
 std::optional<Candidate> candidate_of(const Json& row, int format_version) {
   const std::string kind = row.at("kind").get<std::string>();
   if (kind != "trace" && kind != "glsl") return std::nullopt;
@@ -82,7 +120,10 @@ std::optional<Candidate> candidate_of(const Json& row, int format_version) {
   if (row.at("technique").is_null() || !row.value("shader", Json()).is_null()) return std::nullopt;
   if (row.at("errors").is_null() || row.at("speed").is_null() || !row.at("failure").is_null())
     return std::nullopt;
-  if (row.at("view").at("kind").get<std::string>() != "default" || row.at("rays").get<std::size_t>() == 0)
+  const Json& view = row.at("view");
+  const std::string view_kind = view.at("kind").get<std::string>();
+  if (view_kind == "sweep" || view_kind == "rays" || !view.value("fresh_rays", Json()).is_null() ||
+      row.at("rays").get<std::size_t>() == 0)
     return std::nullopt;
   Candidate c;
   c.id = row.at("id").get<int>();
@@ -96,11 +137,7 @@ std::optional<Candidate> candidate_of(const Json& row, int format_version) {
   c.grid = !glsl && (has_purpose(row, "matrix") || has_purpose(row, "claims"));
   c.technique = parse_technique(row.at("technique").get<std::string>());
   c.layers = parse_layer_spec(row.at("layers").get<std::string>());
-  const Json& errors = row.at("errors");
-  for (ErrorPercentile p : kErrorPercentiles)
-    c.uv_error[int(p)] =
-        errors.at(format_version >= 2 ? measure_name(p) : "uv_" + to_string(p)).get<double>();
-  c.wrong_surface_rate = errors.at("wrong_surface_rate").get<double>();
+  c.selection = accuracy_of(row, format_version);
   c.samples_per_ray = row.at("samples_per_ray").is_null() ? 0.0 : row.at("samples_per_ray").get<double>();
   c.rays = row.at("rays").get<std::size_t>();
   c.seconds = row.at("speed").at("seconds").get<std::vector<double>>();
@@ -130,16 +167,30 @@ std::vector<Candidate> read_candidates(const std::string& path) {
     throw InputError(path + ": not a heightmarch measurements.json of format 1 to " +
                      std::to_string(kMeasurementsFormatVersion));
   std::vector<Candidate> out;
+  std::vector<std::string> keys;  // each candidate's twin's key
+  std::map<std::string, std::pair<int, Accuracy>> held_out;
   const Json& rows = data.at("rows");
   for (std::size_t i = 0; i < rows.size(); ++i) {
     try {
-      if (auto c = candidate_of(rows[i], version)) out.push_back(std::move(*c));
+      const Json& row = rows[i];
+      const long long seed = row.at("view").value("seed", 0LL);
+      if (auto c = candidate_of(row, version)) {
+        out.push_back(std::move(*c));
+        keys.push_back(twin_key(row, seed + 1));
+      } else if (has_purpose(row, "held-out") && !row.at("errors").is_null() && row.at("failure").is_null()) {
+        held_out[twin_key(row, seed)] = {row.at("id").get<int>(), accuracy_of(row, version)};
+      }
     } catch (const Json::exception& e) {
       throw InputError(path + ": row " + std::to_string(i) + ": " + e.what());
     } catch (const InputError& e) {
       throw InputError(path + ": row " + std::to_string(i) + ": " + e.what());
     }
   }
+  for (std::size_t i = 0; i < out.size(); ++i)
+    if (const auto it = held_out.find(keys[i]); it != held_out.end()) {
+      out[i].held_out_id = it->second.first;
+      out[i].held_out = it->second.second;
+    }
   return out;
 }
 

@@ -17,7 +17,7 @@ std::string to_string(RunKind kind) { return std::string(info(kind).name); }
 std::string purpose_name(unsigned bit) {
   static const char* const names[kPurposeCount] = {"matrix", "isa",     "glsl",   "roofline", "naive",
                                                    "sweep",  "gallery", "claims", "command", "large-maps",
-                                                   "exact"};
+                                                   "exact",  "held-out"};
   for (unsigned i = 0; i < kPurposeCount; ++i)
     if (bit == (1u << i)) return names[i];
   return "?";

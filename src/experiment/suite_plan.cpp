@@ -1,6 +1,7 @@
 #include "heightmarch/suite_plan.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace heightmarch {
 namespace {
@@ -11,14 +12,12 @@ std::vector<LayerSpec> specs(std::initializer_list<const char*> texts) {
   return out;
 }
 
-// A configuration on the default view of a heightfield, at the plan's scale.
+// A configuration on the plan's window over a heightfield, at the plan's scale.
 Configuration on_view(const PlanSettings& s, const HeightfieldSource& hf, RunKind kind, unsigned purposes) {
   Configuration c;
   c.kind = kind;
   c.heightfield = hf;
-  c.view = parse_view("default", s.view_size, s.view_size);
-  c.view.near_degrees = s.near_degrees;
-  c.view.far_degrees = s.far_degrees;
+  c.view = s.window;
   c.params.scale = s.scale;
   c.isa = s.best_isa;
   c.threads = s.threads;
@@ -36,7 +35,23 @@ bool wanted(const PlanSettings& s, Technique t) {
   return std::find(s.techniques.begin(), s.techniques.end(), t) != s.techniques.end();
 }
 
+// A sweep at theta, seen around the surface unless the window is the single view, in tiles of
+// 1/16 of its side: each row of tiles takes 16 sectors of azimuth.
+ViewSpec sweep_for(const PlanSettings& s, double theta) {
+  ViewSpec view = sweep_view(theta, s.sweep_size, s.sweep_size);
+  if (s.window.kind == ViewSpec::Kind::perspective && !s.window.around) return view;
+  apply_views("around", view);
+  view.tile_size = std::clamp(s.sweep_size / 16, 1, kDefaultTileSize);
+  return view;
+}
+
 }  // namespace
+
+ViewSpec around_window(int side) {
+  ViewSpec view = parse_view("default", side, side);
+  apply_views("around", view);
+  return view;
+}
 
 PlanSettings suite_settings(bool quick, int threads) {
   PlanSettings s;
@@ -48,7 +63,7 @@ PlanSettings suite_settings(bool quick, int threads) {
   for (const TechniqueInfo& t : techniques()) s.techniques.push_back(t.id);
   s.layer_specs = quick ? specs({"8", "32", "8-32"}) : specs({"4", "8", "10", "16", "32", "64", "8-32"});
   s.few_layer_specs = specs({"8", "32", "8-32"});
-  s.view_size = quick ? 256 : 1024;
+  s.window = around_window(quick ? 256 : 1024);
   s.sweep_size = quick ? 48 : 128;
   // 0 to 85 degrees: from the normal to nearly grazing, beyond the default view's 30-80
   s.sweep_angles = sweep_angles(0.0f, 85.0f);
@@ -72,6 +87,28 @@ std::vector<double> sweep_angles(float near_degrees, float far_degrees) {
   return angles;
 }
 
+ViewSpec gallery_view(const PlanSettings& s) {
+  ViewSpec view = parse_view("default", s.gallery_width, s.gallery_height);
+  view.near_degrees = s.window.kind == ViewSpec::Kind::perspective ? s.window.near_degrees : kDefaultNearDegrees;
+  view.far_degrees = s.window.kind == ViewSpec::Kind::perspective ? s.window.far_degrees : kDefaultFarDegrees;
+  return view;
+}
+
+std::vector<Configuration> held_out_plan(const std::vector<Configuration>& plan, const PlanSettings& s) {
+  std::vector<Configuration> out;
+  for (const Configuration& c : plan) {
+    if (!(c.purposes & (kPurposeMatrix | kPurposeGlsl | kPurposeClaims)) || !c.has_technique() ||
+        !(c.kind == RunKind::trace || c.kind == RunKind::glsl) || !(c.view == s.window))
+      continue;
+    Configuration twin = c;
+    twin.view = held_out_view(c.view);
+    twin.timed = false;
+    twin.purposes = kPurposeHeldOut;
+    add_to_plan(out, twin);
+  }
+  return out;
+}
+
 std::vector<Configuration> claims_plan(const PlanSettings& s) {
   std::vector<Configuration> plan;
   // A claim row on a heightfield: default-view rows timed (claims show speeds beside costs, and
@@ -82,12 +119,12 @@ std::vector<Configuration> claims_plan(const PlanSettings& s) {
         if (row.view != view) continue;
         Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeClaims), row.technique, row.layers);
         if (view == ClaimView::sweep) {
-          c.view = sweep_view(row.theta, s.sweep_size, s.sweep_size);
+          c.view = sweep_for(s, row.theta);
           c.timed = false;
         }
         if (view == ClaimView::large_map) {
           c.heightfield.resolution = kLargeMapSide;
-          c.view.width = c.view.height = kLargeMapViewSide;
+          size_views_for_rays(c.view, double(kLargeMapViewSide) * kLargeMapViewSide);
           c.purposes = kPurposeLargeMaps;
         }
         add_to_plan(plan, c);
@@ -100,6 +137,7 @@ std::vector<Configuration> claims_plan(const PlanSettings& s) {
   if (s.large_maps)  // the builtins only: a file has its own size
     for (const HeightfieldSource& hf : s.heightfields)
       if (!hf.builtin.empty()) add_rows(hf, ClaimView::large_map);
+  for (const Configuration& c : held_out_plan(plan, s)) add_to_plan(plan, c);
   return plan;
 }
 
@@ -167,7 +205,7 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
         if (writes_shadow(t)) continue;  // its own measure is the shadow factor, not the hit
         for (const LayerSpec& layers : s.few_layer_specs) {
           Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeSweep), t.id, layers);
-          c.view = sweep_view(theta, s.sweep_size, s.sweep_size);
+          c.view = sweep_for(s, theta);
           c.timed = false;
           add_to_plan(plan, c);
           if (!t.layered) break;
@@ -178,8 +216,7 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
   const HeightfieldSource& first = s.heightfields.front();
   auto gallery = [&](RunKind kind, Technique technique, const char* layers) {
     Configuration c = with_technique(on_view(s, first, kind, kPurposeGallery), technique, parse_layer_spec(layers));
-    c.view.width = s.gallery_width;
-    c.view.height = s.gallery_height;
+    c.view = gallery_view(s);
     c.timed = false;
     add_to_plan(plan, c);
   };
@@ -188,6 +225,7 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
     gallery(RunKind::trace, t, writes_shadow(info(t)) ? "32" : "10");  // a shadow from a close hit
   if (wanted(s, Technique::pom)) gallery(RunKind::trace, Technique::pom, "32");
   for (const Configuration& c : claims_plan(s)) add_to_plan(plan, c);
+  for (const Configuration& c : held_out_plan(plan, s)) add_to_plan(plan, c);
   // The parts asked for: a configuration stays for the purposes it serves among them.
   std::vector<Configuration> kept;
   for (Configuration& c : plan)
