@@ -217,7 +217,7 @@ TEST(Confidence, SummariesCarryIntervalsThatHoldTheirFigures) {
   exact.resize(rays.size());
   test::Random rng(5);
   for (std::size_t i = 0; i < rays.size(); ++i) hits.u[i] = float(rng.uniform() < 0.01 ? 4.0 : 0.1 * rng.uniform()) / 64.0f;
-  const ErrorSummary e = summarize_errors(rays, hits, exact, 64, 64, false);
+  const ErrorSummary e = summarize_errors(rays, hits, exact, 64, 64, Writes::hit);
   EXPECT_NEAR(e.effective_rays, double(e.rays), 0.35 * e.rays) << "independent rays: about no design effect";
   const Interval cp = clopper_pearson(e.wrong_surface_rate * e.effective_rays, e.effective_rays);
   EXPECT_NEAR(e.wrong_surface_ci.low, cp.low, 1e-9);

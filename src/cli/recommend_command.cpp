@@ -1,6 +1,9 @@
 // heightmarch recommend: the recommendation of a measured run at a target of the user's, without
 // measuring again: reads the run's measurements.json (its rows as typed candidates) and writes or
 // prints the recommendation. Also the target options and recommendation.json of suite and claims.
+#include "cli/recommend_command.hpp"
+
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -11,12 +14,12 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
-#include "cli/common_options.hpp"
 #include "cli/run_directory.hpp"
-#include "cli/suite_command.hpp"
+#include "experiment/run_outputs.hpp"
 #include "heightmarch/error.hpp"
-#include "heightmarch/run_outputs.hpp"
+#include "experiment/plan_runner.hpp"
 #include "io/atomic_file.hpp"
+#include "io/json_writer.hpp"
 #include "util/string_format.hpp"
 
 namespace heightmarch::cli {
@@ -148,24 +151,36 @@ std::optional<Candidate> candidate_of(const Json& row, int format_version) {
   return c;
 }
 
-std::vector<Candidate> read_candidates(const std::string& path) {
+// A run's measurements.json and its format version.
+struct Measurements {
+  Json data;
+  int version = 0;
+};
+
+Measurements read_measurements(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot read it");
-  Json data;
+  Measurements m;
+  Json& data = m.data;
   try {
     data = Json::parse(in);
   } catch (const Json::exception& e) {
     throw InputError(path + ": not JSON (" + e.what() + ")");
   }
-  int version = 0;
   if (data.is_object() && data.value("format", "") == "heightmarch-measurements" &&
       data.contains("format_version"))
-    version = data["format_version"].is_number_integer() ? data["format_version"].get<int>() : 0;
+    m.version = data["format_version"].is_number_integer() ? data["format_version"].get<int>() : 0;
   else if (data.is_object() && data.value("schema", "") == "heightmarch-measurements/1")
-    version = 1;
-  if (version < 1 || version > kMeasurementsFormatVersion)
+    m.version = 1;
+  if (m.version < 1 || m.version > kMeasurementsFormatVersion)
     throw InputError(path + ": not a heightmarch measurements.json of format 1 to " +
                      std::to_string(kMeasurementsFormatVersion));
+  return m;
+}
+
+std::vector<Candidate> read_candidates(const Measurements& measurements, const std::string& path) {
+  const Json& data = measurements.data;
+  const int version = measurements.version;
   std::vector<Candidate> out;
   std::vector<std::string> keys;  // each candidate's twin's key
   std::map<std::string, std::pair<int, Accuracy>> held_out;
@@ -194,10 +209,114 @@ std::vector<Candidate> read_candidates(const std::string& path) {
   return out;
 }
 
+// The outside check (docs/recommendation.md#the-outside-check): a row's configuration again, its
+// window's rays replaced by fresh ones drawn like the window's (every azimuth and position uniform,
+// the view angles from its own), for its accuracy.
+Configuration fresh_rays_configuration(const Json& row, std::size_t rays, std::uint32_t seed) {
+  Configuration c;
+  const bool glsl = row.at("kind").get<std::string>() == "glsl";
+  c.kind = glsl ? RunKind::glsl : RunKind::trace;
+  c.isa = glsl ? Isa::scalar : isa_named(row.at("backend").get<std::string>());
+  c.threads = row.at("threads").get<int>();
+  const Json& hf = row.at("heightfield");
+  c.heightfield = parse_heightfield(hf.at("source").get<std::string>(), hf.at("width").get<int>());
+  c.heightfield.name = hf.at("label").get<std::string>();
+  TechniqueParams& p = c.params;
+  p.technique = parse_technique(row.at("technique").get<std::string>());
+  p.layers = layers_for(p.technique, parse_layer_spec(row.at("layers").get<std::string>()));
+  p.refine = row.at("refine").get<int>();
+  p.scale = row.at("scale").get<float>();
+  p.wrap = row.at("wrap").get<std::string>() == "clamp" ? Wrap::clamp : Wrap::repeat;
+  p.discard = row.at("discard").get<bool>();
+  validate(p);
+  const Json& view = row.at("view");
+  const std::string kind = view.at("kind").get<std::string>();
+  c.view = parse_view("default", view.at("width").get<int>(), view.at("height").get<int>());
+  if (kind == "tutorial") {
+    apply_views("tutorial:" + std::to_string(view.at("views").get<int>()), c.view);
+  } else if (kind == "poses") {
+    apply_views(view.at("file").get<std::string>(), c.view);
+  } else if (kind == "default") {
+    c.view.near_degrees = view.at("near_angle").get<float>();
+    c.view.far_degrees = view.at("far_angle").get<float>();
+  } else {
+    throw InputError("a row on a " + kind + " view has no window to draw fresh rays like");
+  }
+  c.view.fresh_rays = rays;
+  c.view.seed = seed;
+  c.timed = false;
+  c.purposes = kPurposeCommand;
+  return c;
+}
+
+// Every choice of the recommendation measured on fresh rays: per backend, the rows of its choice
+// for all heightfields and on each, each configuration once; a table of the figures and their
+// intervals against the target's bounds, and outside-check.json in `out` if given.
+int outside_check(const Recommendation& recommendation, const Measurements& measurements, std::size_t rays,
+                  std::uint32_t seed, const std::string& out) {
+  std::map<int, const Json*> by_id;
+  for (const Json& row : measurements.data.at("rows")) by_id[row.at("id").get<int>()] = &row;
+  std::vector<Configuration> plan;
+  struct Checked {
+    std::string backend, heightfield, setting;
+    std::size_t config;
+  };
+  std::vector<Checked> checked;
+  for (const BackendRecommendation& b : recommendation.backends)
+    for (const Answer& a : b.per_heightfield) {
+      if (!a.choice) continue;
+      const Configuration c = fresh_rays_configuration(*by_id.at(a.choice->rows.front().id), rays, seed);
+      std::size_t index = std::find_if(plan.begin(), plan.end(), [&](const Configuration& p) { return p.same_measurement(c); }) - plan.begin();
+      if (index == plan.size()) plan.push_back(c);
+      checked.push_back({b.backend.name(), a.heightfield, a.choice->label(), index});
+    }
+  MeasureOptions options;
+  options.repetitions = 1;
+  options.min_seconds = 0;
+  const MeasuredPlan run = measure_plan(plan, options);
+  const RecommendationTarget& t = recommendation.target;
+  std::string text = string_format("Outside check at %s: each choice on %zu fresh rays (seed %u: every azimuth and entry "
+                                   "point uniform, the view angles drawn from the window's), against the exact "
+                                   "intersection; 95%% intervals:\n",
+                                   describe(t).c_str(), rays, seed);
+  JsonWriter json;
+  json.begin_object().value("format", "heightmarch-outside-check").value("format_version", 1);
+  json.value("target", describe(t)).value("rays", rays).value("seed", (long long)seed).begin_array("checks");
+  int failed = 0;
+  for (const Checked& k : checked) {
+    const Measurement& m = run.rows[k.config];
+    if (!m.errors) throw InputError(k.heightfield + " " + k.setting + ": not measured (" + m.failure + ")");
+    const Accuracy a = accuracy_of(*m.errors);
+    const double value = a.error(t.percentile);
+    const Interval ci = a.error_ci(t.percentile);
+    const bool meets = value <= t.uv_error_texels && a.wrong_surface_rate <= t.wrong_surface_rate;
+    const bool consistent = ci.low <= t.uv_error_texels && a.wrong_surface_ci.low <= t.wrong_surface_rate;
+    failed += !consistent;
+    text += string_format("  %s, %s: %s: %s %.3g (%.3g-%.3g) texel, wrong surface %.3g%% (%.3g-%.3g%%): %s\n",
+                          k.backend.c_str(), k.heightfield.c_str(), k.setting.c_str(), to_string(t.percentile).c_str(),
+                          value, ci.low, ci.high, 100 * a.wrong_surface_rate, 100 * a.wrong_surface_ci.low,
+                          100 * a.wrong_surface_ci.high,
+                          meets ? "meets the target" : consistent ? "on the bound (within the 95% interval)"
+                                                                   : "misses the target");
+    json.begin_object().value("backend", k.backend).value("heightfield", k.heightfield).value("setting", k.setting);
+    json.value("view", describe(m.config.view)).value(measure_name(t.percentile), value);
+    json.begin_array(measure_name(t.percentile) + "_ci").value("", ci.low).value("", ci.high).end_array();
+    json.value("wrong_surface_rate", a.wrong_surface_rate);
+    json.begin_array("wrong_surface_ci").value("", a.wrong_surface_ci.low).value("", a.wrong_surface_ci.high).end_array();
+    json.value("meets", meets).value("within_interval", consistent).end_object();
+  }
+  json.end_array().value("missed", failed).end_object();
+  std::fputs(text.c_str(), stdout);
+  if (!out.empty()) write_file_atomically(out + "/outside-check.json", json.str() + "\n");
+  return failed ? 1 : 0;
+}
+
 struct RecommendOptions {
   std::string measurements;
   RecommendationTarget target;
   std::string out;
+  std::size_t outside_rays = 0;
+  std::uint32_t outside_seed = 1;
   bool json = false;
 };
 
@@ -215,19 +334,32 @@ Command add_recommend_command(CLI::App& app) {
                       "directory to write recommendation.json into (the run's own, to add or replace its "
                       "recommendation, or any other)");
   command->add_flag("--json", o->json, "print recommendation.json instead of the summary");
+  command
+      ->add_option("--outside-check", o->outside_rays,
+                   "also trace each choice on this many fresh rays per map (every azimuth and entry point uniform, "
+                   "the view angles drawn from the run's window) against the exact intersection, and say whether it "
+                   "meets the target within its 95% interval (exit 1 where one misses); with --out, "
+                   "outside-check.json")
+      ->check(CLI::Range(std::size_t(1000), std::size_t(64) << 20));
+  command->add_option("--outside-seed", o->outside_seed, "the seed of the outside check's rays")
+      ->check(CLI::Range(1, 1 << 30))
+      ->capture_default_str();
   return [o] {
     validate(o->target);
     std::optional<RunDirectory> out;  // checked and locked before the run is read
     if (!o->out.empty()) out.emplace(o->out, RunDirectory::Existing::beside);
     std::string path = o->measurements;
     if (std::filesystem::is_directory(path)) path += "/measurements.json";
-    const Recommendation recommendation = recommend(read_candidates(path), o->target);
+    const Measurements measurements = read_measurements(path);
+    const Recommendation recommendation = recommend(read_candidates(measurements, path), o->target);
     if (recommendation.backends.empty())
       throw InputError(
           path + ": no timed technique rows of the technique x layers grid or the claims to recommend from");
     if (out) write_recommendation(out->path(), recommendation);
     std::printf(
         "%s", (o->json ? recommendation_json(recommendation) : recommendation_text(recommendation)).c_str());
+    if (o->outside_rays)
+      return outside_check(recommendation, measurements, o->outside_rays, o->outside_seed, out ? out->path() : "");
     return 0;
   };
 }

@@ -1,9 +1,7 @@
 // heightmarch suite: the main job. Builds the typed plan (suite_plan.hpp), measures every
 // configuration once, and writes the run's files from its rows into a fresh directory:
 // measurements.json, bench.json, recommendation.json, the gallery, claims.md/claims.json, and
-// through scripts/report.py measurements.csv, report.md and report.html.
-#include "cli/suite_command.hpp"
-
+// through scripts/report measurements.csv, report.md and report.html.
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
@@ -12,11 +10,15 @@
 #include <filesystem>
 #include <memory>
 
+#include "cli/claims_command.hpp"
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
+#include "cli/plan_options.hpp"
+#include "cli/recommend_command.hpp"
 #include "cli/run_directory.hpp"
+#include "experiment/claims_collector.hpp"
+#include "experiment/run_outputs.hpp"
 #include "heightmarch/error.hpp"
-#include "heightmarch/run_outputs.hpp"
 #include "io/atomic_file.hpp"
 #include "io/images.hpp"
 
@@ -198,10 +200,26 @@ Command add_suite_command(CLI::App& app) {
                    std::to_string(settings.repetitions) + " interleaved repetitions each) into " + dir.path());
     fs::create_directories(dir.path() + "/gallery");
     ClaimsCollector claims;
-    MeasuredPlan run = measure_with_progress(plan, settings, progress, [&](const TracedRow& traced) {
+    const auto on_traced = [&](const TracedRow& traced) {
       if (traced.row.config.purposes & kPurposeGallery) write_gallery_images(dir.path(), traced);
       claims.observe(traced);
-    });
+    };
+    MeasuredPlan run = measure_with_progress(plan, settings, progress, on_traced);
+    if (run.load.busy)
+      for (const std::string& reason : run.load.busy_reasons)
+        std::fprintf(stderr, "suite: warning: busy machine: %s\n", reason.c_str());
+    const Recommendation recommendation = recommend(candidates(run.rows), o->target);
+    write_recommendation(dir.path(), recommendation);
+    dir.finished("recommendation.json");
+    // What to ship, seen: the recommended configuration of every map beside its exact render.
+    if (settings.parts & kPurposeGallery) {
+      const std::vector<Configuration> shown = recommended_gallery_plan(recommendation, settings, plan);
+      progress.stage("the gallery of what to ship: " + std::to_string(shown.size()) + " configurations");
+      for (Measurement& m : measure_with_progress(shown, settings, progress, on_traced).rows) {
+        m.id += int(run.rows.size());
+        run.rows.push_back(std::move(m));
+      }
+    }
     for (Measurement& m : run.rows)
       if ((m.config.purposes & kPurposeGallery) && m.failure.empty()) {
         m.render_image = gallery_stem(m.config) + "-render.png";
@@ -209,26 +227,20 @@ Command add_suite_command(CLI::App& app) {
         if (m.samples_known) m.cost_image = gallery_stem(m.config) + "-cost.png";
       }
     dir.finished("measurements and gallery images");
-    if (run.load.busy)
-      for (const std::string& reason : run.load.busy_reasons)
-        std::fprintf(stderr, "suite: warning: busy machine: %s\n", reason.c_str());
     write_file_atomically(dir.path() + "/measurements.json", measurements_json(run, settings.name));
     write_file_atomically(dir.path() + "/bench.json", benchmark_json(run));
     dir.finished("measurements.json, bench.json");
-    const Recommendation recommendation = recommend(candidates(run.rows), o->target);
-    write_recommendation(dir.path(), recommendation);
-    dir.finished("recommendation.json");
     if (settings.parts & kPurposeClaims) {
       progress.stage("claims");
       write_claims(dir.path(), claims.data(run.rows), settings, recommendation);
       dir.finished("claims.md, claims.json");
     }
     progress.stage("report");
-    std::string report = "/usr/bin/python3 " + shell_quote(std::string(HEIGHTMARCH_SOURCE_DIR) + "/scripts/report.py") + " " +
+    std::string report = "/usr/bin/python3 " + shell_quote(std::string(HEIGHTMARCH_SOURCE_DIR) + "/scripts/report") + " " +
                          shell_quote(dir.path());
     if (record) report += " --history results/history.csv";
     if (std::system(report.c_str()) != 0)
-      throw std::runtime_error("scripts/report.py failed for " + dir.path());
+      throw std::runtime_error("scripts/report failed for " + dir.path());
     dir.complete();
     if (record) {
       std::error_code ec;

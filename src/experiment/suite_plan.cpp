@@ -1,4 +1,4 @@
-#include "heightmarch/suite_plan.hpp"
+#include "experiment/suite_plan.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -92,6 +92,27 @@ ViewSpec gallery_view(const PlanSettings& s) {
   view.near_degrees = s.window.kind == ViewSpec::Kind::perspective ? s.window.near_degrees : kDefaultNearDegrees;
   view.far_degrees = s.window.kind == ViewSpec::Kind::perspective ? s.window.far_degrees : kDefaultFarDegrees;
   return view;
+}
+
+std::vector<Configuration> recommended_gallery_plan(const Recommendation& recommendation, const PlanSettings& s,
+                                                    const std::vector<Configuration>& measured) {
+  std::vector<Configuration> out;
+  const auto add = [&](Configuration c) {
+    c.view = gallery_view(s);
+    c.timed = false;
+    if (std::none_of(measured.begin(), measured.end(), [&](const Configuration& m) { return m.same_measurement(c); }))
+      add_to_plan(out, c);
+  };
+  for (const BackendRecommendation& b : recommendation.backends)
+    for (const Answer& a : b.per_heightfield) {
+      if (!a.choice) continue;
+      const auto hf = std::find_if(s.heightfields.begin(), s.heightfields.end(),
+                                   [&](const HeightfieldSource& h) { return h.label() == a.heightfield; });
+      if (hf == s.heightfields.end()) continue;
+      add(with_technique(on_view(s, *hf, RunKind::exact, kPurposeGallery), Technique::pom, parse_layer_spec("32")));
+      add(with_technique(on_view(s, *hf, RunKind::trace, kPurposeGallery), a.choice->technique, a.choice->layers));
+    }
+  return out;
 }
 
 std::vector<Configuration> held_out_plan(const std::vector<Configuration>& plan, const PlanSettings& s) {
@@ -202,7 +223,7 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
     for (double theta : s.sweep_angles)
       for (Technique technique : s.techniques) {
         const TechniqueInfo& t = info(technique);
-        if (writes_shadow(t)) continue;  // its own measure is the shadow factor, not the hit
+        if (writes_visibility(t)) continue;  // its own measure is against the light, not the hit
         for (const LayerSpec& layers : s.few_layer_specs) {
           Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeSweep), t.id, layers);
           c.view = sweep_for(s, theta);
@@ -222,7 +243,7 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
   };
   gallery(RunKind::exact, Technique::pom, "32");
   for (Technique t : s.techniques)
-    gallery(RunKind::trace, t, writes_shadow(info(t)) ? "32" : "10");  // a shadow from a close hit
+    gallery(RunKind::trace, t, writes_visibility(info(t)) ? "32" : "10");  // a shadow from a close hit
   if (wanted(s, Technique::pom)) gallery(RunKind::trace, Technique::pom, "32");
   for (const Configuration& c : claims_plan(s)) add_to_plan(plan, c);
   for (const Configuration& c : held_out_plan(plan, s)) add_to_plan(plan, c);

@@ -455,12 +455,17 @@ RayBatch frame_rays(const ViewSpec& view) {
     cells[0] = {0.0, draws.next(), draws.next(), true};
   }
   for (int cy = 0; view.around && cy < cells_y; ++cy) {
-    // The row's cells by sector: sector j's cell is order[j].
-    std::vector<int> order(cells_x);
-    std::iota(order.begin(), order.end(), 0);
+    // The row's cells by sector: sector j's cell is order[j], at the offset of stratum across[j] in
+    // u and along[j] in v (a Latin hypercube: the row's cells spread over the map evenly).
     Draws draws(view.seed, std::uint64_t(cy));
-    if (view.seed != 0)
-      for (int j = cells_x - 1; j > 0; --j) std::swap(order[j], order[std::min(j, int(draws.next() * (j + 1)))]);
+    const auto shuffled = [&] {
+      std::vector<int> order(cells_x);
+      std::iota(order.begin(), order.end(), 0);
+      if (view.seed != 0)
+        for (int j = cells_x - 1; j > 0; --j) std::swap(order[j], order[std::min(j, int(draws.next() * (j + 1)))]);
+      return order;
+    };
+    const std::vector<int> order = shuffled(), across = shuffled(), along = shuffled();
     for (int j = 0; j < cells_x; ++j) {
       const int cx = order[j];
       const Ray centre = ray_of(std::min(cx * kViewCell + kViewCell / 2, view.width - 1),
@@ -469,7 +474,8 @@ RayBatch frame_rays(const ViewSpec& view) {
       place.wrap = true;
       place.turn = phi + 2.0 * kPi * (j + (view.seed != 0 ? draws.next() : 0.0)) / cells_x -
                    std::atan2(double(centre.vy), double(centre.vx));
-      if (view.seed != 0) place.du = draws.next(), place.dv = draws.next();
+      if (view.seed != 0)
+        place.du = (across[j] + draws.next()) / cells_x, place.dv = (along[j] + draws.next()) / cells_x;
       cell_view[std::size_t(cy) * cells_x + cx] = std::uint32_t(cy * cells_x + j);
     }
   }

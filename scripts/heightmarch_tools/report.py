@@ -1,0 +1,617 @@
+"""Writes a run's report from RUN_DIR/measurements.json: report.md (what a person reads first),
+tables.md (the long tables), plots/*.png, measurements.csv and report.html (report_page.py).
+
+Usage: scripts/report RUN_DIR [--history results/history.csv]
+
+Inputs: measurements.json (the run's typed rows, docs/measurements.md; format 1 or 2) and, where
+the run has them, claims.json, recommendation.json and alerts.json. Every speed is the median of
+the repetitions with their min-max; every ratio of two rows is taken per round and shown as the
+median of the per-round ratios with their min-max. With --history, the run is recorded
+(scripts/record_run.py: its rows appended to the history CSV, RUN_DIR/alerts.json against its
+machine's earlier runs, the history plot); a run's alerts.json opens the report.
+"""
+import math
+import os
+import statistics
+
+from . import cli, history, record_run, report_page
+from .measurements import (ANY, HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label,  # noqa: E402
+                          config, counted, depth_map, machine_rows, docs_link, glsl_pairs, groups, load_run, measurements_csv,
+                          rays_rounds, read_claims, read_optional, samples_rounds, searches_per_isa,
+                          speedup, view_name, backend_colours)
+from .report_plots import plot_error_vs_angle, plot_error_vs_layers, plot_error_vs_speed, plot_isa_speedup
+from .spreads import per_round, relative_spread, spread
+from .writers import atomic_write
+
+SPREAD_LIMIT = 0.20  # (max - min) / median above this is flagged as a disturbed timing
+NOT_MEASURED = "Not measured in this run."
+
+
+# ---------------------------------------------------------------------------------------------
+# Text
+
+def fmt_spread(s, digits=1, scale=1.0, unit=""):
+    if s is None:
+        return "-"
+    f = "%%.%df" % digits
+    return "%s%s (%s-%s)" % (f % (s[0] * scale), unit, f % (s[1] * scale), f % (s[2] * scale))
+
+
+def fmt_ratio(s):
+    return fmt_spread(s, 2, unit="x")
+
+
+def fmt(value, digits=3, scale=1.0, unit=""):
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return "-"
+    return ("%%.%df%%s" % digits) % (value * scale, unit)
+
+
+def fmt_error(value):
+    """A uv error in texels: 0 as 0, small ones with their magnitude, never a made-up 0.000."""
+    if value is None:
+        return "-"
+    return "0" if value == 0 else "%.3g" % value
+
+
+def load_averages(values):
+    return "/".join("%.2f" % x for x in values or []) or "?"
+
+
+def mrays(row):
+    return fmt_spread(spread(rays_rounds(row)), 1, 1e-6)
+
+
+def msamples(row):
+    return fmt_spread(spread(samples_rounds(row)), 0, 1e-6)
+
+
+def md_cell(value):
+    """Any value as one Markdown table cell: '|' escaped (it would cut the row), no line breaks.
+    Every cell of report.md and tables.md goes through it (claims.md's through markdown_cell in C++)."""
+    return str(value).replace("|", "\\|").replace("\r", " ").replace("\n", " ")
+
+
+def md_table(columns, rows):
+    """columns: [(title, right-aligned)]; rows: lists of cells."""
+    lines = ["| " + " | ".join(md_cell(t) for t, _ in columns) + " |",
+             "|" + "|".join("---:" if right else "---" for _, right in columns) + "|"]
+    return lines + ["| " + " | ".join(md_cell(c) for c in cells) + " |" for cells in rows]
+
+
+def section(title, body, level="##"):
+    return ["", level + " " + title, ""] + (body or [NOT_MEASURED])
+
+
+# ---------------------------------------------------------------------------------------------
+# report.md: the first screen
+
+def section_alerts(alerts):
+    """alerts.json of a recorded run (scripts' regression tracking), or why there is none."""
+    if alerts is None:
+        return section("Alerts", ["No alerts.json: this run was not recorded into the history (a quick run without "
+                                  "`--record`, or `--out`), so it was not compared with earlier runs."])
+    found = alerts.get("alerts") or []
+    tested = alerts.get("series_tested", 0)
+    rule = "Rule: %s. Machine: `%s`." % (alerts.get("rule", "?"), alerts.get("machine", "?"))
+    if not found and tested == 0:  # the machine's first recorded run, or too few before it
+        return section("Alerts", ["No series tested: this machine has too few earlier recorded runs to test "
+                                  "against yet. %s" % rule])
+    if not found:
+        return section("Alerts", ["No change beyond noise in %s. %s" % ("%d series" % tested, rule)])
+    body = ["**%s** in %s of this machine's history. %s" % (counted(len(found), "alert"), "%d series" % tested, rule),
+            ""]
+    body += md_table([("series", False), ("kind", False), ("measure", False), ("baseline", True), ("new", True),
+                      ("change", True), ("", False)],
+                     [[a.get("series", "?"), a.get("kind", "?"), a.get("metric", "?"),
+                       "%s (spread %s)" % (fmt_number(a.get("baseline")), fmt_number(a.get("baseline_spread"))),
+                       fmt_number(a.get("new")), fmt_change(a.get("change")), a.get("message", "")] for a in found])
+    return section("Alerts", body)
+
+
+def fmt_number(value):
+    return "-" if value is None else "%.4g" % value
+
+
+def fmt_change(value):
+    return "-" if value is None else "%+.1f%%" % (100 * value)
+
+
+def fmt_interval(value, interval, scale=1.0, unit=""):
+    """'0.43 (0.41-0.45)' or '0.38% (0.33-0.42%)'; the figure alone without an interval."""
+    if value is None:
+        return "-"
+    if not interval:
+        return "%.3g%s" % (value * scale, unit)
+    return "%.3g%s (%.3g-%.3g%s)" % (value * scale, unit, interval[0] * scale, interval[1] * scale, unit)
+
+
+def worst_figures(rows, measure, key):
+    """A pick's worst rows on one view set ('selection' or 'held_out'; format 1 rows carry the
+    window's figures on the row itself): (measure, its interval), (wrong surface, its interval)."""
+    sets = [r.get(key) if key in r else (r if key == "selection" else None) for r in rows]
+    if any(s is None for s in sets):
+        return None
+    worst = max(sets, key=lambda s: s[measure])
+    wrong = max(sets, key=lambda s: s["wrong_surface_rate"])
+    return ((worst[measure], worst.get(measure + "_ci")), (wrong["wrong_surface_rate"], wrong.get("wrong_surface_ci")))
+
+
+def pick_cells(run, pick, measure):
+    """A recommendation's pick as cells: setting, time, its rows' worst figures on the held-out set and
+    on the window (each with its 95% interval), samples, preprocessing."""
+    rows = pick["rows"]
+    precompute = [r for r in rows if r.get("precompute_seconds") is not None]
+    pre = "-"
+    if precompute:
+        worst_pre = max(precompute, key=lambda r: r["precompute_seconds"])
+        pre = "%.3g s once (%.3g ms a frame)" % (worst_pre["precompute_seconds"], worst_pre["precompute_ms_per_frame"])
+    ns = pick["ns_per_ray"]
+    held_out, window = worst_figures(rows, measure, "held_out"), worst_figures(rows, measure, "selection")
+    held = [fmt_interval(*held_out[0]), fmt_interval(*held_out[1], 100, "%")] if held_out else ["not measured"] * 2
+    return ["**%s**" % pick["label"], fmt_spread((ns["median"], ns["min"], ns["max"]), 2)] + held + [
+        "%s; %s" % (fmt_interval(*window[0]), fmt_interval(*window[1], 100, "%")),
+        "%.1f" % statistics.mean(r["samples_per_ray"] for r in rows), pre]
+
+
+def answer_notes(answer):
+    """What else the answer says: the faster settings that held only on the window, the near miss, and
+    whether the held-out set checked it."""
+    notes = []
+    failed = answer.get("failed_held_out") or []
+    if failed:
+        notes.append("not %s: met the target on the window, not on the held-out views" % ", ".join(p["label"] for p in failed))
+    near = answer.get("near_miss")
+    if near:
+        notes.append("near miss %s: %s %.0f%% over its bound" % (near["setting"]["label"], near["measure"],
+                                                                 100 * (near["margin"] - 1)))
+    if "held_out_checked" in answer and not answer["held_out_checked"]:
+        notes.append("not checked on held-out views")
+    return "; ".join(notes) or "-"
+
+
+def answer_cells(run, answer, measure):
+    if answer.get("choice"):
+        cells = pick_cells(run, answer["choice"], measure)
+        runner, ratio = answer.get("runner_up"), answer.get("runner_up_time_ratio")
+        if runner and ratio and "per_round" in ratio:  # format 2: the ratio of the medians that rank them
+            rounds = ratio["per_round"]
+            cells.append("%s: %.2fx the time (per round %.2f-%.2f)%s" % (
+                runner["label"], ratio["ratio"], rounds["min"], rounds["max"],
+                "" if ratio["distinguishable"] else ", not distinguishable"))
+        elif runner and ratio:
+            overlap = ratio["min"] <= 1.0 <= ratio["max"]
+            cells.append("%s: %s the time%s" % (runner["label"], fmt_ratio((ratio["median"], ratio["min"], ratio["max"])),
+                                               " (not distinguishable)" if overlap else ""))
+        else:
+            cells.append("-")
+        return cells + [answer_notes(answer)]
+    closest = answer.get("closest")
+    what = "none of %d meets the target" % answer.get("settings", 0)
+    if closest:
+        return [what + "; nearest: " + closest["label"]] + pick_cells(run, closest, measure)[1:] + ["-", answer_notes(answer)]
+    return [what] + ["-"] * 7 + [answer_notes(answer)]
+
+
+def varies(groups):
+    """Whether the wrong-surface rate differs between groups beyond their intervals."""
+    cis = [g["wrong_surface_ci"] for g in groups if g.get("rays")]
+    return len(cis) > 1 and max(lo for lo, _ in cis) > min(hi for _, hi in cis)
+
+
+def breakdown_lines(run, recommendation, measure):
+    """Where a choice's wrong-surface rate varies by azimuth sector or band of view angles over the
+    window: its range and the worst sector or band."""
+    lines = []
+    for b in recommendation["backends"][:1]:
+        for a in b["per_heightfield"]:
+            if not a.get("choice"):
+                continue
+            row = run.by_id.get(a["choice"]["rows"][0]["id"]) or {}
+            errors = row.get("errors") or {}
+            for key, what, unit in (("by_azimuth", "azimuth of V", "degrees"), ("by_view_angle", "view angle", "degrees")):
+                groups = errors.get(key) or []
+                if not varies(groups):
+                    continue
+                worst = max(groups, key=lambda g: g["wrong_surface_rate"])
+                lines.append("- %s, %s: wrong surface %s to %s by %s; the worst %g-%g %s (p99 %.3g)" % (
+                    a["heightfield"], a["choice"]["label"], fmt(min(g["wrong_surface_rate"] for g in groups), 2, 100, "%"),
+                    fmt(worst["wrong_surface_rate"], 2, 100, "%"), what, worst["from"], worst["to"], unit, worst["uv_error_p99"]))
+    if not lines:
+        return []
+    return ["", "Where the choices' wrong-surface rate varies over the window beyond its 95%% intervals (%s):" % b["name"],
+            ""] + lines
+
+
+def section_recommendation(run, recommendation):
+    title = "What to ship"
+    if recommendation is None:
+        return section(title, ["No recommendation.json in this run (computed by `heightmarch suite`, `claims` and "
+                               "`recommend` since measurements format 2; `heightmarch recommend %s` computes it)." % run.dir])
+    target = recommendation["target"]
+    measure = target["measure"]
+    window = ("Chosen over the window %s and checked on its held-out set %s: a setting meets the target only where "
+              "its held-out figures do too; figures with their 95%% intervals ([docs/measures.md](%s))." % (
+                  run.window or "?", run.held_out_window or "(none measured)", docs_link(run, "measures.md", "view-sets")))
+    body = ["The fastest configuration by measured time per ray (ns/ray: median (min-max) of the repetitions) at "
+            "each backend, among those with **%s**, on all heightfields as one setting (a shader runs one setting "
+            "for every material) and on each. %s Errors are the worst of the setting's heightfields; preprocessing "
+            "(cone map, min-depth pyramid) is built once per depth map and amortised over %d frames; it is not in "
+            "the time per ray. Why this target, and how to choose yours: [docs/recommendation.md](%s). The same "
+            "from any run at another target: `heightmarch recommend RUN_DIR --percentile p99 --max-error 1 "
+            "--max-wrong-surface 1`." % (target["description"], window, target["frames"],
+                                          docs_link(run, "recommendation.md")), ""]
+    short = measure.replace("uv_error_", "")
+    columns = [("backend", False), ("heightfield", False), ("configuration", False), ("ns/ray", True),
+               ("held-out %s (texels)" % short, True), ("held-out wrong surface", True),
+               ("window %s; wrong surface" % short, True), ("samples/ray", True),
+               ("preprocessing", False), ("next fastest", False), ("notes", False)]
+    cells = []
+    for b in recommendation["backends"]:
+        cells.append([b["name"], "**every heightfield**"] + answer_cells(run, b["all_heightfields"], measure))
+        for a in b["per_heightfield"]:
+            cells.append([b["name"], a["heightfield"]] + answer_cells(run, a, measure))
+    return section(title, body + md_table(columns, cells) + breakdown_lines(run, recommendation, measure))
+
+
+def headline_ratios(run):
+    """Per heightfield, the headline configuration's speed ratios: (label, [per-heightfield spreads])."""
+    base = run.isas[0] if run.isas else None
+    best = run.best_isa
+    one = [r for r in sorted(run.timed, key=run.order) if run.is_headline(r) and r["kind"] == "trace"
+           and r["backend"] == best and r["threads"] == 1 and r["view"]["kind"] == "default"]
+    ratios = []
+    for r in one:
+        most = max((o for o in run.timed if config(o) == dict(config(r), threads=o["threads"])), key=lambda o: o["threads"])
+        cpu_glsl = run.partner(most, kind="glsl", backend="glsl")
+        ratios.append((r["heightfield"]["label"], [
+            speedup(r, run.partner(r, backend=base)) if base != best else None,
+            speedup(r, run.partner(r, kind="naive", backend="naive")),
+            speedup(most, r) if most is not r else None,
+            speedup(most, cpu_glsl)]))
+    threads = max((r["threads"] for r in run.timed), default=1)
+    columns = ["%s over %s, 1 thread" % (best, base), "%s over the naive port, 1 thread" % best,
+               "%s over 1 at %s" % (counted(threads, "thread"), best),
+               "%s over GLSL (llvmpipe), %s" % (best, counted(threads, "thread"))]
+    return columns, ratios
+
+
+def section_ratios(run):
+    columns, ratios = headline_ratios(run)
+    # A filtered run (one ISA, one thread count, no GLSL) measures some ratios nowhere: their
+    # columns go, and the section too when none is left.
+    kept = [i for i in range(len(columns)) if any(spreads[i] is not None for _, spreads in ratios)]
+    if not kept:
+        return []
+    return section("Headline speed ratios", [
+        "%s-%s, default view: median (min-max) of the per-round ratios of rays/s." % (
+            HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS), ""] + md_table(
+        [("heightfield", False)] + [(columns[i], True) for i in kept],
+        [[hf] + [fmt_ratio(spreads[i]) for i in kept] for hf, spreads in ratios]))
+
+
+def section_claims(run, claims):
+    if not claims:
+        return []
+    body = ["Each claim's reading, rule, figures and checks: [claims.md](claims.md); the claims themselves: "
+            "[docs/claims.md](%s)." % docs_link(run, "claims.md"), ""]
+    for c in claims:
+        line = "- **%s %s**: %s" % (c["id"], c["verdict"], c["claim"])
+        if c.get("summary"):  # claims.json format 3: the count and where it fails
+            line += ". %s%s" % (c["summary"][0].upper() + c["summary"][1:],
+                                "; under the previous rule: %s" % c["previous"]["verdict"] if c.get("previous") else "")
+        if c["id"] == "P2":
+            line += " (maxmip at a grazing one-texel peak: [docs/techniques.md](%s))" % docs_link(run, *MAXMIP_PEAK)
+        body.append(line)
+    return section("The claims: the tutorials' (C1-C10) and the papers' (P1-P3)", body)
+
+
+def section_machine(run):
+    return section("Machine and provenance", md_table([("", False), ("", False)], machine_rows(run)))
+
+
+def noisy_rows(run):
+    """(relative spread, row) of the timed rows spread beyond SPREAD_LIMIT, worst first."""
+    noisy = sorted(((relative_spread(spread(rays_rounds(r))), r) for r in run.timed), key=lambda x: -x[0])
+    return [(s, r) for s, r in noisy if s > SPREAD_LIMIT]
+
+
+def warnings(run, faults):
+    """A busy machine, disturbed timings, roofline and ceiling faults: one paragraph each."""
+    lines = []
+    load = run.load
+    if load.get("busy"):
+        lines.append("**Warning: the machine was busy during this run** (%s). Load averages before %s, after %s; "
+                     "other processes used %s of the CPU time while timing. Speeds and ratios may be disturbed; "
+                     "errors and samples per ray are deterministic and unaffected." % (
+                         "; ".join(load.get("busy_reasons") or ["no reason given"]),
+                         load_averages(load.get("before")), load_averages(load.get("after")),
+                         fmt(load.get("other_cpu_share"), 1, 100, "%")))
+    noisy = noisy_rows(run)
+    if noisy:
+        lines.append("**Warning: %d of %d timed rows spread by more than %d%%** ((max-min)/median of rays/s); "
+                     "the worst: %s." % (len(noisy), len(run.timed), 100 * SPREAD_LIMIT,
+                                         "; ".join("%s (%.0f%%)" % (run.describe(r), 100 * s) for s, r in noisy[:5])))
+    if faults:
+        lines.append("**Warning: %s above 100%%**: timing disturbed, see the measurement faults under %s-%s in "
+                     "[tables.md](tables.md#every-backend)." % (
+                         counted(len(faults), "roofline or ceiling fraction"), HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS))
+    return lines
+
+
+def section_warnings(run, faults):
+    body = []
+    for line in warnings(run, faults):
+        body += ["> " + line, ">"]
+    return section("Warnings", body[:-1]) if body else []
+
+
+# ---------------------------------------------------------------------------------------------
+# tables.md: the long tables
+
+def error_cells(row):
+    e = row.get("errors") or {}
+    return [fmt_error(e.get("uv_error_mean")), fmt_error(e.get("uv_error_p95")), fmt_error(e.get("uv_error_p99")),
+            fmt_error(e.get("uv_error_max")), fmt(e.get("wrong_surface_rate"), 2, 100, "%")]
+
+
+ERROR_COLUMNS = [("uv mean", True), ("p95", True), ("p99", True), ("max", True), ("wrong surface", True)]
+
+
+def section_matrix(run):
+    body = ["CPU packet kernels. Mrays/s: median (min-max) of %s repetitions. uv errors in texels against the exact "
+            "intersection; wrong surface = uv error above 1 texel." % run.plan.get("repetitions", "the")]
+    rows = run.matrix
+    if not rows:
+        return section("Techniques x layers, per heightfield", [])
+    for (hf, backend, threads, view), group in groups(rows, lambda r: (r["heightfield"]["label"], r["backend"], r["threads"],
+                                                                          view_name(r["view"]))).items():
+        body += ["", "### %s (%s)" % (hf, depth_map(group[0])), "",
+                 "%s, %s, %s view." % (backend, counted(threads, "thread"), view), ""]
+        body += md_table([("technique", False), ("layers", False), ("Mrays/s", True), ("samples/ray", True)] + ERROR_COLUMNS,
+                         [[r["technique"], r["layers"], mrays(r), fmt(r.get("samples_per_ray"), 2)] + error_cells(r)
+                          for r in group])
+    return section("Techniques x layers, per heightfield", body)
+
+
+def section_glsl(run):
+    pairs = glsl_pairs(run)
+    if not pairs:
+        return section("CPU against GLSL (OSMesa llvmpipe)", [])
+    body = ["The same rays and parameters on both sides; CPU at the best ISA (%s). CPU/GLSL is the median "
+            "(min-max) of the per-round ratios. Where the shadow technique's sample counts differ between the "
+            "CPU and llvmpipe, and why: [docs/techniques.md](%s)." % (run.best_isa, docs_link(run, *SHADOW_COUNTS)), ""]
+    body += md_table([("heightfield", False), ("technique", False), ("layers", False), ("threads", True),
+                      ("CPU %s Mrays/s" % run.best_isa, True), ("GLSL Mrays/s", True), ("CPU/GLSL", True)],
+                     [[g["heightfield"]["label"], g["technique"], g["layers"], g["threads"], mrays(c), mrays(g),
+                       fmt_ratio(speedup(c, g))] for c, g in pairs])
+    return section("CPU against GLSL (OSMesa llvmpipe)", body)
+
+
+def section_every_backend(run, faults):
+    """POM-32 at every backend; appends roofline and ceiling fractions above 100% to `faults`."""
+    title = "Every backend"
+    rows = sorted((r for r in run.timed if run.is_headline(r) and r["kind"] in ("trace", "glsl", "naive", "autovec")),
+                  key=run.order)
+    if not rows:
+        return section(title, [])
+    base = run.isas[0] if run.isas else None
+    body = ["%s, %s layers. Roofline = the backend's bilinear sampler alone at the positions of the same march; "
+            "ceiling = POM's march and bilinear arithmetic on taps held in registers, no memory access; each "
+            "fraction = the technique's samples/s over it. x llvmpipe: over GLSL at the same threads; x autovec: "
+            "over the naive port vectorised by the compiler for the same ISA. Every ratio is the median (min-max) of "
+            "the per-round ratios." % (HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS), ""]
+    cells = []
+    for r in rows:
+        fractions = []
+        for kind in ("roofline", "ceiling"):
+            # a trace row's anchors: its backend's sampler alone, or its arithmetic alone, same scene and threads
+            anchor = run.partner(r, kind=kind, technique=None, layers=ANY) if r["kind"] == "trace" else None
+            fraction = per_round(samples_rounds(r), samples_rounds(anchor))
+            if fraction and fraction[0] > 1.0:
+                faults.append("%s: %s %s" % (run.describe(r), kind, fmt_spread(fraction, 0, 100, "%")))
+                fractions.append("fault (>100%: timing disturbed)")
+            else:
+                fractions.append(fmt_spread(fraction, 0, 100, "%"))
+            if kind == "roofline":
+                fractions.insert(0, msamples(anchor))
+        over = [run.partner(r, kind="trace", backend=base), run.partner(r, kind="naive", backend="naive"),
+                run.partner(r, kind="glsl", backend="glsl"),
+                run.partner(r, kind="autovec") if r["kind"] == "trace" else None]
+        cells.append([r["heightfield"]["label"], backend_label(r), r["threads"], mrays(r), msamples(r)] + fractions
+                     + [fmt_ratio(speedup(r, o)) if o is not r else "-" for o in over])
+    body += md_table([("heightfield", False), ("backend", False), ("threads", True), ("Mrays/s", True),
+                      ("Msamples/s", True), ("roofline Msamples/s", True), ("roofline fraction", True),
+                      ("ceiling fraction", True), ("x %s" % base, True), ("x naive", True), ("x llvmpipe", True),
+                      ("x autovec", True)], cells)
+    if faults:
+        body += ["", "**Measurement faults** (a fraction above 100% means the anchor or the kernel was "
+                 "timed while the machine was disturbed; not a result):", ""] + ["- " + f for f in faults]
+    return section(title, body)
+
+
+def section_searches_per_isa(run):
+    """The searches the plan times at every ISA (32 layers), each ISA against llvmpipe."""
+    title = "The searches at every ISA, against llvmpipe"
+    found = searches_per_isa(run)
+    if not found:
+        return section(title, [])
+    cells = [[hf, technique, threads, mrays(glsl)] + [
+        cell for isa in run.isas for cell in (
+            (mrays(by_isa[isa]), fmt_ratio(speedup(by_isa[isa], glsl))) if isa in by_isa else ("-", "-"))]
+        for hf, technique, threads, glsl, by_isa in found]
+    body = ["Each search at %s layers (maxmip: its one spec) at every ISA and the same as GLSL (llvmpipe) at the "
+            "same threads. Mrays/s: median (min-max); x llvmpipe: median (min-max) of the per-round ratios."
+            % HEADLINE_LAYERS, ""]
+    body += md_table([("heightfield", False), ("technique", False), ("threads", True), ("GLSL Mrays/s", True)] + [
+        column for isa in run.isas for column in (("%s Mrays/s" % isa, True), ("x llvmpipe", True))], cells)
+    return section(title, body)
+
+
+def section_exact_speed(run):
+    """The exact reference's own speed, against POM-32 on the same rays, ISA and threads."""
+    rows = sorted((r for r in run.timed if r["kind"] == "exact"), key=run.order)
+    title = "The exact reference's speed"
+    if not rows:
+        return section(title, [])
+    body = ["The exact intersection of every ray (conservative float pass of the min-depth pyramid walk at "
+            "%s, each hit cell solved in double): Mrays/s median (min-max); cells/ray: texel cells tested in "
+            "the float pass, then solved in double; x POM-32: the median (min-max) of the per-round ratios over POM-32 at the "
+            "same ISA and threads." % run.best_isa, ""]
+    cells = []
+    for r in rows:
+        pom = run.partner(r, kind="trace", backend=run.best_isa, technique=HEADLINE_TECHNIQUE, layers=HEADLINE_LAYERS)
+        cells.append([r["heightfield"]["label"], r["threads"], mrays(r), fmt(r.get("samples_per_ray"), 2),
+                      fmt_ratio(speedup(r, pom))])
+    body += md_table([("heightfield", False), ("threads", True), ("Mrays/s", True), ("cells/ray", True),
+                      ("x POM-32", True)], cells)
+    return section(title, body)
+
+
+def thread_pairs(run):
+    """(1-thread row, most-threads row) of the headline configuration per heightfield and backend."""
+    pairs = []
+    for group in groups(sorted((r for r in run.timed if run.is_headline(r) and r["kind"] in ("trace", "glsl", "naive")),
+                               key=run.order),
+                        lambda r: (r["heightfield"]["label"], r["backend"], view_name(r["view"]))).values():
+        one = [r for r in group if r["threads"] == 1]
+        most = max(group, key=lambda r: r["threads"])
+        if one and most["threads"] > 1:
+            pairs.append((one[0], most))
+    return pairs
+
+
+def section_threads(run):
+    cells = [[one["heightfield"]["label"], one["backend"], mrays(one), mrays(most), most["threads"],
+              fmt_ratio(speedup(most, one))] for one, most in thread_pairs(run)]
+    title = "Thread scaling (%s-%s)" % (HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS)
+    if not cells:
+        return section(title, ["Only one thread count measured in this run."])
+    return section(title, md_table([("heightfield", False), ("backend", False), ("1 thread Mrays/s", True),
+                                    ("N threads Mrays/s", True), ("N", True), ("speed-up", True)], cells))
+
+
+def cost_image(run_dir, images):
+    """The samples-per-pixel image of a gallery entry: its `cost` field, or cost.png beside error.png
+    (-cost.png beside -error.png); None when the run has none."""
+    if images.get("cost"):
+        return images["cost"]
+    error = images.get("error") or ""
+    for old, new in (("/error.png", "/cost.png"), ("-error.png", "-cost.png")):
+        if error.endswith(old) and os.path.exists(os.path.join(run_dir, error[:-len(old)] + new)):
+            return error[:-len(old)] + new
+    return None
+
+
+def shipped(recommendation):
+    """(heightfield, technique, layers) -> the backends that recommend it there."""
+    out = {}
+    for b in (recommendation or {}).get("backends", []):
+        for a in b["per_heightfield"]:
+            if a.get("choice"):
+                out.setdefault((a["heightfield"], a["choice"]["technique"], a["choice"]["layers"]), []).append(b["name"])
+    return out
+
+
+def section_gallery(run, recommendation):
+    rows = sorted((r for r in run.with_purpose("gallery") if r.get("images")), key=run.order)
+    ships = shipped(recommendation)
+    body = ["Each map's recommended configuration (what to ship) beside the exact render, and on the first map the "
+            "tutorial's comparison; a single perspective view, drawn by the CPU kernel.", ""]
+    for (hf, view), group in groups(rows, lambda r: (r["heightfield"]["label"], view_name(r["view"]))).items():
+        costs = [cost_image(run.dir, r["images"]) for r in group]
+        with_cost = any(costs)
+        body += ["%s, %s view. Shaded render at the technique's uv; uv error on one log scale (0.01 to 10 texels)%s." % (
+            hf, view, "; cost: height samples per pixel, on one log scale for every image (1 to 1024)" if with_cost else ""), ""]
+        body += md_table([("technique", False), ("render", False), ("error", False)] + ([("cost", False)] if with_cost else [])
+                         + ERROR_COLUMNS,
+                         [[run.label(r) + ("".join(" **(what to ship, %s)**" % b for b in ships.get(
+                             (r["heightfield"]["label"], r.get("technique"), r.get("layers")), []))),
+                           "![](%s)" % r["images"]["render"], "![](%s)" % r["images"]["error"]]
+                          + (["![](%s)" % c if c else "-"] if with_cost else []) + error_cells(r)
+                          for r, c in zip(group, costs)]) + [""]
+    return section("Gallery", body[:-1])
+
+
+# ---------------------------------------------------------------------------------------------
+# Output
+
+def section_plots(run, recommendation, history_drawn):
+    plots = os.path.join(run.dir, "plots")
+    os.makedirs(plots, exist_ok=True)
+    body = []
+
+    def add(drawn, name, alt, missing):
+        if drawn:
+            body.extend(["![%s](plots/%s)" % (alt, name), ""])
+            return
+        body.extend(["%s: %s" % (alt.capitalize(), missing), ""])
+        if os.path.exists(os.path.join(plots, name)):  # a plot of an earlier report of this directory
+            os.remove(os.path.join(plots, name))
+
+    add(plot_error_vs_speed(run, recommendation, os.path.join(plots, "error_vs_speed.png")), "error_vs_speed.png",
+        "error against time per ray", "no recommendation to draw it for.")
+    add(plot_error_vs_layers(run, os.path.join(plots, "error_vs_layers.png")), "error_vs_layers.png",
+        "error against layers", "not measured in this run.")
+    add(plot_error_vs_angle(run, os.path.join(plots, "error_vs_angle.png")), "error_vs_angle.png",
+        "error against view angle", "not measured in this run.")
+    add(plot_isa_speedup(run, os.path.join(plots, "isa_speedup.png")), "isa_speedup.png",
+        "speed-up per ISA", "not measured in this run.")
+    if history_drawn is not None:
+        add(history_drawn, "history.png", "history", "the headline configuration is not in the history.")
+    return section("Plots", body[:-1])
+
+
+TABLES = [("Techniques x layers, per heightfield", "techniques-x-layers-per-heightfield"),
+          ("CPU against GLSL (OSMesa llvmpipe)", "cpu-against-glsl-osmesa-llvmpipe"),
+          ("Every backend", "every-backend"),
+          ("The searches at every ISA, against llvmpipe", "the-searches-at-every-isa-against-llvmpipe"),
+          ("The exact reference's speed", "the-exact-references-speed"),
+          ("Thread scaling (%s-%s)" % (HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS), "thread-scaling-pom-32"),
+          ("Gallery", "gallery")]
+
+
+def main(argv=None):
+    parser = cli.Parser(prog="report", description=__doc__.splitlines()[0])
+    parser.add_argument("run_dir")
+    parser.add_argument("--history", help="history CSV to append this run's timed rows to, and to plot")
+    args = parser.parse_args(argv)
+    run = load_run(args.run_dir)
+    claims = read_claims(os.path.join(args.run_dir, "claims.json"))
+    recommendation = read_optional(os.path.join(args.run_dir, "recommendation.json"), "heightmarch-recommendation")
+    history_drawn = record_run.record(args.run_dir, args.history)[0] if args.history else None
+    recorded = history.read(args.history) if args.history else None
+    alerts = read_optional(os.path.join(args.run_dir, "alerts.json"), "heightmarch-alerts")
+    faults = []  # the tables find them, the warnings on the first screen name them
+    tables = (section_matrix(run) + section_glsl(run) + section_every_backend(run, faults)
+              + section_searches_per_isa(run) + section_exact_speed(run) + section_threads(run) + section_gallery(run, recommendation))
+    plots = section_plots(run, recommendation, history_drawn)
+    p = run.provenance
+    title = "%s run of %s, commit %s" % (run.plan.get("name", "?"), p.get("date", "?"), p.get("commit", "?"))
+    md = ["# heightmarch report: " + title, "",
+          "Parallax-mapping techniques on the CPU (packet kernels per ISA) and as GLSL (OSMesa llvmpipe), measured "
+          "against the exact ray/heightfield intersection on %s (%s cores, %s). Explore it: [report.html](report.html) "
+          "(every configuration on its error-against-cost frontier, with filters and images); the long tables: "
+          "[tables.md](tables.md); the rows: [measurements.csv](measurements.csv), "
+          "[measurements.json](measurements.json). What every measure means: [docs/measures.md](%s); the files: "
+          "[docs/measurements.md](%s)." % (p.get("cpu", "?"), p.get("cores", "?"), run.best_isa,
+                                           docs_link(run, "measures.md"), docs_link(run, "measurements.md"))]
+    if run.load.get("busy"):  # the speeds below carry it; the warnings after the summary say why
+        md += ["", "*The machine was busy during this run: speeds and ratios may be disturbed (see the warnings below). "
+                   "Errors and samples per ray are deterministic and unaffected.*"]
+    md += section_alerts(alerts) + section_recommendation(run, recommendation)
+    md += section_claims(run, claims) + section_ratios(run) + section_warnings(run, faults)
+    md += section("The tables", ["In [tables.md](tables.md): " + "; ".join(
+        "[%s](tables.md#%s)" % (t, anchor) for t, anchor in TABLES) + "."])
+    md += plots + section_machine(run)
+    tables_md = ["# heightmarch tables: " + title, "",
+                 "The long tables of [report.md](report.md). Speeds: median (min-max) of the repetitions; ratios: "
+                 "median (min-max) of the per-round ratios."] + tables
+    atomic_write(os.path.join(args.run_dir, "measurements.csv"), measurements_csv(run.rows))
+    atomic_write(os.path.join(args.run_dir, "tables.md"), "\n".join(tables_md) + "\n")
+    atomic_write(os.path.join(args.run_dir, "report.md"), "\n".join(md) + "\n")
+    report_page.write_page(run, claims, recommendation, alerts, recorded, warnings(run, faults), faults,
+                           backend_colours(run.backend_names()))
+    print("report: %s" % os.path.join(args.run_dir, "report.md"))
+    return 0
+

@@ -1,0 +1,271 @@
+"""RUN_DIR/report.html: the run to explore, one file that opens offline.
+
+The page is the run's data (the rows of measurements.json that carry a technique, the
+recommendation, the claims, the alerts and the recorded history of its machine), the page's own
+script and style (page/) and Plotly (vendor/plotly.js-basic-dist-min/, MIT), beside this module,
+all inlined; the gallery's images are the run's own files beside it (gallery/*.png). Nothing is
+fetched from the network when it opens. report.py calls write_page().
+"""
+import html
+import json
+import os
+
+from .measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label, depth_map,
+                          docs_link, glsl_pairs, machine_rows, ns_per_ray_rounds, rays_rounds, searches_per_isa, speedup, view_name)
+from .spreads import spread
+from .writers import atomic_write
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+PLOTLY = os.path.join(HERE, "vendor", "plotly.js-basic-dist-min", "plotly-basic.min.js")
+PAGE_SCRIPT = os.path.join(HERE, "page", "page.js")
+PAGE_STYLE = os.path.join(HERE, "page", "page.css")
+MEASURES = ("uv_error_mean", "uv_error_rms", "uv_error_p50", "uv_error_p95", "uv_error_p99", "uv_error_max",
+            "wrong_surface_rate", "depth_error_mean", "shadow_error_mean", "shadow_mismatch_rate")
+
+
+def read(path):
+    with open(path) as f:
+        return f.read()
+
+
+def heightfield_keys(run):
+    """Each row's heightfield as the page names it: its label, with the depth map's size where the
+    run has that label at several sizes (the large maps of claim P2)."""
+    sizes = {}
+    for r in run.rows:
+        sizes.setdefault(r["heightfield"]["label"], set()).add(depth_map(r))
+    return {id(r): r["heightfield"]["label"] + (" (%s)" % depth_map(r) if len(sizes[r["heightfield"]["label"]]) > 1 else "")
+            for r in run.rows}
+
+
+def rounded(value, digits=6):
+    """A figure for the page, to `digits` significant digits (the page shows three or four)."""
+    return None if value is None else float("%.*g" % (digits, value))
+
+
+def page_rows(run):
+    """The rows that have a technique and error measures: every point the frontier can show."""
+    keys = heightfield_keys(run)
+    out = []
+    for r in run.rows:
+        if r.get("technique") not in run.style or not r.get("errors") or r.get("failure"):
+            continue
+        if r.get("purposes") == ["held-out"]:  # read through the recommendation, not a point of its own
+            continue
+        rays, ns = spread(rays_rounds(r)), spread(ns_per_ray_rounds(r))
+        out.append({
+            "id": r["id"], "heightfield": keys[id(r)], "label": r["heightfield"]["label"], "depth_map": depth_map(r),
+            "technique": r["technique"], "layers": r["layers"], "kind": r["kind"], "backend": backend_label(r),
+            "threads": r["threads"], "view": view_name(r["view"]), "purposes": r.get("purposes", []),
+            "rays_per_second": [rounded(x) for x in rays] if rays else None,
+            "ns_per_ray": [rounded(x) for x in ns] if ns else None,
+            "samples_per_ray": rounded(r.get("samples_per_ray")),
+            "precompute_seconds": rounded(r.get("precompute_seconds")),
+            "errors": {m: rounded(r["errors"].get(m)) for m in MEASURES if r["errors"].get(m) is not None},
+            "breakdown": {k: r["errors"][k] for k in ("by_azimuth", "by_view_angle") if r["errors"].get(k)} or None,
+            "images": r.get("images")})
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# Static tables, as HTML
+
+def cell(value, cls=None):
+    return "<td%s>%s</td>" % (' class="%s"' % cls if cls else "", value)
+
+
+def table(columns, rows, cls=""):
+    """columns: [(title, numeric)]; rows: lists of cells already escaped (HTML)."""
+    head = "".join("<th%s>%s</th>" % (' class="num"' if num else "", html.escape(t)) for t, num in columns)
+    body = "".join("<tr>%s</tr>" % "".join(cell(c, "num" if num else None) for c, (_, num) in zip(cells, columns))
+                   for cells in rows)
+    return '<table class="%s"><thead><tr>%s</tr></thead><tbody>%s</tbody></table>' % (cls, head, body)
+
+
+def spread_text(s, digits=1, scale=1.0, unit=""):
+    if s is None:
+        return "-"
+    f = "%%.%df" % digits
+    return "%s%s (%s-%s)" % (f % (s[0] * scale), unit, f % (s[1] * scale), f % (s[2] * scale))
+
+
+def link(href, text):
+    return '<a href="%s">%s</a>' % (html.escape(href, quote=True), html.escape(text))
+
+
+def glsl_table(run, pairs):
+    rows = [[html.escape(g["heightfield"]["label"]), html.escape(g["technique"]), html.escape(g["layers"]), g["threads"],
+             spread_text(spread(rays_rounds(c)), 1, 1e-6), spread_text(spread(rays_rounds(g)), 1, 1e-6),
+             spread_text(speedup(c, g), 2, unit="x")] for c, g in pairs]
+    return table([("heightfield", False), ("technique", False), ("layers", False), ("threads", True),
+                  ("CPU %s Mrays/s" % run.best_isa, True), ("GLSL Mrays/s", True), ("CPU/GLSL", True)], rows)
+
+
+def isa_table(run, found):
+    rows = [[html.escape(hf), html.escape(technique), threads, spread_text(spread(rays_rounds(glsl)), 1, 1e-6)] + [
+        c for isa in run.isas for c in (
+            (spread_text(spread(rays_rounds(by_isa[isa])), 1, 1e-6), spread_text(speedup(by_isa[isa], glsl), 2, unit="x"))
+            if isa in by_isa else ("-", "-"))] for hf, technique, threads, glsl, by_isa in found]
+    return table([("heightfield", False), ("technique", False), ("threads", True), ("GLSL Mrays/s", True)] + [
+        c for isa in run.isas for c in (("%s Mrays/s" % isa, True), ("x llvmpipe", True))], rows)
+
+
+def isa_bars(found):
+    """The per-ISA chart's data: per heightfield, threads and search, Mrays/s (median, min, max) per backend."""
+    out = []
+    for hf, technique, threads, glsl, by_isa in found:
+        bars = {isa: spread(rays_rounds(r)) for isa, r in by_isa.items()}
+        if glsl:
+            bars["glsl"] = spread(rays_rounds(glsl))
+        out.append({"heightfield": hf, "technique": technique, "threads": threads,
+                    "bars": {b: [rounded(x * 1e-6, 4) for x in s] for b, s in bars.items()}})
+    return out
+
+
+def claims_html(claims, maxmip_link):
+    if not claims:
+        return "<p>No claims in this run.</p>"
+    parts = []
+    for c in claims:
+        checks = c.get("checks") or []
+        passed = sum(1 for k in checks if k.get("passed"))
+        rows = [[html.escape(k.get("where", "")), html.escape(k.get("figures", "")),
+                 "yes" if k.get("passed") else "<b>no</b>"] for k in checks]
+        note = (" Maxmip at a grazing one-texel peak: %s." % maxmip_link) if c["id"] == "P2" else ""
+        previous = c.get("previous")
+        if previous:
+            note += " Revised in this release, because %s. The previous rule: %s Its verdict: %s (%s)." % (
+                html.escape(previous["reason"]), html.escape(previous["rule"]), html.escape(previous["verdict"]),
+                html.escape(previous["summary"]))
+        parts.append('<details><summary><b>%s</b> <span class="verdict v-%s">%s</span> %s (%d / %d checks)%s</summary>'
+                     '<p>Source: %s. Rule: %s%s</p>%s</details>' % (
+                         html.escape(c["id"]), html.escape(c["verdict"].replace(" ", "-")), html.escape(c["verdict"]),
+                         html.escape(c["claim"]), passed, len(checks),
+                         ": " + html.escape(c["summary"]) if c.get("summary") else "", html.escape(c.get("source", "?")),
+                         html.escape(c.get("rule", "?")), note,
+                         table([("where", False), ("figures", False), ("passes", False)], rows) if rows else ""))
+    return "".join(parts)
+
+
+def machine_html(run, warning_lines):
+    rows = machine_rows(run)
+    body = table([("", False), ("", False)], [[html.escape(k), html.escape(str(v))] for k, v in rows], "machine")
+    if warning_lines:
+        body += "".join('<p class="warning">%s</p>' % html.escape(w.replace("**", "")) for w in warning_lines)
+    else:
+        body += "<p>No warnings: the machine was not busy, and no timed row spread by more than 20%.</p>"
+    return body
+
+
+def history_series(run, recorded):
+    """The headline configuration (POM-32, 1 thread, default view, the first heightfield) over the
+    recorded runs, per machine (the history's machine column; the CPU where it has none) and backend."""
+    if recorded is None:
+        return None
+    hf = run.heightfields[0] if run.heightfields else ""
+    series = {}
+    for r in recorded:
+        if (r.get("technique"), r.get("layers"), r.get("threads"), r.get("heightfield")) != (
+                HEADLINE_TECHNIQUE, HEADLINE_LAYERS, "1", hf) or not r.get("view", "").startswith("default"):
+            continue
+        machine = r.get("machine") or r.get("cpu") or "?"
+        series.setdefault(machine, {}).setdefault(r["backend"], []).append(
+            {"date": r["date"], "commit": r["commit"],
+             "mrays": [float(r[c]) * 1e-6 for c in ("rays_per_second_median", "rays_per_second_min", "rays_per_second_max")]})
+    return {"heightfield": hf, "machines": series}
+
+
+def write_page(run, claims, recommendation, alerts, recorded, warning_lines, faults, backend_colours):
+    found = searches_per_isa(run)
+    data = {
+        "title": "%s run of %s, commit %s" % (run.plan.get("name", "?"), run.provenance.get("date", "?"),
+                                               run.provenance.get("commit", "?")),
+        "techniques": run.data["techniques"],
+        "backend_colours": backend_colours,
+        "rows": page_rows(run),
+        "recommendation": recommendation,
+        "window": run.window,
+        "held_out_window": run.held_out_window,
+        "alerts": alerts,
+        "history": history_series(run, recorded),
+        "isa_bars": isa_bars(found),
+        "isas": run.isas,
+        "gallery": [{"label": r["heightfield"]["label"], "kind": r["kind"], "technique": r.get("technique"),
+                     "layers": r.get("layers"), "view": view_name(r["view"]), "images": r["images"]}
+                    for r in run.rows if r.get("images")],
+        "faults": faults,
+        "docs": {"recommendation": docs_link(run, "recommendation.md"), "measures": docs_link(run, "measures.md")},
+    }
+    shadow_link = link(docs_link(run, *SHADOW_COUNTS), "why the shadow's sample counts differ between the CPU and GLSL")
+    maxmip_link = link(docs_link(run, *MAXMIP_PEAK), "docs/techniques.md")
+    static = {
+        "claims": claims_html(claims, maxmip_link),
+        "isa_table": isa_table(run, found) if found else "<p>Not measured in this run.</p>",
+        "glsl_table": ("<p>The same rays and parameters on both sides; CPU at the best ISA (%s); CPU/GLSL: median "
+                       "(min-max) of the per-round ratios. See %s.</p>" % (html.escape(run.best_isa or "?"), shadow_link)
+                       + glsl_table(run, glsl_pairs(run))) if glsl_pairs(run) else "<p>Not measured in this run.</p>",
+        "machine": machine_html(run, warning_lines),
+    }
+    # "</" would end the script element early: JSON may escape the slash
+    payload = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
+    text = TEMPLATE % {
+        "title": html.escape(data["title"]),
+        "style": read(PAGE_STYLE),
+        "plotly": read(PLOTLY).replace("</script", "<\\/script"),
+        "data": payload,
+        "script": read(PAGE_SCRIPT),
+        **static}
+    atomic_write(os.path.join(run.dir, "report.html"), text)
+
+
+TEMPLATE = """<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<link rel="icon" href="data:,">
+<title>heightmarch: %(title)s</title>
+<style>
+%(style)s
+</style>
+</head>
+<body>
+<header>
+<h1>heightmarch: %(title)s</h1>
+<nav><a href="#alerts">alerts</a> <a href="#recommendation">what to ship</a> <a href="#frontier">frontier</a>
+<a href="#claims">claims</a> <a href="#speed">speed per ISA and GLSL</a> <a href="#history">history</a>
+<a href="#provenance">provenance and warnings</a> <a href="report.md">report.md</a> <a href="tables.md">tables.md</a>
+<a href="measurements.csv">measurements.csv</a></nav>
+</header>
+<main>
+<section id="alerts"><h2>Alerts</h2><div id="alerts-body"></div></section>
+<section id="recommendation"><h2>What to ship</h2><div id="recommendation-body"></div></section>
+<section id="frontier"><h2>Error against cost, per heightfield</h2>
+<p>Every measured configuration of the selection, one point each in its technique's colour and marker: hover for
+its figures, click for its images. Filled markers keep the wrong surface within the recommendation's bound, hollow
+ones do not; grey steps: the Pareto front (nothing is both cheaper and more accurate); rings: the recommendation
+(thick: on this heightfield, thin: one setting for all); dashed: the error bound. Exact results (an error of 0) sit
+in the grey band at the bottom.</p>
+<div id="filters"></div>
+<div id="frontier-charts"></div>
+<div id="detail"><p>Click a point to see its configuration, its render, its error map and the exact render.</p></div>
+</section>
+<section id="claims"><h2>The claims</h2>%(claims)s</section>
+<section id="speed"><h2>Speed per ISA, and CPU against GLSL</h2>
+<div id="isa-filters"></div><div id="isa-chart"></div>
+<details><summary>The searches at every ISA, against llvmpipe (table)</summary>%(isa_table)s</details>
+<details><summary>CPU against GLSL (table)</summary>%(glsl_table)s</details>
+</section>
+<section id="history"><h2>History of this machine</h2><div id="history-body"></div><div id="history-chart"></div></section>
+<section id="provenance"><h2>Provenance and warnings</h2>%(machine)s</section>
+</main>
+<script>
+%(plotly)s
+</script>
+<script id="report-data" type="application/json">%(data)s</script>
+<script>
+%(script)s
+</script>
+</body>
+</html>
+"""

@@ -1,0 +1,39 @@
+#pragma once
+// The options suite and claims share (which plan, on which heightfields, at which scale, view
+// angles, threads and repetitions), turned into the plan's typed settings, and the measurement
+// pass with a progress line.
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cli/progress.hpp"
+#include "experiment/plan_runner.hpp"
+#include "experiment/suite_plan.hpp"
+
+namespace heightmarch::cli {
+
+// What suite and claims both take: which plan, on which heightfields (the builtins, the user's
+// depth maps or both), at which scale and view angles, threads and repetitions.
+struct PlanOptions {
+  bool quick = false;
+  std::string heightmap;     // depth map files, comma-separated
+  bool no_builtins = false;  // the --heightmap files alone
+  std::vector<int> threads;  // thread counts (0: all cores); none given: 1 and all cores
+  int repetitions = 5;
+  std::optional<double> scale;
+  std::string view_angles;  // NEAR-FAR degrees; empty: the default view's
+  std::string views = "around";  // the window (common_options.hpp's --views)
+};
+
+void add_plan_options(CLI::App& command, PlanOptions& options, const std::string& quick_help);
+
+// The default or quick settings with the options' heightfields, scale, window and its view angles,
+// threads and repetitions. Throws InputError for values CLI11 cannot check on its own.
+PlanSettings plan_settings(const PlanOptions& options, bool glsl);
+
+MeasuredPlan measure_with_progress(const std::vector<Configuration>& plan, const PlanSettings& settings,
+                                   Progress& progress, const std::function<void(const TracedRow&)>& on_traced);
+
+}  // namespace heightmarch::cli

@@ -1,0 +1,75 @@
+#pragma once
+// What a suite run (or a claims run) measures, as one typed plan of configurations: the default
+// plan, the quick one, and the claims' part of either.
+#include <string>
+#include <vector>
+
+#include "claims/claims.hpp"
+#include "experiment/configuration.hpp"
+#include "experiment/recommendation.hpp"
+
+namespace heightmarch {
+
+// The default view of side x side pixels seen around the surface, at the default span.
+ViewSpec around_window(int side);
+
+struct PlanSettings {
+  std::string name;                            // "default", "quick"
+  std::vector<HeightfieldSource> heightfields;
+  // The candidates: the techniques and layer specs of the matrix (and GLSL); the techniques of the
+  // searches timed at every ISA, the sweeps and the gallery too. The claims read their own rows.
+  std::vector<Technique> techniques;
+  std::vector<LayerSpec> layer_specs;
+  std::vector<LayerSpec> few_layer_specs;    // the sweeps' and GLSL's at fewer threads: 8, 32, 8-32
+  float scale = 0.1f;                        // height scale of every configuration
+  // The window of the rows on the default view (the matrix, the searches at every ISA, GLSL, the
+  // anchors, the claims): the default view turned around the surface unless asked otherwise
+  // (--views), at its span of view angles; its held-out set checks the recommendation's candidates
+  // (docs/measures.md#view-sets). Sweeps are turned around too, unless the window is single.
+  ViewSpec window = around_window(1024);
+  int sweep_size = 128;                        // sweep views: side, pixels
+  std::vector<double> sweep_angles;            // degrees
+  int gallery_width = 512, gallery_height = 384;
+  Isa best_isa = Isa::scalar;         // the matrix's: the widest of isas
+  std::vector<Isa> isas;              // every ISA the CPU runs, or those asked for
+  int threads = 1;                    // the most of thread_counts: the matrix's
+  std::vector<int> thread_counts{1};  // timed side by side: one and all cores, or those asked for
+  bool glsl = true;
+  unsigned parts = kAllPurposes;  // the purposes measured (--parts)
+  int repetitions = 5;
+  double min_seconds = 0.04;                   // per repetition
+  bool large_maps = true;                      // P2's rows on the builtins at kLargeMapSide
+};
+
+// The default or quick settings: that plan's builtins, every technique, every ISA the CPU runs,
+// one thread and `threads` (all cores).
+PlanSettings suite_settings(bool quick, int threads);
+
+// Sweep angles every 5 degrees over the default view's span (its ends included).
+std::vector<double> sweep_angles(float near_degrees, float far_degrees);
+
+// Everything a suite run measures: the matrix, POM-32 at every ISA and thread count, GLSL, the
+// roofline, the naive port, sweeps, the gallery and the claims' rows.
+std::vector<Configuration> suite_plan(const PlanSettings& settings);
+
+// The held-out twins of a plan's candidates (its technique rows on the window with the matrix,
+// GLSL or claims purpose): each the same configuration on the window's held-out set, for its
+// accuracy only (purpose held-out).
+std::vector<Configuration> held_out_plan(const std::vector<Configuration>& plan, const PlanSettings& settings);
+
+// The gallery's view: one perspective view of gallery_width x gallery_height at the window's span
+// (a picture of one camera, not a set's patchwork).
+ViewSpec gallery_view(const PlanSettings& settings);
+
+// What to ship, seen: on every heightfield with a recommendation, its exact render and each declared
+// backend's recommended configuration there (by the CPU kernel at the plan's best ISA), on the
+// gallery's view, for their images; none that `measured` already holds.
+std::vector<Configuration> recommended_gallery_plan(const Recommendation& recommendation, const PlanSettings& settings,
+                                                    const std::vector<Configuration>& measured);
+
+// The claims' rows alone (what `heightmarch claims` runs): every row each claim declares
+// (claims.hpp) on every heightfield, sweeps untimed, with large_maps the large-map rows on the
+// builtins at kLargeMapSide, and the held-out twins of the candidates among them.
+std::vector<Configuration> claims_plan(const PlanSettings& settings);
+
+}  // namespace heightmarch
