@@ -673,23 +673,25 @@ std::string claims_markdown(const std::vector<ClaimResult>& results, const std::
                    "it.\n\n"
                    "| claim | verdict | checks passed | where |\n|---|---|---|---|\n";
   for (const ClaimResult& r : results)
-    md += "| [" + r.id + "](#" + r.id + ") " + markdown_cell(r.claim) + " | **" + to_string(r.verdict) +
+    md += "| [" + r.id + "](#" + r.id + ") " + markdown_text(r.claim) + " | **" + to_string(r.verdict) +
           "** | " + std::to_string(r.passed) + " / " + std::to_string(r.checks.size()) + " | " +
-          markdown_cell(r.summary + (r.previous ? "; previous rule: " + to_string(r.previous->verdict) : "")) + " |\n";
+          markdown_text(r.summary + (r.previous ? "; previous rule: " + to_string(r.previous->verdict) : "")) + " |\n";
   md += "\n## What to ship on these rows\n\n" + recommendation;
   for (const ClaimResult& r : results) {
-    md += "\n<a id=\"" + r.id + "\"></a>\n## " + r.id + ": " + r.claim + "\n\n";
-    md += "Source: " + r.source + " (docs/claims.md gives the words and the pages).\n\nRule: " + r.rule + "\n\n";
+    md += "\n<a id=\"" + r.id + "\"></a>\n## " + r.id + ": " + markdown_text(r.claim) + "\n\n";
+    md += "Source: " + markdown_text(r.source) + " (docs/claims.md gives the words and the pages).\n\nRule: " +
+          markdown_text(r.rule) + "\n\n";
     if (r.previous)
-      md += "Revised in this release, because " + r.previous->reason + ". The previous rule: " + r.previous->rule +
-            " Its verdict on these figures: **" + to_string(r.previous->verdict) + "** (" + r.previous->summary + ").\n\n";
+      md += "Revised in this release, because " + markdown_text(r.previous->reason) + ". The previous rule: " +
+            markdown_text(r.previous->rule) + " Its verdict on these figures: **" + to_string(r.previous->verdict) +
+            "** (" + markdown_text(r.previous->summary) + ").\n\n";
     if (!r.checks.empty()) {
       md += "| where | figures | deciding | passes |\n|---|---|---|---|\n";
       for (const ClaimCheck& c : r.checks)
-        md += "| " + markdown_cell(c.where()) + " | " + markdown_cell(c.figures) + " | " + markdown_cell(c.deciding) +
+        md += "| " + markdown_text(c.where()) + " | " + markdown_text(c.figures) + " | " + markdown_text(c.deciding) +
               " | " + (c.passed ? "yes" : "**no**") + " |\n";
     }
-    md += "\nVerdict: **" + to_string(r.verdict) + "**: " + r.summary + ".\n";
+    md += "\nVerdict: **" + to_string(r.verdict) + "**: " + markdown_text(r.summary) + ".\n";
   }
   return md;
 }

@@ -5,21 +5,24 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <map>
+#include <limits>
 #include <memory>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "cli/commands.hpp"
 #include "cli/run_directory.hpp"
 #include "experiment/run_outputs.hpp"
 #include "heightmarch/error.hpp"
 #include "experiment/plan_runner.hpp"
+#include "heightmarch/memory_budget.hpp"
 #include "io/atomic_file.hpp"
 #include "io/json_writer.hpp"
+#include "util/input_file.hpp"
 #include "util/string_format.hpp"
 
 namespace heightmarch::cli {
@@ -63,6 +66,74 @@ namespace {
 
 using Json = nlohmann::json;
 
+// A parsed measurements.json holds about 4 times its size (measured on a full run's 5 MB file:
+// 18 MB beside its text); 8 with the text and room, checked against the memory budget first.
+constexpr double kJsonParseFactor = 8.0;
+constexpr std::uintmax_t kMaxMeasurementsBytes = std::uintmax_t(1) << 36;
+constexpr std::int64_t kMaxRays = std::int64_t(1) << 53;  // exact in a double
+// Bounds no measurement reaches, so that no figure made of them overflows: a repetition of a
+// week; errors and samples per ray far beyond any map.
+constexpr double kMaxSeconds = 7 * 24 * 3600.0;
+constexpr double kLargest = 1e30;
+
+// The fields of one row, each value checked for its type and range as it is taken: a bad value is
+// one line naming the row and the field, never read as a figure.
+class RowFields {
+ public:
+  RowFields(const Json& row, std::string where) : row_(row), where_(std::move(where)) {
+    if (!row.is_object()) refuse("", "is not an object");
+  }
+  const Json& at(const Json& object, const std::string& key, const std::string& path) const {
+    if (!object.is_object() || !object.contains(key)) refuse(path, "is missing");
+    return object.at(key);
+  }
+  const Json& at(const std::string& key) const { return at(row_, key, key); }
+  const Json& optional(const std::string& key) const {  // null where the row has no such field
+    static const Json null;
+    return row_.contains(key) ? row_.at(key) : null;
+  }
+  std::string text(const Json& v, const std::string& path) const {
+    if (!v.is_string()) refuse(path, "is " + shown(v) + ", not a string");
+    return v.get<std::string>();
+  }
+  // A finite number in [low, high] ((low, high] when `above`).
+  double number(const Json& v, const std::string& path, double low, double high, bool above = false) const {
+    if (!v.is_number() || !std::isfinite(v.get<double>())) refuse(path, "is " + shown(v) + ", not a finite number");
+    const double x = v.get<double>();
+    if (x < low || (above && x == low) || x > high)
+      refuse(path, "is " + shown(v) + ", not in " + (above ? "(" : "[") + string_format("%g, %g]", low, high));
+    return x;
+  }
+  // An integer in low..high (low is never negative here). nlohmann keeps 1e20 a float and a
+  // non-negative integer unsigned: neither is cast blindly.
+  std::int64_t integer(const Json& v, const std::string& path, std::int64_t low, std::int64_t high) const {
+    if (!v.is_number_integer()) refuse(path, "is " + shown(v) + ", not an integer");
+    const bool in_range = v.is_number_unsigned()
+                              ? v.get<std::uint64_t>() >= std::uint64_t(low) && v.get<std::uint64_t>() <= std::uint64_t(high)
+                              : v.get<std::int64_t>() >= low && v.get<std::int64_t>() <= high;
+    if (!in_range) refuse(path, "is " + shown(v) + ", not in " + std::to_string(low) + ".." + std::to_string(high));
+    return v.get<std::int64_t>();
+  }
+  bool has_purpose(const std::string& name) const {
+    const Json& purposes = at("purposes");
+    if (!purposes.is_array()) refuse("purposes", "is not a list");
+    for (const Json& p : purposes)
+      if (text(p, "purposes") == name) return true;
+    return false;
+  }
+  [[noreturn]] void refuse(const std::string& path, const std::string& why) const {
+    throw InputError(where_ + (path.empty() ? "" : ": " + path) + ": " + why);
+  }
+
+ private:
+  static std::string shown(const Json& v) {
+    const std::string text = v.dump(-1, ' ', true);  // ASCII: a control character stays escaped
+    return text.size() <= 60 ? text : text.substr(0, 60) + "...";
+  }
+  const Json& row_;
+  std::string where_;
+};
+
 // The ISA named in a row, whichever machine measured it (no check that this CPU runs it).
 Isa isa_named(const std::string& name) {
   for (Isa isa : all_isas())
@@ -70,42 +141,41 @@ Isa isa_named(const std::string& name) {
   throw InputError("backend '" + name + "' is no ISA of " + isa_names());
 }
 
-bool has_purpose(const Json& row, const std::string& name) {
-  for (const Json& p : row.at("purposes"))
-    if (p.get<std::string>() == name) return true;
-  return false;
-}
-
-// A row's errors as the recommendation reads them; a run written before the intervals were
-// (measurements.json without errors.confidence) gives each figure as its own interval. Format 1
-// named the percentiles uv_p99.
-Accuracy accuracy_of(const Json& row, int format_version) {
-  const Json& errors = row.at("errors");
-  const Json confidence = errors.value("confidence", Json::object());
+// A row's errors as the recommendation reads them, each figure with its 95% interval; a run
+// written before the intervals were (errors without confidence) gives each figure as its own
+// interval. Format 1 named the percentiles uv_p99.
+Accuracy accuracy_of(const RowFields& f, int format_version) {
+  const Json& errors = f.at("errors");
+  const Json& confidence = errors.is_object() && errors.contains("confidence") ? errors.at("confidence") : Json();
+  const auto interval = [&](const std::string& name, double value) -> Interval {
+    if (!confidence.is_object() || !confidence.contains(name)) return {value, value};
+    const Json& ci = confidence.at(name);
+    const std::string path = "errors.confidence." + name;
+    if (!ci.is_array() || ci.size() != 2) f.refuse(path, "is not a pair of numbers");
+    return {f.number(ci[0], path, 0.0, kLargest), f.number(ci[1], path, 0.0, kLargest)};
+  };
   Accuracy a;
   for (ErrorPercentile p : kErrorPercentiles) {
-    const double value = errors.at(format_version >= 2 ? measure_name(p) : "uv_" + to_string(p)).get<double>();
-    a.uv_error[int(p)] = value;
-    a.uv_error_ci[int(p)] = {value, value};
-    if (const auto ci = confidence.find(measure_name(p)); ci != confidence.end())
-      a.uv_error_ci[int(p)] = {ci->at(0).get<double>(), ci->at(1).get<double>()};
+    const std::string name = format_version >= 2 ? measure_name(p) : "uv_" + to_string(p);
+    a.uv_error[int(p)] = f.number(f.at(errors, name, "errors." + name), "errors." + name, 0.0, kLargest);
+    a.uv_error_ci[int(p)] = interval(measure_name(p), a.uv_error[int(p)]);
   }
-  a.wrong_surface_rate = errors.at("wrong_surface_rate").get<double>();
-  a.wrong_surface_ci = {a.wrong_surface_rate, a.wrong_surface_rate};
-  if (const auto ci = confidence.find("wrong_surface_rate"); ci != confidence.end())
-    a.wrong_surface_ci = {ci->at(0).get<double>(), ci->at(1).get<double>()};
-  a.rays = row.at("rays").get<std::size_t>() - errors.at("discarded").get<std::size_t>();
+  a.wrong_surface_rate =
+      f.number(f.at(errors, "wrong_surface_rate", "errors.wrong_surface_rate"), "errors.wrong_surface_rate", 0.0, 1.0);
+  a.wrong_surface_ci = interval("wrong_surface_rate", a.wrong_surface_rate);
+  a.rays = std::size_t(f.integer(f.at("rays"), "rays", 0, kMaxRays));
   return a;
 }
 
 // What a row and its held-out twin share (everything but the view's seed), with a seed: a
 // candidate's key at its seed + 1 is its twin's at its own.
-std::string twin_key(const Json& row, long long seed) {
+std::string twin_key(const RowFields& f, std::int64_t seed) {
   Json key = Json::array();
   for (const char* field : {"kind", "backend", "threads", "technique", "layers", "refine", "scale", "wrap", "discard"})
-    key.push_back(row.value(field, Json()));
-  key.push_back(row.at("heightfield").at("label"));
-  Json view = row.at("view");
+    key.push_back(f.optional(field));
+  key.push_back(f.at(f.at("heightfield"), "label", "heightfield.label"));
+  Json view = f.at("view");
+  if (!view.is_object()) f.refuse("view", "is not an object");
   view.erase("seed");
   view.erase("description");
   key.push_back(view);
@@ -113,41 +183,47 @@ std::string twin_key(const Json& row, long long seed) {
   return key.dump();
 }
 
+std::int64_t view_seed(const RowFields& f) {
+  const Json& view = f.at("view");
+  return view.is_object() && view.contains("seed") ? f.integer(view.at("seed"), "view.seed", 0, 1 << 30) : 0;
+}
+
 // A row of measurements.json as a candidate, or none for a row the recommendation does not read
-// (the same rows candidates() takes from a run's Measurements).
-std::optional<Candidate> candidate_of(const Json& row, int format_version) {
-  const std::string kind = row.at("kind").get<std::string>();
+// (the same rows candidates() takes from a run's Measurements): a technique row, timed, on the
+// window (no sweep, rays file or fresh rays).
+std::optional<Candidate> candidate_of(const RowFields& f, int format_version) {
+  const std::string kind = f.text(f.at("kind"), "kind");
   if (kind != "trace" && kind != "glsl") return std::nullopt;
-  if (!(has_purpose(row, "matrix") || has_purpose(row, "claims") || has_purpose(row, "glsl")))
-    return std::nullopt;
-  if (row.at("technique").is_null() || !row.value("shader", Json()).is_null()) return std::nullopt;
-  if (row.at("errors").is_null() || row.at("speed").is_null() || !row.at("failure").is_null())
-    return std::nullopt;
-  const Json& view = row.at("view");
-  const std::string view_kind = view.at("kind").get<std::string>();
-  if (view_kind == "sweep" || view_kind == "rays" || !view.value("fresh_rays", Json()).is_null() ||
-      row.at("rays").get<std::size_t>() == 0)
-    return std::nullopt;
+  if (!(f.has_purpose("matrix") || f.has_purpose("claims") || f.has_purpose("glsl"))) return std::nullopt;
+  if (f.at("technique").is_null() || !f.optional("shader").is_null()) return std::nullopt;
+  if (f.at("errors").is_null() || f.at("speed").is_null() || !f.at("failure").is_null()) return std::nullopt;
+  const std::string view_kind = f.text(f.at(f.at("view"), "kind", "view.kind"), "view.kind");
+  const Json& fresh = f.at("view").is_object() && f.at("view").contains("fresh_rays") ? f.at("view").at("fresh_rays") : Json();
+  if (view_kind == "sweep" || view_kind == "rays" || !fresh.is_null()) return std::nullopt;
+  const std::int64_t rays = f.integer(f.at("rays"), "rays", 0, kMaxRays);
+  if (rays == 0) return std::nullopt;
   Candidate c;
-  c.id = row.at("id").get<int>();
-  c.heightfield = row.at("heightfield").at("label").get<std::string>();
-  c.depth_map_width = row.at("heightfield").at("width").get<int>();
-  c.depth_map_height = row.at("heightfield").at("height").get<int>();
+  c.id = int(f.integer(f.at("id"), "id", 0, std::numeric_limits<int>::max()));
+  const Json& hf = f.at("heightfield");
+  c.heightfield = f.text(f.at(hf, "label", "heightfield.label"), "heightfield.label");
+  c.depth_map_width = int(f.integer(f.at(hf, "width", "heightfield.width"), "heightfield.width", 1, 1 << 30));
+  c.depth_map_height = int(f.integer(f.at(hf, "height", "heightfield.height"), "heightfield.height", 1, 1 << 30));
   const bool glsl = kind == "glsl";
   c.backend = {glsl ? RunKind::glsl : RunKind::trace,
-               glsl ? Isa::scalar : isa_named(row.at("backend").get<std::string>()),
-               row.at("threads").get<int>()};
-  c.grid = !glsl && (has_purpose(row, "matrix") || has_purpose(row, "claims"));
-  c.technique = parse_technique(row.at("technique").get<std::string>());
-  c.layers = parse_layer_spec(row.at("layers").get<std::string>());
-  c.selection = accuracy_of(row, format_version);
-  c.samples_per_ray = row.at("samples_per_ray").is_null() ? 0.0 : row.at("samples_per_ray").get<double>();
-  c.rays = row.at("rays").get<std::size_t>();
-  c.seconds = row.at("speed").at("seconds").get<std::vector<double>>();
-  for (double s : c.seconds)
-    if (!(std::isfinite(s) && s > 0)) throw InputError("a repetition's seconds must be positive");
-  if (const Json& p = row.value("precompute_seconds", Json()); !p.is_null())
-    c.precompute_seconds = p.get<double>();
+               glsl ? Isa::scalar : isa_named(f.text(f.at("backend"), "backend")),
+               int(f.integer(f.at("threads"), "threads", 1, 1 << 20))};
+  c.grid = !glsl && (f.has_purpose("matrix") || f.has_purpose("claims"));
+  c.technique = parse_technique(f.text(f.at("technique"), "technique"));
+  c.layers = parse_layer_spec(f.text(f.at("layers"), "layers"));
+  c.selection = accuracy_of(f, format_version);
+  const Json& samples = f.at("samples_per_ray");
+  c.samples_per_ray = samples.is_null() ? 0.0 : f.number(samples, "samples_per_ray", 0.0, kLargest);
+  c.rays = std::size_t(rays);
+  const Json& seconds = f.at(f.at("speed"), "seconds", "speed.seconds");
+  if (!seconds.is_array() || seconds.empty()) f.refuse("speed.seconds", "is not a list of repetitions' seconds");
+  for (const Json& s : seconds) c.seconds.push_back(f.number(s, "speed.seconds", 0.0, kMaxSeconds, true));
+  if (const Json& p = f.optional("precompute_seconds"); !p.is_null())
+    c.precompute_seconds = f.number(p, "precompute_seconds", 0.0, kMaxSeconds);
   return c;
 }
 
@@ -158,13 +234,13 @@ struct Measurements {
 };
 
 Measurements read_measurements(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot read it");
+  const std::uintmax_t size = check_input_file(path, "measurements.json", kMaxMeasurementsBytes);
+  check_memory_budget(double(size) * kJsonParseFactor, path + ": reading measurements.json");
   Measurements m;
   Json& data = m.data;
   try {
-    data = Json::parse(in);
-  } catch (const Json::exception& e) {
+    data = Json::parse(read_input_file(path, "measurements.json", kMaxMeasurementsBytes));
+  } catch (const Json::exception& e) {  // nlohmann refuses NaN, Infinity and 1e400 as not JSON
     throw InputError(path + ": not JSON (" + e.what() + ")");
   }
   if (data.is_object() && data.value("format", "") == "heightmarch-measurements" &&
@@ -175,30 +251,25 @@ Measurements read_measurements(const std::string& path) {
   if (m.version < 1 || m.version > kMeasurementsFormatVersion)
     throw InputError(path + ": not a heightmarch measurements.json of format 1 to " +
                      std::to_string(kMeasurementsFormatVersion));
+  if (!data.contains("rows") || !data["rows"].is_array()) throw InputError(path + ": rows is not a list");
   return m;
 }
 
-std::vector<Candidate> read_candidates(const Measurements& measurements, const std::string& path) {
-  const Json& data = measurements.data;
-  const int version = measurements.version;
+// The candidates of a run, each joined to its held-out twin (a row with the held-out purpose whose
+// configuration is the candidate's on its window's next seed) where there is one.
+std::vector<Candidate> read_candidates(const Measurements& m, const std::string& path) {
+  const Json& rows = m.data["rows"];
   std::vector<Candidate> out;
   std::vector<std::string> keys;  // each candidate's twin's key
   std::map<std::string, std::pair<int, Accuracy>> held_out;
-  const Json& rows = data.at("rows");
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    try {
-      const Json& row = rows[i];
-      const long long seed = row.at("view").value("seed", 0LL);
-      if (auto c = candidate_of(row, version)) {
-        out.push_back(std::move(*c));
-        keys.push_back(twin_key(row, seed + 1));
-      } else if (has_purpose(row, "held-out") && !row.at("errors").is_null() && row.at("failure").is_null()) {
-        held_out[twin_key(row, seed)] = {row.at("id").get<int>(), accuracy_of(row, version)};
-      }
-    } catch (const Json::exception& e) {
-      throw InputError(path + ": row " + std::to_string(i) + ": " + e.what());
-    } catch (const InputError& e) {
-      throw InputError(path + ": row " + std::to_string(i) + ": " + e.what());
+    const RowFields f(rows[i], path + ": rows[" + std::to_string(i) + "]");
+    if (auto c = candidate_of(f, m.version)) {
+      out.push_back(std::move(*c));
+      keys.push_back(twin_key(f, view_seed(f) + 1));
+    } else if (f.has_purpose("held-out") && !f.at("errors").is_null() && f.at("failure").is_null()) {
+      held_out[twin_key(f, view_seed(f))] = {int(f.integer(f.at("id"), "id", 0, std::numeric_limits<int>::max())),
+                                             accuracy_of(f, m.version)};
     }
   }
   for (std::size_t i = 0; i < out.size(); ++i)
@@ -212,35 +283,38 @@ std::vector<Candidate> read_candidates(const Measurements& measurements, const s
 // The outside check (docs/recommendation.md#the-outside-check): a row's configuration again, its
 // window's rays replaced by fresh ones drawn like the window's (every azimuth and position uniform,
 // the view angles from its own), for its accuracy.
-Configuration fresh_rays_configuration(const Json& row, std::size_t rays, std::uint32_t seed) {
+Configuration fresh_rays_configuration(const RowFields& f, std::size_t rays, std::uint32_t seed) {
   Configuration c;
-  const bool glsl = row.at("kind").get<std::string>() == "glsl";
+  const bool glsl = f.text(f.at("kind"), "kind") == "glsl";
   c.kind = glsl ? RunKind::glsl : RunKind::trace;
-  c.isa = glsl ? Isa::scalar : isa_named(row.at("backend").get<std::string>());
-  c.threads = row.at("threads").get<int>();
-  const Json& hf = row.at("heightfield");
-  c.heightfield = parse_heightfield(hf.at("source").get<std::string>(), hf.at("width").get<int>());
-  c.heightfield.name = hf.at("label").get<std::string>();
+  c.isa = glsl ? Isa::scalar : isa_named(f.text(f.at("backend"), "backend"));
+  c.threads = int(f.integer(f.at("threads"), "threads", 1, 1 << 20));
+  const Json& hf = f.at("heightfield");
+  c.heightfield = parse_heightfield(f.text(f.at(hf, "source", "heightfield.source"), "heightfield.source"),
+                                    int(f.integer(f.at(hf, "width", "heightfield.width"), "heightfield.width", 1, kMaxDepthMapSide)));
+  c.heightfield.name = f.text(f.at(hf, "label", "heightfield.label"), "heightfield.label");
   TechniqueParams& p = c.params;
-  p.technique = parse_technique(row.at("technique").get<std::string>());
-  p.layers = layers_for(p.technique, parse_layer_spec(row.at("layers").get<std::string>()));
-  p.refine = row.at("refine").get<int>();
-  p.scale = row.at("scale").get<float>();
-  p.wrap = row.at("wrap").get<std::string>() == "clamp" ? Wrap::clamp : Wrap::repeat;
-  p.discard = row.at("discard").get<bool>();
+  p.technique = parse_technique(f.text(f.at("technique"), "technique"));
+  p.layers = layers_for(p.technique, parse_layer_spec(f.text(f.at("layers"), "layers")));
+  p.refine = int(f.integer(f.at("refine"), "refine", 0, kMaxRefineSteps));
+  p.scale = float(f.number(f.at("scale"), "scale", 0.0, 1.0, true));
+  p.wrap = f.text(f.at("wrap"), "wrap") == "clamp" ? Wrap::clamp : Wrap::repeat;
+  p.discard = f.at("discard").is_boolean() && f.at("discard").get<bool>();
   validate(p);
-  const Json& view = row.at("view");
-  const std::string kind = view.at("kind").get<std::string>();
-  c.view = parse_view("default", view.at("width").get<int>(), view.at("height").get<int>());
+  const Json& view = f.at("view");
+  const std::string kind = f.text(f.at(view, "kind", "view.kind"), "view.kind");
+  c.view = parse_view("default", int(f.integer(f.at(view, "width", "view.width"), "view.width", 1, kMaxViewSide)),
+                      int(f.integer(f.at(view, "height", "view.height"), "view.height", 1, kMaxViewSide)));
   if (kind == "tutorial") {
-    apply_views("tutorial:" + std::to_string(view.at("views").get<int>()), c.view);
+    apply_views("tutorial:" + std::to_string(f.integer(f.at(view, "views", "view.views"), "view.views", 1, kMaxSetViews)),
+                c.view);
   } else if (kind == "poses") {
-    apply_views(view.at("file").get<std::string>(), c.view);
+    apply_views(f.text(f.at(view, "file", "view.file"), "view.file"), c.view);
   } else if (kind == "default") {
-    c.view.near_degrees = view.at("near_angle").get<float>();
-    c.view.far_degrees = view.at("far_angle").get<float>();
+    c.view.near_degrees = float(f.number(f.at(view, "near_angle", "view.near_angle"), "view.near_angle", 0.0, kMaxViewDegrees));
+    c.view.far_degrees = float(f.number(f.at(view, "far_angle", "view.far_angle"), "view.far_angle", 0.0, kMaxViewDegrees));
   } else {
-    throw InputError("a row on a " + kind + " view has no window to draw fresh rays like");
+    f.refuse("view.kind", "is " + kind + ": no window to draw fresh rays like");
   }
   c.view.fresh_rays = rays;
   c.view.seed = seed;
@@ -255,7 +329,8 @@ Configuration fresh_rays_configuration(const Json& row, std::size_t rays, std::u
 int outside_check(const Recommendation& recommendation, const Measurements& measurements, std::size_t rays,
                   std::uint32_t seed, const std::string& out) {
   std::map<int, const Json*> by_id;
-  for (const Json& row : measurements.data.at("rows")) by_id[row.at("id").get<int>()] = &row;
+  for (const Json& row : measurements.data.at("rows"))
+    if (row.is_object() && row.contains("id") && row["id"].is_number_integer()) by_id[row["id"].get<int>()] = &row;
   std::vector<Configuration> plan;
   struct Checked {
     std::string backend, heightfield, setting;
@@ -265,7 +340,9 @@ int outside_check(const Recommendation& recommendation, const Measurements& meas
   for (const BackendRecommendation& b : recommendation.backends)
     for (const Answer& a : b.per_heightfield) {
       if (!a.choice) continue;
-      const Configuration c = fresh_rays_configuration(*by_id.at(a.choice->rows.front().id), rays, seed);
+      const int id = a.choice->rows.front().id;
+      const Configuration c =
+          fresh_rays_configuration(RowFields(*by_id.at(id), "measurements.json: row " + std::to_string(id)), rays, seed);
       std::size_t index = std::find_if(plan.begin(), plan.end(), [&](const Configuration& p) { return p.same_measurement(c); }) - plan.begin();
       if (index == plan.size()) plan.push_back(c);
       checked.push_back({b.backend.name(), a.heightfield, a.choice->label(), index});
@@ -315,9 +392,9 @@ struct RecommendOptions {
   std::string measurements;
   RecommendationTarget target;
   std::string out;
+  bool json = false;
   std::size_t outside_rays = 0;
   std::uint32_t outside_seed = 1;
-  bool json = false;
 };
 
 }  // namespace
