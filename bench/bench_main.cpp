@@ -1,9 +1,10 @@
 // build/heightmarch-bench: Google Benchmark over the registries (techniques x layer specs x ISA
 // x threads, the same as GLSL, POM-32's anchors: the sampler roofline, the compute ceiling, the
-// naive port, its auto-vectorised form and its Highway form per ISA, and the exact reference) on the default view
-// of each heightfield. Names come from benchmark_name(), as in a suite's bench.json; counters
-// carry speed and accuracy. A configuration is checked against the scalar reference before it is
-// timed: a wrong kernel never produces a number.
+// naive port, its auto-vectorised form and its Highway form per ISA, and the exact reference) on a
+// window of each heightfield (--hm_views: the single default view unless asked). Names come from
+// benchmark_name(), as in a suite's bench.json; counters carry speed and accuracy. A configuration
+// is checked against the scalar reference before it is timed: a wrong kernel never produces a
+// number.
 #include <benchmark/benchmark.h>
 #include <tbb/info.h>
 
@@ -29,6 +30,9 @@ using namespace heightmarch;
 
 struct BenchOptions {
   int size = 1024;
+  // The window (--views of the tool): single by default, so that scripts/regress and bisect time
+  // a build of today and one from before view sets on the same rays.
+  std::string views = "single";
   int res = 512;
   std::vector<std::string> heightfields = {"bricks", "terrain"};
   std::vector<std::string> layers = {"4", "8", "16", "32", "64", "8-32"};
@@ -87,6 +91,7 @@ std::vector<Configuration> bench_plan(const BenchOptions& o) {
     Configuration base;
     base.heightfield = parse_heightfield(name, o.res);
     base.view = parse_view("default", o.size, o.size);
+    apply_views(o.views, base.view);
     auto add = [&](RunKind kind, Technique technique, const LayerSpec& layers, Isa isa, int t) {
       Configuration c = base;
       c.kind = kind;
@@ -144,6 +149,10 @@ int main(int argc, char** argv) {
   app.allow_extras();
   app.set_help_flag("-h,--help", "this text, then Google Benchmark's flags");
   app.add_option("--hm_size", o.size, "view side in pixels")->check(CLI::Range(1, kMaxViewSide))->capture_default_str();
+  app.add_option("--hm_views", o.views,
+                 "the window: single (default), around, tutorial[:N] (frames of --hm_size), or a camera-pose CSV "
+                 "(docs/measures.md#view-sets)")
+      ->capture_default_str();
   app.add_option("--hm_res", o.res, "builtin depth map side")->check(CLI::Range(1, kMaxDepthMapSide))->capture_default_str();
   app.add_option("--hm_heightfields", o.heightfields, "builtin names or depth map files")->delimiter(',')->capture_default_str();
   app.add_option("--hm_layers", o.layers, "layer specs (N or A-B)")->delimiter(',')->capture_default_str();
@@ -236,7 +245,7 @@ int main(int argc, char** argv) {
   benchmark::AddCustomContext("heightmarch_build_type", prov.build_type);
   benchmark::AddCustomContext("heightmarch_best_isa", to_string(best_isa()));
   benchmark::AddCustomContext("heightmarch_error_measures", error_measure_names());
-  benchmark::AddCustomContext("heightmarch_view", std::to_string(o.size) + "x" + std::to_string(o.size));
+  benchmark::AddCustomContext("heightmarch_view", plan->empty() ? "none" : benchmark_view(plan->front().view));
   benchmark::AddCustomContext("heightmarch_depth_map", std::to_string(o.res) + "x" + std::to_string(o.res));
   for (const Configuration& c : *plan) {
     const auto [width, height] = sizes.at(&c);

@@ -126,7 +126,7 @@ Command add_claims_command(CLI::App& app) {
     Progress progress("claims");
     progress.stage("measuring " + std::to_string(settings.heightfields.size()) + " heightfields");
     ClaimsCollector claims;
-    const MeasuredPlan run = measure_with_progress(claims_plan(settings), settings, progress,
+    const MeasuredPlan run = measure_with_progress(with_held_out(claims_plan(settings), settings), settings, progress,
                                                    [&](const TracedRow& traced) { claims.observe(traced); });
     write_file_atomically(dir.path() + "/measurements.json", measurements_json(run, settings.name + " claims"));
     dir.finished("measurements.json");

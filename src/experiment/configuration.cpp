@@ -68,12 +68,19 @@ std::string benchmark_name(const Configuration& c, int map_width, int map_height
   if (c.kind != RunKind::exact) name += "/layers:" + to_string(c.params.layers);
   name += "/isa:" + (kind.benchmark_isa_label.empty() ? c.backend() : std::string(kind.benchmark_isa_label)) +
           "/threads:" + std::to_string(c.threads);
-  // The default view at its default angles by its size alone, as names have always read.
-  const bool plain = c.view.kind == ViewSpec::Kind::perspective &&
-                     c.view.near_degrees == kDefaultNearDegrees && c.view.far_degrees == kDefaultFarDegrees;
-  name += plain ? "/view:" + std::to_string(c.view.width) + "x" + std::to_string(c.view.height)
-                : "/view:" + describe(c.view);
-  return name + "/depth_map:" + std::to_string(map_width) + "x" + std::to_string(map_height);
+  return name + "/view:" + benchmark_view(c.view) + "/depth_map:" + std::to_string(map_width) + "x" +
+         std::to_string(map_height);
+}
+
+std::string benchmark_view(const ViewSpec& view) {
+  // The single default view at its default angles by its size alone, as names have always read.
+  if (view.kind == ViewSpec::Kind::perspective && !view.around && view.seed == 0 && view.fresh_rays == 0 &&
+      view.near_degrees == kDefaultNearDegrees && view.far_degrees == kDefaultFarDegrees)
+    return std::to_string(view.width) + "x" + std::to_string(view.height);
+  // Others as described, in one field: "around:1024x1024", "tutorial:16:566x425".
+  std::string segment;
+  for (char ch : describe(view)) segment += ch == ' ' ? std::string(":") : ch == '/' ? std::string("%2F") : std::string(1, ch);
+  return segment;
 }
 
 }  // namespace heightmarch

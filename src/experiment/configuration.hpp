@@ -114,5 +114,8 @@ void add_to_plan(std::vector<Configuration>& plan, const Configuration& config);
 // view:1024x1024/depth_map:512x512 (Google Benchmark appends /manual_time: each trace times itself).
 // A brought-in shader's segment is shader:FILE_NAME instead of technique:NAME.
 std::string benchmark_name(const Configuration& config, int depth_map_width, int depth_map_height);
+// Its view: the single default view by its size ("1024x1024"), any other (a view set, a sweep) as
+// described in one field ("around:1024x1024", "around:1024x1024:seed:2"): another series.
+std::string benchmark_view(const ViewSpec& view);
 
 }  // namespace heightmarch

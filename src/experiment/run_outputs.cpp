@@ -456,12 +456,12 @@ std::string benchmark_json(const MeasuredPlan& run) {
       .value("heightmarch_build_type", p.build_type)
       .value("heightmarch_best_isa", to_string(best_isa()))
       .value("heightmarch_error_measures", error_measure_names());
-  // The sizes of the benchmark view and depth maps, when one size serves every timed row.
+  // The benchmark view (benchmark_view) and the depth maps' size, when one serves every timed row.
   std::string view, map;
   bool one_view = true, one_map = true;
   for (const Measurement& m : run.rows) {
     if (m.seconds.empty()) continue;
-    const std::string v = std::to_string(m.config.view.width) + "x" + std::to_string(m.config.view.height);
+    const std::string v = benchmark_view(m.config.view);
     const std::string d = std::to_string(m.depth_map_width) + "x" + std::to_string(m.depth_map_height);
     one_view = one_view && (view.empty() || view == v);
     one_map = one_map && (map.empty() || map == d);

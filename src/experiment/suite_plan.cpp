@@ -115,9 +115,11 @@ std::vector<Configuration> recommended_gallery_plan(const Recommendation& recomm
   return out;
 }
 
-std::vector<Configuration> held_out_plan(const std::vector<Configuration>& plan, const PlanSettings& s) {
-  std::vector<Configuration> out;
-  for (const Configuration& c : plan) {
+std::vector<Configuration> with_held_out(std::vector<Configuration> plan, const PlanSettings& s) {
+  if (!(s.parts & kPurposeHeldOut)) return plan;
+  const std::size_t candidates = plan.size();
+  for (std::size_t i = 0; i < candidates; ++i) {
+    const Configuration& c = plan[i];
     if (!(c.purposes & (kPurposeMatrix | kPurposeGlsl | kPurposeClaims)) || !c.has_technique() ||
         !(c.kind == RunKind::trace || c.kind == RunKind::glsl) || !(c.view == s.window))
       continue;
@@ -125,9 +127,9 @@ std::vector<Configuration> held_out_plan(const std::vector<Configuration>& plan,
     twin.view = held_out_view(c.view);
     twin.timed = false;
     twin.purposes = kPurposeHeldOut;
-    add_to_plan(out, twin);
+    add_to_plan(plan, twin);
   }
-  return out;
+  return plan;
 }
 
 std::vector<Configuration> claims_plan(const PlanSettings& s) {
@@ -158,7 +160,6 @@ std::vector<Configuration> claims_plan(const PlanSettings& s) {
   if (s.large_maps)  // the builtins only: a file has its own size
     for (const HeightfieldSource& hf : s.heightfields)
       if (!hf.builtin.empty()) add_rows(hf, ClaimView::large_map);
-  for (const Configuration& c : held_out_plan(plan, s)) add_to_plan(plan, c);
   return plan;
 }
 
@@ -246,12 +247,11 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
     gallery(RunKind::trace, t, writes_visibility(info(t)) ? "32" : "10");  // a shadow from a close hit
   if (wanted(s, Technique::pom)) gallery(RunKind::trace, Technique::pom, "32");
   for (const Configuration& c : claims_plan(s)) add_to_plan(plan, c);
-  for (const Configuration& c : held_out_plan(plan, s)) add_to_plan(plan, c);
   // The parts asked for: a configuration stays for the purposes it serves among them.
   std::vector<Configuration> kept;
   for (Configuration& c : plan)
     if ((c.purposes &= s.parts) != 0) kept.push_back(std::move(c));
-  return kept;
+  return with_held_out(std::move(kept), s);
 }
 
 }  // namespace heightmarch

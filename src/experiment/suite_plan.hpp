@@ -52,10 +52,10 @@ std::vector<double> sweep_angles(float near_degrees, float far_degrees);
 // roofline, the naive port, sweeps, the gallery and the claims' rows.
 std::vector<Configuration> suite_plan(const PlanSettings& settings);
 
-// The held-out twins of a plan's candidates (its technique rows on the window with the matrix,
-// GLSL or claims purpose): each the same configuration on the window's held-out set, for its
-// accuracy only (purpose held-out).
-std::vector<Configuration> held_out_plan(const std::vector<Configuration>& plan, const PlanSettings& settings);
+// The plan and, where its parts take them, the held-out twins of its candidates (its technique
+// rows on the window with the matrix, GLSL or claims purpose): each the same configuration on the
+// window's held-out set, for its accuracy only (purpose held-out).
+std::vector<Configuration> with_held_out(std::vector<Configuration> plan, const PlanSettings& settings);
 
 // The gallery's view: one perspective view of gallery_width x gallery_height at the window's span
 // (a picture of one camera, not a set's patchwork).
@@ -67,9 +67,9 @@ ViewSpec gallery_view(const PlanSettings& settings);
 std::vector<Configuration> recommended_gallery_plan(const Recommendation& recommendation, const PlanSettings& settings,
                                                     const std::vector<Configuration>& measured);
 
-// The claims' rows alone (what `heightmarch claims` runs): every row each claim declares
-// (claims.hpp) on every heightfield, sweeps untimed, with large_maps the large-map rows on the
-// builtins at kLargeMapSide, and the held-out twins of the candidates among them.
+// The claims' rows alone (what `heightmarch claims` runs, with_held_out): every row each claim
+// declares (claims.hpp) on every heightfield, sweeps untimed, and with large_maps the large-map
+// rows on the builtins at kLargeMapSide.
 std::vector<Configuration> claims_plan(const PlanSettings& settings);
 
 }  // namespace heightmarch
