@@ -2,9 +2,11 @@
 // as the suite filters it, timed rows only: the technique x layers matrix and the same as GLSL,
 // the searches at every ISA and thread count, POM-32's anchors (the sampler roofline, the compute
 // ceiling, the naive port, its auto-vectorised and its Highway forms per ISA, the hand-written
-// kernel's structure on Highway's ops per ISA) and the exact reference, on the default view of each heightfield. Names come from benchmark_name(), as in a
-// suite's bench.json; counters carry speed and accuracy. A configuration is checked against the
-// scalar reference before it is timed: a wrong kernel never produces a number.
+// kernel's structure on Highway's ops per ISA) and the exact reference, on a window of each
+// heightfield (--hm_views: the single default view unless asked). Names come from
+// benchmark_name(), as in a suite's bench.json; counters carry speed and accuracy. A configuration
+// is checked against the scalar reference before it is timed: a wrong kernel never produces a
+// number.
 #include <benchmark/benchmark.h>
 #include <tbb/info.h>
 
@@ -33,6 +35,9 @@ using namespace heightmarch;
 
 struct BenchOptions {
   std::string size = "1024";  // the default view: N (N x N) or WxH pixels
+  // The window (--views of the tool): single by default, so that scripts/regress and bisect time
+  // a build of today and one from before view sets on the same rays.
+  std::string views = "single";
   int res = 512;
   std::vector<std::string> heightfields = {"bricks", "terrain"};
   PlanFilters filters;       // empty lists: the suite's default
@@ -116,7 +121,10 @@ std::vector<Configuration> bench_plan(const BenchOptions& o) {
   threads.erase(std::unique(threads.begin(), threads.end()), threads.end());
   PlanSettings settings = suite_settings(false, threads.back());
   settings.thread_counts = threads;
-  view_size(o.size, settings.view_width, settings.view_height);
+  int width = 0, height = 0;
+  view_size(o.size, width, height);
+  settings.window = parse_view("default", width, height);
+  apply_views(o.views, settings.window);
   settings.heightfields.clear();
   for (const std::string& name : o.heightfields) settings.heightfields.push_back(parse_heightfield(name, o.res));
   give_unique_labels(settings.heightfields);
@@ -166,6 +174,10 @@ int main(int argc, char** argv) {
   app.allow_extras();
   app.set_help_flag("-h,--help", "this text, then Google Benchmark's flags");
   app.add_option("--hm_size", o.size, "the view: N (N x N) or WxH pixels")->capture_default_str();
+  app.add_option("--hm_views", o.views,
+                 "the window: single (default), around, tutorial[:N] (frames of --hm_size), or a camera-pose CSV "
+                 "(docs/measures.md#view-sets)")
+      ->capture_default_str();
   app.add_option("--hm_res", o.res, "builtin depth map side")->check(CLI::Range(1, kMaxDepthMapSide))->capture_default_str();
   app.add_option("--hm_heightfields", o.heightfields, "builtin names or depth map files")->delimiter(',')->capture_default_str();
   app.add_option("--hm_techniques", o.filters.techniques, technique_names() + " (default: all)")->delimiter(',');
@@ -278,9 +290,7 @@ int main(int argc, char** argv) {
   benchmark::AddCustomContext("heightmarch_build_type", prov.build_type);
   benchmark::AddCustomContext("heightmarch_best_isa", to_string(best_isa()));
   benchmark::AddCustomContext("heightmarch_error_measures", error_measure_names());
-  int view_width = 0, view_height = 0;
-  view_size(o.size, view_width, view_height);  // checked with the plan
-  benchmark::AddCustomContext("heightmarch_view", std::to_string(view_width) + "x" + std::to_string(view_height));
+  benchmark::AddCustomContext("heightmarch_view", plan->empty() ? "none" : benchmark_view(plan->front().view));
   benchmark::AddCustomContext("heightmarch_depth_map", std::to_string(o.res) + "x" + std::to_string(o.res));
   for (const Configuration& c : *plan) {
     const auto [width, height] = sizes.at(&c);

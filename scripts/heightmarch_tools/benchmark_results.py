@@ -67,12 +67,13 @@ def load_benchmarks(path):
 
 
 def context_value(data, key):
-    """A context entry as text ("unknown" where missing); sizes reduced to WxH."""
+    """A context entry as text ("unknown" where missing); a single view's size reduced to WxH ("default
+    1024x1024" and "1024x1024" are one), a view set kept whole ("around:1024x1024": another window)."""
     value = (data.get("context") or {}).get(key)
     value = "" if value is None or isinstance(value, (dict, list)) else str(value).strip()
     if key in ("heightmarch_view", "heightmarch_depth_map"):
-        size = re.search(r"\d+x\d+", value)  # "default 1024x1024" and "1024x1024" are one size
-        value = size.group(0) if size else value
+        size = re.fullmatch(r"(?:default )?(\d+x\d+)", value)
+        value = size.group(1) if size else value
     return value or "unknown"
 
 

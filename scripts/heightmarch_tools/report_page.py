@@ -11,8 +11,8 @@ import os
 from .measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label, depth_map,
                           docs_link, gl_label, glsl_pairs, machine_rows, ns_per_ray_rounds, rays_rounds, searches_per_isa, speedup, view_name)
 from .escape import csv_cell, html as esc, script_json
-from .report_content import (alerts_summary, fmt_ratio, fmt_spread, recommendation_columns, recommendation_intro,
-                             recommendation_rows, walks_table, WALKS_INTRO)
+from .report_content import (alerts_summary, breakdown_lines, fmt_ratio, fmt_spread, recommendation_columns,
+                             recommendation_intro, recommendation_rows, walks_table, WALKS_INTRO)
 from .spreads import spread
 from .writers import atomic_write
 
@@ -50,6 +50,8 @@ def page_rows(run):
     for r in run.rows:
         if r.get("technique") not in run.style or not r.get("errors") or r.get("failure"):
             continue
+        if r.get("purposes") == ["held-out"]:  # read through the recommendation, not a point of its own
+            continue
         rays, ns = spread(rays_rounds(r)), spread(ns_per_ray_rounds(r))
         out.append({
             "id": r["id"], "heightfield": keys[id(r)], "label": r["heightfield"]["label"], "depth_map": depth_map(r),
@@ -62,6 +64,7 @@ def page_rows(run):
             "precompute_seconds": rounded(r.get("precompute_seconds")),
             "errors": {m["name"]: rounded(r["errors"][m["name"]]) for m in run.measures
                        if r["errors"].get(m["name"]) is not None},
+            "breakdown": {k: r["errors"][k] for k in ("by_azimuth", "by_view_angle") if r["errors"].get(k)} or None,
             "images": r.get("images")})
     return out
 
@@ -124,11 +127,15 @@ def claims_html(claims, maxmip_link):
         rows = [[esc(k.get("where", "")), esc(k.get("figures", "")),
                  "yes" if k.get("passed") else "<b>no</b>"] for k in checks]
         note = (" Maxmip at a grazing one-texel peak: %s." % maxmip_link) if c["id"] == "P2" else ""
-        parts.append('<details><summary><b>%s</b> <span class="verdict v-%s">%s</span> %s (%d / %d checks)</summary>'
+        previous = c.get("previous")
+        if previous:  # claims.json format 3: a rule revised in this release, the previous verdict beside it
+            note += " Revised in this release, because %s. The previous rule: %s Its verdict: %s (%s)." % (
+                esc(previous["reason"]), esc(previous["rule"]), esc(previous["verdict"]), esc(previous["summary"]))
+        parts.append('<details><summary><b>%s</b> <span class="verdict v-%s">%s</span> %s (%d / %d checks)%s</summary>'
                      '<p>Source: %s. Rule: %s%s</p>%s</details>' % (
                          esc(c["id"]), esc(c["verdict"].replace(" ", "-")), esc(c["verdict"]),
-                         esc(c["claim"]), passed, len(checks), esc(c.get("source", "?")),
-                         esc(c.get("rule", "?")), note,
+                         esc(c["claim"]), passed, len(checks), ": " + esc(c["summary"]) if c.get("summary") else "",
+                         esc(c.get("source", "?")), esc(c.get("rule", "?")), note,
                          table([("where", False), ("figures", False), ("passes", False)], rows) if rows else ""))
     return "".join(parts)
 
@@ -177,9 +184,10 @@ def write_page(run, claims, recommendation, alerts, recorded, warnings, faults, 
         "recommendation": recommendation,
         # the table report.md shows, cell for cell (report_content), and the row each line opens
         "recommendation_table": None if recommendation is None else {
-            "intro": recommendation_intro(recommendation),
+            "intro": recommendation_intro(recommendation, run),
             "columns": [title for title, _ in recommendation_columns(recommendation["target"]["measure"])],
-            "rows": recommendation_rows(recommendation)},
+            "rows": recommendation_rows(recommendation),
+            "varies": breakdown_lines(run, recommendation)},
         "alerts": alerts,
         "alerts_summary": alerts_summary(alerts),
         "history": history_series(run, recorded),

@@ -61,18 +61,18 @@ void write_claims(const std::string& dir, const ClaimsData& data, const PlanSett
       "Configurations: heightfields " + heightfields + " (builtins at " +
       std::to_string(settings.heightfields.front().resolution) + " x " +
       std::to_string(settings.heightfields.front().resolution) + "), scale " +
-      string_format("%g", settings.scale) + ", REPEAT; on the default view at " +
-      std::to_string(settings.view_width) + " x " + std::to_string(settings.view_height) +
-      " pixels, view angles " +
-      string_format("%g to %g degrees", settings.near_degrees, settings.far_degrees) +
-      " (the same rows as the report's tables): " + claim_rows_text(ClaimView::default_view) +
+      string_format("%g", settings.scale) + ", REPEAT; on the window " + describe(settings.window) +
+      " (docs/measures.md#view-sets; the same rows as the report's tables): " +
+      claim_rows_text(ClaimView::default_view) +
       "; on sweep views of " + std::to_string(settings.sweep_size) + " x " +
-      std::to_string(settings.sweep_size) + " rays: " + claim_rows_text(ClaimView::sweep) +
+      std::to_string(settings.sweep_size) + " rays" +
+      (settings.window.kind == ViewSpec::Kind::perspective && !settings.window.around ? "" : " seen around") +
+      ": " + claim_rows_text(ClaimView::sweep) +
       (settings.large_maps
            ? "; for P2, the builtins at " + std::to_string(kLargeMapSide) + " x " +
-                 std::to_string(kLargeMapSide) + " on the default view at " +
+                 std::to_string(kLargeMapSide) + " on the window at about " +
                  std::to_string(kLargeMapViewSide) + " x " + std::to_string(kLargeMapViewSide) +
-                 " pixels: " + claim_rows_text(ClaimView::large_map)
+                 " rays: " + claim_rows_text(ClaimView::large_map)
            : std::string()) +
       ". Errors are uv errors in "
       "texels against the exact intersection; sharp depth changes (|grad D| at the exact hit, top decile of "
@@ -88,7 +88,8 @@ void write_claims(const std::string& dir, const ClaimsData& data, const PlanSett
                                                             recommendation_markdown(recommendation)));
   write_file_atomically(dir + "/claims.json", claims_json(results));
   for (const ClaimResult& r : results)
-    std::printf("%-4s %-13s %s\n", r.id.c_str(), to_string(r.verdict).c_str(), r.claim.c_str());
+    std::printf("%-4s %-14s %s\n     %s%s\n", r.id.c_str(), to_string(r.verdict).c_str(), r.claim.c_str(),
+                r.summary.c_str(), r.previous ? (" (previous rule: " + to_string(r.previous->verdict) + ")").c_str() : "");
 }
 
 namespace {
@@ -125,7 +126,7 @@ Command add_claims_command(CLI::App& app) {
     Progress progress("claims");
     progress.stage("measuring " + std::to_string(settings.heightfields.size()) + " heightfields");
     ClaimsCollector claims;
-    const MeasuredPlan run = measure_with_progress(claims_plan(settings), settings, progress,
+    const MeasuredPlan run = measure_with_progress(with_held_out(claims_plan(settings), settings), settings, progress,
                                                    [&](const TracedRow& traced) { claims.observe(traced); });
     write_file_atomically(dir.path() + "/measurements.json", measurements_json(run, settings.name + " claims"));
     dir.finished("measurements.json");

@@ -25,9 +25,16 @@ void add_trace_options(CLI::App& app, TraceOptions& o, bool exact_allowed) {
                  "default, default:NEAR-FAR (the span of view angles, degrees; default 30-80), or "
                  "sweep:THETA[,PHI] in degrees")
       ->capture_default_str();
-  app.add_option("--size", o.size, "view size WxH in pixels")->capture_default_str();
+  add_views_option(app, o.views, "around for the default view, single for a sweep");
+  app.add_option("--views-seed", o.views_seed,
+                 "the seed the window draws its azimuths, offsets and phase from (default: the window's own: 1 "
+                 "around, 0 otherwise; a held-out set is the next seed)")
+      ->check(CLI::Range(0, 1 << 30));
+  app.add_option("--size", o.size,
+                 "size WxH in pixels of the view, the frame the views around share, or each tutorial frame "
+                 "(default: 1024x1024; tutorial: 800x600; a pose file gives each pose's)");
   app.add_option("--rays", o.rays, "CSV file of rays (tx,ty,vx,vy,vz; V towards the eye) instead of a view")
-      ->excludes(app.get_option("--view"))->excludes(app.get_option("--size"));
+      ->excludes(app.get_option("--view"))->excludes(app.get_option("--size"))->excludes(app.get_option("--views"));
   app.add_option("--tile", o.tile, "tile side in pixels")->check(CLI::Range(1, 4096))->capture_default_str();
   app.add_option("--technique", o.technique, technique_names() + (exact_allowed ? ", or exact (the reference itself)" : ""))
       ->capture_default_str();
@@ -68,6 +75,16 @@ void parse_size(const std::string& text, int& width, int& height) {
 
 }  // namespace
 
+void add_views_option(CLI::App& command, std::string& views, const std::string& default_text) {
+  command.add_option("--views", views,
+                     "the window measured: single (one perspective view, as before), around (the default view "
+                     "turned about the normal: each tile of its frame from an azimuth and at an offset on the map "
+                     "of its own), tutorial[:N] (LearnOpenGL's rotating quad at N frames of one "
+                         "turn; N " + std::to_string(kTutorialFrames) +
+                         ") or a camera-pose CSV (eye_x,eye_y,eye_z,target_x,target_y,target_z,up_x,up_y,up_z,fov,"
+                         "width,height; docs/measures.md#view-sets); default: " + default_text);
+}
+
 void add_out_options(CLI::App& command, OutOptions& options, const std::string& help) {
   CLI::Option* out = command.add_option("--out", options.out, help);
   if (!options.out.empty()) out->capture_default_str();
@@ -99,9 +116,18 @@ Configuration trace_configuration(const TraceOptions& o, RunKind kind, LayerSpec
   if (!o.rays.empty()) {
     c.view = rays_file_view(o.rays);
   } else {
-    int width = 1024, height = 1024;
-    parse_size(o.size, width, height);
-    c.view = parse_view(o.view, width, height);
+    c.view = parse_view(o.view, 1024, 1024);
+    if (c.view.kind == ViewSpec::Kind::sweep && o.views.empty()) {
+      apply_views("single", c.view);
+    } else {
+      apply_views(o.views.empty() ? "around" : o.views, c.view);
+      if (c.view.kind == ViewSpec::Kind::tutorial) c.view.width = kTutorialWidth, c.view.height = kTutorialHeight;
+    }
+    if (!o.size.empty()) {
+      if (c.view.kind == ViewSpec::Kind::poses) throw InputError("--size: a camera-pose file gives each pose's size");
+      parse_size(o.size, c.view.width, c.view.height);
+    }
+    if (o.views_seed) c.view.seed = *o.views_seed;
   }
   c.view.tile_size = o.tile;
   TechniqueParams& p = c.params;

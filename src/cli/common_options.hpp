@@ -29,7 +29,9 @@ struct TraceOptions {
   std::string convention = "depth";
   std::string channel;  // empty: the first
   std::string view = "default";
-  std::string size = "1024x1024";
+  std::string views;  // empty: around for the default view, single for a sweep
+  std::optional<std::uint32_t> views_seed;  // none: the window's selection seed
+  std::string size;   // empty: the window's own (views_size_help)
   std::string rays;
   int tile = kDefaultTileSize;
   // The technique
@@ -46,6 +48,9 @@ struct TraceOptions {
   OutOptions out;
   bool json = false;
 };
+
+// --views on a command (trace, glsl, suite, claims, heightmarch-bench): the window a run measures.
+void add_views_option(CLI::App& command, std::string& views, const std::string& default_text);
 
 // Declares the options on a command; `exact_allowed`: --technique also takes "exact".
 void add_trace_options(CLI::App& command, TraceOptions& options, bool exact_allowed);

@@ -29,6 +29,7 @@ void add_plan_options(CLI::App& command, PlanOptions& o, const std::string& quic
       "--view-angles", o.view_angles,
       "NEAR-FAR: the view angles from the normal, in degrees, that the default view spans from its near "
       "edge to its far edge (default 30-80); the sweeps cover the same span");
+  add_views_option(command, o.views, "around");
 }
 
 PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
@@ -50,12 +51,13 @@ PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
     settings.scale = float(*o.scale);
   }
   if (!o.view_angles.empty()) {
-    ViewSpec view;
-    parse_view_angles(o.view_angles, view);
-    settings.near_degrees = view.near_degrees;
-    settings.far_degrees = view.far_degrees;
-    settings.sweep_angles = sweep_angles(view.near_degrees, view.far_degrees);
+    parse_view_angles(o.view_angles, settings.window);
+    settings.sweep_angles = sweep_angles(settings.window.near_degrees, settings.window.far_degrees);
   }
+  // The window holds as many rays as the plan's frame, whichever it is.
+  const double rays = double(settings.window.width) * settings.window.height;
+  apply_views(o.views, settings.window);
+  size_views_for_rays(settings.window, rays);
   settings.glsl = glsl;
   settings.repetitions = o.repetitions;
   return settings;

@@ -25,12 +25,13 @@ struct PlanOptions {
   int repetitions = 5;
   std::optional<double> scale;
   std::string view_angles;  // NEAR-FAR degrees; empty: the default view's
+  std::string views = "around";  // the window (common_options.hpp's --views)
 };
 
 void add_plan_options(CLI::App& command, PlanOptions& options, const std::string& quick_help);
 
-// The default or quick settings with the options' heightfields, scale, view angles, threads and
-// repetitions. Throws InputError for values CLI11 cannot check on its own.
+// The default or quick settings with the options' heightfields, scale, window and its view angles,
+// threads and repetitions. Throws InputError for values CLI11 cannot check on its own.
 PlanSettings plan_settings(const PlanOptions& options, bool glsl);
 
 // In `session` (whose depth maps the caller may have loaded), or a session of its own.

@@ -177,10 +177,26 @@ Command add_suite_command(CLI::App& app) {
     fs::create_directories(dir.path() + "/gallery");
     ClaimsCollector claims;
     const GalleryNames names = gallery_names(plan);
-    MeasuredPlan run = measure_with_progress(plan, settings, progress, [&](const TracedRow& traced) {
+    const auto on_traced = [&](const TracedRow& traced) {
       if (traced.row.config.purposes & kPurposeGallery) write_gallery_images(dir.path(), traced, names);
       claims.observe(traced);
-    }, session);
+    };
+    MeasuredPlan run = measure_with_progress(plan, settings, progress, on_traced, session);
+    if (run.load.busy)
+      for (const std::string& reason : run.load.busy_reasons)
+        std::fprintf(stderr, "suite: warning: busy machine: %s\n", reason.c_str());
+    const Recommendation recommendation = recommend(candidates(run.rows), o->target);
+    write_recommendation(dir.path(), recommendation);
+    dir.finished("recommendation.json");
+    // What to ship, seen: the recommended configuration of every map beside its exact render.
+    if (settings.parts & kPurposeGallery) {
+      const std::vector<Configuration> shown = recommended_gallery_plan(recommendation, settings, plan);
+      progress.stage("the gallery of what to ship: " + std::to_string(shown.size()) + " configurations");
+      for (Measurement& m : measure_with_progress(shown, settings, progress, on_traced, session).rows) {
+        m.id += int(run.rows.size());
+        run.rows.push_back(std::move(m));
+      }
+    }
     for (Measurement& m : run.rows)
       if ((m.config.purposes & kPurposeGallery) && m.failure.empty()) {
         m.render_image = gallery_stem(m.config, names) + "-render.png";
@@ -188,15 +204,9 @@ Command add_suite_command(CLI::App& app) {
         if (m.samples_known) m.cost_image = gallery_stem(m.config, names) + "-cost.png";
       }
     dir.finished("measurements and gallery images");
-    if (run.load.busy)
-      for (const std::string& reason : run.load.busy_reasons)
-        std::fprintf(stderr, "suite: warning: busy machine: %s\n", reason.c_str());
     write_file_atomically(dir.path() + "/measurements.json", measurements_json(run, settings.name));
     write_file_atomically(dir.path() + "/bench.json", benchmark_json(run));
     dir.finished("measurements.json, bench.json");
-    const Recommendation recommendation = recommend(candidates(run.rows), o->target);
-    write_recommendation(dir.path(), recommendation);
-    dir.finished("recommendation.json");
     if (settings.parts & kPurposeClaims) {
       progress.stage("claims");
       write_claims(dir.path(), claims.data(run.rows), settings, recommendation);

@@ -19,7 +19,7 @@ std::string to_string(RunKind kind) { return std::string(info(kind).name); }
 std::string purpose_name(unsigned bit) {
   static const char* const names[kPurposeCount] = {"matrix", "isa",     "glsl",   "roofline", "naive",
                                                    "sweep",  "gallery", "claims", "command", "large-maps",
-                                                   "exact"};
+                                                   "exact",  "held-out"};
   for (unsigned i = 0; i < kPurposeCount; ++i)
     if (bit == (1u << i)) return names[i];
   return "?";
@@ -84,12 +84,19 @@ std::string benchmark_name(const Configuration& c, int map_width, int map_height
     const GlTarget gl = c.gl.path ? c.gl : resolved(c.gl);
     name += "/gl:" + to_string(*gl.path) + (gl.device.empty() ? "" : "@" + gl.device);
   }
-  // The default view at its default angles by its size alone, as names have always read.
-  const bool plain = c.view.kind == ViewSpec::Kind::perspective &&
-                     c.view.near_degrees == kDefaultNearDegrees && c.view.far_degrees == kDefaultFarDegrees;
-  name += plain ? "/view:" + std::to_string(c.view.width) + "x" + std::to_string(c.view.height)
-                : "/view:" + describe(c.view);
-  return name + "/depth_map:" + std::to_string(map_width) + "x" + std::to_string(map_height);
+  return name + "/view:" + benchmark_view(c.view) + "/depth_map:" + std::to_string(map_width) + "x" +
+         std::to_string(map_height);
+}
+
+std::string benchmark_view(const ViewSpec& view) {
+  // The single default view at its default angles by its size alone, as names have always read.
+  if (view.kind == ViewSpec::Kind::perspective && !view.around && view.seed == 0 && view.fresh_rays == 0 &&
+      view.near_degrees == kDefaultNearDegrees && view.far_degrees == kDefaultFarDegrees)
+    return std::to_string(view.width) + "x" + std::to_string(view.height);
+  // Others as described, in one field: "around:1024x1024", "tutorial:16:566x425".
+  std::string segment;
+  for (char ch : describe(view)) segment += ch == ' ' ? std::string(":") : ch == '/' ? std::string("%2F") : std::string(1, ch);
+  return segment;
 }
 
 }  // namespace heightmarch

@@ -64,8 +64,9 @@ enum Purpose : unsigned {
   kPurposeCommand = 1u << 8,   // asked for on the command line (trace, glsl)
   kPurposeLargeMaps = 1u << 9, // the papers' claim on large depth maps (P2)
   kPurposeExact = 1u << 10,    // the exact reference's own speed
+  kPurposeHeldOut = 1u << 11,  // a candidate's accuracy on the held-out view set (recommendation.hpp)
 };
-inline constexpr unsigned kPurposeCount = 11;
+inline constexpr unsigned kPurposeCount = 12;
 inline constexpr unsigned kAllPurposes = (1u << kPurposeCount) - 1;
 std::string purpose_name(unsigned single_purpose_bit);
 
@@ -123,5 +124,8 @@ void add_to_plan(std::vector<Configuration>& plan, const Configuration& config);
 // its GL path after its threads, and the device asked for: gl:osmesa, gl:egl, gl:egl@renderD128
 // (a path not given is resolved, by asking the worker).
 std::string benchmark_name(const Configuration& config, int depth_map_width, int depth_map_height);
+// Its view: the single default view by its size ("1024x1024"), any other (a view set, a sweep) as
+// described in one field ("around:1024x1024", "around:1024x1024:seed:2"): another series.
+std::string benchmark_view(const ViewSpec& view);
 
 }  // namespace heightmarch

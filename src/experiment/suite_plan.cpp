@@ -1,6 +1,7 @@
 #include "experiment/suite_plan.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "baselines/naive_port.hpp"
 #include "baselines/structured_pom.hpp"
@@ -19,14 +20,12 @@ std::vector<LayerSpec> specs(std::initializer_list<int> counts) {
   return out;
 }
 
-// A configuration on the default view of a heightfield, at the plan's scale.
+// A configuration on the plan's window over a heightfield, at the plan's scale.
 Configuration on_view(const PlanSettings& s, const HeightfieldSource& hf, RunKind kind, unsigned purposes) {
   Configuration c;
   c.kind = kind;
   c.heightfield = hf;
-  c.view = parse_view("default", s.view_width, s.view_height);
-  c.view.near_degrees = s.near_degrees;
-  c.view.far_degrees = s.far_degrees;
+  c.view = s.window;
   c.params.scale = s.scale;
   c.isa = s.best_isa;
   c.threads = s.threads;
@@ -45,7 +44,23 @@ bool wanted(const PlanSettings& s, Technique t) {
   return std::find(s.techniques.begin(), s.techniques.end(), t) != s.techniques.end();
 }
 
+// A sweep at theta, seen around the surface unless the window is the single view, in tiles of
+// 1/16 of its side: each row of tiles takes 16 sectors of azimuth.
+ViewSpec sweep_for(const PlanSettings& s, double theta) {
+  ViewSpec view = sweep_view(theta, s.sweep_size, s.sweep_size);
+  if (s.window.kind == ViewSpec::Kind::perspective && !s.window.around) return view;
+  apply_views("around", view);
+  view.tile_size = std::clamp(s.sweep_size / 16, 1, kDefaultTileSize);
+  return view;
+}
+
 }  // namespace
+
+ViewSpec around_window(int side) {
+  ViewSpec view = parse_view("default", side, side);
+  apply_views("around", view);
+  return view;
+}
 
 PlanSettings suite_settings(bool quick, int threads) {
   PlanSettings s;
@@ -57,7 +72,7 @@ PlanSettings suite_settings(bool quick, int threads) {
   for (const TechniqueInfo& t : techniques()) s.techniques.push_back(t.id);
   s.layer_specs = quick ? specs({8, 32}) : specs({4, 8, 10, 16, 32, 64});
   s.few_layer_specs = specs({8, 32});
-  s.view_width = s.view_height = quick ? 256 : 1024;
+  s.window = around_window(quick ? 256 : 1024);
   s.sweep_size = quick ? 48 : 128;
   // 0 to 85 degrees: from the normal to nearly grazing, beyond the default view's 30-80
   s.sweep_angles = sweep_angles(0.0f, 85.0f);
@@ -128,6 +143,51 @@ std::vector<Configuration> benchmark_plan(const PlanSettings& settings) {
   return timed;
 }
 
+ViewSpec gallery_view(const PlanSettings& s) {
+  ViewSpec view = parse_view("default", s.gallery_width, s.gallery_height);
+  view.near_degrees = s.window.kind == ViewSpec::Kind::perspective ? s.window.near_degrees : kDefaultNearDegrees;
+  view.far_degrees = s.window.kind == ViewSpec::Kind::perspective ? s.window.far_degrees : kDefaultFarDegrees;
+  return view;
+}
+
+std::vector<Configuration> recommended_gallery_plan(const Recommendation& recommendation, const PlanSettings& s,
+                                                    const std::vector<Configuration>& measured) {
+  std::vector<Configuration> out;
+  const auto add = [&](Configuration c) {
+    c.view = gallery_view(s);
+    c.timed = false;
+    if (std::none_of(measured.begin(), measured.end(), [&](const Configuration& m) { return m.same_measurement(c); }))
+      add_to_plan(out, c);
+  };
+  for (const BackendRecommendation& b : recommendation.backends)
+    for (const Answer& a : b.per_heightfield) {
+      if (!a.choice) continue;
+      const auto hf = std::find_if(s.heightfields.begin(), s.heightfields.end(),
+                                   [&](const HeightfieldSource& h) { return h.label() == a.heightfield; });
+      if (hf == s.heightfields.end()) continue;
+      add(with_technique(on_view(s, *hf, RunKind::exact, kPurposeGallery), Technique::pom, kThirtyTwo));
+      add(with_technique(on_view(s, *hf, RunKind::trace, kPurposeGallery), a.choice->technique, a.choice->layers));
+    }
+  return out;
+}
+
+std::vector<Configuration> with_held_out(std::vector<Configuration> plan, const PlanSettings& s) {
+  if (!(s.parts & kPurposeHeldOut)) return plan;
+  const std::size_t candidates = plan.size();
+  for (std::size_t i = 0; i < candidates; ++i) {
+    const Configuration& c = plan[i];
+    if (!(c.purposes & (kPurposeMatrix | kPurposeGlsl | kPurposeClaims)) || !c.has_technique() ||
+        !(c.kind == RunKind::trace || c.kind == RunKind::glsl) || !(c.view == s.window))
+      continue;
+    Configuration twin = c;
+    twin.view = held_out_view(c.view);
+    twin.timed = false;
+    twin.purposes = kPurposeHeldOut;
+    add_to_plan(plan, twin);
+  }
+  return plan;
+}
+
 std::vector<Configuration> claims_plan(const PlanSettings& s) {
   std::vector<Configuration> plan;
   // A claim row on a heightfield: default-view rows timed (claims show speeds beside costs, and
@@ -138,12 +198,12 @@ std::vector<Configuration> claims_plan(const PlanSettings& s) {
         if (row.view != view) continue;
         Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeClaims), row.technique, row.layers);
         if (view == ClaimView::sweep) {
-          c.view = sweep_view(row.theta, s.sweep_size, s.sweep_size);
+          c.view = sweep_for(s, row.theta);
           c.timed = false;
         }
         if (view == ClaimView::large_map) {
           c.heightfield.resolution = kLargeMapSide;
-          c.view.width = c.view.height = kLargeMapViewSide;
+          size_views_for_rays(c.view, double(kLargeMapViewSide) * kLargeMapViewSide);
           c.purposes = kPurposeLargeMaps;
         }
         add_to_plan(plan, c);
@@ -235,7 +295,7 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
         if (writes_visibility(t)) continue;  // its own measure is against the light, not the hit
         for (const LayerSpec& layers : s.few_layer_specs) {
           Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeSweep), t.id, layers);
-          c.view = sweep_view(theta, s.sweep_size, s.sweep_size);
+          c.view = sweep_for(s, theta);
           c.timed = false;
           add_to_plan(plan, c);
           if (!t.layered) break;
@@ -246,8 +306,7 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
   const HeightfieldSource& first = s.heightfields.front();
   auto gallery = [&](RunKind kind, Technique technique, const LayerSpec& layers) {
     Configuration c = with_technique(on_view(s, first, kind, kPurposeGallery), technique, layers);
-    c.view.width = s.gallery_width;
-    c.view.height = s.gallery_height;
+    c.view = gallery_view(s);
     c.timed = false;
     add_to_plan(plan, c);
   };
@@ -260,7 +319,7 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
   std::vector<Configuration> kept;
   for (Configuration& c : plan)
     if ((c.purposes &= s.parts) != 0) kept.push_back(std::move(c));
-  return kept;
+  return with_held_out(std::move(kept), s);
 }
 
 }  // namespace heightmarch

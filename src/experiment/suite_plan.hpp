@@ -6,8 +6,12 @@
 
 #include "claims/claims.hpp"
 #include "experiment/configuration.hpp"
+#include "experiment/recommendation.hpp"
 
 namespace heightmarch {
+
+// The default view of side x side pixels seen around the surface, at the default span.
+ViewSpec around_window(int side);
 
 struct PlanSettings {
   std::string name;                            // "default", "quick"
@@ -18,9 +22,11 @@ struct PlanSettings {
   std::vector<LayerSpec> layer_specs;
   std::vector<LayerSpec> few_layer_specs;    // the sweeps' and GLSL's at fewer threads: 8, 32, 8-32
   float scale = 0.1f;                        // height scale of every configuration
-  float near_degrees = kDefaultNearDegrees;  // the default view's span of view angles
-  float far_degrees = kDefaultFarDegrees;
-  int view_width = 1024, view_height = 1024;   // the default view, pixels
+  // The window of the rows on the default view (the matrix, the searches at every ISA, GLSL, the
+  // anchors, the claims): the default view turned around the surface unless asked otherwise
+  // (--views), at its span of view angles; its held-out set checks the recommendation's candidates
+  // (docs/measures.md#view-sets). Sweeps are turned around too, unless the window is single.
+  ViewSpec window = around_window(1024);
   int sweep_size = 128;                        // sweep views: side, pixels
   std::vector<double> sweep_angles;            // degrees
   int gallery_width = 512, gallery_height = 384;
@@ -71,9 +77,24 @@ std::vector<Configuration> suite_plan(const PlanSettings& settings);
 // What heightmarch-bench times: the timed configurations of suite_plan(settings), in its order.
 std::vector<Configuration> benchmark_plan(const PlanSettings& settings);
 
-// The claims' rows alone (what `heightmarch claims` runs): every row each claim declares
-// (claims.hpp) on every heightfield, sweeps untimed, and with large_maps the large-map rows on
-// the builtins at kLargeMapSide.
+// The plan and, where its parts take them, the held-out twins of its candidates (its technique
+// rows on the window with the matrix, GLSL or claims purpose): each the same configuration on the
+// window's held-out set, for its accuracy only (purpose held-out).
+std::vector<Configuration> with_held_out(std::vector<Configuration> plan, const PlanSettings& settings);
+
+// The gallery's view: one perspective view of gallery_width x gallery_height at the window's span
+// (a picture of one camera, not a set's patchwork).
+ViewSpec gallery_view(const PlanSettings& settings);
+
+// What to ship, seen: on every heightfield with a recommendation, its exact render and each declared
+// backend's recommended configuration there (by the CPU kernel at the plan's best ISA), on the
+// gallery's view, for their images; none that `measured` already holds.
+std::vector<Configuration> recommended_gallery_plan(const Recommendation& recommendation, const PlanSettings& settings,
+                                                    const std::vector<Configuration>& measured);
+
+// The claims' rows alone (what `heightmarch claims` runs, with_held_out): every row each claim
+// declares (claims.hpp) on every heightfield, sweeps untimed, and with large_maps the large-map
+// rows on the builtins at kLargeMapSide.
 std::vector<Configuration> claims_plan(const PlanSettings& settings);
 
 }  // namespace heightmarch
