@@ -1,6 +1,7 @@
 // build/heightmarch-bench: Google Benchmark over the registries (techniques x layer specs x ISA
 // x threads, the same as GLSL, POM-32's anchors: the sampler roofline, the compute ceiling, the
-// naive port, its auto-vectorised form and its Highway form per ISA, and the exact reference) on the default view
+// naive port, its auto-vectorised form and its Highway form per ISA, the exact reference, and the
+// calibration loop that scripts/compare takes the machine's speed from) on the default view
 // of each heightfield. Names come from benchmark_name(), as in a suite's bench.json; counters
 // carry speed and accuracy. A configuration is checked against the scalar reference before it is
 // timed: a wrong kernel never produces a number.
@@ -111,6 +112,7 @@ std::vector<Configuration> bench_plan(const BenchOptions& o) {
       for (const char* layers : {"32", "8-32"}) add(RunKind::naive, Technique::pom, parse_layer_spec(layers), Isa::scalar, n);
       // The exact reference beside the techniques it measures (its float pass at the widest ISA asked for).
       add(RunKind::exact, Technique::pom, parse_layer_spec("1"), isas.back(), n);
+      add(RunKind::calibration, Technique::pom, parse_layer_spec("32"), Isa::scalar, n);  // scripts/compare's control
     }
   }
   return plan;

@@ -17,7 +17,7 @@ std::string to_string(RunKind kind) { return std::string(info(kind).name); }
 std::string purpose_name(unsigned bit) {
   static const char* const names[kPurposeCount] = {"matrix", "isa",     "glsl",   "roofline", "naive",
                                                    "sweep",  "gallery", "claims", "command", "large-maps",
-                                                   "exact"};
+                                                   "exact",  "calibration"};
   for (unsigned i = 0; i < kPurposeCount; ++i)
     if (bit == (1u << i)) return names[i];
   return "?";
@@ -65,7 +65,7 @@ std::string benchmark_name(const Configuration& c, int map_width, int map_height
   std::string name = std::string(kind.benchmark_prefix) + "/heightfield:" + label;
   if (c.shader) name.append("/").append(c.shader->label());
   if (c.has_technique()) name += "/technique:" + to_string(c.params.technique);
-  if (c.kind != RunKind::exact) name += "/layers:" + to_string(c.params.layers);
+  if (c.has_layers()) name += "/layers:" + to_string(c.params.layers);
   name += "/isa:" + (kind.benchmark_isa_label.empty() ? c.backend() : std::string(kind.benchmark_isa_label)) +
           "/threads:" + std::to_string(c.threads);
   // The default view at its default angles by its size alone, as names have always read.
