@@ -1,7 +1,7 @@
 // heightmarch suite: the main job. Builds the typed plan (suite_plan.hpp), measures every
 // configuration once, and writes the run's files from its rows into a fresh directory:
 // measurements.json, bench.json, recommendation.json, the gallery, claims.md/claims.json, and
-// through scripts/report.py measurements.csv, report.md and report.html.
+// through scripts/report measurements.csv, report.md and report.html.
 #include "cli/suite_command.hpp"
 
 #include <algorithm>
@@ -224,11 +224,11 @@ Command add_suite_command(CLI::App& app) {
       dir.finished("claims.md, claims.json");
     }
     progress.stage("report");
-    std::string report = "/usr/bin/python3 " + shell_quote(std::string(HEIGHTMARCH_SOURCE_DIR) + "/scripts/report.py") + " " +
+    std::string report = "/usr/bin/python3 " + shell_quote(std::string(HEIGHTMARCH_SOURCE_DIR) + "/scripts/report") + " " +
                          shell_quote(dir.path());
     if (record) report += " --history results/history.csv";
     if (std::system(report.c_str()) != 0)
-      throw std::runtime_error("scripts/report.py failed for " + dir.path());
+      throw std::runtime_error("scripts/report failed for " + dir.path());
     dir.complete();
     if (record) {
       std::error_code ec;

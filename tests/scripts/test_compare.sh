@@ -201,11 +201,9 @@ echo "ok: 16 kinds of input that is not Google Benchmark's shape exit 2 with one
 # family is flagged in each of 5 pairs, and no other family with it; a machine 10-20% slower is a
 # RUN-WIDE SHIFT put down to the machine with no benchmark flagged; every benchmark 20% slower on an
 # unchanged machine is a RUN-WIDE REGRESSION.
-/usr/bin/python3 - "$root/scripts/compare" <<'PY' || exit 1
-import argparse, importlib.machinery, importlib.util, random, sys
-loader = importlib.machinery.SourceFileLoader("compare", sys.argv[1])
-compare = importlib.util.module_from_spec(importlib.util.spec_from_loader("compare", loader))
-loader.exec_module(compare)
+PYTHONPATH="$root/scripts" /usr/bin/python3 - <<'PY' || exit 1
+import argparse, random, sys
+from heightmarch_tools import compare
 rng = random.Random(22)
 names = ["BM_Trace/heightfield:h%d/technique:t%d/layers:32/isa:avx2/threads:1" % (k, j) for j in range(10) for k in range(20)]
 controls = ["BM_GLSL/heightfield:h%d/technique:t%d/layers:32/isa:glsl/threads:1" % (k, j) for j in range(5) for k in range(2)]

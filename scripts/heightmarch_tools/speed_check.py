@@ -11,10 +11,14 @@ import subprocess
 import sys
 import time
 
-import processes
-from benchmark_results import Unusable, canonical, clock, load_benchmarks, seconds, spread
-from revisions import duration
-from significance import bh_adjusted, signed_rank_below_zero
+from . import processes
+from .benchmark_results import canonical, clock, load_benchmarks, seconds
+from .cli import Parser
+from .errors import Unusable
+from .escape import terminal
+from .revisions import duration
+from .significance import bh_adjusted, signed_rank_below_zero
+from .spreads import spread
 
 MAX_ROUNDS = 1000
 DEFAULT_FILTER = "BM_Trace/heightfield:bricks/technique:(pom|relief|steep)/layers:32/isa:(scalar|avx2|avx512)/threads:1/"
@@ -33,16 +37,11 @@ def timing_flags(min_time=DEFAULT_MIN_TIME, repetitions=DEFAULT_REPETITIONS):
             "--benchmark_repetitions=%d" % repetitions, "--benchmark_enable_random_interleaving=true"]
 
 
-class Parser(argparse.ArgumentParser):
-    """Usage errors as Unusable: one line, exit 2. The whole docstring is the --help text."""
-
-    def __init__(self, doc, **kwargs):
-        # wide enough that the default filter stays on one line
-        super().__init__(description=doc, formatter_class=lambda prog: argparse.RawDescriptionHelpFormatter(prog, width=130),
-                         **kwargs)
-
-    def error(self, message):
-        raise Unusable(message)
+def parser(doc, prog):
+    """The command line of regress or bisect: usage errors one line (exit 2), --help the whole
+    docstring, wide enough that the default filter stays on one line."""
+    return Parser(prog=prog, description=doc,
+                  formatter_class=lambda name: argparse.RawDescriptionHelpFormatter(name, width=130))
 
 
 def detector_options(parser):
@@ -117,7 +116,8 @@ def load_average():
 
 
 def to_stderr(line):
-    print(line, file=sys.stderr, flush=True)
+    """A progress line (it may quote a commit's subject)."""
+    print(terminal(line), file=sys.stderr, flush=True)
 
 
 def interleaved_rounds(sides, rounds, work, progress=to_stderr, round_seconds=None):

@@ -14,14 +14,16 @@ import subprocess
 import tempfile
 import time
 
-import processes
-from benchmark_results import Unusable, atomic_write
+from . import processes
+from .errors import Unusable
+from .escape import terminal
+from .readers import is_number, read_json, read_text
+from .writers import atomic_write
 
 CACHE = "regress-cache"  # under the build directory
 BINARIES = ("heightmarch-bench", "heightmarch-glsl-worker")  # the bench finds its worker beside it (built with GLSL)
 MAX_ENTRIES = 10  # builds kept; the least recently used goes first
 INCOMING = ".incoming-"  # a build being stored: .incoming-PID-...
-MAX_SETTINGS_BYTES = 1 << 20  # a CMakeCache.txt is a few tens of KiB
 # The current build's settings that a revision's build takes on, so both sides are built alike.
 SETTINGS = ("CMAKE_BUILD_TYPE", "CMAKE_CXX_COMPILER", "CMAKE_C_COMPILER", "CMAKE_CXX_FLAGS", "CMAKE_C_FLAGS",
             "CMAKE_EXE_LINKER_FLAGS")
@@ -48,7 +50,7 @@ def resolve(root, rev):
     try:
         return git(root, "rev-parse", "--verify", "--quiet", rev + "^{commit}")
     except subprocess.CalledProcessError:
-        raise Unusable("unknown revision %s" % rev)
+        raise Unusable("unknown revision %s" % terminal(rev))
 
 
 def describe(root, commit):
@@ -59,16 +61,13 @@ def describe(root, commit):
 def cmake_cache(build_dir):
     """{KEY: VALUE} of build_dir/CMakeCache.txt ({} without one)."""
     path = os.path.join(build_dir, "CMakeCache.txt")
-    if not os.path.isfile(path):
+    if not os.path.lexists(path):
         return {}
-    if os.path.getsize(path) > MAX_SETTINGS_BYTES:
-        raise Unusable("%s: larger than %d bytes: not a CMake cache" % (path, MAX_SETTINGS_BYTES))
     out = {}
-    with open(path, errors="replace") as f:
-        for line in f:
-            if line[:1] not in ("#", "/", "\n") and "=" in line and ":" in line.split("=", 1)[0]:
-                key, value = line.rstrip("\n").split("=", 1)
-                out[key.split(":", 1)[0]] = value
+    for line in read_text(path).splitlines():
+        if line[:1] not in ("#", "/", "") and "=" in line and ":" in line.split("=", 1)[0]:
+            key, value = line.split("=", 1)
+            out[key.split(":", 1)[0]] = value
     return out
 
 
@@ -111,9 +110,10 @@ class Worktree:
         return self
 
     def __exit__(self, *exc):
-        subprocess.run(["git", "-C", self.root, "worktree", "remove", "--force", self.tree], capture_output=True)
-        shutil.rmtree(self.work, ignore_errors=True)
-        subprocess.run(["git", "-C", self.root, "worktree", "prune"], capture_output=True)
+        with processes.signals_held():
+            subprocess.run(["git", "-C", self.root, "worktree", "remove", "--force", self.tree], capture_output=True)
+            shutil.rmtree(self.work, ignore_errors=True)
+            subprocess.run(["git", "-C", self.root, "worktree", "prune"], capture_output=True)
 
 
 def build(source, build_dir, log, settings=None):
@@ -223,15 +223,16 @@ class BuildCache:
             os.unlink(path)
 
     def timings(self):
+        """The last figures record() kept ({} where there are none, or they are not readable: they
+        only make estimates)."""
         path = os.path.join(self.dir, "timings.json")
         try:
-            with open(path) as f:
-                data = json.loads(f.read(MAX_SETTINGS_BYTES))
-        except (OSError, ValueError):
+            data = read_json(path) if os.path.lexists(path) else {}
+        except Unusable:
             return {}
         if not isinstance(data, dict):
             return {}
-        return {k: v for k, v in data.items() if isinstance(v, (int, float)) and 0 < v < 1e6}
+        return {k: v for k, v in data.items() if is_number(v) and 0 < v < 1e6}
 
     def record(self, **seconds):
         """Keeps figures (seconds) for the next run's estimates."""
