@@ -37,11 +37,17 @@ def timing_flags(min_time=DEFAULT_MIN_TIME, repetitions=DEFAULT_REPETITIONS):
             "--benchmark_repetitions=%d" % repetitions, "--benchmark_enable_random_interleaving=true"]
 
 
+class WideHelp(argparse.RawDescriptionHelpFormatter):
+    """The docstring as written, and room for the default filter on one line."""
+
+    def __init__(self, prog):
+        super().__init__(prog, width=130)
+
+
 def parser(doc, prog):
     """The command line of regress or bisect: usage errors one line (exit 2), --help the whole
-    docstring, wide enough that the default filter stays on one line."""
-    return Parser(prog=prog, description=doc,
-                  formatter_class=lambda name: argparse.RawDescriptionHelpFormatter(name, width=130))
+    docstring with every default."""
+    return Parser(prog=prog, description=doc, formatter_class=WideHelp)
 
 
 def detector_options(parser):

@@ -47,7 +47,7 @@ echo "ok: bad arguments exit 2 with one line"
 mkdir "$tmp/t"  # its temporary directories: none may be left
 TMPDIR="$tmp/t" FAKE_BENCH_HANG="$tmp/pids" FAKE_BENCH_HANG_AT=5 "$root/scripts/bisect" HEAD~8 HEAD --runs 5 > "$tmp/out" 2> "$tmp/err" &
 interrupted $! "$tmp/pids" || fail "SIGTERM during a bisect step"
-grep -q "bisect: interrupted by SIGTERM" "$tmp/err" && ! grep -q Traceback "$tmp/err" || fail "no one-line message"
+[ "$(tail -1 "$tmp/err")" = "bisect: interrupted (SIGTERM)" ] && grep -q "^bisect: stopping: " "$tmp/err" && ! grep -q Traceback "$tmp/err" || fail "no one-line message"
 [ "$(git -C "$repo" worktree list | wc -l)" = 1 ] || fail "a worktree was left: $(git -C "$repo" worktree list)"
 [ -z "$(ls -A "$tmp/t")" ] || fail "left in TMPDIR: $(ls -A "$tmp/t")"
 echo "ok: SIGTERM during a bisect step: exit 143, no worktree, no running child, nothing left"

@@ -159,6 +159,19 @@ run missing "$tmp/old.json" "$tmp/none.json"
 [ "$rc" = 2 ] && has "none.json: no such file" err || fail "a missing file exits $rc"
 echo "ok: invalid JSON and a missing file exit 2 naming the file"
 
+# Files that are no files, or too large: refused before a byte is read, one line, exit 2, no wait.
+mkfifo "$tmp/fifo.json"
+ln -s /dev/zero "$tmp/zero.json"
+for bad in "fifo.json::is a FIFO, not a regular file" "zero.json::is a character device, not a regular file" \
+           "old.json::would need about .* more than the .* left of the memory budget"; do
+  rc=0
+  HEIGHTMARCH_MEMORY_LIMIT=$([ "${bad%%::*}" = old.json ] && echo 64K || echo 1G) \
+    timeout 20 "$root/scripts/compare" "$tmp/same.json" "$tmp/${bad%%::*}" > "$tmp/file.out" 2> "$tmp/file.err" || rc=$?
+  last=file
+  [ "$rc" = 2 ] && [ "$(wc -l < "$tmp/file.err")" = 1 ] && has "${bad##*::}" err || fail "NEW ${bad%%::*}: exit $rc"
+done
+echo "ok: a FIFO, /dev/zero and a file beyond the memory budget exit 2 with one line, at once"
+
 # Input that is not Google Benchmark's shape: exit 2 with one line, never a traceback or a verdict.
 # bad_case NAME PYTHON: PYTHON edits `d` (old.json) and `b` (its first iteration) into NAME.json.
 bad_case() {

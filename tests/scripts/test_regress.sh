@@ -81,7 +81,7 @@ stopped() {
   for p in $(cat "$tmp/pids"); do
     ! kill -0 "$p" 2>/dev/null || fail "$hook, SIG$signal: process $p ($(ps -o args= -p "$p")) outlived regress"
   done
-  grep -q "^regress: interrupted by SIG$signal" "$tmp/err" && ! grep -q Traceback "$tmp/err" || fail "$hook, SIG$signal: no one-line message"
+  [ "$(tail -1 "$tmp/err")" = "regress: interrupted (SIG$signal)" ] && grep -q "^regress: stopping: " "$tmp/err" && ! grep -q Traceback "$tmp/err" || fail "$hook, SIG$signal: no one-line message"
   [ "$(git -C "$repo" worktree list | wc -l)" = 1 ] || fail "$hook, SIG$signal: a worktree was left"
   [ -z "$(ls -A "$tmp/t")" ] && ! ls -d "$repo"/build/regress-cache/.incoming-* 2> /dev/null || fail "$hook, SIG$signal: files were left"
 }
