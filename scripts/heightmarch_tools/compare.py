@@ -74,7 +74,7 @@ CONTEXT = [("CPU model", "heightmarch_cpu", True, False),
 LIST_CAP = 20
 MIN_FOR_SHIFT = 20  # benchmarks with repetitions needed to estimate the run-wide shift
 MIN_CONTROLS = 3  # control benchmarks with repetitions needed to estimate the machine's shift
-SMALL_THRESHOLD = 0.30  # measured on 10-benchmark runs of one binary (docs/regression-tracking.md)
+SMALL_THRESHOLD = 0.40  # measured on 10-benchmark runs of one binary twice: docs/regression-tracking.md
 MIN_FAMILY = 3  # benchmarks a family (and the rest of the run) needs for its rank test
 
 
@@ -186,7 +186,7 @@ def judge_speed(old_runs, new_runs, shared, behaviour_changed, args):
         reference = run["control_shift"] or 0.0
         notes.append("whole run: NEW %+.1f%% against OLD (its median benchmark, of %d)"
                      % (100 * math.expm1(run["code_shift"]), len(code)))
-    for n in with_reps.intersection(code):
+    for n in (n for n in code if n in with_reps):
         pvalues[n] = welch_greater([x - reference for x in logs[n][1]], logs[n][0])
     members = {}
     if not small:

@@ -164,7 +164,7 @@ class BuildCache:
         its path."""
         cached = self.lookup(commit)
         if cached:
-            progress("cached build of %s: %s" % (describe(root, commit), os.path.dirname(cached)))
+            progress("cached build of %s in %s" % (describe(root, commit), os.path.dirname(cached)))
             return cached
         progress("building %s in a worktree (%s; log: %s)" % (describe(root, commit), self.estimate(), self.log(commit)))
         with Worktree(root, commit) as tree:

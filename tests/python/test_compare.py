@@ -7,7 +7,7 @@ import pytest
 from heightmarch_tools import compare
 from heightmarch_tools.errors import Unusable
 
-ARGS = argparse.Namespace(threshold=0.05, small_threshold=0.3, fdr=0.05)
+ARGS = argparse.Namespace(threshold=0.05, small_threshold=compare.SMALL_THRESHOLD, fdr=0.05)
 
 
 def names(count):
