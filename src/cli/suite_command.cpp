@@ -2,8 +2,6 @@
 // configuration once, and writes the run's files from its rows into a fresh directory:
 // measurements.json, bench.json, recommendation.json, the gallery, claims.md/claims.json, and
 // through scripts/report measurements.csv, report.md and report.html.
-#include "cli/suite_command.hpp"
-
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
@@ -12,11 +10,15 @@
 #include <filesystem>
 #include <memory>
 
+#include "cli/claims_command.hpp"
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
+#include "cli/plan_options.hpp"
+#include "cli/recommend_command.hpp"
 #include "cli/run_directory.hpp"
+#include "experiment/claims_collector.hpp"
+#include "experiment/run_outputs.hpp"
 #include "heightmarch/error.hpp"
-#include "heightmarch/run_outputs.hpp"
 #include "io/atomic_file.hpp"
 #include "io/images.hpp"
 
