@@ -120,16 +120,17 @@ def build(source, build_dir, log, settings=None):
     """Builds heightmarch-bench (and its GLSL worker) of the tree at source into build_dir, first
     configured with settings unless settings is None (a build directory of the user's, brought up
     to date as it is). Output goes to log; its path."""
-    commands = []
+    commands, env = [], None
     if settings is not None:
         configure = ["cmake", "-S", source, "-B", build_dir, "-DHEIGHTMARCH_BUILD_TESTS=OFF"]
         configure += ["-D%s=%s" % (k, v) for k, v in sorted(settings.items()) if not k.endswith("_VERSION")]
         if shutil.which("ccache"):
             configure += ["-DCMAKE_CXX_COMPILER_LAUNCHER=ccache", "-DCMAKE_C_COMPILER_LAUNCHER=ccache"]
         commands.append(configure)
+        # ccache finds a compile of the same file in another worktree when the paths of the sources
+        # and of the build's generated files are taken relative to the directory holding both
+        env = dict(os.environ, CCACHE_BASEDIR=os.path.commonpath([os.path.realpath(source), os.path.realpath(build_dir)]))
     commands.append(["cmake", "--build", build_dir, "-j", str(os.cpu_count() or 1), "--target", "heightmarch-bench"])
-    # ccache finds a compile of the same file in another worktree when paths are taken relative to it
-    env = dict(os.environ, CCACHE_BASEDIR=os.path.realpath(source))
     for command in commands:
         if processes.run(command, stdout=log, stderr=subprocess.STDOUT, env=env).returncode != 0:
             raise Unusable("building %s failed: its log is %s" % (source, log.name))
