@@ -37,7 +37,8 @@ Usage: scripts/compare OLD.json NEW.json [--threshold 0.05] [--small-threshold X
   Speed is not judged when CPU model, core count, view size, depth-map size or build type are
   known to differ: the changes are printed but do not fail unless --force-speed ("unknown" on
   one side warns but is judged).
-- Error measures (uv_error_*, wrong_surface_rate, depth_error_mean, samples_per_ray,
+- Samples per ray and the error measures (those the files' context names in
+  heightmarch_error_measures; before it uv_error_*, wrong_surface_rate, depth_error_mean,
   shadow_*) are deterministic: any change beyond 1e-6 relative or 1e-9 absolute is a BEHAVIOUR
   CHANGE, reported apart from speed. They are not judged when view or depth-map sizes differ.
 
@@ -58,9 +59,11 @@ from .errors import Unusable
 from .escape import terminal
 from .significance import bh_adjusted, rank_greater, welch_greater
 
-ERROR_COUNTERS = ["uv_error_mean", "uv_error_rms", "uv_error_p50", "uv_error_p95", "uv_error_p99",
-                  "uv_error_max", "wrong_surface_rate", "depth_error_mean", "samples_per_ray",
-                  "shadow_error_mean", "shadow_mismatch_rate"]
+# The deterministic counters: samples per ray and the error measures, which a file names in its
+# context (heightmarch_error_measures); files written before it carry these.
+BEHAVIOUR_COUNTERS = ["samples_per_ray"]
+OLDER_ERROR_MEASURES = ["uv_error_mean", "uv_error_rms", "uv_error_p50", "uv_error_p95", "uv_error_p99", "uv_error_max",
+                        "wrong_surface_rate", "depth_error_mean", "shadow_error_mean", "shadow_mismatch_rate"]
 REL_TOL, ABS_TOL = 1e-6, 1e-9
 # Context keys: label, key, whether a difference makes speed / error measures incomparable.
 CONTEXT = [("CPU model", "heightmarch_cpu", True, False),
@@ -99,6 +102,12 @@ def why_nothing_shared(old_names, new_names):
             why += ": the runs are at different sizes"
         return why
     return "e.g. OLD %s, NEW %s" % (min(old_names), min(new_names))
+
+
+def error_measures(data):
+    """The error measures a file's rows carry, as its context names them."""
+    named = context_value(data, "heightmarch_error_measures")
+    return OLDER_ERROR_MEASURES if named == "unknown" else [m.strip() for m in named.split(",") if m.strip()]
 
 
 def counter_value(entries, counter):
@@ -288,10 +297,11 @@ def compare(args):
         print("note: %d benchmark(s) matched across name formats: %s" % (renamed, ", ".join(how)))
     changed = {}
     counters_one_side = {}
+    counters = BEHAVIOUR_COUNTERS + sorted(set(error_measures(old)) | set(error_measures(new)))
     for name in shared:
         o, n = old_runs[name], new_runs[name]
         diffs = []
-        for counter in ERROR_COUNTERS:
+        for counter in counters:
             have_o, have_n = counter in o[0], counter in n[0]
             if have_o != have_n:
                 side = "OLD" if have_o else "NEW"

@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
-# scripts/compare on synthetic runs, one check per rule of its docstring: identical runs pass, a
-# 30% slow-down is a named REGRESSION, no shared benchmark is unusable input (exit 2), benchmarks
-# of one run only are listed, context differences are WARNINGs in the first lines, changed error
-# measures are a BEHAVIOUR CHANGE, runs without repetitions fall back to the median change,
-# names with min_time: match the new release's names, and input that is not Google Benchmark's
-# shape exits 2 with one line; the speed rule keeps runs of the same code quiet while it flags a
-# 10% slow-down of one family; the latest committed run passes against itself. Needs no build.
+# scripts/compare on synthetic runs, one check per rule of its docstring: identical runs pass (the
+# machine's shift taken from the controls), a 30% slow-down is a named REGRESSION, no shared
+# benchmark is unusable input (exit 2), benchmarks of one run only are listed, context differences
+# are WARNINGs in the first lines, changed error measures (those the files name) are a BEHAVIOUR
+# CHANGE, runs without repetitions fall back to the median change, names with min_time: match the
+# new release's names, a FIFO, /dev/zero, a file beyond the memory budget and input that is not
+# Google Benchmark's shape exit 2 with one line; the speed rule keeps runs of the same code quiet
+# while it flags a 10% slow-down of one family; a uniform 20% slow-down of the latest committed run
+# fails; small runs of one binary raise no false alarm; the latest committed run passes against
+# itself. Needs no build; about 30 s on 2 busy cores.
 # Usage: test_compare.sh BUILD_DIR (unused)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -137,6 +140,21 @@ run behaviour "$tmp/old.json" "$tmp/changed.json"
 run rounding "$tmp/old.json" "$tmp/rounded.json"
 [ "$rc" = 0 ] || fail "a change within the tolerance exits $rc"
 echo "ok: a changed error counter is a BEHAVIOUR CHANGE apart from speed (exit 1); 1e-10 relative is not"
+
+# The measures compared are those the files' context names (heightmarch_error_measures): a new one
+# is compared without a change here.
+/usr/bin/python3 - "$tmp/old.json" "$tmp/measures-old.json" "$tmp/measures-new.json" <<'PY'
+import json, sys
+for path, value in ((sys.argv[2], 0.25), (sys.argv[3], 0.5)):
+    d = json.load(open(sys.argv[1]))
+    d["context"]["heightmarch_error_measures"] = "uv_error_mean,glint_error_mean"
+    for b in d["benchmarks"]:
+        b["glint_error_mean"] = value
+    json.dump(d, open(path, "w"))
+PY
+run measures "$tmp/measures-old.json" "$tmp/measures-new.json"
+[ "$rc" = 1 ] && has "glint_error_mean 0.25 -> 0.5" && has "^BEHAVIOUR CHANGE" || fail "a measure the context names is not compared (exit $rc)"
+echo "ok: the error measures compared are those the files name"
 
 write_run "$tmp/once.json" '{"reps": 1}'
 write_run "$tmp/once-slow.json" '{"reps": 1, "slow": {"pom": 1.3}}'
