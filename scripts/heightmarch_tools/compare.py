@@ -51,7 +51,6 @@ a threshold or level outside (0, 1).
 import argparse
 import math
 import statistics
-import sys
 
 from .benchmark_results import clock, context_value, fields, load_benchmarks, matched_runs, seconds
 from .cli import Parser

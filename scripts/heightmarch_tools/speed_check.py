@@ -113,8 +113,8 @@ def timings(path):
     for b in load_benchmarks(path)["benchmarks"]:
         if b.get("run_type", "iteration") == "iteration" and not b.get("error_occurred"):
             times = out.setdefault(short(b.get("run_name", b["name"])), {"real_time": [], "cpu_time": []})
-            for clock in times:
-                times[clock].append(seconds(b, clock))
+            for field in times:
+                times[field].append(seconds(b, field))
     return out
 
 

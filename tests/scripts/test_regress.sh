@@ -23,6 +23,8 @@ refused() {
     || fail "regress ${args[*]}: exit $rc, not 2 with one line naming '$2'"
 }
 refused no-such-revision :: "unknown revision no-such-revision"
+refused $'\e]0;PWN\a\e[2J' :: 'unknown revision \\x1b\]0;PWN\\x07\\x1b\[2J'
+! grep -q $'\e' "$tmp/err" || fail "a revision's escape bytes reached the terminal"
 refused HEAD --runs 0 :: "--runs 0 is not in 1..1000"
 refused HEAD --runs many :: "argument --runs: invalid int value"
 refused HEAD --threshold 1.5 :: "--threshold 1.5 is not in (0, 1)"
@@ -35,7 +37,7 @@ refused HEAD --build "$tmp" :: "holds no heightmarch-bench"
 refused HEAD --build "$build" --filter 'no-such-benchmark' :: "names no benchmark of the current build"
 refused HEAD --build "$build" -- --hm_frobnicate=1 :: "refuses the benchmark flags: .*unknown option --hm_frobnicate"
 git -C "$root" worktree list | grep -qF "$tmp/" && fail "a refused call left a worktree"
-echo "ok: 12 bad arguments exit 2 with one line each, before anything is built"
+echo "ok: 13 bad arguments exit 2 with one line each, before anything is built (a revision's escape bytes made printable)"
 
 # On the synthetic repository of fake_bench_repo.sh (its build/ is the current build, commit 9):
 # regress builds REV once and then takes it from the cache, says what it does, and ends with its
