@@ -2,11 +2,11 @@
 // as the suite filters it, timed rows only: the technique x layers matrix and the same as GLSL,
 // the searches at every ISA and thread count, POM-32's anchors (the sampler roofline, the compute
 // ceiling, the naive port, its auto-vectorised and its Highway forms per ISA, the hand-written
-// kernel's structure on Highway's ops per ISA) and the exact reference, on a window of each
-// heightfield (--hm_views: the single default view unless asked). Names come from
-// benchmark_name(), as in a suite's bench.json; counters carry speed and accuracy. A configuration
-// is checked against the scalar reference before it is timed: a wrong kernel never produces a
-// number.
+// kernel's structure on Highway's ops per ISA), the exact reference and the calibration loop that
+// scripts/compare takes the machine's speed from, on a window of each heightfield (--hm_views:
+// the single default view unless asked). Names come from benchmark_name(), as in a suite's
+// bench.json; counters carry speed and accuracy. A configuration is checked against the scalar
+// reference before it is timed: a wrong kernel never produces a number.
 #include <benchmark/benchmark.h>
 #include <tbb/info.h>
 
@@ -49,7 +49,7 @@ struct BenchOptions {
 };
 
 // The parts heightmarch-bench times unless told: the suite's timed parts but the claims' rows.
-const std::vector<std::string> kDefaultParts = {"matrix", "isa", "glsl", "roofline", "naive", "exact"};
+const std::vector<std::string> kDefaultParts = {"matrix", "isa", "glsl", "roofline", "naive", "exact", "calibration"};
 
 MeasurementSession& session() {
   static MeasurementSession s;

@@ -9,6 +9,7 @@
 #include "experiment/plan_runner.hpp"
 #include "experiment/run_outputs.hpp"
 #include "heightmarch/error.hpp"
+#include "experiment/suite_plan.hpp"
 #include "kernels/kernel_abi.hpp"
 #include "test_support.hpp"
 
@@ -164,6 +165,35 @@ TEST(Plan, BenchmarkNamesCarryTheSizes) {
   EXPECT_EQ(benchmark_name(c, 64, 64).rfind("BM_AutoVecPort/heightfield:bricks/technique:pom/layers:8-32/isa:scalar/", 0), 0u);
   c.kind = RunKind::highway;
   EXPECT_EQ(benchmark_name(c, 64, 64).rfind("BM_HighwayPort/heightfield:bricks/technique:pom/layers:8-32/isa:scalar/", 0), 0u);
+  c.kind = RunKind::calibration;
+  EXPECT_EQ(benchmark_name(c, 64, 64), "BM_Calibration/heightfield:bricks/isa:calibration/threads:1/view:48x40/depth_map:64x64");
+}
+
+// The calibration loop, scripts/compare's control: timed like any row, with nothing to check or
+// measure but its time, at every thread count; every suite plan holds it at each of its thread
+// counts on each heightfield.
+TEST(Plan, TheCalibrationLoopIsTimedAndInEveryPlan) {
+  std::vector<Configuration> plan;
+  for (int threads : {1, 2}) {
+    Configuration c = small(Technique::pom, "32", kPurposeCalibration);
+    c.kind = RunKind::calibration;
+    c.threads = threads;
+    plan.push_back(c);
+  }
+  MeasureOptions options;
+  options.repetitions = 2;
+  options.min_seconds = 0.0;
+  for (const Measurement& m : measure_plan(plan, options).rows) {
+    EXPECT_TRUE(m.failure.empty()) << m.failure;
+    EXPECT_FALSE(m.errors.has_value());
+    EXPECT_FALSE(m.samples_known);
+    ASSERT_EQ(m.seconds.size(), 2u);
+    for (double s : m.seconds) EXPECT_GT(s, 0.0);
+  }
+  PlanSettings settings = suite_settings(true, 2);
+  int calibrations = 0;
+  for (const Configuration& c : suite_plan(settings)) calibrations += c.kind == RunKind::calibration && c.timed;
+  EXPECT_EQ(calibrations, int(settings.heightfields.size() * settings.thread_counts.size()));
 }
 
 // The anchors of POM-32 at every ISA: the auto-vectorised port and the Highway port (where this

@@ -18,9 +18,9 @@ from .spreads import per_round
 MEASUREMENTS_FORMAT = "heightmarch-measurements"
 MEASUREMENTS_VERSION = 2  # the newest this reads; 1: the measures were named uv_mean, uv_p95, ...
 CLAIMS_VERSION = 2        # 1: a bare list of claims
-KINDS = ("trace", "glsl", "roofline", "ceiling", "naive", "autovec", "exact")
+KINDS = ("trace", "glsl", "roofline", "ceiling", "naive", "autovec", "exact", "calibration")
 GL_FIELDS = ("path", "device", "renderer", "version", "driver", "label")  # a GLSL row's renderer (its "gl")
-NON_ISA_BACKENDS = ("glsl", "naive", "exact")
+NON_ISA_BACKENDS = ("glsl", "naive", "exact", "calibration")
 # The configuration every backend runs (ISA sweep, naive port, roofline, thread scaling).
 HEADLINE_TECHNIQUE, HEADLINE_LAYERS = "pom", "32"
 ANY = object()  # a field that `Run.partner` does not compare

@@ -1,7 +1,12 @@
 #include "experiment/backends.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <string>
 
@@ -220,6 +225,41 @@ class ExactBackend : public Backend {
   std::map<const Configuration*, std::unique_ptr<ExactReference>> references_;
 };
 
+// The machine's own speed, the control scripts/compare sets the other rows against: a loop no
+// commit of heightmarch changes, of a fixed number of steps per ray, over the batch's rays in
+// blocks on the configuration's threads. Each block is one chain of dependent 64-bit
+// multiply-xorshift steps: bound by the multiplier's latency, so no compiler flag or ISA can
+// vectorise, reorder or shorten it, and its time follows the cores' clock and sharing alone.
+class CalibrationBackend : public Backend {
+ public:
+  void trace(const Configuration&, Scene& scene, HitBuffers& hits, Measurement& row) override {
+    hits.resize(scene.rays.size());  // no hits: nothing to check or measure but the time
+    row.samples_known = false;
+  }
+
+  bool has_accuracy() const override { return false; }
+
+  std::function<double()> timer(const Configuration&, Scene& scene) override {
+    return wall_timed([this, rays = scene.rays.ray_count] { run(rays); });
+  }
+
+ private:
+  static constexpr std::size_t kStepsPerRay = 16, kBlockRays = 4096;
+
+  void run(std::size_t rays) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays, kBlockRays), [this](const tbb::blocked_range<std::size_t>& r) {
+      std::uint64_t x = r.begin() | 1;
+      for (std::size_t i = 0; i < r.size() * kStepsPerRay; ++i) {
+        x ^= x >> 29;
+        x *= 0xbf58476d1ce4e5b9ull;
+      }
+      sink_.fetch_xor(x, std::memory_order_relaxed);  // the chain's result is used: never optimised away
+    });
+  }
+
+  std::atomic<std::uint64_t> sink_{0};
+};
+
 }  // namespace
 
 std::unique_ptr<Backend> make_backend(RunKind kind) {
@@ -233,6 +273,7 @@ std::unique_ptr<Backend> make_backend(RunKind kind) {
     case RunKind::highway: return std::make_unique<PortBackend>();
     case RunKind::highway_structured: return std::make_unique<StructuredBackend>();
     case RunKind::exact: return std::make_unique<ExactBackend>();
+    case RunKind::calibration: return std::make_unique<CalibrationBackend>();
   }
   throw std::logic_error("no backend for run kind " + to_string(kind));
 }

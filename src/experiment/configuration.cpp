@@ -19,7 +19,7 @@ std::string to_string(RunKind kind) { return std::string(info(kind).name); }
 std::string purpose_name(unsigned bit) {
   static const char* const names[kPurposeCount] = {"matrix", "isa",     "glsl",   "roofline", "naive",
                                                    "sweep",  "gallery", "claims", "command", "large-maps",
-                                                   "exact",  "held-out"};
+                                                   "exact",  "held-out", "calibration"};
   for (unsigned i = 0; i < kPurposeCount; ++i)
     if (bit == (1u << i)) return names[i];
   return "?";
@@ -54,7 +54,7 @@ std::string plan_line(const Configuration& c) {
   std::string purposes;
   for (unsigned i = 0; i < kPurposeCount; ++i)
     if (c.purposes & (1u << i)) purposes += (purposes.empty() ? "" : ",") + purpose_name(1u << i);
-  const std::string layers = c.kind == RunKind::exact ? "" : to_string(c.params.layers);
+  const std::string layers = c.has_layers() ? to_string(c.params.layers) : "";
   return c.heightfield.label() + "\t" + to_string(c.kind) + "\t" + c.label() + "\t" + layers + "\t" + c.backend() + "\t" +
          std::to_string(c.threads) + "\t" + describe(c.view) + "\t" + (c.timed ? "timed" : "accuracy") + "\t" + purposes;
 }
@@ -77,7 +77,7 @@ std::string benchmark_name(const Configuration& c, int map_width, int map_height
   std::string name = std::string(kind.benchmark_prefix) + "/heightfield:" + label;
   if (c.shader) name.append("/").append(c.shader->label());
   if (c.has_technique()) name += "/technique:" + to_string(c.params.technique);
-  if (c.kind != RunKind::exact) name += "/layers:" + to_string(c.params.layers);
+  if (c.has_layers()) name += "/layers:" + to_string(c.params.layers);
   name += "/isa:" + (kind.benchmark_isa_label.empty() ? c.backend() : std::string(kind.benchmark_isa_label)) +
           "/threads:" + std::to_string(c.threads);
   if (c.kind == RunKind::glsl) {

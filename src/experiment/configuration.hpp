@@ -32,7 +32,8 @@ namespace heightmarch {
   X(autovec, "autovec", "BM_AutoVecPort", true, true, "", "") /* that port vectorised by the compiler */ \
   X(highway, "highway", "BM_HighwayPort", true, true, "", "") /* that port written with Google Highway */ \
   X(highway_structured, "highway-structured", "BM_HighwayStructured", true, true, "", "") /* POM's kernel on Highway's ops */ \
-  X(exact, "exact", "BM_Exact", false, true, "exact", "exact") /* the exact reference */
+  X(exact, "exact", "BM_Exact", false, true, "exact", "exact") /* the exact reference */      \
+  X(calibration, "calibration", "BM_Calibration", false, false, "calibration", "calibration") /* a fixed loop */
 
 #define HEIGHTMARCH_RUN_KIND_ENUM(id, ...) id,
 enum class RunKind { HEIGHTMARCH_RUN_KINDS(HEIGHTMARCH_RUN_KIND_ENUM) };
@@ -65,8 +66,9 @@ enum Purpose : unsigned {
   kPurposeLargeMaps = 1u << 9, // the papers' claim on large depth maps (P2)
   kPurposeExact = 1u << 10,    // the exact reference's own speed
   kPurposeHeldOut = 1u << 11,  // a candidate's accuracy on the held-out view set (recommendation.hpp)
+  kPurposeCalibration = 1u << 12,  // the machine's own speed: the control of scripts/compare
 };
-inline constexpr unsigned kPurposeCount = 12;
+inline constexpr unsigned kPurposeCount = 13;
 inline constexpr unsigned kAllPurposes = (1u << kPurposeCount) - 1;
 std::string purpose_name(unsigned single_purpose_bit);
 
@@ -97,6 +99,9 @@ struct Configuration {
   // Whether a registry technique is part of the configuration (its run kind traces one, and it
   // is not a brought-in shader).
   bool has_technique() const { return info(kind).traces_technique && !shader; }
+  // Whether a layer spec is part of the configuration (the exact reference and the calibration
+  // loop take none).
+  bool has_layers() const { return kind != RunKind::exact && kind != RunKind::calibration; }
   // Whether the configuration runs code built for its ISA.
   bool on_isa() const { return info(kind).runs_at_isa; }
   // What traces, for people and result files: the technique ("pom"), the brought-in shader

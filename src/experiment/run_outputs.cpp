@@ -104,7 +104,7 @@ void write_row(JsonWriter& json, const Measurement& m) {
     json.begin_object("shader").value("path", c.shader->path).value("label", c.shader->label()).end_object();
   else
     json.null("shader");
-  if (c.kind == RunKind::exact)
+  if (!c.has_layers())
     json.null("layers").null("min_layers").null("max_layers");
   else
     json.value("layers", to_string(c.params.layers))
@@ -469,7 +469,7 @@ std::string measurements_json(const MeasuredPlan& run, const std::string& plan_n
     json.begin_object().value("name", m.name).value("label", m.label).end_object();
   json.end_array().begin_array("backends");
   for (Isa isa : all_isas()) json.value("", to_string(isa));
-  for (const char* b : {"glsl", "naive", "exact"}) json.value("", b);
+  for (const char* b : {"glsl", "naive", "exact", "calibration"}) json.value("", b);
   json.end_array().begin_array("rows");
   for (const Measurement& m : run.rows) {
     json.begin_object();

@@ -278,6 +278,11 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
         naive.threads = threads;
         add_to_plan(plan, naive);
       }
+      // The control of every speed: a fixed loop in the same rounds as the scene's timed rows.
+      Configuration calibration = on_view(s, hf, RunKind::calibration, kPurposeCalibration);
+      calibration.threads = threads;
+      calibration.params.layers = kThirtyTwo;
+      add_to_plan(plan, calibration);
       if (s.glsl && threads != s.threads)  // llvmpipe at fewer threads too, for a few layer specs
         for (Technique technique : s.techniques)
           for (const LayerSpec& layers : s.few_layer_specs) {

@@ -71,7 +71,7 @@ PlanSettings suite_settings(bool quick, int threads);
 std::vector<double> sweep_angles(float near_degrees, float far_degrees);
 
 // Everything a suite run measures: the matrix, POM-32 at every ISA and thread count, GLSL, the
-// roofline, the naive port, sweeps, the gallery and the claims' rows.
+// roofline, the naive port, the calibration loop, sweeps, the gallery and the claims' rows.
 std::vector<Configuration> suite_plan(const PlanSettings& settings);
 
 // What heightmarch-bench times: the timed configurations of suite_plan(settings), in its order.

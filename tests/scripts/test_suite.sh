@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The suite's plumbing on its quick plan: one typed row per configuration in measurements.json
 # (every technique on the CPU and as GLSL, the searches at every ISA, roofline, naive port,
-# the exact reference timed, sweeps, gallery, claims), every
+# the exact reference and the calibration loop timed, sweeps, gallery, claims), every
 # timed row with at least 5 repetitions and its spread, bench.json named as heightmarch-bench
 # names, the claims, the recommendation, the report with spreads, the result files against their
 # JSON Schemas, report.html in headless Chromium (check_report_page.py; its screenshot goes to
@@ -47,12 +47,14 @@ for hf in ("bricks", "terrain"):
     for layers in ("8", "32", "8-32"):
         assert any(r["kind"] == "trace" and r["technique"] == "pom" and r["layers"] == layers for r in sel), (hf, layers)
     assert any(r["kind"] == "roofline" for r in sel) and any(r["kind"] == "naive" for r in sel), hf
-    isas = [b for b in m["backends"] if b not in ("glsl", "naive", "exact")]
+    isas = [b for b in m["backends"] if b not in ("glsl", "naive", "exact", "calibration")]
     for t in ("steep", "relief", "pom", "secant", "cone", "maxmip"):
         for isa in isas:
             assert any(r["kind"] == "trace" and r["technique"] == t and r["layers"] in ("32", "1") and r["backend"] == isa
                        and "isa" in r["purposes"] and r["speed"] for r in sel), (hf, t, isa)
     assert any(r["kind"] == "exact" and "exact" in r["purposes"] and r["speed"] for r in sel), hf
+    # compare's control: the calibration loop at every thread count in each heightfield's rounds
+    assert {r["threads"] for r in sel if r["kind"] == "calibration" and r["speed"]} == {r["threads"] for r in sel}, hf
     assert len({r["view"]["theta"] for r in sel if r["view"]["kind"] == "sweep"}) == 18, hf
 assert any("gallery" in r["purposes"] and r["images"] for r in rows)
 # The window around the surface, its held-out twins, and what to ship seen on every map.
