@@ -78,7 +78,7 @@ std::vector<Configuration> bench_plan(const BenchOptions& o) {
     if (tbb::info::default_concurrency() > 1) threads.push_back(tbb::info::default_concurrency());
   }
   std::vector<Isa> isas;
-  for (const std::string& name : o.isas) isas.push_back(parse_isa(name));
+  for (const std::string& name : o.isas) isas.push_back(parse_isa(name, "--hm_isas"));
   if (isas.empty()) isas = supported_isas();
   std::vector<LayerSpec> layer_specs;
   for (const std::string& text : o.layers) layer_specs.push_back(parse_layer_spec(text));

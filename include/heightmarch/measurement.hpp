@@ -100,6 +100,10 @@ class MeasurementSession {
   std::unique_ptr<State> state_;
 };
 
+// The runs measure_plan makes of a plan, which its progress counts: one for each configuration's
+// accuracy, and `repetitions` for each timed one.
+std::size_t plan_runs(const std::vector<Configuration>& plan, int repetitions);
+
 // Runs the plan. Configurations that share a heightfield and view share one scene and one set
 // of exact hits; round r times each timed configuration of a scene before round r + 1 starts.
 // Throws InputError for bad input (files, shaders); a kernel that differs from its scalar

@@ -21,7 +21,11 @@ namespace heightmarch::cli {
 void add_plan_options(CLI::App& command, PlanOptions& o, const std::string& quick_help) {
   command.add_flag("--quick", o.quick, quick_help);
   command.add_option("--heightmap", o.heightmap,
-                     "depth map files, comma-separated, measured beside the builtins");
+                     std::string("depth map files, comma-separated, measured beside the builtins; each may carry its "
+                                 "own ") + kMapEntryOptionsHelp);
+  add_map_options(command, o.map, "every --heightmap file");
+  for (const char* option : {"--convention", "--channel", "--wrap", "--allow-flat"})
+    command.get_option(option)->needs(command.get_option("--heightmap"));
   command
       .add_flag("--no-builtins", o.no_builtins,
                 "measure the --heightmap files alone, without the builtin heightfields")
@@ -30,11 +34,12 @@ void add_plan_options(CLI::App& command, PlanOptions& o, const std::string& quic
       .add_option("--threads", o.threads,
                   "thread counts, comma-separated (0: all cores; default: 1 and all cores)")
       ->delimiter(',')
-      ->check(CLI::Range(0, 1024));
+      ->check(in_range(0, 1024));
   command.add_option("--repetitions", o.repetitions, "timed repetitions per configuration (at least 5 for published figures)")
-      ->check(CLI::Range(1, 1000))
+      ->check(in_range(1, 1000))
       ->capture_default_str();
-  command.add_option("--scale", o.scale, "height scale s of every configuration, in (0, 1] (default 0.1)");
+  command.add_option("--scale", o.scale, "height scale s of every configuration (default 0.1)")
+      ->check(in_range(0, 1, true));
   command.add_option(
       "--view-angles", o.view_angles,
       "NEAR-FAR: the view angles from the normal, in degrees, that the default view spans from its near "
@@ -51,14 +56,10 @@ PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
   if (o.no_builtins) settings.heightfields.clear();
   std::stringstream in(o.heightmap);
   for (std::string path; std::getline(in, path, ',');)
-    if (!path.empty()) settings.heightfields.push_back(parse_heightfield(path));
+    if (!path.empty()) settings.heightfields.push_back(parse_heightfield(path, 512, 1, map_reading(o.map)));
   if (settings.heightfields.empty()) throw InputError("--heightmap '" + o.heightmap + "' names no depth map");
   give_unique_labels(settings.heightfields);  // one label per map in every result
-  if (o.scale) {
-    if (!(*o.scale > 0 && *o.scale <= 1))
-      throw InputError("--scale " + std::to_string(*o.scale) + " must be in (0, 1]");
-    settings.scale = float(*o.scale);
-  }
+  if (o.scale) settings.scale = float(*o.scale);
   if (!o.view_angles.empty()) {
     ViewSpec view;
     parse_view_angles(o.view_angles, view);
@@ -116,13 +117,17 @@ void write_claims(const std::string& dir, const ClaimsData& data, const PlanSett
                                       " cores), ISA " + to_string(settings.best_isa) + ", " +
                                       std::to_string(settings.threads) + " threads, commit " + p.commit + ", " +
                                       p.compiler + " (" + p.build_type + ").";
-  std::string heightfields;
-  for (const auto& hf : settings.heightfields) heightfields += (heightfields.empty() ? "" : ", ") + hf.label();
+  std::string heightfields, clamped;
+  for (const auto& hf : settings.heightfields) {
+    heightfields += (heightfields.empty() ? "" : ", ") + hf.label();
+    if (hf.reading.wrap == Wrap::clamp) clamped += (clamped.empty() ? "" : ", ") + hf.label();
+  }
   const std::string configurations =
       "Configurations: heightfields " + heightfields + " (builtins at " +
       std::to_string(settings.heightfields.front().resolution) + " x " +
       std::to_string(settings.heightfields.front().resolution) + "), scale " +
-      string_format("%g", settings.scale) + ", REPEAT; on the default view at " +
+      string_format("%g", settings.scale) + ", REPEAT" + (clamped.empty() ? "" : " (" + clamped + ": CLAMP_TO_EDGE)") +
+      "; on the default view at " +
       std::to_string(settings.view_size) + " x " + std::to_string(settings.view_size) +
       " pixels, view angles " +
       string_format("%g to %g degrees", settings.near_degrees, settings.far_degrees) +
@@ -157,7 +162,7 @@ namespace {
 struct ClaimsOptions {
   PlanOptions plan;
   RecommendationTarget target;
-  OutOptions out{"."};
+  OutOptions out;
   std::string isa;
   bool list = false;
 };
@@ -170,7 +175,8 @@ Command add_claims_command(CLI::App& app) {
   auto o = std::make_shared<ClaimsOptions>();
   add_plan_options(*command, o->plan, "the quick plan's heightfields and sizes");
   add_out_options(*command, o->out,
-                  "directory for claims.md, claims.json, measurements.json and recommendation.json");
+                  "directory for claims.md, claims.json, measurements.json and recommendation.json (default: a "
+                  "fresh results/<date>-<commit>-<time>-claims)");
   command->add_option("--isa", o->isa, isa_names() + " or auto");
   command->add_flag("--list", o->list, "list the claims (id, words, the rows each reads) and measure nothing");
   add_target_options(*command, o->target);
@@ -182,11 +188,17 @@ Command add_claims_command(CLI::App& app) {
     PlanSettings settings = plan_settings(o->plan, false);
     settings.best_isa = select_isa(o->isa);
     validate(o->target);
-    RunDirectory dir(o->out.out, o->out.existing());  // checked and locked before the run
+    const std::vector<Configuration> plan = claims_plan(settings);
+    check_depth_map_files(plan);  // before the run directory exists
+    // checked and locked before the run
+    RunDirectory dir(o->out.out.empty() ? "results/" + fresh_run_name(o->plan.quick, "claims") : o->out.out,
+                     o->out.existing());
     Progress progress("claims");
-    progress.stage("measuring " + std::to_string(settings.heightfields.size()) + " heightfields");
+    progress.stage("measuring " + std::to_string(plan.size()) + " configurations on " +
+                   std::to_string(settings.heightfields.size()) + " heightfields (" +
+                   std::to_string(plan_runs(plan, settings.repetitions)) + " runs) into " + dir.path());
     ClaimsCollector claims;
-    const MeasuredPlan run = measure_with_progress(claims_plan(settings), settings, progress,
+    const MeasuredPlan run = measure_with_progress(plan, settings, progress,
                                                    [&](const TracedRow& traced) { claims.observe(traced); });
     write_file_atomically(dir.path() + "/measurements.json", measurements_json(run, settings.name + " claims"));
     dir.finished("measurements.json");
@@ -194,6 +206,7 @@ Command add_claims_command(CLI::App& app) {
     write_recommendation(dir.path(), recommendation);
     write_claims(dir.path(), claims.data(run.rows), settings, recommendation);
     dir.complete();
+    std::fprintf(stderr, "claims: done in %.0f s: %s/claims.md\n", progress.total_seconds(), dir.path().c_str());
     return 0;
   };
 }

@@ -110,7 +110,7 @@ void apply(const CandidateOptions& o, PlanSettings& s) {
     s.isas.clear();
     for (Isa isa : all_isas())  // narrowest first, as the plan lists them
       if (std::find(o.isas.begin(), o.isas.end(), to_string(isa)) != o.isas.end())
-        s.isas.push_back(parse_isa(to_string(isa)));
+        s.isas.push_back(parse_isa(to_string(isa), "--isas"));
     s.best_isa = s.isas.back();
   }
   if (!o.parts.empty()) {
@@ -195,7 +195,8 @@ Command add_suite_command(CLI::App& app) {
     std::size_t timed = 0;
     for (const Configuration& c : plan) timed += c.timed;
     progress.stage("measuring " + std::to_string(plan.size()) + " configurations (" + std::to_string(timed) + " timed, " +
-                   std::to_string(settings.repetitions) + " interleaved repetitions each) into " + dir.path());
+                   std::to_string(settings.repetitions) + " interleaved repetitions each: " +
+                   std::to_string(plan_runs(plan, settings.repetitions)) + " runs) into " + dir.path());
     fs::create_directories(dir.path() + "/gallery");
     ClaimsCollector claims;
     MeasuredPlan run = measure_with_progress(plan, settings, progress, [&](const TracedRow& traced) {

@@ -16,9 +16,7 @@ using Clock = std::chrono::steady_clock;
 class PlanRunner {
  public:
   PlanRunner(const std::vector<Configuration>& plan, const MeasureOptions& options)
-      : plan_(plan), options_(options) {
-    for (const Configuration& c : plan) total_steps_ += 1 + (c.timed ? std::size_t(options.repetitions) : 0);
-  }
+      : plan_(plan), options_(options), total_steps_(plan_runs(plan, options.repetitions)) {}
 
   MeasuredPlan run() {
     MeasuredPlan result;
@@ -97,11 +95,17 @@ class PlanRunner {
   const std::vector<Configuration>& plan_;
   const MeasureOptions& options_;
   MeasurementSession session_;
-  std::size_t total_steps_ = 0, done_steps_ = 0;
+  std::size_t total_steps_, done_steps_ = 0;
   double other_ticks_ = 0, timed_seconds_ = 0;
 };
 
 }  // namespace
+
+std::size_t plan_runs(const std::vector<Configuration>& plan, int repetitions) {
+  std::size_t runs = 0;
+  for (const Configuration& c : plan) runs += 1 + (c.timed ? std::size_t(repetitions) : 0);
+  return runs;
+}
 
 MeasuredPlan measure_plan(const std::vector<Configuration>& plan, const MeasureOptions& options) {
   if (options.repetitions < 1 || options.repetitions > 1000)

@@ -20,6 +20,7 @@ Configuration on_view(const PlanSettings& s, const HeightfieldSource& hf, RunKin
   c.view.near_degrees = s.near_degrees;
   c.view.far_degrees = s.far_degrees;
   c.params.scale = s.scale;
+  c.params.wrap = hf.reading.wrap;  // as the map's user means it sampled
   c.isa = s.best_isa;
   c.threads = s.threads;
   c.purposes = purposes;
