@@ -157,7 +157,7 @@ void write_gallery_images(const std::string& dir, const TracedRow& traced) {
 Command add_suite_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand("suite", "the main job: the measured plan, gallery, claims and report into results/");
   auto o = std::make_shared<SuiteOptions>();
-  add_plan_options(*command, o->plan, "a smoke run of a minute or two: two heightfields, small views");
+  add_plan_options(*command, o->plan, "a smoke run of under a minute on 2 cores: two heightfields, small views");
   add_out_options(*command, o->out, "run directory (default: a fresh results/<date>-<commit>-<time>)");
   command->add_flag("--no-glsl", o->no_glsl, "skip the GLSL (OSMesa) rows");
   command->add_flag("--record", o->record,
