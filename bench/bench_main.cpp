@@ -17,9 +17,9 @@
 #include <optional>
 
 #include "baselines/naive_port.hpp"
+#include "experiment/measurement_session.hpp"
 #include "heightmarch/error.hpp"
-#include "heightmarch/measurement.hpp"
-#include "heightmarch/trace.hpp"
+#include "heightmarch/tracer.hpp"
 #include "io/atomic_file.hpp"
 #include "io/provenance.hpp"
 

@@ -4,9 +4,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "claims/claims_collector.hpp"
-#include "heightmarch/claims.hpp"
-#include "heightmarch/suite_plan.hpp"
+#include "claims/claims.hpp"
+#include "experiment/claims_collector.hpp"
+#include "experiment/plan_runner.hpp"
+#include "experiment/suite_plan.hpp"
 
 namespace heightmarch {
 namespace {

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "heightmarch/configuration.hpp"
+#include "experiment/configuration.hpp"
 #include "test_support.hpp"
 
 namespace heightmarch {

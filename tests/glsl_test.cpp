@@ -10,7 +10,7 @@
 #include "heightmarch/error.hpp"
 #include "heightmarch/glsl_runner.hpp"
 #include "heightmarch/metrics.hpp"
-#include "heightmarch/trace.hpp"
+#include "heightmarch/tracer.hpp"
 #include "test_support.hpp"
 
 namespace heightmarch {

@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "baselines/naive_port.hpp"
-#include "heightmarch/measurement.hpp"
-#include "heightmarch/run_outputs.hpp"
+#include "experiment/plan_runner.hpp"
+#include "experiment/run_outputs.hpp"
 #include "kernels/kernel_abi.hpp"
 #include "test_support.hpp"
 

@@ -2,15 +2,15 @@
 // that meet both bounds, per heightfield and as one setting for all; the declared backends; the
 // nearest configuration where none meets; and `heightmarch recommend` reading a run's
 // measurements.json to the same answer the suite wrote from its rows. The suite's filters.
-#include "heightmarch/recommendation.hpp"
+#include "experiment/recommendation.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <fstream>
 
+#include "experiment/suite_plan.hpp"
 #include "heightmarch/error.hpp"
-#include "heightmarch/suite_plan.hpp"
 #include "test_support.hpp"
 
 namespace heightmarch {

@@ -10,9 +10,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "heightmarch/configuration.hpp"
+#include "experiment/configuration.hpp"
+#include "experiment/suite_plan.hpp"
 #include "heightmarch/error.hpp"
-#include "heightmarch/suite_plan.hpp"
 #include "io/atomic_file.hpp"
 #include "io/images.hpp"
 #include "test_support.hpp"

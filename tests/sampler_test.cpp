@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "heightmarch/sampler.hpp"
-#include "heightmarch/trace.hpp"
+#include "heightmarch/tracer.hpp"
 #include "test_support.hpp"
 
 namespace heightmarch {

@@ -8,7 +8,7 @@
 #include <tuple>
 
 #include "heightmarch/error.hpp"
-#include "heightmarch/trace.hpp"
+#include "heightmarch/tracer.hpp"
 #include "test_support.hpp"
 
 namespace heightmarch {

@@ -6,7 +6,7 @@
 
 #include "heightmarch/exact.hpp"
 #include "heightmarch/metrics.hpp"
-#include "heightmarch/trace.hpp"
+#include "heightmarch/tracer.hpp"
 #include "test_support.hpp"
 
 namespace heightmarch {

@@ -14,8 +14,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "heightmarch/trace.hpp"
 #include "heightmarch/rays.hpp"
+#include "heightmarch/tracer.hpp"
 
 namespace heightmarch::test {
 

@@ -6,9 +6,14 @@
 #include "heightmarch/cone_map.hpp"
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/min_depth_pyramid.hpp"
-#include "heightmarch/technique.hpp"
 
 namespace heightmarch {
+
+// What a technique reads besides the depth map: precomputed textures, built once per depth map
+// and wrap mode by one builder for the CPU and GLSL alike (flags, combinable).
+enum class Needs : unsigned { nothing = 0, min_depth_pyramid = 1u << 0, cone_map = 1u << 1 };
+constexpr Needs operator|(Needs a, Needs b) { return Needs(unsigned(a) | unsigned(b)); }
+constexpr bool has(Needs set, Needs one) { return (unsigned(set) & unsigned(one)) != 0; }
 
 struct PrecomputedTextures {
   std::shared_ptr<const MinDepthPyramid> pyramid;  // Needs::min_depth_pyramid

@@ -6,16 +6,11 @@
 #include <string>
 #include <string_view>
 
+#include "heightmarch/precomputed.hpp"
 #include "heightmarch/sampler.hpp"
 #include "heightmarch/technique_list.hpp"
 
 namespace heightmarch {
-
-// What a technique reads besides the depth map: precomputed textures, built once per depth map
-// and wrap mode by one builder for the CPU and GLSL alike (flags, combinable).
-enum class Needs : unsigned { nothing = 0, min_depth_pyramid = 1u << 0, cone_map = 1u << 1 };
-constexpr Needs operator|(Needs a, Needs b) { return Needs(unsigned(a) | unsigned(b)); }
-constexpr bool has(Needs set, Needs one) { return (unsigned(set) & unsigned(one)) != 0; }
 
 // What a technique writes: its hit (uv, depth, samples), and for some a shadow factor towards the
 // light, measured against the exact visibility of the light from the exact hit.

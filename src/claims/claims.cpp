@@ -1,4 +1,4 @@
-#include "heightmarch/claims.hpp"
+#include "claims/claims.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "cli/run_directory.hpp"
-#include "heightmarch/configuration.hpp"
+#include "experiment/configuration.hpp"
 
 namespace heightmarch::cli {
 

@@ -8,9 +8,9 @@
 
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
+#include "experiment/run_outputs.hpp"
 #include "glsl/user_shader_text.hpp"
 #include "heightmarch/glsl_runner.hpp"
-#include "heightmarch/run_outputs.hpp"
 #include "io/atomic_file.hpp"
 #include "io/json_writer.hpp"
 #include "util/input_file.hpp"

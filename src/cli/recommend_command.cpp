@@ -1,6 +1,8 @@
 // heightmarch recommend: the recommendation of a measured run at a target of the user's, without
 // measuring again: reads the run's measurements.json (its rows as typed candidates) and writes or
 // prints the recommendation. Also the target options and recommendation.json of suite and claims.
+#include "cli/recommend_command.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -12,9 +14,8 @@
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
 #include "cli/run_directory.hpp"
-#include "cli/suite_command.hpp"
+#include "experiment/run_outputs.hpp"
 #include "heightmarch/error.hpp"
-#include "heightmarch/run_outputs.hpp"
 #include "io/atomic_file.hpp"
 #include "util/string_format.hpp"
 

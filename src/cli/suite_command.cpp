@@ -1,9 +1,7 @@
 // heightmarch suite: the main job. Builds the typed plan (suite_plan.hpp), measures every
 // configuration once, and writes the run's files from its rows into a fresh directory:
 // measurements.json, bench.json, recommendation.json, the gallery, claims.md/claims.json, and
-// through scripts/report.py measurements.csv, report.md and report.html.
-#include "cli/suite_command.hpp"
-
+// through scripts/report measurements.csv, report.md and report.html.
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
@@ -12,11 +10,15 @@
 #include <filesystem>
 #include <memory>
 
+#include "cli/claims_command.hpp"
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
+#include "cli/plan_options.hpp"
+#include "cli/recommend_command.hpp"
 #include "cli/run_directory.hpp"
+#include "experiment/claims_collector.hpp"
+#include "experiment/run_outputs.hpp"
 #include "heightmarch/error.hpp"
-#include "heightmarch/run_outputs.hpp"
 #include "io/atomic_file.hpp"
 #include "io/images.hpp"
 
@@ -225,11 +227,11 @@ Command add_suite_command(CLI::App& app) {
       dir.finished("claims.md, claims.json");
     }
     progress.stage("report");
-    std::string report = "/usr/bin/python3 " + shell_quote(std::string(HEIGHTMARCH_SOURCE_DIR) + "/scripts/report.py") + " " +
+    std::string report = "/usr/bin/python3 " + shell_quote(std::string(HEIGHTMARCH_SOURCE_DIR) + "/scripts/report") + " " +
                          shell_quote(dir.path());
     if (record) report += " --history results/history.csv";
     if (std::system(report.c_str()) != 0)
-      throw std::runtime_error("scripts/report.py failed for " + dir.path());
+      throw std::runtime_error("scripts/report failed for " + dir.path());
     dir.complete();
     if (record) {
       std::error_code ec;

@@ -6,7 +6,7 @@
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
 #include "cli/progress.hpp"
-#include "heightmarch/run_outputs.hpp"
+#include "experiment/run_outputs.hpp"
 #include "io/atomic_file.hpp"
 
 namespace heightmarch::cli {

@@ -5,8 +5,8 @@
 #include <functional>
 #include <memory>
 
+#include "experiment/measurement.hpp"
 #include "experiment/scene.hpp"
-#include "heightmarch/measurement.hpp"
 
 namespace heightmarch {
 

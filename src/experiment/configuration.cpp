@@ -1,4 +1,4 @@
-#include "heightmarch/configuration.hpp"
+#include "experiment/configuration.hpp"
 
 #include <cstring>
 #include <filesystem>

@@ -1,8 +1,17 @@
 #pragma once
 // How busy the machine is while the measurement pass times CPU work, from /proc.
-#include "heightmarch/measurement.hpp"
+#include <string>
+#include <vector>
 
 namespace heightmarch {
+
+// How busy the machine was while the pass timed CPU work.
+struct MachineLoad {
+  double before[3] = {0, 0, 0}, after[3] = {0, 0, 0};  // 1, 5, 15 minute load averages
+  double other_cpu_share = 0;  // share of all cores' time used by other processes while timing
+  bool busy = false;
+  std::vector<std::string> busy_reasons;
+};
 
 // CPU time of the whole machine and of this process, in clock ticks.
 struct CpuTicks {

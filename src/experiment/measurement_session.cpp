@@ -4,8 +4,8 @@
 #include <array>
 
 #include "experiment/backends.hpp"
+#include "experiment/measurement_session.hpp"
 #include "experiment/scene.hpp"
-#include "heightmarch/measurement.hpp"
 #include "heightmarch/metrics.hpp"
 #include "heightmarch/precomputed.hpp"
 

@@ -4,9 +4,10 @@
 #include <chrono>
 
 #include "experiment/machine_load.hpp"
+#include "experiment/measurement_session.hpp"
+#include "experiment/plan_runner.hpp"
 #include "heightmarch/error.hpp"
-#include "heightmarch/measurement.hpp"
-#include "heightmarch/trace.hpp"
+#include "heightmarch/tracer.hpp"
 
 namespace heightmarch {
 namespace {

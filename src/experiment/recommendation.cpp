@@ -1,6 +1,6 @@
 // The recommendation: per declared backend, the fastest configuration meeting the target on each
 // heightfield and on all of them, ranked by measured time per ray, never by samples per ray.
-#include "heightmarch/recommendation.hpp"
+#include "experiment/recommendation.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "heightmarch/run_outputs.hpp"
+#include "experiment/run_outputs.hpp"
 
 #include <algorithm>
 #include <cstdio>

@@ -8,10 +8,10 @@
 #include <utility>
 #include <vector>
 
-#include "heightmarch/configuration.hpp"
+#include "experiment/configuration.hpp"
 #include "heightmarch/exact.hpp"
 #include "heightmarch/hits.hpp"
-#include "heightmarch/trace.hpp"
+#include "heightmarch/tracer.hpp"
 
 namespace heightmarch {
 

@@ -1,4 +1,4 @@
-#include "heightmarch/suite_plan.hpp"
+#include "experiment/suite_plan.hpp"
 
 #include <algorithm>
 

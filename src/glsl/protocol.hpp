@@ -1,5 +1,5 @@
 #pragma once
-// What the GLSL client (glsl_client.cpp, in heightmarch_core) and heightmarch-glsl-worker
+// What the GLSL client (glsl_runner.cpp, in heightmarch_core) and heightmarch-glsl-worker
 // (worker_main.cpp) say to each other over the worker's stdin/stdout, a socket pair.
 //
 // A message is a Header and `size` bytes of payload: plain values and length-prefixed arrays in

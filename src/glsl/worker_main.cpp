@@ -1,5 +1,5 @@
 // heightmarch-glsl-worker --threads N --memory-limit BYTES: one OSMesa (llvmpipe) GL context at N
-// threads, driven by GlslRunner (src/glsl/glsl_client.cpp) over stdin/stdout with the messages of
+// threads, driven by GlslRunner (src/glsl/glsl_runner.cpp) over stdin/stdout with the messages of
 // src/glsl/protocol.hpp. It exits when its stdin closes. BYTES is the run's memory budget, which
 // its own checks ask as heightmarch's do; its client starts it under an OS limit (RLIMIT_DATA) of
 // BYTES, which it lowers once its context exists to what the budget leaves beyond it.

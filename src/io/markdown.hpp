@@ -1,7 +1,7 @@
 #pragma once
 // Markdown written by the tools (claims.md): every table cell goes through markdown_cell, so a
-// '|' in a figure or a rule ("|grad D|") cannot cut the table. scripts/report.py's md_cell does
-// the same for the report.
+// '|' in a figure or a rule ("|grad D|") cannot cut the table. heightmarch_tools.escape.markdown()
+// does the same for the report.
 #include <string>
 
 namespace heightmarch {

@@ -5,18 +5,10 @@
 #include <tbb/parallel_for.h>
 
 #include "heightmarch/error.hpp"
-#include "heightmarch/trace.hpp"
+#include "heightmarch/tracer.hpp"
 #include "kernels/kernel_abi.hpp"
 
 namespace heightmarch {
-
-const KernelTable& kernel_table(Isa isa) {
-#define HEIGHTMARCH_ISA_TABLE(id, ...) \
-  if (isa == Isa::id) return isa_##id::kernel_table();
-  HEIGHTMARCH_ISAS(HEIGHTMARCH_ISA_TABLE)
-#undef HEIGHTMARCH_ISA_TABLE
-  throw std::logic_error("no kernel table for ISA " + to_string(isa));
-}
 
 namespace {
 

@@ -1,6 +1,6 @@
 // heightmarch::core: POM-32 on the CPU's widest ISA over the builtin `flat` heightfield.
 #include <heightmarch/isa.hpp>
-#include <heightmarch/trace.hpp>
+#include <heightmarch/tracer.hpp>
 
 #include <exception>
 

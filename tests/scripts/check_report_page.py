@@ -22,8 +22,7 @@ import urllib.request
 
 import websocket
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts"))
-from measurements import backend_label, depth_map, load_run, view_name  # noqa: E402
+from heightmarch_tools.measurements import backend_label, depth_map, load_run, view_name
 
 CHROMIUM = os.environ.get("HEIGHTMARCH_CHROMIUM", "/usr/bin/chromium")
 # As root on a closed network: no sandbox, no GPU, and nothing that phones home (its connections

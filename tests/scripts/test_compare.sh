@@ -175,7 +175,7 @@ echo "ok: 16 kinds of input that is not Google Benchmark's shape exit 2 with one
 # the same code (200 benchmarks in 10 families, 5 repetitions with 5% noise and a load spike now and
 # then, the whole NEW run shifted by up to 10%) flag nothing in at least 19; a 10% slow-down of one
 # family is flagged in each of 5 pairs, and no other family with it.
-/usr/bin/python3 - "$root/scripts/compare" <<'PY' || exit 1
+PYTHONPATH="$root/scripts" /usr/bin/python3 - "$root/scripts/compare" <<'PY' || exit 1
 import argparse, importlib.machinery, importlib.util, random, sys
 loader = importlib.machinery.SourceFileLoader("compare", sys.argv[1])
 compare = importlib.util.module_from_spec(importlib.util.spec_from_loader("compare", loader))

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The history per machine and its change-point alerts (scripts/record_run.py, history.py,
-# alerts.py, history_plot.py) on synthetic runs, no build needed: every row names its machine
+# The history per machine and its change-point alerts (heightmarch_tools's record_run,
+# history, alerts and history_plot) on synthetic runs, no build needed: every row names its machine
 # (a CPU without family and model is an unknown machine), a rerun replaces its rows, five quiet
 # runs then a 20% step in one headline series raise exactly that speed alert, noise within the
 # rule raises none, a change of samples per ray is a behaviour alert, another machine's runs are
@@ -9,14 +9,14 @@
 # Usage: test_history.sh [BUILD_DIR] (unused)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
+export PYTHONPATH="$root/scripts"  # the package heightmarch_tools
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 
-/usr/bin/python3 - "$root/scripts" "$tmp" <<'PY'
+/usr/bin/python3 - "$tmp" <<'PY'
 import json, os, sys
-sys.path.insert(0, sys.argv[1])
-import history, record_run
-tmp = sys.argv[2]
+from heightmarch_tools import history, record_run
+tmp = sys.argv[1]
 hist = os.path.join(tmp, "history.csv")
 ZEN4 = "AMD EPYC (family 25, model 17)"
 

@@ -15,12 +15,16 @@ launcher=()
 command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 
 cmake --install "$build" --prefix "$tmp/prefix" > "$tmp/install.log" || { cat "$tmp/install.log"; fail "cmake --install"; }
-for f in lib/libheightmarch_core.a include/heightmarch/trace.hpp bin/heightmarch-glsl-worker \
+for f in lib/libheightmarch_core.a include/heightmarch/tracer.hpp bin/heightmarch-glsl-worker \
          lib/cmake/heightmarch/heightmarchConfig.cmake lib/cmake/heightmarch/heightmarchConfigVersion.cmake; do
   [ -e "$tmp/prefix/$f" ] || fail "not installed: $f"
 done
+# The tool's internals (the plan, the measurement pass, its files) are no library API.
+for f in configuration measurement suite_plan recommendation run_outputs claims; do
+  [ ! -e "$tmp/prefix/include/heightmarch/$f.hpp" ] || fail "a tool internal installed as API: heightmarch/$f.hpp"
+done
 if grep -rn -e "$build" -e "$root" "$tmp/prefix/lib/cmake"; then fail "a build or source path leaks into the package"; fi
-echo "ok: installed library, headers, worker and config; no build-tree path in the package"
+echo "ok: installed library, headers, worker and config; no tool internals; no build-tree path in the package"
 
 cmake -S "$root/tests/package" -B "$tmp/consumer" -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" \
   -DCMAKE_PREFIX_PATH="$tmp/prefix" > "$tmp/configure.log" 2>&1 || { cat "$tmp/configure.log"; fail "consumer configure"; }

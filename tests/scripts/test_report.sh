@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# scripts/report.py on a small synthetic run (no build needed): report.md opens with the alerts
+# scripts/report on a small synthetic run (no build needed): report.md opens with the alerts
 # (alerts.json's, "no change beyond noise", or why there are none), then what to ship
 # (recommendation.json: the choice per backend and heightfield with its time, errors,
 # preprocessing and the next fastest), the claims' verdicts and the headline ratios; the long
@@ -15,6 +15,7 @@
 # Usage: test_report.sh [BUILD_DIR]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
+export PYTHONPATH="$root/scripts"  # the package heightmarch_tools
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
@@ -108,7 +109,7 @@ data = {"format": "heightmarch-measurements", "format_version": 2,
 json.dump(data, open(os.path.join(run, "measurements.json"), "w"))
 PY
 
-"$root/scripts/report.py" "$tmp/run" --history "$tmp/history.csv" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "report.py exited non-zero"; }
+"$root/scripts/report" "$tmp/run" --history "$tmp/history.csv" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "report exited non-zero"; }
 report="$tmp/run/report.md"
 tables="$tmp/run/tables.md"
 [ "$(stat -c %a "$report")" = 644 ] || fail "report.md is not mode 0644"
@@ -140,7 +141,7 @@ cat > "$tmp/run/alerts.json" <<'JSON'
  "alerts": [{"series": "BM_Trace/pom/32", "kind": "speed", "metric": "rays_per_second", "baseline": 40e6,
              "baseline_spread": 1e6, "new": 30e6, "change": -0.25, "message": "POM-32 at avx2 25% slower"}]}
 JSON
-"$root/scripts/report.py" "$tmp/run" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "report.py exited non-zero"; }
+"$root/scripts/report" "$tmp/run" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "report exited non-zero"; }
 sections="$(grep '^## ' "$report" | head -5 | tr '\n' '/')"
 [ "$sections" = "## Alerts/## What to ship/## The claims: the tutorials' (C1-C10) and the papers' (P1-P3)/## Headline speed ratios/## Warnings/" ] \
   || fail "report.md's first sections: $sections"
@@ -157,11 +158,10 @@ echo "ok: report.md opens with the alerts, what to ship, the claims and the rati
 sed -n '/^## Alerts/,/^## What/p' "$report" | grep -q '\*\*1 alert\*\* in 7 series' || fail "the alert is not at the top"
 grep -q '| BM_Trace/pom/32 | speed | rays_per_second | 4e+07 (spread 1e+06) | 3e+07 | -25.0% | POM-32 at avx2 25% slower |' \
   "$report" || fail "the alert's row"
-/usr/bin/python3 - "$root/scripts" "$tmp/run/alerts.json" <<'PY' || fail "no line for a run without alerts, or without alerts.json"
+/usr/bin/python3 - "$tmp/run/alerts.json" <<'PY' || fail "no line for a run without alerts, or without alerts.json"
 import json, sys
-sys.path.insert(0, sys.argv[1])
-import report
-alerts = dict(json.load(open(sys.argv[2])), alerts=[])
+from heightmarch_tools import report
+alerts = dict(json.load(open(sys.argv[1])), alerts=[])
 assert "No change beyond noise in 7 series." in "\n".join(report.section_alerts(alerts))
 assert "No alerts.json: this run was not recorded" in "\n".join(report.section_alerts(None))
 PY
@@ -198,13 +198,12 @@ grep -q 'other processes used 25% of the CPU time' "$report" || fail "the busy w
   || fail "the busy note is not at the top"
 echo "ok: a busy run says so at the top"
 
-/usr/bin/python3 - "$root/scripts" "$tmp/run" <<'PY' || fail "cells with '|', links to docs/"
+/usr/bin/python3 - "$tmp/run" <<'PY' || fail "cells with '|', links to docs/"
 import os, re, sys
-sys.path.insert(0, sys.argv[1])
-import report
+from heightmarch_tools import report
 table = report.md_table([("technique", False), ("figures", True)], [["pom 8", "|dx| + |dy| = 2"]])
 assert table[-1] == r"| pom 8 | \|dx\| + \|dy\| = 2 |", table[-1]
-run = sys.argv[2]
+run = sys.argv[1]
 links = re.findall(r"\]\(([^)]*docs/[^)#]*)", open(os.path.join(run, "report.md")).read())
 assert links and all(os.path.exists(os.path.join(run, link)) for link in links), links
 print("ok: a '|' in a cell is escaped; %d links to docs/ resolve from the run directory" % len(links))
@@ -237,20 +236,19 @@ grep -q '^2026-01-01T00:00:00Z,abc123,unknown-test-cpu-2c-avx2-gnu-12-release,Te
   || fail "the auto-vectorised port's history row is not told apart from avx2's"
 grep -q '^2026-01-01T00:00:00Z,abc123,unknown-test-cpu-2c-avx2-gnu-12-release,Test CPU,2,avx2,GNU 12,Release,avx2,2,bricks,pom,32,default 64x64,32x32,4e+07,3.9e+07,4.2e+07,10,0.5,1,0.1$' "$tmp/history.csv" \
   || fail "history row of POM-32 at avx2"
-"$root/scripts/report.py" "$tmp/run" --history "$tmp/history.csv" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "rerun failed"; }
+"$root/scripts/report" "$tmp/run" --history "$tmp/history.csv" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "rerun failed"; }
 [ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 13 ] || fail "a rerun of the same date and commit was appended, not replaced"
 echo "ok: --history appends one row per timed row with the machine's columns"
 
 # A filtered run (one ISA, no GLSL, no naive port) shows only the ratios it measured.
-/usr/bin/python3 - "$root/scripts" "$tmp/run" "$tmp/filtered" <<'PY' || fail "a filtered run's headline ratios"
+/usr/bin/python3 - "$tmp/run" "$tmp/filtered" <<'PY' || fail "a filtered run's headline ratios"
 import json, os, sys
-sys.path.insert(0, sys.argv[1])
-import measurements, report
-data = json.load(open(os.path.join(sys.argv[2], "measurements.json")))
+from heightmarch_tools import measurements, report
+data = json.load(open(os.path.join(sys.argv[1], "measurements.json")))
 data["rows"] = [r for r in data["rows"] if r["kind"] == "trace" and r["backend"] == "avx2"]
-os.makedirs(sys.argv[3])
-json.dump(data, open(os.path.join(sys.argv[3], "measurements.json"), "w"))
-table = report.section_ratios(measurements.load_run(sys.argv[3]))
+os.makedirs(sys.argv[2])
+json.dump(data, open(os.path.join(sys.argv[2], "measurements.json"), "w"))
+table = report.section_ratios(measurements.load_run(sys.argv[2]))
 assert table[-3:] == ["| heightfield | 2 threads over 1 at avx2 |", "|---|---:|", "| bricks | 2.00x (1.95-2.11) |"], table
 PY
 echo "ok: a filtered run's headline ratios have no empty columns"
@@ -266,17 +264,16 @@ for r in data["rows"]:
         r["errors"] = {k.replace("uv_error_", "uv_"): v for k, v in r["errors"].items()}
 json.dump(data, open(sys.argv[1], "w"))
 PY
-/usr/bin/python3 - "$root/scripts" "$tmp/run" <<'PY' || fail "a format 1 run does not read"
+/usr/bin/python3 - "$tmp/run" <<'PY' || fail "a format 1 run does not read"
 import sys
-sys.path.insert(0, sys.argv[1])
-import measurements, report
-table = "\n".join(report.section_matrix(measurements.load_run(sys.argv[2])))
+from heightmarch_tools import measurements, report
+table = "\n".join(report.section_matrix(measurements.load_run(sys.argv[1])))
 assert "| pom | 32 | 40.0 (39.0-42.0) | 10.00 | 0.5 | 1 | 1.5 | 4.5 | 10.00% |" in table, table
 PY
 echo "ok: a format 1 measurements.json reads, its measures under their one names"
 
 rm "$tmp/run/measurements.json"
 status=0
-"$root/scripts/report.py" "$tmp/run" > "$tmp/out" 2>&1 || status=$?
+"$root/scripts/report" "$tmp/run" > "$tmp/out" 2>&1 || status=$?
 [ "$status" = 2 ] && [ "$(wc -l < "$tmp/out")" = 1 ] || { cat "$tmp/out"; fail "missing measurements.json: status $status"; }
 echo "ok: a missing measurements.json is a one-line error, status 2"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# regress's detector (scripts/speed_check.py judge) on synthetic rounds shaped like this VM's
+# regress's detector (heightmarch_tools.speed_check.judge) on synthetic rounds shaped like this VM's
 # (seeded, so the same every run): 1-thread CPU times with 1% noise per repetition and, in some
 # rounds, a whole side in the slow mode (+35%, the core shared). Identical builds in 200 runs of 9
 # benchmarks flag at most 5% of the runs (Benjamini-Hochberg at 0.05); a 5% slow-down of one
@@ -9,10 +9,9 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 
-/usr/bin/python3 - "$root/scripts" <<'PY'
+PYTHONPATH="$root/scripts" /usr/bin/python3 - <<'PY'
 import random, sys
-sys.path.insert(0, sys.argv[1])
-from speed_check import judge
+from heightmarch_tools.speed_check import judge
 
 NAMES = ["BM_Trace/technique:t%d/isa:avx2/threads:1" % i for i in range(9)]
 rng = random.Random(22)

@@ -123,16 +123,16 @@ sed 's/"uv_error_p95"/"uv_p95"/' "$run/measurements.json" > "$tmp/old-names.json
 echo "ok: measurements.json, claims.json, recommendation.json and metrics.json conform to their schemas"
 
 # report.html in headless Chromium: no console error, one point per configuration, hover, click.
-/usr/bin/python3 "$root/tests/scripts/check_report_page.py" "$run" "$build/report_page.png" || fail "report.html"
+PYTHONPATH="$root/scripts" /usr/bin/python3 "$root/tests/scripts/check_report_page.py" "$run" "$build/report_page.png" || fail "report.html"
 
 # A second run into the same directory is refused, and so is one while another holds its lock.
 if "$build/heightmarch" suite --quick --no-glsl --out "$run" > "$tmp/again.out" 2>&1; then fail "a second run into a complete run's directory was accepted"; fi
 grep -q "already holds a run" "$tmp/again.out" || { cat "$tmp/again.out"; fail "no clear message for a second run"; }
 echo "ok: a second run into the same directory is refused"
 
-"$root/scripts/report.py" "$run" --history "$tmp/history.csv" > /dev/null
+"$root/scripts/report" "$run" --history "$tmp/history.csv" > /dev/null
 sed -i '0,/"commit": "[^"]*"/s//"commit": "second"/' "$run/measurements.json"
-"$root/scripts/report.py" "$run" --history "$tmp/history.csv" > /dev/null
+"$root/scripts/report" "$run" --history "$tmp/history.csv" > /dev/null
 runs=$(tail -n +2 "$tmp/history.csv" | cut -d, -f2 | sort -u | wc -l)
 [ "$runs" -eq 2 ] || fail "history holds $runs runs, expected 2"
 [ -s "$run/plots/history.png" ] || fail "no history plot with two runs"

@@ -1,8 +1,7 @@
-#!/usr/bin/python3
 """Writes a run's report from RUN_DIR/measurements.json: report.md (what a person reads first),
 tables.md (the long tables), plots/*.png, measurements.csv and report.html (report_page.py).
 
-Usage: scripts/report.py RUN_DIR [--history results/history.csv]
+Usage: scripts/report RUN_DIR [--history results/history.csv]
 
 Inputs: measurements.json (the run's typed rows, docs/measurements.md; format 1 or 2) and, where
 the run has them, claims.json, recommendation.json and alerts.json. Every speed is the median of
@@ -11,22 +10,18 @@ median of the per-round ratios with their min-max. With --history, the run is re
 (scripts/record_run.py: its rows appended to the history CSV, RUN_DIR/alerts.json against its
 machine's earlier runs, the history plot); a run's alerts.json opens the report.
 """
-import argparse
 import math
 import os
 import statistics
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-import history  # noqa: E402
-import record_run  # noqa: E402
-import report_page  # noqa: E402
-from report_plots import plot_error_vs_angle, plot_error_vs_layers, plot_error_vs_speed, plot_isa_speedup  # noqa: E402
-from benchmark_results import Unusable, atomic_write, per_round, relative_spread, spread  # noqa: E402
-from measurements import (ANY, HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label,  # noqa: E402
+from . import cli, history, record_run, report_page
+from .measurements import (ANY, HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label,  # noqa: E402
                           config, counted, depth_map, machine_rows, docs_link, glsl_pairs, groups, load_run, measurements_csv,
                           rays_rounds, read_claims, read_optional, samples_rounds, searches_per_isa,
                           speedup, view_name, backend_colours)
+from .report_plots import plot_error_vs_angle, plot_error_vs_layers, plot_error_vs_speed, plot_isa_speedup
+from .spreads import per_round, relative_spread, spread
+from .writers import atomic_write
 
 SPREAD_LIMIT = 0.20  # (max - min) / median above this is flagged as a disturbed timing
 NOT_MEASURED = "Not measured in this run."
@@ -480,25 +475,21 @@ TABLES = [("Techniques x layers, per heightfield", "techniques-x-layers-per-heig
           ("Gallery", "gallery")]
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def main(argv=None):
+    parser = cli.Parser(prog="report", description=__doc__.splitlines()[0])
     parser.add_argument("run_dir")
     parser.add_argument("--history", help="history CSV to append this run's timed rows to, and to plot")
-    args = parser.parse_args()
-    try:
-        run = load_run(args.run_dir)
-        claims = read_claims(os.path.join(args.run_dir, "claims.json"))
-        recommendation = read_optional(os.path.join(args.run_dir, "recommendation.json"), "heightmarch-recommendation")
-        history_drawn = record_run.record(args.run_dir, args.history)[0] if args.history else None
-        recorded = history.read(args.history) if args.history else None
-        alerts = read_optional(os.path.join(args.run_dir, "alerts.json"), "heightmarch-alerts")
-        faults = []  # the tables find them, the warnings on the first screen name them
-        tables = (section_matrix(run) + section_glsl(run) + section_every_backend(run, faults)
-                  + section_searches_per_isa(run) + section_exact_speed(run) + section_threads(run) + section_gallery(run))
-        plots = section_plots(run, recommendation, history_drawn)
-    except Unusable as e:
-        print("report.py: %s" % e, file=sys.stderr)
-        return 2
+    args = parser.parse_args(argv)
+    run = load_run(args.run_dir)
+    claims = read_claims(os.path.join(args.run_dir, "claims.json"))
+    recommendation = read_optional(os.path.join(args.run_dir, "recommendation.json"), "heightmarch-recommendation")
+    history_drawn = record_run.record(args.run_dir, args.history)[0] if args.history else None
+    recorded = history.read(args.history) if args.history else None
+    alerts = read_optional(os.path.join(args.run_dir, "alerts.json"), "heightmarch-alerts")
+    faults = []  # the tables find them, the warnings on the first screen name them
+    tables = (section_matrix(run) + section_glsl(run) + section_every_backend(run, faults)
+              + section_searches_per_isa(run) + section_exact_speed(run) + section_threads(run) + section_gallery(run))
+    plots = section_plots(run, recommendation, history_drawn)
     p = run.provenance
     title = "%s run of %s, commit %s" % (run.plan.get("name", "?"), p.get("date", "?"), p.get("commit", "?"))
     md = ["# heightmarch report: " + title, "",
@@ -528,6 +519,3 @@ def main():
     print("report: %s" % os.path.join(args.run_dir, "report.md"))
     return 0
 
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -11,8 +11,10 @@ import subprocess
 import sys
 import tempfile
 
-from benchmark_results import Unusable, canonical, load_benchmarks, seconds, spread
-from significance import bh_adjusted, signed_rank_below_zero
+from .benchmark_results import canonical, load_benchmarks, seconds
+from .errors import Unusable
+from .significance import bh_adjusted, signed_rank_below_zero
+from .spreads import spread
 
 MAX_ROUNDS = 1000
 DEFAULT_FILTER = "BM_Trace/heightfield:bricks/technique:(pom|relief|steep)/layers:32/isa:(scalar|avx2|avx512)/threads:1/"

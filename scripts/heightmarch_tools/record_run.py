@@ -1,12 +1,10 @@
 """Records a run: its rows appended to the history, its machine's change-point alerts written to
 RUN/alerts.json and kept in alerts.csv beside the history, RUN/plots/history.png drawn.
-scripts/report.py calls it for a run recorded with --history."""
+report.py calls it for a run recorded with --history."""
 import os
 
-import alerts
-import history
-import history_plot
-from benchmark_results import read_json
+from . import alerts, history, history_plot
+from .readers import read_json
 
 
 def record(run_dir, history_path):

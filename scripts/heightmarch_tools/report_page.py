@@ -2,22 +2,23 @@
 
 The page is the run's data (the rows of measurements.json that carry a technique, the
 recommendation, the claims, the alerts and the recorded history of its machine), the page's own
-script and style (scripts/report_page/) and Plotly (scripts/vendor/plotly.js-basic-dist-min/, MIT),
+script and style (page/) and Plotly (vendor/plotly.js-basic-dist-min/, MIT), beside this module,
 all inlined; the gallery's images are the run's own files beside it (gallery/*.png). Nothing is
-fetched from the network when it opens. scripts/report.py calls write_page().
+fetched from the network when it opens. report.py calls write_page().
 """
 import html
 import json
 import os
 
-from benchmark_results import atomic_write, spread
-from measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label, depth_map,
+from .measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label, depth_map,
                           docs_link, glsl_pairs, machine_rows, ns_per_ray_rounds, rays_rounds, searches_per_isa, speedup, view_name)
+from .spreads import spread
+from .writers import atomic_write
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PLOTLY = os.path.join(HERE, "vendor", "plotly.js-basic-dist-min", "plotly-basic.min.js")
-PAGE_SCRIPT = os.path.join(HERE, "report_page", "page.js")
-PAGE_STYLE = os.path.join(HERE, "report_page", "page.css")
+PAGE_SCRIPT = os.path.join(HERE, "page", "page.js")
+PAGE_STYLE = os.path.join(HERE, "page", "page.css")
 MEASURES = ("uv_error_mean", "uv_error_rms", "uv_error_p50", "uv_error_p95", "uv_error_p99", "uv_error_max",
             "wrong_surface_rate", "depth_error_mean", "shadow_error_mean", "shadow_mismatch_rate")
 

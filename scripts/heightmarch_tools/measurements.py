@@ -10,7 +10,9 @@ import csv
 import io
 import os
 
-from benchmark_results import Unusable, per_round, read_json
+from .errors import Unusable
+from .readers import read_json
+from .spreads import per_round
 
 MEASUREMENTS_FORMAT = "heightmarch-measurements"
 MEASUREMENTS_VERSION = 2  # the newest this reads; 1: the measures were named uv_mean, uv_p95, ...
@@ -20,7 +22,9 @@ NON_ISA_BACKENDS = ("glsl", "naive", "exact")
 # The configuration every backend runs (ISA sweep, naive port, roofline, thread scaling).
 HEADLINE_TECHNIQUE, HEADLINE_LAYERS = "pom", "32"
 ANY = object()  # a field that `Run.partner` does not compare
-REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# The docs the report links to, two levels above this package: the repository's docs/ beside
+# scripts/ in a checkout, share/heightmarch/docs beside share/heightmarch/python/ where installed.
+DOCS = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.realpath(__file__)))), "docs")
 # Sections of the docs the report points at (docs/techniques.md's are measured there).
 SHADOW_COUNTS = ("techniques.md", "shadow-sample-counts-cpu-vs-glsl")
 MAXMIP_PEAK = ("techniques.md", "maxmip-at-a-grazing-one-texel-peak")
@@ -318,7 +322,7 @@ def machine_rows(run):
 def docs_link(run, page, anchor=None):
     """A link from the run directory to a page of docs/, relative to wherever the run was written
     (results/<run>/ or any --out), so it holds in a checkout."""
-    target = os.path.relpath(os.path.join(REPO, "docs", page), os.path.abspath(run.dir))
+    target = os.path.relpath(os.path.join(DOCS, page), os.path.abspath(run.dir))
     return target + ("#" + anchor if anchor else "")
 
 

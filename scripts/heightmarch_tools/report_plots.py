@@ -1,7 +1,7 @@
 """The report's plots (RUN_DIR/plots/*.png), drawn with matplotlib from a run's rows: error against
 time per ray at the recommendation's backend, error against layers, error against view angle and
 the speed-up per ISA. Errors are drawn on a symlog axis, so an exact 0 is drawn at 0. The history
-plot is scripts/history_plot.py's. scripts/report.py calls them.
+plot is history_plot.py's. report.py calls them.
 """
 import math
 import statistics
@@ -12,9 +12,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import FixedLocator, FuncFormatter, NullLocator  # noqa: E402
 
-from benchmark_results import spread  # noqa: E402
-from measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, backend_colours, counted, depth_map,  # noqa: E402
+from .measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, backend_colours, counted, depth_map,  # noqa: E402
                           groups, ns_per_ray_rounds, speedup)
+from .spreads import spread  # noqa: E402
 
 MAX_PLOT_PIXELS = 1600  # widest plot, so a page shows it whole
 # Errors below this many texels are drawn on the linear part of a symlog axis: zero shows as 0.

@@ -4,9 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "heightmarch/claims.hpp"
-#include "heightmarch/configuration.hpp"
-#include "heightmarch/measurement.hpp"
+#include "claims/claims.hpp"
+#include "experiment/configuration.hpp"
 
 namespace heightmarch {
 

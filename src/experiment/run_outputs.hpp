@@ -3,7 +3,7 @@
 // per-ray files of a traced row, the run's measurements.json and its Google Benchmark JSON.
 #include <string>
 
-#include "heightmarch/measurement.hpp"
+#include "experiment/plan_runner.hpp"
 
 namespace heightmarch {
 

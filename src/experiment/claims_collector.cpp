@@ -1,11 +1,12 @@
 // The claims' figures: each claims row's summary from its Measurement, and its per-ray figures
 // (relative error, error and tunnelling where the depth map changes sharply or has thin features)
 // from the hits, the exact hits and the depth map while the row is traced.
+#include "experiment/claims_collector.hpp"
+
 #include <algorithm>
 #include <cmath>
 
 #include "heightmarch/sampler.hpp"
-#include "claims/claims_collector.hpp"
 
 namespace heightmarch {
 namespace {

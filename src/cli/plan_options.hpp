@@ -1,16 +1,17 @@
 #pragma once
-// What the suite and claims commands share.
+// The options suite and claims share (which plan, on which heightfields, at which scale, view
+// angles, threads and repetitions), turned into the plan's typed settings, and the measurement
+// pass with a progress line.
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "claims/claims_collector.hpp"
 #include "cli/common_options.hpp"
 #include "cli/progress.hpp"
-#include "heightmarch/recommendation.hpp"
-#include "heightmarch/suite_plan.hpp"
+#include "experiment/plan_runner.hpp"
+#include "experiment/suite_plan.hpp"
 
 namespace heightmarch::cli {
 
@@ -33,19 +34,7 @@ void add_plan_options(CLI::App& command, PlanOptions& options, const std::string
 // repetitions. Throws InputError for values CLI11 cannot check on its own.
 PlanSettings plan_settings(const PlanOptions& options, bool glsl);
 
-// The recommendation's target (--percentile, --max-error, --max-wrong-surface, --frames), on the
-// commands that write recommendation.json.
-void add_target_options(CLI::App& command, RecommendationTarget& target);
-
 MeasuredPlan measure_with_progress(const std::vector<Configuration>& plan, const PlanSettings& settings,
                                    Progress& progress, const std::function<void(const TracedRow&)>& on_traced);
-
-// claims.md and claims.json from the claims' figures (ClaimsCollector), with the recommendation
-// over the run's rows; prints the verdicts.
-void write_claims(const std::string& dir, const ClaimsData& data, const PlanSettings& settings,
-                  const Recommendation& recommendation);
-
-// recommendation.json in dir; prints the recommendation.
-void write_recommendation(const std::string& dir, const Recommendation& recommendation);
 
 }  // namespace heightmarch::cli

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "heightmarch/configuration.hpp"
-#include "heightmarch/measurement.hpp"
+#include "experiment/configuration.hpp"
+#include "experiment/measurement.hpp"
 
 namespace heightmarch {
 

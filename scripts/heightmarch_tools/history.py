@@ -6,8 +6,10 @@ import io
 import os
 import re
 
-from benchmark_results import Unusable, atomic_write, spread
-from measurements import depth_map, view_name
+from .errors import Unusable
+from .measurements import depth_map, view_name
+from .spreads import spread
+from .writers import atomic_write
 
 MACHINE_PARTS = ["cpu", "cores", "best_isa", "compiler", "build_type"]
 SERIES_FIELDS = ["backend", "threads", "heightfield", "technique", "layers", "view", "depth_map"]

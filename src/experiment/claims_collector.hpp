@@ -4,8 +4,8 @@
 #include <map>
 #include <vector>
 
-#include "heightmarch/claims.hpp"
-#include "heightmarch/measurement.hpp"
+#include "claims/claims.hpp"
+#include "experiment/measurement.hpp"
 
 namespace heightmarch {
 

@@ -1,70 +1,21 @@
-"""Benchmark results as the scripts read them: Google Benchmark JSON checked against its shape,
-benchmark names in one canonical form, spreads (median, min, max; per-round ratios), and result
-files read and written whole.
+"""Benchmark results as compare, regress and bisect read them: Google Benchmark JSON (read by
+readers.read_json) checked against its shape, and benchmark names in one canonical form.
 
-scripts/compare, scripts/regress, scripts/bisect and scripts/report.py import it; nothing here
-prints or exits: bad input raises Unusable with a one-line message.
+Nothing here prints or exits: bad input raises Unusable with a one-line message.
 """
-import json
 import math
-import os
 import re
-import statistics
-import tempfile
+
+from .errors import Unusable
+from .readers import is_number, quoted as shown, read_json
 
 TIME_UNIT = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
 # Name parts that say how Google Benchmark timed, not what ran: dropped when names are matched.
 TIMING_SUFFIXES = ("real_time", "manual_time", "process_time")
 SIZE_FIELDS = ("view", "depth_map")
-MAX_ERROR_TEXT = 120  # an error line quotes at most this much of the input
 # Fields of a benchmark entry that hold text; every other field but error_occurred is a number.
 TEXT_FIELDS = ("name", "run_name", "run_type", "aggregate_name", "aggregate_unit", "time_unit", "error_message",
                "label", "big_o")
-
-
-class Unusable(Exception):
-    """Input that cannot be used: the caller prints its one-line message and exits 2."""
-
-
-# ---------------------------------------------------------------------------------------------
-# Files
-
-def read_json(path):
-    """The parsed file, or Unusable naming the file and what is wrong with it."""
-    try:
-        with open(path) as f:
-            return json.load(f)
-    except FileNotFoundError:
-        raise Unusable("%s: no such file" % path)
-    except RecursionError:
-        raise Unusable("%s: nested too deeply to be benchmark results" % path)
-    except (OSError, UnicodeDecodeError) as e:
-        raise Unusable("%s: cannot read: %s" % (path, getattr(e, "strerror", None) or e))
-    except json.JSONDecodeError as e:
-        raise Unusable("%s: invalid JSON: %s" % (path, e))
-
-
-def atomic_write(path, text):
-    """Temp file, world-readable, then rename: a reader never sees half a file."""
-    fd, temporary = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)), prefix=".tmp-")
-    try:
-        with os.fdopen(fd, "w") as f:
-            f.write(text)
-        os.chmod(temporary, 0o644)
-        os.replace(temporary, path)
-    except BaseException:
-        os.unlink(temporary)
-        raise
-
-
-def is_number(value):
-    return isinstance(value, (int, float)) and not isinstance(value, bool)
-
-
-def shown(value):
-    """A value as an error line quotes it: short, one line, printable."""
-    text = json.dumps(value)
-    return text if len(text) <= MAX_ERROR_TEXT else text[:MAX_ERROR_TEXT] + "..."
 
 
 def check_entry(path, i, b):
@@ -105,7 +56,7 @@ def check_entry(path, i, b):
 def load_benchmarks(path):
     """A Google Benchmark JSON file, checked: an object with an optional "context" object and a
     "benchmarks" list whose iterations carry finite positive times in a known unit."""
-    data = read_json(path)
+    data = read_json(path, nonfinite=True)  # check_entry refuses a time that is not finite
     if not isinstance(data, dict) or not isinstance(data.get("benchmarks"), list):
         raise Unusable("%s: no \"benchmarks\" list: not Google Benchmark JSON output" % path)
     if not isinstance(data.get("context", {}), dict):
@@ -183,24 +134,3 @@ def matched_runs(old, new):
     old_runs, old_raw, old_errors = iterations_by_name(old, old_sizes)
     new_runs, new_raw, new_errors = iterations_by_name(new, new_sizes)
     return old_runs, new_runs, old_raw, new_raw, old_errors, new_errors, old_sizes, new_sizes
-
-
-# ---------------------------------------------------------------------------------------------
-# Spreads
-
-def spread(values):
-    """(median, min, max) of values, or None when there is nothing to summarise."""
-    values = list(values or [])
-    return (statistics.median(values), min(values), max(values)) if values else None
-
-
-def per_round(a, b):
-    """The spread of the per-round ratios a[i] / b[i] (None when either side is missing)."""
-    if a is None or b is None:
-        return None
-    return spread(x / y for x, y in zip(a, b))
-
-
-def relative_spread(s):
-    """(max - min) / median of a spread."""
-    return (s[2] - s[1]) / s[0]

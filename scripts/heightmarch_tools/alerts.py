@@ -18,8 +18,8 @@ import math
 import os
 import statistics
 
-import history
-from benchmark_results import atomic_write
+from . import history
+from .writers import atomic_write
 
 RUNS, MIN_RUNS = 5, 3
 MIN_CHANGE = 0.10

@@ -8,9 +8,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import FuncFormatter  # noqa: E402
 
-import history  # noqa: E402
-from measurements import HEADLINE_LAYERS, HEADLINE_TECHNIQUE, backend_colours  # noqa: E402
-from report_plots import MAX_PLOT_PIXELS  # noqa: E402
+from . import history  # noqa: E402
+from .measurements import HEADLINE_LAYERS, HEADLINE_TECHNIQUE, backend_colours  # noqa: E402
+from .report_plots import MAX_PLOT_PIXELS  # noqa: E402
 
 MARKERS = "osD^vP*Xh<>"
 MAX_WIDTH_INCHES = 16.0

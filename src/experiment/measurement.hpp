@@ -1,0 +1,52 @@
+#pragma once
+// One measured configuration as the measurement pass returns it (a typed row), the statistics of
+// its repetitions, and what the pass hands to a consumer of its traced rows.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "experiment/configuration.hpp"
+#include "heightmarch/hits.hpp"
+#include "heightmarch/metrics.hpp"
+
+namespace heightmarch {
+
+struct Measurement {
+  Configuration config;
+  int id = 0;                  // position in the plan
+  int depth_map_width = 0, depth_map_height = 0;
+  std::size_t rays = 0;        // real rays (padding excluded)
+  std::uint64_t samples = 0;   // height samples of one trace (deterministic)
+  bool samples_known = true;   // false for a brought-in shader
+  double simd_utilization = 1.0;
+  // Seconds the precomputed textures of the row's technique (its registry row's needs: the cone
+  // map, the min-depth pyramid) took to build, once per depth map and wrap: apart from the
+  // trace's time; none for techniques that need none, and for rows without a technique.
+  std::optional<double> precompute_seconds;
+  std::optional<ErrorSummary> errors;  // none for roofline runs
+  std::vector<double> seconds;         // per repetition: one trace of the whole batch; empty if untimed
+  std::string render_image, error_image, cost_image;  // gallery rows: paths relative to the run directory
+  std::string failure;         // non-empty: not measured (e.g. differs from the scalar reference)
+
+  // Per repetition, and their median, min and max.
+  std::vector<double> rays_per_second() const;
+  std::vector<double> samples_per_second() const;
+};
+
+struct Spread {
+  double median = 0, min = 0, max = 0;
+};
+Spread spread_of(std::vector<double> values);  // all zero for an empty list
+
+// What the pass hands to a consumer that needs more than the row (images, per-ray outputs).
+struct TracedRow {
+  const Measurement& row;
+  const DepthMap& map;
+  const RayBatch& rays;
+  const HitBuffers& hits;
+  const HitBuffers& exact;
+  const std::vector<float>& uv_error;  // per ray, batch order
+};
+
+}  // namespace heightmarch

@@ -1,0 +1,41 @@
+"""cli: whatever stops a tool is one line and a status, never a traceback."""
+import os
+import signal
+import subprocess
+import sys
+
+from heightmarch_tools import cli
+from heightmarch_tools.errors import CannotWrite, Unusable
+
+SCRIPTS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts")
+
+
+def raises(exception):
+    def main():
+        raise exception
+    return main
+
+
+def test_statuses_and_one_line(capsys):
+    assert cli.run("tool", raises(Unusable("x.json: row 3: threads: is -1"))) == 2
+    assert cli.run("tool", raises(CannotWrite("report.md: cannot write: No space left on device"))) == 1
+    assert cli.run("tool", raises(KeyboardInterrupt())) == 130
+    assert cli.run("tool", raises(Unusable("\x1b]0;PWN\x07"))) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert err == ["tool: x.json: row 3: threads: is -1", "tool: report.md: cannot write: No space left on device",
+                   "tool: interrupted (SIGINT)", "tool: \\x1b]0;PWN\\x07"]
+    for s in cli.SIGNALS:
+        signal.signal(s, signal.SIG_DFL if s != signal.SIGINT else signal.default_int_handler)
+
+
+def test_sigterm_is_one_line_and_cleans_up(tmp_path):
+    marker = tmp_path / "cleaned"
+    code = ("import sys, time\nfrom heightmarch_tools import cli\n"
+            "def main():\n    try:\n        print('ready', flush=True)\n        time.sleep(30)\n"
+            "    finally:\n        open(%r, 'w').close()\nsys.exit(cli.run('tool', main))\n" % str(marker))
+    child = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                             env=dict(os.environ, PYTHONPATH=SCRIPTS))
+    assert child.stdout.readline() == "ready\n"
+    child.send_signal(signal.SIGTERM)
+    _, err = child.communicate(timeout=30)
+    assert child.returncode == 128 + signal.SIGTERM and err == "tool: interrupted (SIGTERM)\n" and marker.exists()
