@@ -235,6 +235,7 @@ int main(int argc, char** argv) {
   benchmark::AddCustomContext("heightmarch_compiler", prov.compiler);
   benchmark::AddCustomContext("heightmarch_build_type", prov.build_type);
   benchmark::AddCustomContext("heightmarch_best_isa", to_string(best_isa()));
+  benchmark::AddCustomContext("heightmarch_error_measures", error_measure_names());
   benchmark::AddCustomContext("heightmarch_view", std::to_string(o.size) + "x" + std::to_string(o.size));
   benchmark::AddCustomContext("heightmarch_depth_map", std::to_string(o.res) + "x" + std::to_string(o.res));
   for (const Configuration& c : *plan) {

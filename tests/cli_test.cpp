@@ -56,7 +56,7 @@ TEST(Cli, RaysFromCsvKeepTheirOrder) {
   std::getline(in, header);
   std::getline(in, first);
   std::getline(in, second);
-  EXPECT_EQ(header, "tx,ty,vx,vy,vz,u,v,depth,samples,exact_u,exact_v,exact_depth,uv_error_texels,shadow,exact_visibility");
+  EXPECT_EQ(header, "tx,ty,vx,vy,vz,u,v,depth,samples,shadow,exact_u,exact_v,exact_depth,uv_error_texels,exact_visibility");
   EXPECT_EQ(first.rfind("0.5,0.5,0,0,1,", 0), 0u) << first;
   EXPECT_EQ(second.rfind("0.25,0.75,0.6", 0), 0u) << second;
 }
@@ -78,12 +78,26 @@ TEST(Cli, RaysCsvCarriesTheShadowPerRay) {
   std::ifstream in(dir + "/out/rays.csv");
   std::string line;
   std::getline(in, line);
+  const auto fields = [](const std::string& text) {
+    std::vector<std::string> out(1);
+    for (char c : text)
+      if (c == ',')
+        out.emplace_back();
+      else
+        out.back().push_back(c);
+    return out;
+  };
+  const std::vector<std::string> header = fields(line);
+  const auto column = [&](const char* name) { return std::size_t(std::find(header.begin(), header.end(), name) - header.begin()); };
+  const std::size_t shadow_column = column("shadow"), exact_column = column("exact_visibility");
+  ASSERT_LT(exact_column, header.size()) << line;
   std::size_t rows = 0, dimmed = 0, lit = 0, unlit = 0;
   while (std::getline(in, line)) {
     ++rows;
-    const std::size_t exact_at = line.rfind(','), shadow_at = line.rfind(',', exact_at - 1);
-    const double shadow = std::stod(line.substr(shadow_at + 1, exact_at - shadow_at - 1));
-    const std::string exact = line.substr(exact_at + 1);
+    const std::vector<std::string> row = fields(line);
+    ASSERT_EQ(row.size(), header.size()) << line;
+    const double shadow = std::stod(row[shadow_column]);
+    const std::string& exact = row[exact_column];
     EXPECT_TRUE(shadow >= 0.0 && shadow <= 1.0) << line;
     EXPECT_TRUE(exact == "0" || exact == "1") << line;
     dimmed += shadow < 1.0;

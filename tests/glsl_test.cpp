@@ -76,7 +76,7 @@ TEST_P(GlslConformance, MatchesTheScalarReference) {
     const HitBuffers glsl = glsl_hits(map, params, rays, samples_known);
     ASSERT_TRUE(samples_known);
     const ShadowConformance c = compare_hits(rays, glsl, reference, map);
-    if (writes_shadow(info(technique))) {
+    if (writes(info(technique), HitChannel::shadow)) {
       // A shadow factor is measured by itself: see ShadowConformance.
       EXPECT_GE(c.same_factor, 0.999) << "share of rays whose shadow factors agree within 1e-4";
       EXPECT_GE(c.samples_within_one, 0.999) << "share of rays whose sample counts are within one";

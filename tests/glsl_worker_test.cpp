@@ -13,6 +13,7 @@
 #include <limits>
 #include <regex>
 
+#include "glsl/hit_outputs.hpp"
 #include "glsl/protocol.hpp"
 #include "heightmarch/error.hpp"
 #include "test_support.hpp"
@@ -59,6 +60,57 @@ Received receive_bytes(const std::string& bytes, std::uint64_t max_payload) {
   ::close(fds[0]);
   r.capacity = payload.capacity();
   return r;
+}
+
+// Every output of the hit list crosses the socket and comes back out of the harness's attachments
+// under its own name: each array carries its own values here, so a swapped or dropped one shows.
+TEST(GlslProtocol, HitsCarryEveryOutputOfTheList) {
+  HitBuffers hits;
+  hits.resize(5);
+  int channel = 0;
+  hits.for_each([&](HitChannel, auto& values) {
+    ++channel;
+    using T = typename std::decay_t<decltype(values)>::value_type;
+    for (std::size_t i = 0; i < values.size(); ++i) values[i] = T(channel * 10 + int(i));
+  });
+  protocol::Writer writer;
+  protocol::write(writer, hits);
+  HitBuffers back;
+  protocol::Reader reader(writer.bytes());
+  protocol::read(reader, back, 5);
+  reader.finish();
+  HitBuffers::for_each_pair(hits, back, [](HitChannel c, const auto& a, const auto& b) { EXPECT_EQ(a, b) << info(c).name; });
+  protocol::Reader short_reader(writer.bytes());
+  EXPECT_THROW(protocol::read(short_reader, back, 4), protocol::BadMessage);
+
+  // The harness draws every output a technique writes, four floats to an attachment, in the
+  // list's order; the read-back puts each where it belongs and derives `discarded` from the uv.
+  const std::string glsl = hit_outputs_glsl();
+  std::vector<std::vector<float>> attachments(std::size_t(hit_output_attachments()), std::vector<float>(4 * 2, 0.0f));
+  std::size_t k = 0;
+  for (const HitChannelInfo& c : hit_channels()) {
+    if (c.writer != ChannelWriter::hit && c.writer != ChannelWriter::optional) continue;
+    EXPECT_NE(glsl.find("  float " + std::string(c.name) + ";\n"), std::string::npos) << c.name;
+    for (std::size_t ray = 0; ray < 2; ++ray) attachments[k / 4][4 * ray + k % 4] = float(100 * (k + 1) + ray);
+    ++k;
+  }
+  EXPECT_EQ(std::size_t(hit_output_attachments()), (k + 3) / 4);
+  HitBuffers drawn;
+  bool samples_known = false;
+  read_hit_outputs(attachments, 2, true, drawn, samples_known);
+  EXPECT_TRUE(samples_known);
+  EXPECT_EQ(drawn.u, (std::vector<float>{100.0f, 101.0f}));
+  EXPECT_EQ(drawn.v, (std::vector<float>{200.0f, 201.0f}));
+  EXPECT_EQ(drawn.depth, (std::vector<float>{300.0f, 301.0f}));
+  EXPECT_EQ(drawn.samples, (std::vector<std::uint32_t>{400, 401}));
+  EXPECT_EQ(drawn.shadow, (std::vector<float>{500.0f, 501.0f}));
+  EXPECT_EQ(drawn.discarded, (std::vector<std::uint8_t>{1, 1}));  // uv outside [0,1]^2
+  const auto [attachment, component] = samples_output();
+  attachments[std::size_t(attachment)][std::size_t(component)] = -1.0f;  // a brought-in shader's
+  read_hit_outputs(attachments, 2, false, drawn, samples_known);
+  EXPECT_FALSE(samples_known);
+  EXPECT_EQ(drawn.samples[0], 0u);
+  EXPECT_EQ(drawn.discarded, (std::vector<std::uint8_t>{0, 0}));
 }
 
 TEST(GlslProtocol, ReceiveRefusesWhatIsNoMessageBeforeItAllocates) {

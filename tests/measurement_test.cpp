@@ -2,6 +2,8 @@
 // for its accuracy and then timed in interleaved rounds, and names and spreads are as documented.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "baselines/naive_port.hpp"
 #include "experiment/plan_runner.hpp"
 #include "experiment/run_outputs.hpp"
@@ -92,6 +94,42 @@ TEST(Plan, TheExactReferenceIsARowWithoutError) {
   ASSERT_TRUE(run.rows[0].errors.has_value());
   EXPECT_EQ(run.rows[0].errors->max, 0.0);
   EXPECT_GT(run.rows[0].samples, 0u);  // cells solved
+}
+
+// The measures follow the hit list: the hit's, then two for each output measured against the
+// light's visibility (the shadow factor's); a row carries them under the names measurements.json
+// lists, NaN (null) where its technique does not write the output.
+TEST(Registry, MeasuresFollowTheHitList) {
+  std::vector<std::string> names;
+  for (const ErrorMeasure& m : error_measure_list()) names.push_back(m.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"uv_error_mean", "uv_error_rms", "uv_error_p50", "uv_error_p95",
+                                             "uv_error_p99", "uv_error_max", "wrong_surface_rate", "depth_error_mean",
+                                             "shadow_error_mean", "shadow_mismatch_rate"}));
+  std::vector<Configuration> plan;
+  for (Technique t : {Technique::pom, Technique::shadow}) plan.push_back(small(t, "8", kPurposeCommand));
+  MeasureOptions options;
+  options.repetitions = 1;
+  options.min_seconds = 0.0;
+  const MeasuredPlan run = measure_plan(plan, options);
+  for (const Measurement& row : run.rows) {
+    const auto measures = error_measures(*row.errors);
+    ASSERT_EQ(measures.size(), names.size());
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      EXPECT_EQ(measures[i].first, names[i]);
+      const bool shadow_measure = names[i].rfind("shadow_", 0) == 0;
+      EXPECT_EQ(std::isnan(measures[i].second), shadow_measure && row.config.params.technique == Technique::pom)
+          << names[i];
+    }
+  }
+  const std::string json = measurements_json(run, "test");
+  const std::size_t measures_at = json.find("\"measures\": [");
+  ASSERT_NE(measures_at, std::string::npos);
+  std::size_t at = measures_at;
+  for (const ErrorMeasure& m : error_measure_list()) {  // in order, each with its label
+    at = json.find("\"name\": \"" + m.name + "\",", at);
+    ASSERT_NE(at, std::string::npos) << m.name;
+    EXPECT_EQ(json.find("\"label\": ", at), json.find("\"label\": \"" + m.label + "\"", at)) << m.name;
+  }
 }
 
 TEST(Plan, SpreadOfEvenAndOddCounts) {

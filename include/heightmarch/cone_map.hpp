@@ -50,6 +50,12 @@ struct ConeMap {
   std::vector<float> ratio;  // c(p), row-major (its second channel)
   SamplerTexture texture;    // the ratios in the packet sampler's layout
   double build_seconds = 0;  // wall time of the build, at the TBB parallelism it ran with
+
+  // As the packet kernels read it: the ratios in the sampler's layout. As the GLSL does: (depth,
+  // ratio) interleaved in an RG32F texture with GL_LINEAR and the run's wrap, so one read gives
+  // both, as one CPU sample does.
+  TextureSlot slot() const { return {texture.texels.data()}; }
+  GlImage gl_image() const;
 };
 
 // Builds the cone map (TBB over rows).

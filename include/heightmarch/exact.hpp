@@ -80,7 +80,7 @@ void check_exact_path_lengths(const DepthMap& map, const RayBatch& rays, const T
 // bit-identical to the scalar one).
 enum class LightVisibility { skip, compute };
 inline LightVisibility visibility_for(Technique technique) {
-  return writes_shadow(info(technique)) ? LightVisibility::compute : LightVisibility::skip;
+  return writes_visibility(info(technique)) ? LightVisibility::compute : LightVisibility::skip;
 }
 
 // Built once per depth map (which it keeps a pointer to) and parameters (the pyramid, the float
@@ -95,6 +95,8 @@ class ExactReference {
   // as a technique would set it, and in `shadow` the light's exact visibility (0 or 1) from the
   // exact hit when `visibility` asks for it (a second walk per ray, only the shadow technique
   // needs), else 1. Checks path lengths first.
+  // Not to be called on one reference from two threads at once: its float pass's own outputs
+  // are kept between runs, so that timed runs allocate nothing.
   void run(const RayBatch& rays, LightVisibility visibility, HitBuffers& hits) const;
 
  private:
@@ -103,6 +105,10 @@ class ExactReference {
   Isa isa_;
   ExactIntersector intersector_;
   SamplerTexture texture_;
+  // The float pass's outputs (the hit list's exact_pass rows, hits.hpp): whether it settled a ray
+  // (its hit, in the hits, is final) and how far the ray's path is certainly clear.
+  mutable std::vector<std::uint8_t> settled_;
+  mutable std::vector<float> clear_depth_;
 };
 
 HitBuffers exact_hits(const DepthMap& map, const RayBatch& rays, const TechniqueParams& params,

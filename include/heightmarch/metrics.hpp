@@ -1,5 +1,6 @@
 #pragma once
 // Error and speed measures (docs/measures.md) of a technique's hits against the exact ones.
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -27,27 +28,52 @@ struct ErrorSummary {
   double wrong_surface_rate = 0;   // share of rays with uv error > 1 texel
   double depth_error_mean = 0;
   double samples_per_ray = 0;      // over all real rays, discarded included
-  // Shadow technique only: |factor - exact visibility| and the share of rays whose factor,
-  // thresholded at 0.5, disagrees with the exact visibility.
-  bool has_shadow = false;
-  double shadow_error_mean = 0, shadow_mismatch_rate = 0;
+  // Per output measured against the light's visibility (hits.hpp), where the technique writes it
+  // (`measured`): mean |value - exact visibility| and the share of rays whose value, thresholded
+  // at 0.5, disagrees with the exact visibility.
+  struct VisibilityError {
+    bool measured = false;
+    double error_mean = 0, mismatch_rate = 0;
+  };
+  std::array<VisibilityError, kHitChannelCount> visibility{};  // by HitChannel
   // Layered techniques: the share of rays within one layer's texture step of the exact hit.
   std::optional<double> within_one_layer_step;
 };
 
-// Every error measure as (name, value): uv_error_mean, uv_error_rms, uv_error_p50, uv_error_p95,
-// uv_error_p99, uv_error_max, wrong_surface_rate, depth_error_mean, shadow_error_mean,
-// shadow_mismatch_rate; NaN for the shadow's two where the row has no shadow factor. The one list
-// of the measures' names: measurements.json, metrics.json, measurements.csv, bench.json and
-// heightmarch-bench's counters use them.
+// The measures of the hit, one row each: X(name, ErrorSummary member, label). With those of each
+// output measured against the light's visibility, NAME_error_mean ("mean LABEL error") and
+// NAME_mismatch_rate ("NAME mismatch (share)"), they are the one list of the error measures:
+// measurements.json (which carries their names and labels), metrics.json, measurements.csv,
+// bench.json, heightmarch-bench's counters and the report use them.
+#define HEIGHTMARCH_HIT_MEASURES(X)                                   \
+  X(uv_error_mean, mean, "mean uv error (texels)")                    \
+  X(uv_error_rms, rms, "RMS uv error (texels)")                       \
+  X(uv_error_p50, p50, "p50 uv error (texels)")                       \
+  X(uv_error_p95, p95, "p95 uv error (texels)")                       \
+  X(uv_error_p99, p99, "p99 uv error (texels)")                       \
+  X(uv_error_max, max, "max uv error (texels)")                       \
+  X(wrong_surface_rate, wrong_surface_rate, "wrong surface (share of rays)") \
+  X(depth_error_mean, depth_error_mean, "mean depth error")
+
+struct ErrorMeasure {
+  std::string name, label;
+};
+// Every error measure's name and label, in order; their names comma-separated (as a Google
+// Benchmark context value carries them).
+const std::vector<ErrorMeasure>& error_measure_list();
+std::string error_measure_names();
+
+// Every error measure of a row as (name, value), in error_measure_list()'s order; NaN for an
+// output's measures where the row's technique does not write it.
 std::vector<std::pair<std::string, double>> error_measures(const ErrorSummary& errors);
 
 // The measures the row has (error_measures without the NaN ones), as Google Benchmark counters.
 std::vector<std::pair<std::string, double>> error_counters(const ErrorSummary& errors);
 
-// Errors per ray (0 for padding and discarded rays) and their summary.
+// Errors per ray (0 for padding and discarded rays) and their summary; `written`: the optional
+// outputs the hits carry (a technique's registry row's), measured against the exact ones.
 ErrorSummary summarize_errors(const RayBatch& rays, const HitBuffers& hits, const HitBuffers& exact,
-                              int map_width, int map_height, bool shadow,
+                              int map_width, int map_height, Writes written,
                               std::vector<float>* per_ray_error = nullptr);
 
 // The texture step of one layer along a ray, in texels: s V.xy / V.z / N scaled by the map's

@@ -38,6 +38,16 @@ class MinDepthPyramid {
   const std::int32_t* blocks_y() const { return blocks_y_.data(); }
   std::size_t bytes() const { return min_depth_.size() * sizeof(float); }
 
+  // As the packet kernels read it (KernelTexture's slot), and as the GLSL does: row after row of
+  // an R32F atlas kGlAtlasWidth wide (CLAMP's interior cells, W - 1 a side, halve with rounding
+  // up, which no GL mip chain holds), read at (i % width, i / width) with texelFetch, with the
+  // uniforms pyramidAtlasWidth, pyramidLevels, levelOffsets and levelBlocksX.
+  TextureSlot slot() const { return {data(), offsets(), levels()}; }
+  static constexpr int kGlAtlasWidth = 4096;
+  GlImage gl_image() const;
+
+  double build_seconds = 0;  // set by its builder (build_min_depth_pyramid, precomputed.hpp)
+
  private:
   std::vector<float> min_depth_;
   std::vector<std::int32_t> offsets_, blocks_x_, blocks_y_;

@@ -1,27 +1,56 @@
 #pragma once
-// The precomputed textures a technique reads besides the depth map (its registry row's `needs`,
-// technique_list.hpp), built by one builder for the CPU Tracer and the GLSL worker alike.
+// The precomputed textures a technique reads besides the depth map: one row per kind, and the
+// only list of them. A technique's registry row names the kinds it reads (`needs`,
+// technique_list.hpp); one builder makes them for the CPU Tracer and the GLSL worker alike, once
+// per depth map and wrap mode.
+//
+// X(id, type, builder, GL texture unit, GLSL sampler)
+// - id: the kind's flag Needs::id, its member of PrecomputedTextures and its slot of the kernels'
+//   KernelTexture (src/kernels/kernel_abi.hpp), which type::slot() fills.
+// - builder: std::shared_ptr<const type> builder(const DepthMap&, Wrap), which sets the texture's
+//   build_seconds (a cached one: those of its first build).
+// - GL texture unit and GLSL sampler: where the GLSL worker binds type::gl_image() (its int
+//   uniforms beside it); units 0 to 2 are the depth map's and the rays'.
+//
+// Adding a kind: its row here, its type (with slot(), gl_image() and build_seconds) and builder,
+// and the sampler uniform in the GLSL of the techniques that read it.
 #include <memory>
 
 #include "heightmarch/cone_map.hpp"
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/min_depth_pyramid.hpp"
 
+#define HEIGHTMARCH_PRECOMPUTED_TEXTURES(X)                                                         \
+  X(min_depth_pyramid, MinDepthPyramid, build_min_depth_pyramid, 3, "minDepthPyramid")             \
+  X(cone_map, ConeMap, cached_cone_map, 4, "coneMap")
+
 namespace heightmarch {
 
-// What a technique reads besides the depth map: precomputed textures, built once per depth map
-// and wrap mode by one builder for the CPU and GLSL alike (flags, combinable).
-enum class Needs : unsigned { nothing = 0, min_depth_pyramid = 1u << 0, cone_map = 1u << 1 };
+#define HEIGHTMARCH_PRECOMPUTED_ENUM(id, ...) id,
+enum class PrecomputedKind { HEIGHTMARCH_PRECOMPUTED_TEXTURES(HEIGHTMARCH_PRECOMPUTED_ENUM) };
+#undef HEIGHTMARCH_PRECOMPUTED_ENUM
+#define HEIGHTMARCH_PRECOMPUTED_COUNT(...) +1
+inline constexpr int kPrecomputedKindCount = 0 HEIGHTMARCH_PRECOMPUTED_TEXTURES(HEIGHTMARCH_PRECOMPUTED_COUNT);
+#undef HEIGHTMARCH_PRECOMPUTED_COUNT
+
+// What a technique reads besides the depth map (flags, combinable).
+#define HEIGHTMARCH_PRECOMPUTED_FLAG(id, ...) id = 1u << unsigned(PrecomputedKind::id),
+enum class Needs : unsigned { nothing = 0, HEIGHTMARCH_PRECOMPUTED_TEXTURES(HEIGHTMARCH_PRECOMPUTED_FLAG) };
+#undef HEIGHTMARCH_PRECOMPUTED_FLAG
 constexpr Needs operator|(Needs a, Needs b) { return Needs(unsigned(a) | unsigned(b)); }
 constexpr bool has(Needs set, Needs one) { return (unsigned(set) & unsigned(one)) != 0; }
 
 struct PrecomputedTextures {
-  std::shared_ptr<const MinDepthPyramid> pyramid;  // Needs::min_depth_pyramid
-  std::shared_ptr<const ConeMap> cone_map;         // Needs::cone_map (cached per map and wrap)
-  // Wall time the textures took to build (a cached cone map: its first build), apart from any
+#define HEIGHTMARCH_PRECOMPUTED_MEMBER(id, type, ...) std::shared_ptr<const type> id;
+  HEIGHTMARCH_PRECOMPUTED_TEXTURES(HEIGHTMARCH_PRECOMPUTED_MEMBER)
+#undef HEIGHTMARCH_PRECOMPUTED_MEMBER
+  // Wall time the textures took to build (a cached one: its first build), apart from any
   // trace's time: the preprocessing a renderer pays once per depth map.
   double build_seconds = 0;
 };
+
+// The min-depth pyramid's builder (the cone map's is cached_cone_map, cone_map.hpp).
+std::shared_ptr<const MinDepthPyramid> build_min_depth_pyramid(const DepthMap& map, Wrap wrap);
 
 // Builds what `needs` lists for this depth map and wrap mode; nothing for Needs::nothing.
 PrecomputedTextures build_precomputed(const DepthMap& map, Wrap wrap, Needs needs);

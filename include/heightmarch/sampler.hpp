@@ -1,5 +1,11 @@
 #pragma once
-// GL_LINEAR level-0 sampling of a depth map (docs/conventions.md).
+// GL_LINEAR level-0 sampling of a depth map (docs/conventions.md), and the layouts a texture takes
+// for the packet kernels and for the GLSL.
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
 #include "heightmarch/heightfield.hpp"
 
 namespace heightmarch {
@@ -21,6 +27,24 @@ struct SamplerTexture {
 
   SamplerTexture() = default;
   SamplerTexture(const DepthMap& map, Wrap wrap);
+};
+
+// A precomputed texture as the packet kernels read it (its kind's slot in KernelTexture): its
+// texels, and for a pyramid where each level starts and how many levels it has.
+struct TextureSlot {
+  const float* texels = nullptr;
+  const std::int32_t* level_offsets = nullptr;
+  int levels = 0;
+};
+
+// A precomputed texture as the GLSL reads it: a float texture of 1 or 2 channels, row-major, and
+// the int uniforms (single values or arrays) that say how to read it.
+struct GlImage {
+  int width = 0, height = 0, channels = 1;
+  bool linear = false;     // GL_LINEAR, else GL_NEAREST (read with texelFetch)
+  bool run_wrap = false;   // the run's wrap mode, else CLAMP_TO_EDGE
+  std::vector<float> texels;
+  std::vector<std::pair<std::string, std::vector<std::int32_t>>> uniforms;
 };
 
 }  // namespace heightmarch

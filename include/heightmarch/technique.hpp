@@ -6,15 +6,20 @@
 #include <string>
 #include <string_view>
 
+#include "heightmarch/hits.hpp"
 #include "heightmarch/precomputed.hpp"
 #include "heightmarch/sampler.hpp"
 #include "heightmarch/technique_list.hpp"
 
 namespace heightmarch {
 
-// What a technique writes: its hit (uv, depth, samples), and for some a shadow factor towards the
-// light, measured against the exact visibility of the light from the exact hit.
-enum class Writes { hit, hit_and_shadow };
+// What a technique writes besides its hit (uv, depth, samples): the list's `optional` outputs
+// (heightmarch/hits.hpp) it sets, such as a shadow factor towards the light (flags, combinable;
+// only the optional rows' flags mean anything in a registry row, technique.cpp checks).
+#define HEIGHTMARCH_WRITES_FLAG(name, ...) name = 1u << unsigned(HitChannel::name),
+enum class Writes : unsigned { hit = 0, HEIGHTMARCH_HIT_CHANNELS(HEIGHTMARCH_WRITES_FLAG) };
+#undef HEIGHTMARCH_WRITES_FLAG
+constexpr Writes operator|(Writes a, Writes b) { return Writes(unsigned(a) | unsigned(b)); }
 
 // How an ISA packs a technique's rays: a layered march runs well as two native packets in flight
 // where the ISA says so (isa_list); a divergent walk with a large state per lane runs as one.
@@ -44,7 +49,14 @@ struct TechniqueInfo {
 };
 
 const std::array<TechniqueInfo, kTechniqueCount>& techniques();
-inline bool writes_shadow(const TechniqueInfo& t) { return t.writes == Writes::hit_and_shadow; }
+// Whether the technique writes the output: its hit always, an optional one where its row says so.
+constexpr bool writes(const TechniqueInfo& t, HitChannel channel) {
+  return info(channel).writer == ChannelWriter::hit ||
+         (info(channel).writer == ChannelWriter::optional && (unsigned(t.writes) >> unsigned(channel)) & 1u);
+}
+// Whether it writes an output measured against the light's visibility (its own measure, beside the
+// hit's): the exact reference then walks towards the light too.
+bool writes_visibility(const TechniqueInfo& t);
 const TechniqueInfo& info(Technique technique);
 std::string to_string(Technique technique);
 

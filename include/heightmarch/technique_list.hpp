@@ -14,8 +14,8 @@
 // - refine: its default --refine (ignored by those that do not refine).
 // - needs: the precomputed textures it reads besides the depth map (Needs, technique.hpp),
 //   built once per depth map and wrap for the CPU and GLSL alike.
-// - writes: Writes::hit, or Writes::hit_and_shadow for a technique that also writes a shadow
-//   factor (measured against the exact visibility of the light).
+// - writes: Writes::hit, or the optional outputs it writes besides its hit (heightmarch/hits.hpp):
+//   Writes::shadow for a shadow factor (measured against the exact visibility of the light).
 // - search: one of the searches the suite times at every ISA and thread count.
 // - shape: KernelShape::march (a layered march: an ISA may run two packets in flight) or
 //   KernelShape::walk (a divergent walk with a large state per lane: one packet).
@@ -46,5 +46,5 @@
   X(maxmip, "maxmip", false, 5, Needs::min_depth_pyramid, Writes::hit, true, KernelShape::walk,      \
     "maxmip(T, V)", "#8c564b", "h",                                                                   \
     "maximum mipmaps: walk down and up the min-depth pyramid, solve each reached cell exactly")       \
-  X(shadow, "shadow", true, 5, Needs::nothing, Writes::hit_and_shadow, false, KernelShape::march,    \
+  X(shadow, "shadow", true, 5, Needs::nothing, Writes::shadow, false, KernelShape::march,    \
     "softShadow(pom(T, V))", "#9467bd", "*", "POM's hit, then the tutorial's soft self-shadow factor towards the light")

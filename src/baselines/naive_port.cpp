@@ -87,12 +87,11 @@ void trace_port(TraceRangeFn kernel, const DepthMap& map, const RayBatch& rays, 
   const KernelTexture texture{map.texels.data(), map.width, map.height, map.width, Wrap::repeat};
   const KernelParams params{min_layers, max_layers, 0, scale, false, {0.0f, 0.0f, 1.0f}};
   const KernelRays kernel_rays{rays.tx.data(), rays.ty.data(), rays.vx.data(), rays.vy.data(), rays.vz.data()};
-  const KernelHits kernel_hits{hits.u.data(), hits.v.data(), hits.depth.data(), hits.shadow.data(),
-                               hits.samples.data(), hits.discarded.data()};
+  const KernelHits out = kernel_hits(hits);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.tile_count(), 1), [&](const auto& tiles) {
     KernelCounters counters;
     for (std::size_t t = tiles.begin(); t != tiles.end(); ++t)
-      kernel(texture, params, kernel_rays, kernel_hits, rays.tile_offsets[t], rays.tile_offsets[t + 1], counters);
+      kernel(texture, params, kernel_rays, out, rays.tile_offsets[t], rays.tile_offsets[t + 1], counters);
   });
 }
 

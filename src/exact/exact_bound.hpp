@@ -37,11 +37,11 @@ HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket
   // The double walk would start in the cell at `from` and solve it first: that step in double, D
   // lanes at a time, with the walk's own code (src/exact/cell_quadratic.hpp) and the texels the
   // pass already read, where that cell is the one the pass stopped in. A lane whose cell crosses
-  // there is final (shadow = 1: the exact hit). Where it shows the path clear through that cell
+  // there is final (settled: the exact hit). Where it shows the path clear through that cell
   // (the margin's false alarms: most of the rest), the next cell the path enters is solved too,
   // as the walk's step at level 0 goes: its first crossing there is the first of the path. The
   // others (a root rounding hid, another cell, no crossing in either) go on in the double walk
-  // from `from` (shadow = 0).
+  // from `from` (not settled; clear_depth = `from`).
   alignas(64) float lane_tx[W], lane_ty[W], lane_vx[W], lane_vy[W], lane_vz[W], lane_from[W], lane_cx[W],
       lane_cy[W], lane_reached[W], t00[W], t10[W], t01[W], t11[W];
   alignas(64) float out_u[W], out_v[W], out_depth[W], out_final[W];
@@ -174,7 +174,8 @@ HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket
   out.u = F::load(out_u);
   out.v = F::load(out_v);
   out.depth = F::load(out_depth);
-  out.shadow = F::load(out_final);
+  out.settled = select(F::load(out_final) != F(0.0f), vint<W>(1), vint<W>(0));
+  out.clear_depth = from;
   // A cell solved in double is a sample; the first's the caller counts (as the double walk's).
   out.samples = walk.samples + select(F::load(in_next) != F(0.0f), vint<W>(1), vint<W>(0));
   return out;

@@ -50,23 +50,25 @@ ExactReference::ExactReference(const DepthMap& map, const TechniqueParams& param
 void ExactReference::run(const RayBatch& rays, LightVisibility visibility, HitBuffers& hits) const {
   check_exact_path_lengths(*map_, rays, params_);
   const MinDepthPyramid& pyramid = intersector_.pyramid();
-  const KernelTexture texture{texture_.texels.data(), texture_.width, texture_.height, texture_.stride, texture_.wrap,
-                              pyramid.data(), pyramid.offsets(), pyramid.levels()};
+  KernelTexture texture{texture_.texels.data(), texture_.width, texture_.height, texture_.stride, texture_.wrap};
+  texture.min_depth_pyramid = pyramid.slot();
   const KernelParams kernel_params{1.0f, 1.0f, 0, params_.scale, params_.discard,
                                    {params_.light[0], params_.light[1], params_.light[2]}};
   const TraceRangeFn float_pass =
       kernel_table(isa_).exact_bound[int(addressing_of(texture.width, texture.height, texture.wrap))];
   const KernelRays kernel_rays{rays.tx.data(), rays.ty.data(), rays.vx.data(), rays.vy.data(), rays.vz.data()};
   hits.resize(rays.size());
-  const KernelHits kernel_hits{hits.u.data(), hits.v.data(), hits.depth.data(), hits.shadow.data(),
-                               hits.samples.data(), hits.discarded.data()};
+  settled_.resize(rays.size());
+  clear_depth_.resize(rays.size());
+  KernelHits out = kernel_hits(hits);
+  out.settled = settled_.data();
+  out.clear_depth = clear_depth_.data();
   const double s = params_.scale;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.tile_count(), 1),
                     [&](const tbb::blocked_range<std::size_t>& tiles) {
     KernelCounters counters;
     for (std::size_t t = tiles.begin(); t != tiles.end(); ++t) {
-      float_pass(texture, kernel_params, kernel_rays, kernel_hits, rays.tile_offsets[t], rays.tile_offsets[t + 1],
-                 counters);
+      float_pass(texture, kernel_params, kernel_rays, out, rays.tile_offsets[t], rays.tile_offsets[t + 1], counters);
       for (std::size_t i = rays.tile_offsets[t]; i < rays.tile_offsets[t + 1]; ++i) {
         if (rays.is_padding(i)) {  // a copy of a real ray: not worth a walk in double
           hits.u[i] = rays.tx[i];
@@ -80,14 +82,14 @@ void ExactReference::run(const RayBatch& rays, LightVisibility visibility, HitBu
         // Most rays the float pass finished in double in the cell it stopped in or the next; the
         // others (and every ray whose light is walked, from the hit in double) go on in the double
         // walk from where it stopped: the path is clear before it.
-        const bool final = hits.shadow[i] == 1.0f;
+        const bool final = settled_[i] != 0;
         if (final && visibility == LightVisibility::skip) {  // the float pass wrote the rest
           hits.samples[i] += 1;
           continue;
         }
         // A final ray's depth is its hit rounded to float: the path is clear just above it.
         const double vz = rays.vz[i], offset_per_depth = s / vz;
-        const double from = final ? std::max(0.0, double(hits.depth[i]) - 0x1p-20) : double(hits.depth[i]);
+        const double from = final ? std::max(0.0, double(hits.depth[i]) - 0x1p-20) : double(clear_depth_[i]);
         const PathHit hit = intersector_.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], vz, s, from);
         const double d = hit.t;
         const double u = rays.tx[i] - d * offset_per_depth * rays.vx[i];

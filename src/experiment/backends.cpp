@@ -25,12 +25,14 @@ std::function<double()> wall_timed(Trace trace) {
   };
 }
 
+// The first ray at which any output of the two differs, or -1.
 long long first_difference(const RayBatch& rays, const HitBuffers& a, const HitBuffers& b) {
-  for (std::size_t i = 0; i < rays.size(); ++i)
-    if (a.samples[i] != b.samples[i] || a.u[i] != b.u[i] || a.v[i] != b.v[i] || a.depth[i] != b.depth[i] ||
-        a.shadow[i] != b.shadow[i] || a.discarded[i] != b.discarded[i])
-      return (long long)i;
-  return -1;
+  std::size_t first = rays.size();
+  HitBuffers::for_each_pair(a, b, [&](HitChannel, const auto& x, const auto& y) {
+    for (std::size_t i = 0; i < first; ++i)
+      if (x[i] != y[i]) first = i;
+  });
+  return first < rays.size() ? (long long)first : -1;
 }
 
 // A Tracer's run of one kind: a technique's kernel (trace), the sampler roofline or the compute

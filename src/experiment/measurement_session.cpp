@@ -56,7 +56,7 @@ Measurement MeasurementSession::measure(const Configuration& c, int id,
   if (!row.failure.empty() || !backend.has_accuracy()) return row;
   std::vector<float> uv_error;
   ErrorSummary errors = summarize_errors(scene.rays, hits, exact, scene.map.width, scene.map.height,
-                                         c.has_technique() && writes_shadow(info(c.params.technique)), &uv_error);
+                                         c.has_technique() ? info(c.params.technique).writes : Writes::hit, &uv_error);
   if (c.has_technique() && info(c.params.technique).layered)
     errors.within_one_layer_step =
         share_within_one_layer_step(scene.rays, hits, uv_error, c.params, scene.map.width, scene.map.height);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <type_traits>
 
 #include "io/atomic_file.hpp"
 #include "io/images.hpp"
@@ -11,6 +12,24 @@
 
 namespace heightmarch {
 namespace {
+
+// The outputs a technique writes (the list's hit and optional rows), in the list's order: the
+// per-ray files' columns.
+bool written_by_techniques(const HitChannelInfo& c) {
+  return c.writer == ChannelWriter::hit || c.writer == ChannelWriter::optional;
+}
+std::vector<std::string> written_channels() {
+  std::vector<std::string> names;
+  for (const HitChannelInfo& c : hit_channels())
+    if (written_by_techniques(c)) names.emplace_back(c.name);
+  return names;
+}
+template <class F>
+void for_each_written(const HitBuffers& hits, F&& f) {
+  hits.for_each([&](HitChannel channel, const auto& values) {
+    if (written_by_techniques(info(channel))) f(values);
+  });
+}
 
 void write_spread(JsonWriter& json, const std::string& key, const std::vector<double>& values,
                   bool with_rounds) {
@@ -236,9 +255,12 @@ std::string summary_text(const Measurement& m) {
                 e.mean, e.rms, e.p50, e.p95, e.p99, e.max, 100.0 * e.wrong_surface_rate, e.depth_error_mean,
                 e.discarded);
   text += buf;
-  if (e.has_shadow) {
-    std::snprintf(buf, sizeof buf, "  shadow: factor vs exact visibility mean |diff| %.4f, mismatch %.2f%%\n",
-                  e.shadow_error_mean, 100.0 * e.shadow_mismatch_rate);
+  for (const HitChannelInfo& channel : hit_channels()) {
+    const ErrorSummary::VisibilityError& v = e.visibility[std::size_t(channel.id)];
+    if (!v.measured) continue;
+    std::snprintf(buf, sizeof buf, "  %s: %s vs exact visibility mean |diff| %.4f, mismatch %.2f%%\n",
+                  std::string(channel.name).c_str(), std::string(channel.label).c_str(), v.error_mean,
+                  100.0 * v.mismatch_rate);
     text += buf;
   }
   return text;
@@ -253,25 +275,25 @@ void write_images(const std::string& dir, const TracedRow& traced) {
   const Configuration& c = traced.row.config;
   const int w = rays.image_width, h = rays.image_height;
   const std::size_t pixels = std::size_t(w) * std::size_t(h);
-  // Scatter the batch (tile order) back to pixels; pixels without a ray stay -1 in hits.exr.
-  std::vector<float> exr(pixels * 4, -1.0f), error(pixels, 0.0f), u(pixels, 0.0f), v(pixels, 0.0f),
+  // Scatter the batch (tile order) back to pixels; pixels without a ray stay -1 in hits.exr, which
+  // holds every output a technique writes (the shadow factor is 1 where a technique writes none).
+  const std::vector<std::string> names = written_channels();
+  const std::size_t n = names.size();
+  std::vector<float> exr(pixels * n, -1.0f), error(pixels, 0.0f), u(pixels, 0.0f), v(pixels, 0.0f),
       shadow(pixels, 1.0f);
   std::vector<std::uint8_t> has_ray(pixels, 0);
-  const bool is_shadow = c.has_technique() && writes_shadow(info(c.params.technique));
   for (std::size_t i = 0; i < rays.size(); ++i) {
     if (rays.is_padding(i)) continue;
     const std::size_t p = rays.origin[i];
-    exr[4 * p + 0] = hits.u[i];
-    exr[4 * p + 1] = hits.v[i];
-    exr[4 * p + 2] = hits.depth[i];
-    exr[4 * p + 3] = float(hits.samples[i]);
+    std::size_t k = 0;
+    for_each_written(hits, [&](const auto& values) { exr[n * p + k++] = float(values[i]); });
     error[p] = traced.uv_error[i];
     u[p] = hits.u[i];
     v[p] = hits.v[i];
-    shadow[p] = is_shadow ? hits.shadow[i] : 1.0f;
+    shadow[p] = hits.shadow[i];
     has_ray[p] = !hits.discarded[i];
   }
-  write_exr(dir + "/hits.exr", w, h, {"u", "v", "depth", "samples"}, exr);
+  write_exr(dir + "/hits.exr", w, h, names, exr);
   int heat_height = 0;
   const std::vector<std::uint8_t> heat = error_heat_map(error, has_ray, w, h, heat_height);
   write_png_rgb8(dir + "/error.png", w, heat_height, heat);
@@ -294,32 +316,38 @@ void write_run_outputs(const std::string& dir, const TracedRow& traced) {
   const RayBatch& rays = traced.rays;
   const HitBuffers& hits = traced.hits;
   const HitBuffers& exact = traced.exact;
-  // shadow: the technique's shadow factor (1 for techniques without one); exact_visibility: the
-  // light seen from the exact hit (0 or 1), the shadow's reference, per ray (empty for the other
-  // techniques: the exact walk towards the light is only taken for the shadow).
-  const bool is_shadow = c.has_technique() && writes_shadow(info(c.params.technique));
+  // Each ray, then every output a technique writes (samples empty where unknown; an optional
+  // output at its initial value where the technique writes none), the exact hit and the uv
+  // error; exact_visibility: the light seen from the exact hit (0 or 1), the reference of the
+  // outputs measured against it, per ray (empty where the technique writes none of them: the
+  // exact walk towards the light is only taken for those).
+  const bool visibility = c.has_technique() && writes_visibility(info(c.params.technique));
   AtomicFile csv(dir + "/rays.csv");
-  csv.append(
-      "tx,ty,vx,vy,vz,u,v,depth,samples,exact_u,exact_v,exact_depth,uv_error_texels,shadow,exact_"
-      "visibility\n");
+  std::string header = "tx,ty,vx,vy,vz";
+  for (const std::string& name : written_channels()) header += "," + name;
+  csv.append(header + ",exact_u,exact_v,exact_depth,uv_error_texels,exact_visibility\n");
   std::vector<std::size_t> by_row(rays.ray_count);
   for (std::size_t i = 0; i < rays.size(); ++i)
     if (!rays.is_padding(i)) by_row[rays.origin[i]] = i;
   std::string line;
   for (std::size_t i : by_row) {
     line.clear();
-    for (float value :
-         {rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], hits.u[i], hits.v[i], hits.depth[i]}) {
+    for (float value : {rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i]}) {
       append_number(line, value);
       line += ',';
     }
-    if (traced.row.samples_known) line += std::to_string(hits.samples[i]);
-    for (float value :
-         {exact.u[i], exact.v[i], exact.depth[i], traced.uv_error[i], is_shadow ? hits.shadow[i] : 1.0f}) {
+    for_each_written(hits, [&](const auto& values) {
+      if constexpr (std::is_same_v<std::decay_t<decltype(values)>, std::vector<float>>)
+        append_number(line, values[i]);
+      else if (traced.row.samples_known)
+        line += std::to_string(values[i]);
       line += ',';
+    });
+    for (float value : {exact.u[i], exact.v[i], exact.depth[i], traced.uv_error[i]}) {
       append_number(line, value);
+      line += ',';
     }
-    line += is_shadow ? (exact.shadow[i] >= 0.5f ? ",1\n" : ",0\n") : ",\n";
+    line += visibility ? (exact.shadow[i] >= 0.5f ? "1\n" : "0\n") : "\n";
     csv.append(line);
   }
   csv.commit();
@@ -376,6 +404,9 @@ std::string measurements_json(const MeasuredPlan& run, const std::string& plan_n
         .value("marker", std::string(t.marker))
         .value("description", std::string(t.description))
         .end_object();
+  json.end_array().begin_array("measures");
+  for (const ErrorMeasure& m : error_measure_list())
+    json.begin_object().value("name", m.name).value("label", m.label).end_object();
   json.end_array().begin_array("backends");
   for (const std::string& b : measured_backends(run.rows)) json.value("", b);
   json.end_array().begin_array("rows");
@@ -400,7 +431,8 @@ std::string benchmark_json(const MeasuredPlan& run) {
       .value("heightmarch_cpu", p.cpu)
       .value("heightmarch_compiler", p.compiler)
       .value("heightmarch_build_type", p.build_type)
-      .value("heightmarch_best_isa", to_string(best_isa()));
+      .value("heightmarch_best_isa", to_string(best_isa()))
+      .value("heightmarch_error_measures", error_measure_names());
   // The sizes of the benchmark view and depth maps, when one size serves every timed row.
   std::string view, map;
   bool one_view = true, one_map = true;

@@ -165,7 +165,7 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
     for (double theta : s.sweep_angles)
       for (Technique technique : s.techniques) {
         const TechniqueInfo& t = info(technique);
-        if (writes_shadow(t)) continue;  // its own measure is the shadow factor, not the hit
+        if (writes_visibility(t)) continue;  // its own measure is against the light, not the hit
         for (const LayerSpec& layers : s.few_layer_specs) {
           Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeSweep), t.id, layers);
           c.view = sweep_view(theta, s.sweep_size, s.sweep_size);
@@ -186,7 +186,7 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
   };
   gallery(RunKind::exact, Technique::pom, "32");
   for (Technique t : s.techniques)
-    gallery(RunKind::trace, t, writes_shadow(info(t)) ? "32" : "10");  // a shadow from a close hit
+    gallery(RunKind::trace, t, writes_visibility(info(t)) ? "32" : "10");  // a shadow from a close hit
   if (wanted(s, Technique::pom)) gallery(RunKind::trace, Technique::pom, "32");
   for (const Configuration& c : claims_plan(s)) add_to_plan(plan, c);
   // The parts asked for: a configuration stays for the purposes it serves among them.

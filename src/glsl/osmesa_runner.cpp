@@ -12,6 +12,7 @@
 #include <GL/osmesa.h>
 #include <GL/glext.h>
 
+#include "glsl/hit_outputs.hpp"
 #include "glsl/osmesa_runner.hpp"
 #include "glsl/user_shader_text.hpp"
 #include "glsl_sources.hpp"
@@ -28,9 +29,9 @@ namespace {
 
 constexpr int kRowWidth = 1024;  // rays per framebuffer row
 // What the worker holds per ray of a batch beside the request it came in, asked of its budget
-// before the textures are made: their staging (32 bytes), the origin, direction, hit and shadow
-// textures (64), the read-back (32), the hits and their answer (42); measured, about 170 bytes a
-// ray at 1024 x 1024 rays.
+// before the textures are made: their staging (32 bytes), the origin and direction textures and
+// the two attachments of the hits' outputs (64), the read-back (32), the hits and their answer
+// (42); measured, about 170 bytes a ray at 1024 x 1024 rays.
 constexpr double kWorkerBytesPerRay = 176.0;
 // And per texel of a depth map: its texture and the copy kept for the precomputed textures (8),
 // the min-depth pyramid and its atlas when a technique reads them (11); a cone map asks itself.
@@ -76,8 +77,14 @@ struct OsmesaRunner::State {
   OSMesaContext context = nullptr;
   std::vector<unsigned char> buffer = std::vector<unsigned char>(4 * 4 * 4);  // OSMesa wants a buffer bound
   GLuint vao = 0, framebuffer = 0, program = 0;
-  GLuint depth_texture = 0, origin_texture = 0, direction_texture = 0, hit_texture = 0, shadow_texture = 0;
-  GLuint pyramid_texture = 0, cone_texture = 0;
+  GLuint depth_texture = 0, origin_texture = 0, direction_texture = 0;
+  std::vector<GLuint> output_textures;  // the hits' outputs' attachments (hit_outputs.hpp)
+  // Per kind of precomputed texture (precomputed.hpp): its texture and its int uniforms.
+  struct Precomputed {
+    GLuint texture = 0;
+    std::vector<std::pair<std::string, std::vector<std::int32_t>>> uniforms;
+  };
+  Precomputed uploaded[kPrecomputedKindCount];
   DepthMap map;              // kept for the textures derived from it
   // The precomputed textures last built (precomputed_needs) and their wrap mode; -1: none since
   // the depth map was set.
@@ -131,21 +138,6 @@ GLuint float_texture(GLuint texture, GLenum internal, GLenum format, int width, 
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
   glTexImage2D(GL_TEXTURE_2D, 0, GLint(internal), width, height, 0, format, GL_FLOAT, data);
   return texture;
-}
-
-// The min-depth pyramid in its flat layout (MinDepthPyramid), row after row of an R32F texture
-// kPyramidAtlasWidth wide: CLAMP's interior cells (W - 1 a side) halve with rounding up, which
-// no GL mip chain holds. The shader reads entry i at (i % width, i / width) with texelFetch.
-constexpr int kPyramidAtlasWidth = 4096;
-
-GLuint pyramid_texture(GLuint texture, const MinDepthPyramid& pyramid) {
-  const int last = pyramid.levels() - 1;
-  const std::size_t entries = last < 0 ? 1 : std::size_t(pyramid.offsets()[last]) + std::size_t(pyramid.blocks_x(last)) *
-                                                                                       std::size_t(pyramid.blocks_y(last));
-  const std::size_t rows = (entries + kPyramidAtlasWidth - 1) / kPyramidAtlasWidth;
-  std::vector<float> atlas(rows * kPyramidAtlasWidth, 1.0f);
-  if (last >= 0) std::copy(pyramid.data(), pyramid.data() + entries, atlas.begin());
-  return float_texture(texture, GL_R32F, GL_RED, kPyramidAtlasWidth, int(rows), atlas.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
 }
 
 void check_side(int side) {
@@ -219,13 +211,15 @@ void OsmesaRunner::set_rays(const RayBatch& rays) {
   }
   s.origin_texture = float_texture(s.origin_texture, GL_RGBA32F, GL_RGBA, s.width, s.height, origins.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
   s.direction_texture = float_texture(s.direction_texture, GL_RGBA32F, GL_RGBA, s.width, s.height, directions.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
-  s.hit_texture = float_texture(s.hit_texture, GL_RGBA32F, GL_RGBA, s.width, s.height, nullptr, GL_NEAREST, GL_CLAMP_TO_EDGE);
-  s.shadow_texture = float_texture(s.shadow_texture, GL_RGBA32F, GL_RGBA, s.width, s.height, nullptr, GL_NEAREST, GL_CLAMP_TO_EDGE);
+  s.output_textures.resize(std::size_t(hit_output_attachments()));
   glBindFramebuffer(GL_FRAMEBUFFER, s.framebuffer);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, s.hit_texture, 0);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, s.shadow_texture, 0);
-  const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-  glDrawBuffers(2, buffers);
+  std::vector<GLenum> buffers;
+  for (GLuint& texture : s.output_textures) {
+    texture = float_texture(texture, GL_RGBA32F, GL_RGBA, s.width, s.height, nullptr, GL_NEAREST, GL_CLAMP_TO_EDGE);
+    buffers.push_back(GLenum(GL_COLOR_ATTACHMENT0 + buffers.size()));
+    glFramebufferTexture2D(GL_FRAMEBUFFER, buffers.back(), GL_TEXTURE_2D, texture, 0);
+  }
+  glDrawBuffers(GLsizei(buffers.size()), buffers.data());
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw std::runtime_error("OSMesa: the RGBA32F framebuffer is incomplete");
   glViewport(0, 0, s.width, s.height);
@@ -240,11 +234,11 @@ void OsmesaRunner::compile(const TechniqueParams& params, const std::string& sha
   // conflicts with the harness's names are reported at its own lines.
   std::string fragment = "#version 330 core\n";
   if (shader_path.empty()) {
-    fragment += glsl("prelude.glsl") + glsl("steep.glsl") + glsl("techniques.glsl") + "#define TECHNIQUE(T, V) " +
+    fragment += glsl("prelude.glsl") + hit_outputs_glsl() + glsl("steep.glsl") + glsl("techniques.glsl") + "#define TECHNIQUE(T, V) " +
                 std::string(info(params.technique).glsl_call) + "\n" + glsl("main.glsl");
   } else {
     const std::string text = read_input_file(shader_path, "shader file", kMaxShaderBytes);
-    fragment += "#line " + std::to_string(kHarnessFirstLine) + " 0\n" + glsl("prelude.glsl") +
+    fragment += "#line " + std::to_string(kHarnessFirstLine) + " 0\n" + glsl("prelude.glsl") + hit_outputs_glsl() +
                 "#define height_scale heightScale\nfloat numLayers = maxLayers;\n"
                 "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir);\n" +
                 glsl("user_shader.glsl") + "#define TECHNIQUE(T, V) userShader(T, V)\n" + glsl("main.glsl") +
@@ -294,53 +288,47 @@ void OsmesaRunner::prepare(const TechniqueParams& params) {
   glUniform1i(uniform("wrapRepeat"), params.wrap == Wrap::repeat ? 1 : 0);
   // The technique's precomputed textures (its registry row's needs), from the builder the CPU
   // Tracer uses, uploaded once per wrap mode: what earlier techniques of the same wrap needed is
-  // kept, since the suite's rounds alternate between them. Units 3 and up: float_texture binds
-  // to the active unit, which must not be the rays' ones.
+  // kept, since the suite's rounds alternate between them. Each kind of the list at its unit
+  // (precomputed.hpp), above the rays' ones: float_texture binds to the active unit.
   const Needs needs = shader_path.empty() ? info(params.technique).needs : Needs::nothing;
   const bool same_wrap = s.precomputed_wrap == int(params.wrap);
   if ((needs | s.precomputed_needs) != s.precomputed_needs || !same_wrap) {
     s.precomputed_needs = needs | (same_wrap ? s.precomputed_needs : Needs::nothing);
     s.precomputed = build_precomputed(s.map, params.wrap, s.precomputed_needs);
-    if (const MinDepthPyramid* pyramid = s.precomputed.pyramid.get()) {
-      glActiveTexture(GL_TEXTURE3);
-      s.pyramid_texture = pyramid_texture(s.pyramid_texture, *pyramid);
-    }
-    if (const ConeMap* cone = s.precomputed.cone_map.get()) {
-      // (depth, cone ratio) interleaved: one GL_LINEAR read gives both, as one CPU sample does.
-      std::vector<float> texels(2 * cone->depth.size());
-      for (std::size_t i = 0; i < cone->depth.size(); ++i) {
-        texels[2 * i] = cone->depth[i];
-        texels[2 * i + 1] = cone->ratio[i];
-      }
-      glActiveTexture(GL_TEXTURE4);
-      s.cone_texture = float_texture(s.cone_texture, GL_RG32F, GL_RG, cone->width, cone->height, texels.data(),
-                                     GL_LINEAR, wrap);
-    }
+#define HEIGHTMARCH_UPLOAD_PRECOMPUTED(id, type, builder, unit, sampler)                                          \
+  if (const type* texture = s.precomputed.id.get()) {                                                              \
+    State::Precomputed& slot = s.uploaded[int(PrecomputedKind::id)];                                               \
+    GlImage image = texture->gl_image();                                                                           \
+    glActiveTexture(GL_TEXTURE0 + unit);                                                                           \
+    slot.texture = float_texture(slot.texture, image.channels == 2 ? GL_RG32F : GL_R32F,                           \
+                                 image.channels == 2 ? GL_RG : GL_RED, image.width, image.height,                   \
+                                 image.texels.data(), image.linear ? GL_LINEAR : GL_NEAREST,                        \
+                                 image.run_wrap ? wrap : GL_CLAMP_TO_EDGE);                                         \
+    slot.uniforms = std::move(image.uniforms);                                                                     \
+  }
+    HEIGHTMARCH_PRECOMPUTED_TEXTURES(HEIGHTMARCH_UPLOAD_PRECOMPUTED)
+#undef HEIGHTMARCH_UPLOAD_PRECOMPUTED
     s.precomputed_wrap = int(params.wrap);
   }
-  if (has(needs, Needs::min_depth_pyramid)) {
-    const MinDepthPyramid& pyramid = *s.precomputed.pyramid;
-    glActiveTexture(GL_TEXTURE3);
-    glBindTexture(GL_TEXTURE_2D, s.pyramid_texture);
-    glUniform1i(uniform("minDepthPyramid"), 3);
-    glUniform1i(uniform("pyramidLevels"), pyramid.levels());
-    glUniform1i(uniform("pyramidAtlasWidth"), kPyramidAtlasWidth);
-    glUniform1iv(uniform("levelOffsets"), pyramid.levels(), pyramid.offsets());
-    glUniform1iv(uniform("levelBlocksX"), pyramid.levels(), pyramid.blocks_x());
+#define HEIGHTMARCH_BIND_PRECOMPUTED(id, type, builder, unit, sampler)                          \
+  if (has(needs, Needs::id)) {                                                                   \
+    const State::Precomputed& slot = s.uploaded[int(PrecomputedKind::id)];                      \
+    glActiveTexture(GL_TEXTURE0 + unit);                                                         \
+    glBindTexture(GL_TEXTURE_2D, slot.texture);                                                  \
+    glUniform1i(uniform(sampler), unit);                                                         \
+    for (const auto& [name, values] : slot.uniforms)                                             \
+      glUniform1iv(uniform(name.c_str()), GLsizei(values.size()), values.data());                \
   }
-  if (has(needs, Needs::cone_map)) {
-    glActiveTexture(GL_TEXTURE4);
-    glBindTexture(GL_TEXTURE_2D, s.cone_texture);
-    glUniform1i(uniform("coneMap"), 4);
-  }
+  HEIGHTMARCH_PRECOMPUTED_TEXTURES(HEIGHTMARCH_BIND_PRECOMPUTED)
+#undef HEIGHTMARCH_BIND_PRECOMPUTED
   if (glGetError() != GL_NO_ERROR) throw std::runtime_error("OSMesa: GL error while preparing the draw");
 }
 
 void OsmesaRunner::clear_hits() {
-  // Every fragment main.glsl writes has a number of samples (>= 0, or -1: unknown) in alpha: a
-  // NaN left there is a ray whose fragment was discarded.
+  // Every fragment main.glsl writes has a number of samples (>= 0, or -1: unknown): a NaN left
+  // there is a ray whose fragment was discarded.
   const float sentinel[4] = {kUndrawn, kUndrawn, kUndrawn, kUndrawn};
-  glClearBufferfv(GL_COLOR, 0, sentinel);
+  glClearBufferfv(GL_COLOR, samples_output().first, sentinel);
   glFinish();
 }
 
@@ -351,28 +339,20 @@ void OsmesaRunner::draw() {
 
 void OsmesaRunner::read(HitBuffers& hits, bool& samples_known) const {
   const State& s = *state_;
-  std::vector<float> hit(std::size_t(s.width) * s.height * 4), shadow(hit.size());
-  glReadBuffer(GL_COLOR_ATTACHMENT0);
-  glReadPixels(0, 0, s.width, s.height, GL_RGBA, GL_FLOAT, hit.data());
-  glReadBuffer(GL_COLOR_ATTACHMENT1);
-  glReadPixels(0, 0, s.width, s.height, GL_RGBA, GL_FLOAT, shadow.data());
+  std::vector<std::vector<float>> attachments(s.output_textures.size());
+  for (std::size_t a = 0; a < attachments.size(); ++a) {
+    attachments[a].resize(std::size_t(s.width) * s.height * 4);
+    glReadBuffer(GLenum(GL_COLOR_ATTACHMENT0 + a));
+    glReadPixels(0, 0, s.width, s.height, GL_RGBA, GL_FLOAT, attachments[a].data());
+  }
+  const auto [attachment, component] = samples_output();
   std::size_t undrawn = 0;
-  for (std::size_t i = 0; i < s.rays; ++i) undrawn += std::isnan(hit[4 * i + 3]);
+  for (std::size_t i = 0; i < s.rays; ++i) undrawn += std::isnan(attachments[std::size_t(attachment)][4 * i + std::size_t(component)]);
   if (undrawn && !s.shader_path.empty())
     throw InputError(s.shader_path + ": left " + std::to_string(undrawn) + " of " + std::to_string(s.rays) +
                      " rays without a hit (does it call discard?); every ray must return a uv");
   if (undrawn) throw std::logic_error("built-in shader left " + std::to_string(undrawn) + " rays without a hit");
-  hits.resize(s.rays);
-  samples_known = true;
-  for (std::size_t i = 0; i < s.rays; ++i) {
-    hits.u[i] = hit[4 * i];
-    hits.v[i] = hit[4 * i + 1];
-    hits.depth[i] = hit[4 * i + 2];
-    samples_known = samples_known && hit[4 * i + 3] >= 0.0f;
-    hits.samples[i] = hit[4 * i + 3] >= 0.0f ? std::uint32_t(hit[4 * i + 3]) : 0;
-    hits.shadow[i] = shadow[4 * i];
-    hits.discarded[i] = s.discard && (hits.u[i] < 0.0f || hits.u[i] > 1.0f || hits.v[i] < 0.0f || hits.v[i] > 1.0f);
-  }
+  read_hit_outputs(attachments, s.rays, s.discard, hits, samples_known);
 }
 
 }  // namespace heightmarch

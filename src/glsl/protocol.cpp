@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cstddef>
 #include <cstdio>
+#include <string>
 #include <system_error>
 
 #include "heightmarch/error.hpp"
@@ -99,19 +100,16 @@ void write(Writer& w, const RayBatch& rays) {
 }
 
 void write(Writer& w, const HitBuffers& hits) {
-  for (const auto* a : {&hits.u, &hits.v, &hits.depth, &hits.shadow}) w.array(*a);
-  w.array(hits.samples);
-  w.array(hits.discarded);
+  hits.for_each([&](HitChannel, const auto& values) { w.array(values); });
 }
 
 void read(Reader& r, HitBuffers& hits, std::size_t rays) {
-  for (auto* a : {&hits.u, &hits.v, &hits.depth, &hits.shadow}) r.array(*a);
-  r.array(hits.samples);
-  r.array(hits.discarded);
-  for (std::size_t n : {hits.u.size(), hits.v.size(), hits.depth.size(), hits.shadow.size(),
-                        hits.samples.size(), hits.discarded.size()})
-    if (n != rays)
-      throw BadMessage("hit arrays of " + std::to_string(n) + " for " + std::to_string(rays) + " rays");
+  hits.for_each([&](HitChannel channel, auto& values) {
+    r.array(values);
+    if (values.size() != rays)
+      throw BadMessage(std::string(info(channel).name) + " array of " + std::to_string(values.size()) + " for " +
+                       std::to_string(rays) + " rays");
+  });
 }
 
 Request read_request(Message type, const std::vector<char>& payload) {

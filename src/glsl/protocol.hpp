@@ -10,7 +10,7 @@
 //                               -> compiled (the program is linked), then done (uploaded)
 //                               (a map or rays not sent: the worker's last ones, unchanged)
 //   draw                        -> drawn {f64 seconds of draw + glFinish, timed in the worker}
-//   read                        -> hits {HitBuffers, u8 samples known}
+//   read                        -> hits {HitBuffers' arrays in the list's order (hits.hpp), u8 samples known}
 // and any request may be answered input_error {text} (an InputError: the same one-line message)
 // or error {text} (anything else; the worker stays usable after both).
 //
@@ -36,7 +36,7 @@
 
 namespace heightmarch::glsl_protocol {
 
-inline constexpr std::uint32_t kVersion = 3;
+inline constexpr std::uint32_t kVersion = 4;
 inline constexpr std::uint32_t kMagic = 0x4c474d48;  // "HMGL": a stray write to stdout is caught at once
 // The worker's exit status when an allocation failed outside a request (reading one, starting).
 inline constexpr int kOutOfMemoryStatus = 3;

@@ -1,21 +1,22 @@
-// The techniques, each mirroring its C++ kernel in src/kernels/. Each returns
-// (u, v, depth, shadow factor); the harness counts the samples.
+// The techniques, each mirroring its C++ kernel in src/kernels/. Each returns a Hit (its outputs,
+// generated from heightmarch/hits.hpp: hitAt(uv, depth) leaves the others at their initial
+// values); the harness counts the samples.
 
 // parallax.hpp: uv = T - V.xy / V.z * (D(T) s); limited drops the division by V.z.
-vec4 parallax(vec2 T, vec3 V, bool limited) {
+Hit parallax(vec2 T, vec3 V, bool limited) {
   float depth = sampleDepth(T);
   float offset = depth * heightScale;
   vec2 direction = limited ? V.xy : V.xy / V.z;
-  return vec4(T - direction * offset, depth, 1.0);
+  return hitAt(T - direction * offset, depth);
 }
 
-vec4 steep(vec2 T, vec3 V, bool limited) {
+Hit steep(vec2 T, vec3 V, bool limited) {
   LayerMarch m = marchLayers(T, V, limited);
-  return vec4(m.uv, m.currentLayerDepth, 1.0);
+  return hitAt(m.uv, m.currentLayerDepth);
 }
 
 // relief.hpp: the "Parallax Occlusion Mapping in GLSL" tutorial's binary search between the last two layers.
-vec4 relief(vec2 T, vec3 V) {
+Hit relief(vec2 T, vec3 V) {
   LayerMarch m = marchLayers(T, V, false);
   vec2 delta = m.delta / 2.0;
   float deltaDepth = m.layerDepth / 2.0;
@@ -29,11 +30,11 @@ vec4 relief(vec2 T, vec3 V) {
     uv = below ? uv - delta : uv + delta;
     depth = below ? depth + deltaDepth : depth - deltaDepth;
   }
-  return vec4(uv, depth, 1.0);
+  return hitAt(uv, depth);
 }
 
 // pom.hpp: LearnOpenGL's interpolation, re-reading the previous layer; 0/0 keeps the layer.
-vec4 pom(vec2 T, vec3 V) {
+Hit pom(vec2 T, vec3 V) {
   LayerMarch m = marchLayers(T, V, false);
   vec2 prevUv = m.uv + m.delta;
   float afterDepth = m.depthMapValue - m.currentLayerDepth;
@@ -43,19 +44,19 @@ vec4 pom(vec2 T, vec3 V) {
   float oneMinusWeight = 1.0 - weight;
   vec2 uv = prevUv * weight + m.uv * oneMinusWeight;
   float depth = (m.currentLayerDepth - m.layerDepth) * weight + m.currentLayerDepth * oneMinusWeight;
-  return vec4(uv, depth, 1.0);
+  return hitAt(uv, depth);
 }
 
 // shadow.hpp: the "Parallax Occlusion Mapping in GLSL" tutorial's parallaxSoftShadowMultiplier from
-// a hit (the shadow technique's is POM's), as the tutorial has it, into hit.w.
-vec4 softShadow(vec4 hit) {
+// a hit (the shadow technique's is POM's), as the tutorial has it, into hit.shadow.
+Hit softShadow(Hit hit) {
   vec3 L = lightDirection;
   if (!(L.z > 0.0)) return hit;
   float numLayers = layerCount(L.z);
-  float layerHeight = hit.z / numLayers;
+  float layerHeight = hit.depth / numLayers;
   vec2 texStep = heightScale * L.xy / L.z / numLayers;
-  float currentLayerHeight = hit.z - layerHeight;
-  vec2 uv = hit.xy + texStep;
+  float currentLayerHeight = hit.depth - layerHeight;
+  vec2 uv = vec2(hit.u, hit.v) + texStep;
   float heightFromTexture = sampleDepth(uv);
   float shadowMultiplier = 0.0;
   bool underSurface = false;
@@ -72,7 +73,7 @@ vec4 softShadow(vec4 hit) {
     heightFromTexture = sampleDepth(uv);
     marching = (currentLayerHeight > 0.0) && (stepIndex < bound);
   }
-  hit.w = underSurface ? 1.0 - shadowMultiplier : 1.0;
+  hit.shadow = underSurface ? 1.0 - shadowMultiplier : 1.0;
   return hit;
 }
 
@@ -82,7 +83,7 @@ float secantWeight(float aGap, float bGap) {
   return denominator != 0.0 ? bGap / denominator : 0.0;
 }
 
-vec4 secant(vec2 T, vec3 V) {
+Hit secant(vec2 T, vec3 V) {
   LayerMarch m = marchLayers(T, V, false);
   vec2 aUv = m.uv + m.delta;
   float aDepth = m.currentLayerDepth - m.layerDepth;
@@ -106,7 +107,7 @@ vec4 secant(vec2 T, vec3 V) {
   }
   float w = secantWeight(aGap, bGap);
   float oneMinusW = 1.0 - w;
-  return vec4(aUv * w + bUv * oneMinusW, aDepth * w + bDepth * oneMinusW, 1.0);
+  return hitAt(aUv * w + bUv * oneMinusW, aDepth * w + bDepth * oneMinusW);
 }
 
 // cone.hpp: the relaxed cone map, RG32F (depth, cone ratio), GL_LINEAR, the depth map's wrap; a
@@ -116,7 +117,7 @@ const float kConeReached = 1.52587890625e-5;
 
 // cone.hpp: steps to the relaxed cone's edge, each one read of (depth, cone ratio) counted as one
 // sample; then, where a crossing may lie behind the end, the halvings of the bracket.
-vec4 cone(vec2 T, vec3 V) {
+Hit cone(vec2 T, vec3 V) {
   float pX = V.x / V.z * heightScale;
   float pY = V.y / V.z * heightScale;
   float r = sqrt(pX * pX + pY * pY);
@@ -152,7 +153,7 @@ vec4 cone(vec2 T, vec3 V) {
     halving = hi - lo > kConeReached;
   }
   float hit = bracketed ? (lo + hi) * 0.5 : t;
-  return vec4(T.x - pX * hit, T.y - pY * hit, hit, 1.0);
+  return hitAt(vec2(T.x - pX * hit, T.y - pY * hit), hit);
 }
 
 // maxmip.hpp: the min-depth pyramid walk, one ray per fragment; each packet select of the C++
@@ -195,7 +196,7 @@ float pyramidEntry(int index) {
   return texelFetch(minDepthPyramid, ivec2(index % pyramidAtlasWidth, index / pyramidAtlasWidth), 0).r;
 }
 
-vec4 maxmip(vec2 T, vec3 V) {
+Hit maxmip(vec2 T, vec3 V) {
   ivec2 mapSize = textureSize(depthMap, 0);
   float width = float(mapSize.x), height = float(mapSize.y);
   float invWidth = 1.0 / width, invHeight = 1.0 / height;
@@ -329,5 +330,5 @@ vec4 maxmip(vec2 T, vec3 V) {
     }
   }
   float hitT = reached ? t + firstRoot(hitC0, hitC1, hitC2, hitSpan) : (walking ? t : 1.0);
-  return vec4(T.x - pX * hitT, T.y - pY * hitT, hitT, 1.0);
+  return hitAt(vec2(T.x - pX * hitT, T.y - pY * hitT), hitT);
 }

@@ -21,6 +21,26 @@ namespace heightmarch::HEIGHTMARCH_ISA_NS {
 #else
 #define HEIGHTMARCH_FLATTEN [[gnu::flatten]]
 #endif
+// An output's store: floats and counts as they are, flags as bytes.
+template <int W>
+void store_channel(vfloat<W> value, float* to) {
+  value.store(to);
+}
+template <int W>
+void store_channel(vint<W> value, std::uint32_t* to) {
+  value.store(reinterpret_cast<std::int32_t*>(to));
+}
+template <int W>
+void store_channel(vint<W> value, std::uint8_t* to) {
+  store_bytes(value, to);
+}
+
+// Which outputs a kernel stores: a technique's (and the roofline's, the compute ceiling's) every
+// output but the exact pass's; the exact reference's float pass its own too.
+template <class Kernel>
+inline constexpr bool kStoresExactPass = false;
+constexpr bool stores(ChannelWriter writer, bool exact_pass) { return writer != ChannelWriter::exact_pass || exact_pass; }
+
 template <int W, Addressing ADDRESSING, class Kernel, Taps TAPS = Taps::memory>
 HEIGHTMARCH_FLATTEN void trace_packets(const KernelTexture& texture, const KernelParams& params, const KernelRays& rays,
                    const KernelHits& hits, std::size_t begin, std::size_t end,
@@ -37,15 +57,14 @@ HEIGHTMARCH_FLATTEN void trace_packets(const KernelTexture& texture, const Kerne
   for (std::size_t i = begin; i < end; i += W) {
     const RayPacket<W> ray{F::load(in.tx + i), F::load(in.ty + i), F::load(in.vx + i), F::load(in.vy + i),
                            F::load(in.vz + i)};
-    const HitPacket<W> hit = kernel(context, ray);
-    hit.u.store(out.u + i);
-    hit.v.store(out.v + i);
-    hit.depth.store(out.depth + i);
-    hit.shadow.store(out.shadow + i);
-    hit.samples.store(reinterpret_cast<std::int32_t*>(out.samples + i));
+    HitPacket<W> hit = kernel(context, ray);
     local.lane_samples += reduce_add(hit.samples);  // see KernelContext::count()
     const auto outside = (hit.u < F(0.0f)) | (hit.u > F(1.0f)) | (hit.v < F(0.0f)) | (hit.v > F(1.0f));
-    store_bytes(select(outside, discard, vint<W>(0)), out.discarded + i);
+    hit.discarded = select(outside, discard, vint<W>(0));
+#define HEIGHTMARCH_STORE_CHANNEL(name, type, initial, writer, ...) \
+  if constexpr (stores(ChannelWriter::writer, kStoresExactPass<Kernel>)) store_channel(hit.name, out.name + i);
+    HEIGHTMARCH_HIT_CHANNELS(HEIGHTMARCH_STORE_CHANNEL)
+#undef HEIGHTMARCH_STORE_CHANNEL
   }
   counters.lane_samples += local.lane_samples;
   counters.packet_samples += local.packet_samples;
@@ -64,6 +83,8 @@ struct ExactBoundKernel {
     return maxmip_exact_bound(k, ray);
   }
 };
+template <>
+inline constexpr bool kStoresExactPass<ExactBoundKernel> = true;
 
 // The addressing modes in Addressing's order.
 template <int W, class Kernel, Taps TAPS = Taps::memory>

@@ -5,7 +5,9 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "heightmarch/hits.hpp"
 #include "heightmarch/isa.hpp"
+#include "heightmarch/precomputed.hpp"
 #include "heightmarch/sampler.hpp"
 #include "heightmarch/technique.hpp"
 
@@ -15,13 +17,11 @@ struct KernelTexture {
   const float* texels;  // SamplerTexture layout: (width + 1) x (height + 1)
   int width, height, stride;
   Wrap wrap;
-  // The min-depth pyramid (MinDepthPyramid's flat layout) for the techniques that walk it;
-  // null with 0 levels otherwise. A level's blocks a side follow from the map's size.
-  const float* pyramid = nullptr;
-  const std::int32_t* level_offsets = nullptr;
-  int pyramid_levels = 0;
-  // The relaxed cone map's ratios in the texels' layout (cone only; heightmarch/cone_map.hpp).
-  const float* cone = nullptr;
+  // The precomputed textures of the list (precomputed.hpp), each in its kind's slot (its
+  // slot()); empty for the kinds the technique does not read.
+#define HEIGHTMARCH_KERNEL_TEXTURE_SLOT(id, ...) TextureSlot id{};
+  HEIGHTMARCH_PRECOMPUTED_TEXTURES(HEIGHTMARCH_KERNEL_TEXTURE_SLOT)
+#undef HEIGHTMARCH_KERNEL_TEXTURE_SLOT
 };
 
 struct KernelParams {
@@ -36,11 +36,21 @@ struct KernelRays {
   const float *tx, *ty, *vx, *vy, *vz;
 };
 
+// One pointer per output of the list (hits.hpp); null where the caller holds no array for it.
 struct KernelHits {
-  float *u, *v, *depth, *shadow;
-  std::uint32_t* samples;
-  std::uint8_t* discarded;
+#define HEIGHTMARCH_KERNEL_HIT(name, type, ...) type* name = nullptr;
+  HEIGHTMARCH_HIT_CHANNELS(HEIGHTMARCH_KERNEL_HIT)
+#undef HEIGHTMARCH_KERNEL_HIT
 };
+
+// The arrays of a batch's hits (the exact pass's outputs, which no HitBuffers holds, left null).
+inline KernelHits kernel_hits(HitBuffers& hits) {
+  KernelHits out;
+#define HEIGHTMARCH_KERNEL_HIT_OF(name, type, initial, writer, ...) HEIGHTMARCH_IN_HITS_##writer(out.name = hits.name.data();)
+  HEIGHTMARCH_HIT_CHANNELS(HEIGHTMARCH_KERNEL_HIT_OF)
+#undef HEIGHTMARCH_KERNEL_HIT_OF
+  return out;
+}
 
 struct KernelCounters {
   std::uint64_t lane_samples = 0;    // lanes that took a sample
@@ -69,9 +79,10 @@ struct KernelTable {
   int packet_width;  // rays per loop iteration
   TraceRangeFn technique[kTechniqueCount][kAddressingCount];
   TraceRangeFn sampler_roofline[kAddressingCount];  // the sampler alone (benchmarks)
-  // The exact reference's float pass (src/exact/exact_hits.cpp): per ray, with shadow 1 the exact
-  // hit (uv, depth), found in double in the cell the pass stopped in; with shadow 0, in depth, how
-  // far the path is certainly clear of the surface. In samples, the cells it tested in float.
+  // The exact reference's float pass (src/exact/exact_hits.cpp): per ray, where it settled the ray
+  // (`settled`) the exact hit (uv, depth), found in double in the cell the pass stopped in; in
+  // `clear_depth`, how far the path is certainly clear of the surface. In samples, the cells it
+  // tested in float.
   TraceRangeFn exact_bound[kAddressingCount];
   TraceRangeFn compute_ceiling[kAddressingCount];   // POM on register taps (benchmarks)
   // The naive port vectorised by the compiler (benchmarks), on a plain REPEAT DepthMap

@@ -10,12 +10,24 @@ struct RayPacket {
   vfloat<W> tx, ty, vx, vy, vz;
 };
 
-// The result of a technique for one packet.
+// An output's packet: floats as vfloat<W>, counts and flags as vint<W>.
+template <class T, int W>
+struct ChannelPacket {
+  using type = vint<W>;
+};
+template <int W>
+struct ChannelPacket<float, W> {
+  using type = vfloat<W>;
+};
+
+// The result of a technique for one packet: every output of the list (heightmarch/hits.hpp), each
+// at its initial value until the kernel (or the packet loop) sets it.
 template <int W>
 struct HitPacket {
-  vfloat<W> u, v, depth;
-  vfloat<W> shadow = vfloat<W>(1.0f);
-  vint<W> samples = vint<W>(0);
+#define HEIGHTMARCH_HIT_PACKET(name, element, initial, ...) \
+  typename ChannelPacket<element, W>::type name = typename ChannelPacket<element, W>::type(initial);
+  HEIGHTMARCH_HIT_CHANNELS(HEIGHTMARCH_HIT_PACKET)
+#undef HEIGHTMARCH_HIT_PACKET
 };
 
 // A technique's kernel as a callable type: k (the KernelContext) and a RayPacket in, a HitPacket

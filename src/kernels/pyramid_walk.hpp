@@ -115,7 +115,7 @@ PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloa
   const KernelTexture& texture = k.texture;
   const F width(float(texture.width)), height(float(texture.height));
   const F inv_width(1.0f / float(texture.width)), inv_height(1.0f / float(texture.height));
-  const int top = texture.pyramid_levels - 1;  // -1: no interior cell (CLAMP, one texel wide)
+  const int top = texture.min_depth_pyramid.levels - 1;  // -1: no interior cell (CLAMP, one texel wide)
   const I top_level(top < 0 ? 0 : top);
   const auto clamp_cell = [&](F c, F n) { return kRepeat ? c : min(max(c, F(-1.0f)), n - F(1.0f)); };
 
@@ -145,7 +145,7 @@ PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloa
   Table16<float> level_size, level_inv_size;
   const int last_cell_x = kRepeat ? texture.width - 1 : texture.width - 2;
   for (int l = 0; l <= std::max(top, 0); ++l) {
-    level_offset.values[l] = top < 0 ? 0 : texture.level_offsets[l];
+    level_offset.values[l] = top < 0 ? 0 : texture.min_depth_pyramid.level_offsets[l];
     level_blocks_x.values[l] = (last_cell_x >> l) + 1;
     level_size.values[l] = float(1 << l);
     level_inv_size.values[l] = 1.0f / float(1 << l);
@@ -201,7 +201,7 @@ PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloa
       }
       const I entry = lookup(level_offset, level) + to_int(by) * lookup(level_blocks_x, level) + to_int(bx);
       if constexpr (!CONSERVATIVE) k.count(in_pyramid, walk.samples, 1);
-      shallowest = select(in_pyramid, gather(texture.pyramid, select(in_pyramid, entry, I(0))), F(-kInf));
+      shallowest = select(in_pyramid, gather(texture.min_depth_pyramid.texels, select(in_pyramid, entry, I(0))), F(-kInf));
     }
     const F clear_above = shallowest - eta;  // the path is clear of the block above this depth
     const B skip = in_pyramid & (t_end < clear_above);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 namespace heightmarch {
 
@@ -29,16 +30,36 @@ double percentile(const std::vector<float>& sorted, double p) {
 
 }  // namespace
 
+namespace {
+
+// Whether the hits carry this output as a technique writing `written` does, measured against the
+// light's visibility.
+bool measured_against_visibility(const HitChannelInfo& c, Writes written) {
+  return c.against == MeasuredAgainst::visibility && c.writer == ChannelWriter::optional &&
+         (unsigned(written) >> unsigned(c.id)) & 1u;
+}
+
+// The array of an output measured against the visibility (a float one: a factor).
+const std::vector<float>& float_channel(const HitBuffers& hits, HitChannel channel) {
+  const std::vector<float>* found = nullptr;
+  hits.for_each([&](HitChannel c, const auto& values) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(values)>, std::vector<float>>)
+      if (c == channel) found = &values;
+  });
+  return *found;
+}
+
+}  // namespace
+
 ErrorSummary summarize_errors(const RayBatch& rays, const HitBuffers& hits, const HitBuffers& exact,
-                              int map_width, int map_height, bool shadow,
+                              int map_width, int map_height, Writes written,
                               std::vector<float>* per_ray_error) {
   ErrorSummary s;
-  s.has_shadow = shadow;
   std::vector<float> errors;
   errors.reserve(rays.ray_count);
   if (per_ray_error) per_ray_error->assign(rays.size(), 0.0f);
-  double sum = 0, sum_sq = 0, depth_sum = 0, samples = 0, shadow_sum = 0;
-  std::size_t wrong = 0, mismatched = 0, real = 0;
+  double sum = 0, sum_sq = 0, depth_sum = 0, samples = 0;
+  std::size_t wrong = 0, real = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     if (rays.is_padding(i)) continue;
     ++real;
@@ -54,10 +75,6 @@ ErrorSummary summarize_errors(const RayBatch& rays, const HitBuffers& hits, cons
     sum_sq += double(e) * e;
     wrong += e > 1.0f;
     depth_sum += std::fabs(double(hits.depth[i]) - double(exact.depth[i]));
-    if (shadow) {
-      shadow_sum += std::fabs(double(hits.shadow[i]) - double(exact.shadow[i]));
-      mismatched += (hits.shadow[i] >= 0.5f) != (exact.shadow[i] >= 0.5f);
-    }
   }
   s.rays = errors.size();
   s.samples_per_ray = real ? samples / double(real) : 0.0;
@@ -67,8 +84,19 @@ ErrorSummary summarize_errors(const RayBatch& rays, const HitBuffers& hits, cons
   s.rms = std::sqrt(sum_sq / n);
   s.wrong_surface_rate = double(wrong) / n;
   s.depth_error_mean = depth_sum / n;
-  s.shadow_error_mean = shadow_sum / n;
-  s.shadow_mismatch_rate = double(mismatched) / n;
+  // Each output against the exact visibility (the exact hits' shadow: 0 or 1), on the same rays.
+  for (const HitChannelInfo& c : hit_channels()) {
+    if (!measured_against_visibility(c, written)) continue;
+    const std::vector<float>& value = float_channel(hits, c.id);
+    double error_sum = 0;
+    std::size_t mismatched = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      if (rays.is_padding(i) || hits.discarded[i]) continue;
+      error_sum += std::fabs(double(value[i]) - double(exact.shadow[i]));
+      mismatched += (value[i] >= 0.5f) != (exact.shadow[i] >= 0.5f);
+    }
+    s.visibility[std::size_t(c.id)] = {true, error_sum / n, double(mismatched) / n};
+  }
   std::sort(errors.begin(), errors.end());
   s.p50 = percentile(errors, 50);
   s.p95 = percentile(errors, 95);
@@ -77,19 +105,43 @@ ErrorSummary summarize_errors(const RayBatch& rays, const HitBuffers& hits, cons
   return s;
 }
 
+const std::vector<ErrorMeasure>& error_measure_list() {
+  static const std::vector<ErrorMeasure> list = [] {
+    std::vector<ErrorMeasure> measures = {
+#define HEIGHTMARCH_HIT_MEASURE_NAME(name, member, label) {#name, label},
+        HEIGHTMARCH_HIT_MEASURES(HEIGHTMARCH_HIT_MEASURE_NAME)
+#undef HEIGHTMARCH_HIT_MEASURE_NAME
+    };
+    for (const HitChannelInfo& c : hit_channels())
+      if (c.against == MeasuredAgainst::visibility) {
+        const std::string name(c.name), label(c.label);
+        measures.push_back({name + "_error_mean", "mean " + label + " error"});
+        measures.push_back({name + "_mismatch_rate", name + " mismatch (share)"});
+      }
+    return measures;
+  }();
+  return list;
+}
+
+std::string error_measure_names() {
+  std::string names;
+  for (const ErrorMeasure& m : error_measure_list()) names += (names.empty() ? "" : ",") + m.name;
+  return names;
+}
+
 std::vector<std::pair<std::string, double>> error_measures(const ErrorSummary& e) {
-  const double shadow_error = e.has_shadow ? e.shadow_error_mean : std::nan("");
-  const double shadow_mismatch = e.has_shadow ? e.shadow_mismatch_rate : std::nan("");
-  return {{"uv_error_mean", e.mean},
-          {"uv_error_rms", e.rms},
-          {"uv_error_p50", e.p50},
-          {"uv_error_p95", e.p95},
-          {"uv_error_p99", e.p99},
-          {"uv_error_max", e.max},
-          {"wrong_surface_rate", e.wrong_surface_rate},
-          {"depth_error_mean", e.depth_error_mean},
-          {"shadow_error_mean", shadow_error},
-          {"shadow_mismatch_rate", shadow_mismatch}};
+  std::vector<std::pair<std::string, double>> measures = {
+#define HEIGHTMARCH_HIT_MEASURE_VALUE(name, member, label) {#name, e.member},
+      HEIGHTMARCH_HIT_MEASURES(HEIGHTMARCH_HIT_MEASURE_VALUE)
+#undef HEIGHTMARCH_HIT_MEASURE_VALUE
+  };
+  for (const HitChannelInfo& c : hit_channels())
+    if (c.against == MeasuredAgainst::visibility) {
+      const ErrorSummary::VisibilityError& v = e.visibility[std::size_t(c.id)];
+      measures.emplace_back(std::string(c.name) + "_error_mean", v.measured ? v.error_mean : std::nan(""));
+      measures.emplace_back(std::string(c.name) + "_mismatch_rate", v.measured ? v.mismatch_rate : std::nan(""));
+    }
+  return measures;
 }
 
 std::vector<std::pair<std::string, double>> error_counters(const ErrorSummary& e) {

@@ -20,6 +20,27 @@ const std::array<TechniqueInfo, kTechniqueCount>& techniques() {
 
 const TechniqueInfo& info(Technique technique) { return techniques()[std::size_t(technique)]; }
 
+bool writes_visibility(const TechniqueInfo& t) {
+  for (const HitChannelInfo& c : hit_channels())
+    if (c.against == MeasuredAgainst::visibility && writes(t, c.id)) return true;
+  return false;
+}
+
+namespace {
+
+// A row's `writes` names optional outputs only: the others are every technique's, or no technique's.
+constexpr bool writes_optional_only(Writes writes) {
+  for (const HitChannelInfo& c : hit_channels())
+    if (c.writer != ChannelWriter::optional && (unsigned(writes) >> unsigned(c.id)) & 1u) return false;
+  return true;
+}
+#define HEIGHTMARCH_CHECK_WRITES(id, name, layered, refine, needs, writes, ...) \
+  static_assert(writes_optional_only(writes), "technique " name ": writes names an output that is not optional");
+HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_CHECK_WRITES)
+#undef HEIGHTMARCH_CHECK_WRITES
+
+}  // namespace
+
 std::string to_string(Technique technique) { return std::string(info(technique).name); }
 
 std::string technique_names() {

@@ -531,4 +531,19 @@ std::shared_ptr<const ConeMap> cached_cone_map(const DepthMap& map, Wrap wrap) {
   return cache.back();
 }
 
+GlImage ConeMap::gl_image() const {
+  GlImage image;
+  image.width = width;
+  image.height = height;
+  image.channels = 2;
+  image.linear = true;
+  image.run_wrap = true;
+  image.texels.resize(2 * depth.size());
+  for (std::size_t i = 0; i < depth.size(); ++i) {
+    image.texels[2 * i] = depth[i];
+    image.texels[2 * i + 1] = ratio[i];
+  }
+  return image;
+}
+
 }  // namespace heightmarch

@@ -50,4 +50,21 @@ MinDepthPyramid::MinDepthPyramid(const DepthMap& map, Wrap wrap) {
   }
 }
 
+GlImage MinDepthPyramid::gl_image() const {
+  const int last = levels() - 1;
+  const std::size_t entries =
+      last < 0 ? 1 : std::size_t(offsets_.back()) + std::size_t(blocks_x(last)) * std::size_t(blocks_y(last));
+  const std::size_t rows = (entries + kGlAtlasWidth - 1) / kGlAtlasWidth;
+  GlImage image;
+  image.width = kGlAtlasWidth;
+  image.height = int(rows);
+  image.texels.assign(rows * kGlAtlasWidth, 1.0f);
+  if (last >= 0) std::copy(data(), data() + entries, image.texels.begin());
+  image.uniforms = {{"pyramidAtlasWidth", {kGlAtlasWidth}},
+                    {"pyramidLevels", {levels()}},
+                    {"levelOffsets", offsets_},
+                    {"levelBlocksX", blocks_x_}};
+  return image;
+}
+
 }  // namespace heightmarch

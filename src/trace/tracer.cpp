@@ -45,23 +45,20 @@ TraceStats Tracer::run_kernel(TraceRangeFn kernel, const RayBatch& rays, HitBuff
   tbb::combinable<KernelCounters> counters;
   KernelTexture texture{texture_.texels.data(), texture_.width, texture_.height, texture_.stride,
                         texture_.wrap};
-  if (const MinDepthPyramid* pyramid = precomputed_.pyramid.get()) {
-    texture.pyramid = pyramid->data();
-    texture.level_offsets = pyramid->offsets();
-    texture.pyramid_levels = pyramid->levels();
-  }
-  if (const ConeMap* cone = precomputed_.cone_map.get()) texture.cone = cone->texture.texels.data();
+#define HEIGHTMARCH_TRACER_SLOT(id, ...) \
+  if (precomputed_.id) texture.id = precomputed_.id->slot();
+  HEIGHTMARCH_PRECOMPUTED_TEXTURES(HEIGHTMARCH_TRACER_SLOT)
+#undef HEIGHTMARCH_TRACER_SLOT
   const KernelParams params{params_.layers.min_layers, params_.layers.max_layers, params_.refine_steps(),
                             params_.scale, params_.discard,
                             {params_.light[0], params_.light[1], params_.light[2]}};
   const KernelRays kernel_rays{rays.tx.data(), rays.ty.data(), rays.vx.data(), rays.vy.data(),
                                rays.vz.data()};
-  const KernelHits kernel_hits{hits.u.data(), hits.v.data(), hits.depth.data(), hits.shadow.data(),
-                               hits.samples.data(), hits.discarded.data()};
+  const KernelHits out = kernel_hits(hits);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.tile_count(), 1),
                     [&](const tbb::blocked_range<std::size_t>& tiles) {
                       for (std::size_t t = tiles.begin(); t != tiles.end(); ++t)
-                        kernel(texture, params, kernel_rays, kernel_hits, rays.tile_offsets[t],
+                        kernel(texture, params, kernel_rays, out, rays.tile_offsets[t],
                                rays.tile_offsets[t + 1], counters.local());
                     });
   TraceStats stats;

@@ -24,7 +24,7 @@ HitPacket<W> cone(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   using I = vint<W>;
   using B = vbool<W>;
   KernelTexture ratios = k.texture;
-  ratios.texels = k.texture.cone;
+  ratios.texels = k.texture.cone_map.texels;
   const PacketSampler<W, ADDRESSING> cone_ratio(ratios);  // the second channel of each read
 
   // uv offset per unit depth, as the layered techniques' P, and r = |P|: the ray's uv per depth.

@@ -25,7 +25,12 @@ HitPacket<W> relief(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
     v = select(below, v - delta_v, v + delta_v);
     depth = select(below, depth + delta_depth, depth - delta_depth);
   }
-  return {u, v, depth, F(1.0f), m.samples};
+  HitPacket<W> hit;
+  hit.u = u;
+  hit.v = v;
+  hit.depth = depth;
+  hit.samples = m.samples;
+  return hit;
 }
 
 template <>

@@ -7,7 +7,12 @@ namespace heightmarch::HEIGHTMARCH_ISA_NS {
 template <bool LIMITED, int W, Addressing ADDRESSING>
 HitPacket<W> steep(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   const LayerMarch<W> m = march_layers<LIMITED>(k, ray);
-  return {m.u, m.v, m.current_layer_depth, vfloat<W>(1.0f), m.samples};
+  HitPacket<W> hit;
+  hit.u = m.u;
+  hit.v = m.v;
+  hit.depth = m.current_layer_depth;
+  hit.samples = m.samples;
+  return hit;
 }
 
 template <>
