@@ -357,3 +357,39 @@ TEST(Claims, ConsecutiveComputationsGiveIdenticalVerdicts) {
 
 }  // namespace
 }  // namespace heightmarch
+
+namespace heightmarch {
+namespace {
+
+// A map named with markup stays text in claims.md: no HTML, no live link, no split heading or
+// cut table row (markdown_text, the one rule for Markdown).
+TEST(Claims, MarkdownOfAMapNamedWithMarkupIsText) {
+  ClaimResult r{"C7", "POM is much more accurate than steep parallax", "a tutorial", "a rule", {}, Verdict::holds_partly};
+  const std::string hostile = "<img src=x onerror=alert(1)> [x](javascript:alert(1)) a|b\n### heading \x1b]0;PWN\x07";
+  r.checks = {{hostile + ", 32 layers", "1 | 2", true}, {hostile, "3", false}};
+  const std::string md = claims_markdown({r}, "Measured here.", "Configurations: one map.", "");
+  // text found where no backslash escapes its first character
+  const auto markup = [&](const std::string& text) {
+    for (std::size_t at = md.find(text); at != std::string::npos; at = md.find(text, at + 1))
+      if (at == 0 || md[at - 1] != '\\') return true;
+    return false;
+  };
+  EXPECT_FALSE(markup("<img")) << md;
+  EXPECT_FALSE(markup("](javascript"));
+  EXPECT_EQ(md.find("\n### heading"), std::string::npos);
+  EXPECT_EQ(md.find('\x1b'), std::string::npos);
+  EXPECT_NE(md.find("\\<img src=x onerror=alert(1)\\> \\[x\\](javascript:alert(1)) a\\|b \\#\\#\\# heading "
+                    "\\\\x1b\\]0;PWN\\\\x07"),
+            std::string::npos);
+  std::size_t table_rows = 0;
+  for (std::size_t at = 0; (at = md.find("\n| ", at)) != std::string::npos; ++at, ++table_rows) {
+    const std::string line = md.substr(at + 1, md.find('\n', at + 1) - at - 1);
+    std::size_t cells = 0;
+    for (std::size_t i = 0; i < line.size(); ++i) cells += line[i] == '|' && (i == 0 || line[i - 1] != '\\');
+    EXPECT_EQ(cells, 4u) << line;
+  }
+  EXPECT_EQ(table_rows, 5u);  // the verdicts' header and row, the checks' header and two rows
+}
+
+}  // namespace
+}  // namespace heightmarch

@@ -6,7 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 
 #include "experiment/suite_plan.hpp"
@@ -159,11 +163,62 @@ TEST(Recommendation, RecommendReadsARunToTheSuitesAnswer) {
   for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
            {"recommend " + out + " --percentile p90", "--percentile: p90 not in"},
            {"recommend " + out + " --max-wrong-surface 101", "--max-wrong-surface: must be in [0, 100], not 101"},
-           {"recommend /nonexistent", "/nonexistent: cannot read it"}}) {
+           {"recommend /nonexistent", "/nonexistent: cannot open measurements.json"}}) {
     const auto r = test::run_cli(args);
     EXPECT_EQ(r.status, 2) << args << ": " << r.output;
     EXPECT_NE(r.output.find(message), std::string::npos) << args << ": " << r.output;
   }
+}
+
+// recommend reads measurements.json checked: a value out of its type or range is one line naming
+// the row and the field, exit 2, never a figure (1e308 seconds read as inf ns/ray, -1 rays as 2^64-1,
+// an id of 1e20 as -2147483648, a negative uv error counted within the bound); a FIFO is refused
+// before it is read; a file larger than the memory budget allows is refused before it is parsed.
+TEST(Recommendation, RecommendRefusesBadValuesInOneLine) {
+  const std::string dir = test::temp_dir("recommend-bad-values");
+  const std::string good =
+      R"({"format": "heightmarch-measurements", "format_version": 2, "rows": [{"id": 0, "kind": "trace",)"
+      R"( "purposes": ["matrix"], "technique": "pom", "layers": "32", "backend": "avx2", "threads": 2,)"
+      R"( "heightfield": {"label": "bricks", "width": 32, "height": 32}, "view": {"kind": "default"},)"
+      R"( "rays": 4096, "samples_per_ray": 10, "failure": null, "precompute_seconds": null,)"
+      R"( "errors": {"uv_error_p50": 0.1, "uv_error_p95": 0.2, "uv_error_p99": 0.3, "uv_error_max": 1,)"
+      R"( "wrong_surface_rate": 0.001}, "speed": {"seconds": [0.001, 0.0011, 0.0009]}}]})";
+  const auto with = [&](const std::string& from, const std::string& to) {
+    std::string text = good;
+    text.replace(text.find(from), from.size(), to);
+    return text;
+  };
+  const auto write = [&](const std::string& text) {
+    std::ofstream(dir + "/measurements.json") << text;
+    return test::run_cli("recommend " + dir);
+  };
+  const auto fine = write(good);
+  ASSERT_EQ(fine.status, 0) << fine.output;
+  for (const auto& [text, message] : std::vector<std::pair<std::string, std::string>>{
+           {with("[0.001, 0.0011, 0.0009]", "[1e308, 0.0011, 0.0009]"), "rows[0]: speed.seconds: is 1e+308, not in (0,"},
+           {with("[0.001, 0.0011, 0.0009]", "[]"), "rows[0]: speed.seconds: is not a list of repetitions' seconds"},
+           {with("\"rays\": 4096", "\"rays\": -1"), "rows[0]: rays: is -1, not in 0.."},
+           {with("\"id\": 0", "\"id\": 1e20"), "rows[0]: id: is 1e+20, not an integer"},
+           {with("\"uv_error_p99\": 0.3", "\"uv_error_p99\": -5"), "rows[0]: errors.uv_error_p99: is -5, not in [0,"},
+           {with("\"threads\": 2", "\"threads\": \"2\""), "rows[0]: threads: is \"2\", not an integer"},
+           {with("0.0011", "NaN"), "not JSON"},
+           {with("0.0011", "1e400"), "not JSON"}}) {
+    const auto r = write(text);
+    EXPECT_EQ(r.status, 2) << message << ": " << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  }
+  std::filesystem::remove(dir + "/measurements.json");
+  ASSERT_EQ(::mkfifo((dir + "/measurements.json").c_str(), 0600), 0);
+  const auto fifo = test::run_cli("recommend " + dir);  // refused at once, never blocked on
+  EXPECT_EQ(fifo.status, 2);
+  EXPECT_NE(fifo.output.find("is a FIFO"), std::string::npos) << fifo.output;
+  std::filesystem::remove(dir + "/measurements.json");
+  // 64 MiB of text would need about 512 MiB parsed: more than a 400 MiB budget leaves beside the tool
+  std::ofstream(dir + "/measurements.json") << with("{\"id\": 0,", "{\"id\": 0, \"pad\": \"" + std::string(64 << 20, 'x') + "\",");
+  const auto over = test::run_cli("recommend " + dir + " --memory-limit 400M");
+  EXPECT_EQ(over.status, 2) << over.output;
+  EXPECT_NE(over.output.find("reading measurements.json needs"), std::string::npos) << over.output;
 }
 
 TEST(SuiteFilters, TheUsersMapsTechniquesLayersIsasThreadsAndParts) {

@@ -14,7 +14,6 @@
 The alerts go to RUN/alerts.json and are kept, one line each, in results/alerts.csv.
 """
 import json
-import math
 import os
 import statistics
 
@@ -28,6 +27,8 @@ MAD_TO_SIGMA = 1.4826
 REL_TOL = 1e-6  # measures are printed with 9 digits
 CSV_COLUMNS = ["date", "commit", "machine", "series", "kind", "metric", "baseline", "baseline_spread", "new", "change",
                "message"]
+ALERTS = history.Table(CSV_COLUMNS, {"baseline": 0.0, "baseline_spread": 0.0, "new": 0.0, "change": -1.0},
+                       may_be_empty=("baseline", "baseline_spread", "new", "change"))
 RULE = ("speed: the fastest repetition's rays/s of each headline series against the median of its last %d "
         "runs on this machine (at least %d), an alert beyond %d%% and %g x their spread (1.4826 MAD); behaviour: "
         "any change of samples per ray or uv error against the machine's previous run of the series"
@@ -73,7 +74,7 @@ def behaviour_alert(key, new, previous):
         return None
     m, a, b = changed[0]
     return {"series": history.series_name(key), "kind": "behaviour", "metric": m, "baseline": a, "baseline_spread": 0.0,
-            "new": b, "change": b / a - 1 if a else math.inf,
+            "new": b, "change": b / a - 1 if a else None,  # no relative change from 0
             "message": "%s: %s (commit %s before)" % (history.series_name(key), ", ".join(
                 "%s %.6g -> %.6g" % c for c in changed), previous["commit"])}
 
@@ -106,13 +107,17 @@ def check(data, rows, new):
     return {"format_version": 1, "machine": machine, "series_tested": tested, "rule": RULE, "alerts": found}
 
 
-def record(data, rows, new, run_dir, csv_path):
-    """Writes RUN/alerts.json and appends the run's alerts to csv_path; the alerts."""
-    found = check(data, rows, new)
+def write_json(run_dir, found):
+    """RUN/alerts.json."""
     atomic_write(os.path.join(run_dir, "alerts.json"), json.dumps(found, indent=1) + "\n")
+
+
+def keep(csv_path, new, found):
+    """alerts.csv with the run's alerts (replacing an earlier record of the same run); the caller
+    holds the history's lock."""
     date, commit = (new[0]["date"], new[0]["commit"]) if new else ("", "")
-    kept = [r for r in history.read(csv_path, CSV_COLUMNS) if (r["date"], r["commit"], r["machine"]) != (date, commit, found["machine"])]
+    kept = [r for r in history.read(csv_path, ALERTS)
+            if (r["date"], r["commit"], r["machine"]) != (date, commit, found["machine"])]
     kept += [{"date": date, "commit": commit, "machine": found["machine"],
               **{k: ("%.6g" % a[k] if isinstance(a[k], float) else a[k]) for k in CSV_COLUMNS[3:]}} for a in found["alerts"]]
-    history.write(csv_path, kept, CSV_COLUMNS)
-    return found
+    history.write(csv_path, kept, ALERTS)

@@ -1,5 +1,7 @@
 """The one top-level handler of every entry point: whatever stops a tool reaches the user as one
-line, never a traceback.
+line, never a traceback, and whatever it prints reaches the terminal printable (stdout and stderr
+pass every line through escape.terminal: a benchmark's or a map's name with ESC ] or ESC [ 2J
+is shown, never obeyed).
 
     sys.exit(cli.run("report", "report"))    # heightmarch_tools.report's main(), imported under the handler
 
@@ -7,12 +9,16 @@ line, never a traceback.
 - errors.CannotWrite, OSError (a full disk, a closed pipe): "PROG: message", exit 1;
 - Ctrl-C (SIGINT), SIGTERM, SIGHUP: "PROG: interrupted (SIGTERM)", exit 128 + the signal; the
   signals are raised as an exception, so `finally` blocks and context managers (temporary files,
-  locks, worktrees) clean up on the way out.
+  locks, worktrees) clean up on the way out;
+- any other exception (a bug): "PROG: internal error: ..." with the file and line it came from,
+  exit 1; HEIGHTMARCH_TRACEBACK=1 shows the whole traceback instead.
 """
 import argparse
 import importlib
+import os
 import signal
 import sys
+import traceback
 
 from .errors import CannotWrite, Unusable
 from .escape import terminal
@@ -32,6 +38,20 @@ def _raise_interrupted(signum, _frame):
     raise Interrupted(signum)
 
 
+class PrintableStream:
+    """A text stream whose lines go out through escape.terminal (line breaks kept)."""
+
+    def __init__(self, stream):
+        self.stream = stream
+
+    def write(self, text):
+        self.stream.write("\n".join(terminal(line) for line in text.split("\n")))
+        return len(text)
+
+    def __getattr__(self, name):  # flush, fileno, isatty, encoding, ...
+        return getattr(self.stream, name)
+
+
 def say(prog, message):
     """One line on stderr, printable."""
     try:
@@ -49,14 +69,24 @@ class Parser(argparse.ArgumentParser):
 
 
 def run(prog, main, *args):
-    """The exit status of main(*args), or of the main() of this package's module named main
-    (imported once the handler is in place: Ctrl-C while matplotlib loads is one line too),
-    every way it can stop turned into one line and a status."""
+    """The exit status of main(*args), or of the function a "module:function" string names in
+    this package (main() by default; imported once the handler is in place: Ctrl-C while
+    matplotlib loads is one line too), every way it can stop turned into one line and a status."""
     for s in SIGNALS:
         signal.signal(s, _raise_interrupted)
+    streams = sys.stdout, sys.stderr
+    sys.stdout, sys.stderr = PrintableStream(sys.stdout), PrintableStream(sys.stderr)
+    try:
+        return _run(prog, main, *args)
+    finally:
+        sys.stdout, sys.stderr = streams
+
+
+def _run(prog, main, *args):
     try:
         if isinstance(main, str):
-            main = importlib.import_module("." + main, __package__).main
+            module, _, function = main.partition(":")
+            main = getattr(importlib.import_module("." + module, __package__), function or "main")
         return main(*args)
     except Unusable as e:
         say(prog, str(e))
@@ -75,3 +105,10 @@ def run(prog, main, *args):
             signal.signal(s, signal.SIG_DFL)
         say(prog, "interrupted (%s)" % signal.Signals(signum).name)
         return 128 + signum
+    except Exception as e:
+        if os.environ.get("HEIGHTMARCH_TRACEBACK"):
+            raise
+        where = traceback.extract_tb(e.__traceback__)[-1]
+        say(prog, "internal error: %s: %s (%s:%d; HEIGHTMARCH_TRACEBACK=1 shows the traceback)" % (
+            type(e).__name__, e, os.path.basename(where.filename), where.lineno))
+        return 1

@@ -1,15 +1,19 @@
 """The record across runs: results/history.csv, one row per timed row of every recorded run, each
-row naming its machine (record_run.py appends a run; alerts.py and history_plot.py read it).
+row naming its machine (record_run.py records a run; alerts.py and history_plot.py read it). Its
+rows are read checked, a malformed one refused with its line number; repair() drops those,
+naming each.
 """
 import csv
 import io
-import os
 import re
 
+from .cli import Parser
 from .errors import Unusable
+from .escape import csv_cell, terminal
 from .measurements import depth_map, view_name
+from .readers import Where, read_csv
 from .spreads import spread
-from .writers import atomic_write
+from .writers import atomic_write, locked
 
 MACHINE_PARTS = ["cpu", "cores", "best_isa", "compiler", "build_type"]
 SERIES_FIELDS = ["backend", "threads", "heightfield", "technique", "layers", "view", "depth_map"]
@@ -57,11 +61,12 @@ def backend(row):
 
 
 def series_fields(row):
-    """A measurements.json row's series: what it ran, where and at which sizes."""
-    return {"backend": backend(row), "threads": str(row["threads"]), "heightfield": row["heightfield"]["label"],
-            # rows without a technique (roofline, exact) are named by their kind
-            "technique": row.get("technique") or row["kind"], "layers": row.get("layers") or "",
-            "view": view_name(row["view"]), "depth_map": depth_map(row)}
+    """A measurements.json row's series: what it ran, where and at which sizes, as the history
+    holds them (as_written)."""
+    return as_written({"backend": backend(row), "threads": str(row["threads"]), "heightfield": row["heightfield"]["label"],
+                       # rows without a technique (roofline, exact) are named by their kind
+                       "technique": row.get("technique") or row["kind"], "layers": row.get("layers") or "",
+                       "view": view_name(row["view"]), "depth_map": depth_map(row)})
 
 
 def series(row):
@@ -88,7 +93,7 @@ def measure(row, name):
 
 
 def rows_of_run(data):
-    """One history row per timed row of a run's measurements.json."""
+    """One history row per timed row of a run's measurements.json, as the history holds it."""
     p = data["provenance"]
     parts = machine_parts(p)
     head = {"date": p.get("date", ""), "commit": p.get("commit", ""), "machine": machine_key(parts), **parts}
@@ -97,36 +102,96 @@ def rows_of_run(data):
         if not r.get("speed"):
             continue
         s = spread(r["speed"]["rays_per_second"]["rounds"])
-        out.append({**head, **series_fields(r),
-                    "rays_per_second_median": "%.6g" % s[0], "rays_per_second_min": "%.6g" % s[1],
-                    "rays_per_second_max": "%.6g" % s[2], **{m: measure(r, m) for m in MEASURES}})
+        out.append(as_written({**head, **series_fields(r),
+                               "rays_per_second_median": "%.6g" % s[0], "rays_per_second_min": "%.6g" % s[1],
+                               "rays_per_second_max": "%.6g" % s[2], **{m: measure(r, m) for m in MEASURES}}))
     return out
 
 
-def read(path, columns=COLUMNS):
-    """The rows of a history file (or of alerts.csv with its columns); [] where it does not exist yet."""
-    if not os.path.exists(path):
-        return []
-    with open(path, newline="") as f:
-        reader = csv.DictReader(f)
-        if reader.fieldnames != columns:
-            raise Unusable("%s: columns are not %s" % (path, ",".join(columns)))
-        return list(reader)
+# ---------------------------------------------------------------------------------------------
+# The files: history.csv and alerts.csv, each a header and rows checked cell by cell
+
+class Table:
+    """A CSV file of the record: its columns, the numeric ones with their lowest value (empty
+    cells allowed or not); every other column is text, written through escape.csv_cell."""
+
+    def __init__(self, columns, numbers, may_be_empty=(), integers=()):
+        self.columns, self.numbers, self.may_be_empty, self.integers = columns, numbers, may_be_empty, integers
+
+    def text_columns(self):
+        return [c for c in self.columns if c not in self.numbers]
+
+    def check(self, where, cells):
+        """The row of `cells` as {column: text}, or Unusable naming its line and what is wrong."""
+        where.check(len(cells) == len(self.columns), "%d cells, not %d%s" % (
+            len(cells), len(self.columns),
+            " (a merge conflict's marker)" if cells and cells[0].startswith(("<<<<<<<", "=======", ">>>>>>>")) else ""))
+        row = dict(zip(self.columns, cells))
+        for column, low in self.numbers.items():
+            value = where[column].decimal(row[column], low, empty=column in self.may_be_empty)
+            if column in self.integers:
+                where[column].integer(value, int(low))
+        for column in ("date", "machine"):
+            where[column].check(row[column] != "", "is empty")
+        return row
 
 
-def write(path, rows, columns=COLUMNS):
+HISTORY = Table(COLUMNS, dict({"threads": 1, "rays_per_second_median": 0.0, "rays_per_second_min": 0.0,
+                               "rays_per_second_max": 0.0}, **{m: 0.0 for m in MEASURES}),
+                may_be_empty=MEASURES, integers=("threads",))
+REPAIR = "scripts/repair-history drops the rows it cannot read, naming each"
+
+
+def as_written(row, table=HISTORY):
+    """A row as the file holds it: text cells through escape.csv_cell (idempotent)."""
+    return {k: csv_cell(v) if k in table.text_columns() else v for k, v in row.items()}
+
+
+def read(path, table=HISTORY):
+    """The rows of a history file (or of alerts.csv, alerts.ALERTS), every cell checked; []
+    where it does not exist yet. A malformed row is refused with its line number."""
+    rows = []
+    for line, cells in read_csv(path, table.columns):
+        try:
+            rows.append(table.check(Where("%s: line %d" % (terminal(path), line)), cells))
+        except Unusable as e:
+            raise Unusable("%s (%s)" % (e, REPAIR) if table is HISTORY else str(e))
+    return rows
+
+
+def write(path, rows, table=HISTORY):
+    """The whole file, atomically (the caller holds its lock: writers.locked)."""
     out = io.StringIO()
-    writer = csv.DictWriter(out, columns, lineterminator="\n")
+    writer = csv.DictWriter(out, table.columns, lineterminator="\n")
     writer.writeheader()
-    writer.writerows(rows)
+    writer.writerows(as_written(r, table) for r in rows)
     atomic_write(path, out.getvalue())
 
 
-def append(path, data):
-    """Appends a run's rows (replacing an earlier record of the same date, commit and machine);
-    all rows, and the run's."""
-    new = rows_of_run(data)
+def merged(rows, new):
+    """The history with a run's rows: an earlier record of the same date, commit and machine (the
+    same run recorded again) replaced."""
     run = {(r["date"], r["commit"], r["machine"]) for r in new}
-    rows = [r for r in read(path) if (r["date"], r["commit"], r["machine"]) not in run] + new
-    write(path, rows)
-    return rows, new
+    return [r for r in rows if (r["date"], r["commit"], r["machine"]) not in run] + new
+
+
+def repair(argv=None):
+    """scripts/repair-history HISTORY.csv [--dry-run]: writes the history back without the rows
+    it cannot read, each named on stdout with its line and why (so none is lost unseen)."""
+    parser = Parser(prog="repair-history", description=repair.__doc__.splitlines()[0])
+    parser.add_argument("history")
+    parser.add_argument("--dry-run", action="store_true", help="name the rows it would drop, change nothing")
+    args = parser.parse_args(argv)
+    with locked(args.history):
+        kept, dropped = [], 0
+        for line, cells in read_csv(args.history, HISTORY.columns):
+            try:
+                kept.append(HISTORY.check(Where("line %d" % line), cells))
+            except Unusable as e:
+                dropped += 1
+                print("drops %s: %s" % (e, terminal(",".join(cells))[:200]))
+        if dropped and not args.dry_run:
+            write(args.history, kept)
+    print("%s: %d rows kept, %d %s" % (terminal(args.history), len(kept), dropped,
+                                       "would be dropped" if args.dry_run else "dropped"))
+    return 0

@@ -9,8 +9,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import FuncFormatter  # noqa: E402
 
 from . import history  # noqa: E402
+from .escape import terminal  # noqa: E402
 from .measurements import HEADLINE_LAYERS, HEADLINE_TECHNIQUE, backend_colours  # noqa: E402
-from .report_plots import MAX_PLOT_PIXELS  # noqa: E402
+from .report_plots import MAX_PLOT_PIXELS  # noqa: E402  (and its text.parse_math off)
 
 MARKERS = "osD^vP*Xh<>"
 MAX_WIDTH_INCHES = 16.0
@@ -42,6 +43,8 @@ def draw(data, rows, path):
     picked = [r for r in rows if r["technique"] == HEADLINE_TECHNIQUE and r["layers"] == HEADLINE_LAYERS
               and r["threads"] == "1" and all(r[k] == want[k] for k in ("heightfield", "view", "depth_map"))]
     machines = list(dict.fromkeys(r["machine"] for r in sorted(picked, key=lambda r: r["date"])))
+    if not machines:
+        return False
     runs = {m: sorted({(r["date"], r["commit"]) for r in picked if r["machine"] == m}) for m in machines}
     bases = list(dict.fromkeys(list(data["backends"]) + [r["backend"].replace("-autovec", "") for r in picked]))
     colours = backend_colours(bases + sorted({r["backend"] for r in picked} - set(bases)))
@@ -58,7 +61,8 @@ def draw(data, rows, path):
                         yerr=[[v[0] - v[1] for _, v in pts], [v[2] - v[0] for _, v in pts]],
                         markersize=4, capsize=3, label=name, **style(name, bases, colours))
         ax.set_xticks(range(len(runs[machine])))
-        ax.set_xticklabels(["%s\n%s" % (d[5:16].replace("T", " "), c[:7]) for d, c in runs[machine]], fontsize=6)
+        ax.set_xticklabels(["%s\n%s" % (terminal(d[5:16].replace("T", " ")), terminal(c[:7])) for d, c in runs[machine]],
+                           fontsize=6)
         ax.set_xlim(-0.5, max(len(runs[machine]), 2) - 0.5)
         ax.set_title(machine if history.is_known(machine) else "unknown machine:\n" + machine[len(history.UNKNOWN_PREFIX):],
                      fontsize=7)
@@ -73,8 +77,8 @@ def draw(data, rows, path):
             handles.setdefault(label, h)
     fig.legend(handles.values(), handles.keys(), loc="lower center", ncol=min(len(handles), 6), fontsize=7, frameon=False)
     fig.suptitle("%s, %s layers, %s view, %s %s, 1 thread, over the recorded runs: one panel per machine "
-                 "(a machine change starts a panel)" % (HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS, want["view"],
-                                                       want["heightfield"], want["depth_map"]), fontsize=9)
+                 "(a machine change starts a panel)" % (HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS, terminal(want["view"]),
+                                                       terminal(want["heightfield"]), want["depth_map"]), fontsize=9)
     legend_rows = (len(handles) + 5) // 6
     fig.tight_layout(rect=(0, 0.04 + 0.05 * legend_rows, 1, 0.94))
     fig.savefig(path, dpi=min(130, MAX_PLOT_PIXELS / fig.get_figwidth()))

@@ -9,9 +9,10 @@ the median of the per-round ratios with their min and max (docs/measurements.md)
 import csv
 import io
 import os
+import re
 
-from .errors import Unusable
-from .readers import read_json
+from .escape import csv_cell, terminal
+from .readers import Where, quoted, read_json
 from .spreads import per_round
 
 MEASUREMENTS_FORMAT = "heightmarch-measurements"
@@ -33,14 +34,23 @@ MAXMIP_PEAK = ("techniques.md", "maxmip-at-a-grazing-one-texel-peak")
 # ---------------------------------------------------------------------------------------------
 # Files
 
-def require(condition, what):
-    if not condition:
-        raise Unusable(what)
+# The measures of a file written before measurements.json listed them (docs/measurements.md: "the
+# ten above"); a newer file's own list ("measures") is read instead.
+FORMER_MEASURES = [{"name": n, "label": label} for n, label in (
+    ("uv_error_mean", "mean uv error (texels)"), ("uv_error_rms", "RMS uv error (texels)"),
+    ("uv_error_p50", "p50 uv error (texels)"), ("uv_error_p95", "p95 uv error (texels)"),
+    ("uv_error_p99", "p99 uv error (texels)"), ("uv_error_max", "max uv error (texels)"),
+    ("wrong_surface_rate", "wrong surface (share of rays)"), ("depth_error_mean", "mean depth error"),
+    ("shadow_error_mean", "mean shadow factor error"), ("shadow_mismatch_rate", "shadow mismatch (share)"))]
+MEASURE_NAME = re.compile(r"[a-z][a-z0-9_]*")
 
 
 def upgrade(data):
-    """A format 1 measurements.json as format 2: its measures under their one name (uv_p95 ->
-    uv_error_p95), as bench.json and every newer file name them."""
+    """An older measurements.json as the newest: the measures of format 1 under their one name
+    (uv_p95 -> uv_error_p95), as bench.json and every newer file name them; the list of measures
+    where the file has none."""
+    if isinstance(data, dict) and "measures" not in data:
+        data = dict(data, measures=FORMER_MEASURES)
     if data.get("schema") != MEASUREMENTS_FORMAT + "/1":
         return data
     data = dict(data, format=MEASUREMENTS_FORMAT, format_version=1)
@@ -51,69 +61,222 @@ def upgrade(data):
     return data
 
 
-def validate(data):
-    """Checks the fields the report reads, so a malformed file fails with one line, not a trace."""
-    require(isinstance(data, dict) and data.get("format") == MEASUREMENTS_FORMAT
-            and isinstance(data.get("format_version"), int) and 1 <= data["format_version"] <= MEASUREMENTS_VERSION,
-            "not a %s file of format 1 to %d" % (MEASUREMENTS_FORMAT, MEASUREMENTS_VERSION))
-    for key in ("provenance", "plan", "load"):
-        require(isinstance(data.get(key), dict), "%s is missing" % key)
-    require(isinstance(data.get("techniques"), list) and
-            all(isinstance(t, dict) and {"name", "layered", "color", "marker"} <= set(t) for t in data["techniques"]),
-            "techniques must list {name, layered, color, marker}")
-    require(isinstance(data.get("backends"), list) and data["backends"], "backends is missing")
-    require(isinstance(data.get("rows"), list), "rows is missing")
-    names = {t["name"] for t in data["techniques"]}
-    for row in data["rows"]:
-        require(isinstance(row, dict), "a row is not an object")
-        where = "row %s" % row.get("id", "?")
-        require(row.get("kind") in KINDS, "%s: kind %r is none of %s" % (where, row.get("kind"), ", ".join(KINDS)))
-        require(row.get("backend") in data["backends"], "%s: backend %r is not in backends" % (where, row.get("backend")))
-        require(row.get("technique") is None or row["technique"] in names or row["technique"] == "shader",
-                "%s: technique %r is not in techniques" % (where, row.get("technique")))
-        require(isinstance(row.get("threads"), int), "%s: threads is not an integer" % where)
-        hf, view = row.get("heightfield"), row.get("view")
-        require(isinstance(hf, dict) and {"label", "width", "height"} <= set(hf), "%s: heightfield needs label, width, height" % where)
-        require(isinstance(view, dict) and {"kind", "width", "height"} <= set(view), "%s: view needs kind, width, height" % where)
-        require(row.get("errors") is None or isinstance(row["errors"], dict), "%s: errors is not an object" % where)
-        speed = row.get("speed")
-        if speed is not None:
-            seconds = speed.get("seconds") or []
-            rounds = (speed.get("rays_per_second") or {}).get("rounds") or []
-            require(seconds and len(rounds) == len(seconds) and all(s > 0 for s in seconds) and all(r > 0 for r in rounds),
-                    "%s: speed needs as many positive rays_per_second.rounds as seconds" % where)
+MARKERS = set("osDd^v<>P+XxphH8*")  # matplotlib's marker codes the plots and the page draw
+COLOUR = re.compile(r"#[0-9a-fA-F]{6}")
+IMAGE = re.compile(r"gallery/[A-Za-z0-9_+][A-Za-z0-9._+-]*\.png")  # a file in the run's gallery/, nothing else
+MAX_ID = 2 ** 31 - 1
+MAX_SIZE = 2 ** 30
+MAX_THREADS = 2 ** 20
+MAX_SECONDS = 7 * 24 * 3600.0  # a repetition of a week: beyond any run, and no figure of it overflows
+LARGEST = 1e30                 # errors, samples and rates far beyond any map, still finite in any formula
+
+
+def validate(data, where):
+    """Checks every field the report and the page read, its type and range, so that a malformed
+    or hostile file fails with one line naming the field, never with a traceback or a figure made
+    of a bad value (NaN, 1e308 seconds, -1 rays, an id of 1e20, a uv error of -5)."""
+    where.object(data)
+    where["format_version"].check(data.get("format") == MEASUREMENTS_FORMAT and isinstance(data.get("format_version"), int)
+                                  and 1 <= data["format_version"] <= MEASUREMENTS_VERSION,
+                                  "not a %s file of format 1 to %d" % (MEASUREMENTS_FORMAT, MEASUREMENTS_VERSION))
+    provenance = where["provenance"].object(data.get("provenance"))
+    for key in ("commit", "cpu", "compiler", "build_type", "date", "best_isa"):
+        where["provenance"][key].text(provenance.get(key), none=True)
+    for key in ("cores", "threads"):
+        where["provenance"][key].integer(provenance.get(key), 1, MAX_THREADS, none=True)
+    plan = where["plan"].object(data.get("plan"))
+    where["plan"]["name"].text(plan.get("name"), none=True)
+    where["plan"]["repetitions"].integer(plan.get("repetitions"), 1, 10 ** 6, none=True)
+    where["plan"]["min_seconds_per_repetition"].number(plan.get("min_seconds_per_repetition"), 0, MAX_SECONDS, none=True)
+    load = where["load"].object(data.get("load"))
+    for key in ("before", "after"):
+        where["load"][key].numbers(load.get(key) or [], 0, LARGEST)
+    where["load"]["other_cpu_share"].number(load.get("other_cpu_share"), 0, LARGEST, none=True)
+    [where["load"]["busy_reasons"][i].text(r) for i, r in enumerate(where["load"]["busy_reasons"].list(load.get("busy_reasons") or []))]
+    techniques = where["techniques"].list(data.get("techniques"))
+    for i, t in enumerate(techniques):
+        w = where["techniques"][i]
+        w.object(t, ("name", "layered", "color", "marker"))
+        w["name"].text(t["name"])
+        w["layered"].boolean(t["layered"])
+        w["color"].check(isinstance(t["color"], str) and COLOUR.fullmatch(t["color"]), "is not a colour #rrggbb")
+        w["marker"].one_of(t["marker"], sorted(MARKERS))
+        w["description"].text(t.get("description", ""))
+    for i, m in enumerate(where["measures"].list(data.get("measures"))):
+        where["measures"][i].object(m, ("name", "label"))
+        where["measures"][i]["name"].check(isinstance(m["name"], str) and MEASURE_NAME.fullmatch(m["name"]),
+                                           "is not a measure's name (lower case, digits, _)")
+        where["measures"][i]["label"].text(m["label"])
+    backends = where["backends"].list(data.get("backends"))
+    where["backends"].check(backends, "is empty")
+    for i, b in enumerate(backends):
+        where["backends"][i].text(b)
+    names = {t["name"] for t in techniques}
+    rows = where["rows"].list(data.get("rows"))
+    ids = set()
+    for i, row in enumerate(rows):
+        validate_row(row, where["rows"][i], names, backends)
+        where["rows"][i]["id"].check(row["id"] not in ids, "is %d, the id of an earlier row" % row["id"])
+        ids.add(row["id"])
+
+
+def validate_row(row, where, techniques, backends):
+    where.object(row, ("id", "kind", "backend", "threads", "heightfield", "view"))
+    row["id"] = where["id"].integer(row["id"], 0, MAX_ID)
+    where["kind"].one_of(row["kind"], KINDS)
+    where["backend"].one_of(row["backend"], backends)
+    if row.get("technique") is not None and row["technique"] != "shader":
+        where["technique"].one_of(row["technique"], sorted(techniques))
+    for key in ("layers", "failure", "wrap", "shader"):
+        if not isinstance(row.get(key), dict):
+            where[key].text(row.get(key), none=True)
+    for i, p in enumerate(where["purposes"].list(row.get("purposes", []))):
+        where["purposes"][i].text(p)
+    row["threads"] = where["threads"].integer(row["threads"], 1, MAX_THREADS)
+    for key in ("min_layers", "max_layers", "refine"):
+        where[key].integer(row.get(key), 0, MAX_SIZE, none=True)
+    hf = where["heightfield"].object(row["heightfield"], ("label", "width", "height"))
+    where["heightfield"]["label"].text(hf["label"])
+    view = where["view"].object(row["view"], ("kind", "width", "height"))
+    where["view"]["kind"].text(view["kind"])
+    for thing, w in ((hf, where["heightfield"]), (view, where["view"])):
+        for key in ("width", "height"):
+            thing[key] = w[key].integer(thing[key], 1, MAX_SIZE)
+    for key in ("theta", "phi", "near_angle", "far_angle"):
+        where["view"][key].number(view.get(key), -360, 360, none=True)
+    where["rays"].integer(row.get("rays"), 0, 2 ** 53, none=True)
+    for key in ("samples", "samples_per_ray", "simd_utilization", "scale"):
+        where[key].number(row.get(key), 0, LARGEST, none=True)
+    for key in ("precompute_seconds", "precompute_ms_per_frame"):
+        where[key].number(row.get(key), 0, MAX_SECONDS * 1e3, none=True)
+    errors = row.get("errors")
+    if errors is not None:
+        for key, value in where["errors"].object(errors).items():
+            where["errors"][key].number(value, 0, LARGEST, none=True)
+    speed = row.get("speed")
+    if speed is not None:
+        w = where["speed"]
+        w.object(speed, ("seconds", "rays_per_second"))
+        seconds = w["seconds"].numbers(speed["seconds"], 0, MAX_SECONDS, low_open=True, least=1)
+        rates = w["rays_per_second"].object(speed["rays_per_second"], ("rounds",))
+        rounds = w["rays_per_second"]["rounds"].numbers(rates["rounds"], 0, LARGEST, low_open=True, least=1)
+        w["rays_per_second"]["rounds"].check(len(rounds) == len(seconds), "has %d values for %d repetitions' seconds" % (
+            len(rounds), len(seconds)))
+    images = row.get("images")
+    if images is not None:
+        for key, path in where["images"].object(images).items():
+            if path is not None:
+                where["images"][key].check(isinstance(path, str) and IMAGE.fullmatch(path),
+                                           "is %s, not a PNG in the run's gallery/" % quoted(path))
+
+
+def validate_recommendation(data, where):
+    """recommendation.json: the fields report.md and the page show."""
+    where.object(data, ("target", "backends"))
+    target = where["target"].object(data["target"], ("measure", "uv_error_texels", "wrong_surface_rate", "frames",
+                                                     "description"))
+    where["target"]["measure"].check(isinstance(target["measure"], str) and target["measure"].startswith("uv_error_"),
+                                     "is not a uv error measure")
+    where["target"]["uv_error_texels"].number(target["uv_error_texels"], 0, LARGEST)
+    where["target"]["wrong_surface_rate"].number(target["wrong_surface_rate"], 0, 1)
+    where["target"]["frames"].integer(target["frames"], 1, 2 ** 31)
+    where["target"]["description"].text(target["description"])
+    for i, b in enumerate(where["backends"].list(data["backends"])):
+        w = where["backends"][i]
+        w.object(b, ("backend", "threads", "name", "all_heightfields", "per_heightfield"))
+        w["backend"].text(b["backend"])
+        w["name"].text(b["name"])
+        w["threads"].integer(b["threads"], 1, MAX_THREADS)
+        validate_answer(b["all_heightfields"], w["all_heightfields"], target["measure"])
+        for j, a in enumerate(w["per_heightfield"].list(b["per_heightfield"])):
+            validate_answer(a, w["per_heightfield"][j], target["measure"])
+
+
+def validate_answer(answer, where, measure):
+    where.object(answer)
+    where["heightfield"].text(answer.get("heightfield"), none=True)
+    where["settings"].integer(answer.get("settings", 0), 0, 2 ** 31)
+    for key in ("choice", "closest", "runner_up"):
+        pick = answer.get(key)
+        if pick is None:
+            continue
+        w = where[key]
+        w.object(pick, ("label", "ns_per_ray", "rows"))
+        w["label"].text(pick["label"])
+        validate_spread(pick["ns_per_ray"], w["ns_per_ray"])
+        for i, r in enumerate(w["rows"].list(pick["rows"])):
+            wr = w["rows"][i]
+            wr.object(r, ("id", measure, "wrong_surface_rate", "samples_per_ray"))
+            wr["id"].integer(r["id"], 0, MAX_ID)
+            wr["heightfield"].text(r.get("heightfield", ""))
+            wr[measure].number(r[measure], 0, LARGEST)
+            wr["wrong_surface_rate"].number(r["wrong_surface_rate"], 0, 1)
+            wr["samples_per_ray"].number(r["samples_per_ray"], 0, LARGEST)
+            for key in ("precompute_seconds", "precompute_ms_per_frame"):
+                wr[key].number(r.get(key), 0, LARGEST, none=True)
+        w["rows"].check(pick["rows"], "is empty")
+    if answer.get("runner_up_time_ratio") is not None:
+        validate_spread(answer["runner_up_time_ratio"], where["runner_up_time_ratio"])
+
+
+def validate_spread(s, where):
+    where.object(s, ("median", "min", "max"))
+    for key in ("median", "min", "max"):
+        where[key].number(s[key], 0, LARGEST)
+
+
+def validate_alerts(data, where):
+    """alerts.json, as record_run writes it."""
+    where["machine"].text(data.get("machine"))
+    where["rule"].text(data.get("rule"))
+    where["series_tested"].integer(data.get("series_tested"), 0, 2 ** 31)
+    for i, a in enumerate(where["alerts"].list(data.get("alerts"))):
+        w = where["alerts"][i]
+        w.object(a, ("series", "kind", "metric", "message"))
+        for key in ("series", "kind", "metric", "message"):
+            w[key].text(a[key])
+        for key in ("baseline", "baseline_spread", "new"):
+            w[key].number(a.get(key), 0, LARGEST, none=True)
+        w["change"].number(a.get("change"), -1, LARGEST, none=True)
 
 
 def read_claims(path):
-    """claims.json's claims (a list), whichever format; None without the file."""
-    if not os.path.exists(path):
+    """claims.json's claims (a list, whichever format), checked; None without the file."""
+    if not os.path.lexists(path):
         return None
+    where = Where(terminal(path))
     data = read_json(path)
-    claims = data if isinstance(data, list) else data.get("claims") if isinstance(data, dict) else None
-    require(isinstance(claims, list) and all(isinstance(c, dict) and {"id", "claim", "verdict"} <= set(c) for c in claims),
-            "%s: not a list of claims with id, claim and verdict" % path)
+    claims = data if isinstance(data, list) else where.object(data, ("claims",))["claims"]
+    for i, c in enumerate(where["claims"].list(claims)):
+        w = where["claims"][i]
+        w.object(c, ("id", "claim", "verdict"))
+        for key in ("id", "claim", "verdict", "source", "rule"):
+            w[key].text(c.get(key, ""))
+        for j, check in enumerate(w["checks"].list(c.get("checks", []))):
+            w["checks"][j].object(check)
+            for key in ("where", "figures"):
+                w["checks"][j][key].text(check.get(key, ""))
+            w["checks"][j]["passed"].boolean(check.get("passed", False))
     return claims
 
 
-def read_optional(path, format_name):
-    """A run's recommendation.json or alerts.json, None without it."""
-    if not os.path.exists(path):
+def read_optional(path, format_name, validate):
+    """A run's recommendation.json or alerts.json, checked by validate(data, where); None without it."""
+    if not os.path.lexists(path):
         return None
-    data = read_json(path)
-    require(isinstance(data, dict) and "format_version" in data and data.get("format", format_name) == format_name,
-            "%s: not a %s file" % (path, format_name))
+    where = Where(terminal(path))
+    data = where.object(read_json(path), ("format_version",))
+    where["format"].check(data.get("format", format_name) == format_name, "is not %s" % format_name)
+    validate(data, where)
     return data
 
 
 def load_run(run_dir):
+    """The run of run_dir: its measurements.json read (readers.read_json) and checked (validate)."""
     path = os.path.join(run_dir, "measurements.json")
-    data = read_json(path)
-    require(isinstance(data, dict), "%s: not a JSON object" % path)
-    data = upgrade(data)
-    try:
-        validate(data)
-    except Unusable as e:
-        raise Unusable("%s: %s" % (path, e))
+    where = Where(terminal(path))
+    data = upgrade(where.object(read_json(path)))
+    validate(data, where)
     return Run(data, run_dir)
 
 
@@ -175,11 +338,14 @@ def config(row):
 
 
 def csv_value(value):
-    """JSON's values as CSV text: numbers as they read back (repr: 0.1, not 0.100000001), true/false, empty for null."""
+    """JSON's values as CSV text: numbers as they read back (repr: 0.1, not 0.100000001), true/false, empty for null,
+    text through escape.csv_cell (no cell a spreadsheet would evaluate)."""
     if value is None:
         return ""
     if isinstance(value, bool):
         return "true" if value else "false"
+    if isinstance(value, str):
+        return csv_cell(value)
     return repr(value) if isinstance(value, float) else str(value)
 
 
@@ -191,7 +357,8 @@ def flat_row(row, prefix=""):
         if isinstance(value, dict):
             out += flat_row(value, name + ".")
         elif isinstance(value, list):
-            out.append((name, ";".join(csv_value(v) for v in value)))
+            text = ";".join(csv_value(v) for v in value)
+            out.append((name, csv_cell(text) if any(isinstance(v, str) for v in value) else text))
         else:
             out.append((name, csv_value(value)))
     return out
@@ -220,6 +387,7 @@ class Run:
         self.by_id = {r.get("id"): r for r in self.rows}
         self.timed = [r for r in self.rows if r.get("speed")]
         self.techniques = [t["name"] for t in data["techniques"]]
+        self.measures = data["measures"]  # [{"name", "label"}], the run's own list
         self.style = {t["name"]: t for t in data["techniques"]}
         self.backends = data["backends"]
         self.isas = [b for b in self.backends if b not in NON_ISA_BACKENDS]

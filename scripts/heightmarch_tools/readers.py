@@ -8,7 +8,7 @@ values checked as they are taken.
   (the tool's own syntax: 512M, 1.5G) or half the RAM, as heightmarch's.
 - JSON: strict (NaN, Infinity and numbers beyond a double, such as 1e400, are refused), nested
   at most as deep as Python parses.
-- CSV: a header and rows of exactly its columns; a bad row is refused with its line number.
+- CSV: a header of the columns asked for, then rows with their line numbers.
 - Values: `Where` names the place of a value in its file ("measurements.json: row 17: threads")
   and checks it: a string, a finite number within a range, an integer count or id.
 
@@ -158,8 +158,8 @@ def read_json(path, nonfinite=False):
 
 
 def read_csv(path, columns):
-    """[(line number, {column: text})] of a CSV file whose header is `columns`, every row of exactly
-    as many cells; [] where the file does not exist yet."""
+    """[(line number, cells)] of a CSV file whose header is `columns` ([] where the file does not
+    exist yet); the cells of each row are for the caller to check (history.Table.check)."""
     if not os.path.lexists(path):
         return []
     shown = terminal(path)
@@ -170,14 +170,7 @@ def read_csv(path, columns):
             return []
         if header != list(columns):
             raise Unusable("%s: line 1: the columns are not %s" % (shown, ",".join(columns)))
-        rows = []
-        for cells in reader:
-            if len(cells) != len(columns):
-                raise Unusable("%s: line %d: %d cells, not %d%s" % (
-                    shown, reader.line_num, len(cells), len(columns),
-                    " (a merge conflict's marker)" if cells and cells[0].startswith(("<<<<<<<", "=======", ">>>>>>>")) else ""))
-            rows.append((reader.line_num, dict(zip(columns, cells))))
-        return rows
+        return [(reader.line_num, cells) for cells in reader]
     except csv.Error as e:
         raise Unusable("%s: line %d: %s" % (shown, reader.line_num, e))
 

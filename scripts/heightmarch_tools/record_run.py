@@ -1,17 +1,36 @@
-"""Records a run: its rows appended to the history, its machine's change-point alerts written to
-RUN/alerts.json and kept in alerts.csv beside the history, RUN/plots/history.png drawn.
-report.py calls it for a run recorded with --history."""
+"""Records a complete run into the history: under the history's lock, its machine's change-point
+alerts are computed against the history, RUN/alerts.json and RUN/plots/history.png are written,
+then whatever the caller writes from them (report.py: the report), and last the history and
+alerts.csv beside it, so a recording interrupted at any point adds no row. A run still INCOMPLETE
+(its suite did not finish, or is still writing it) is refused: only the process that owns a run
+records it, after it completed (the suite runs the report with --history once it has).
+"""
 import os
 
 from . import alerts, history, history_plot
-from .readers import read_json
+from .errors import Unusable
+from .escape import terminal
+from .writers import locked
 
 
-def record(run_dir, history_path):
-    """(whether the history plot was drawn, the alerts as in alerts.json)."""
-    data = read_json(os.path.join(run_dir, "measurements.json"))
-    rows, new = history.append(history_path, data)
-    found = alerts.record(data, rows, new, run_dir,
-                          os.path.join(os.path.dirname(os.path.abspath(history_path)), "alerts.csv"))
-    os.makedirs(os.path.join(run_dir, "plots"), exist_ok=True)
-    return history_plot.draw(data, rows, os.path.join(run_dir, "plots", "history.png")), found
+def record(data, run_dir, history_path, write=None):
+    """Records the run of run_dir (its checked measurements.json as data) into history_path;
+    write(rows, history_drawn, alerts) runs before the history is written. Returns
+    (whether the history plot was drawn, the alerts as in alerts.json)."""
+    if os.path.lexists(os.path.join(run_dir, "INCOMPLETE")):
+        raise Unusable("%s: the run is INCOMPLETE (its suite did not finish, or is still running): it is not "
+                       "recorded; without --history its report can still be written" % terminal(run_dir))
+    if os.path.isdir(history_path):
+        raise Unusable("--history %s: is a directory, not a history CSV file" % terminal(history_path))
+    with locked(history_path):
+        new = history.rows_of_run(data)
+        rows = history.merged(history.read(history_path), new)
+        found = alerts.check(data, rows, new)
+        alerts.write_json(run_dir, found)
+        os.makedirs(os.path.join(run_dir, "plots"), exist_ok=True)
+        drawn = history_plot.draw(data, rows, os.path.join(run_dir, "plots", "history.png"))
+        if write:
+            write(rows, drawn, found)
+        history.write(history_path, rows)
+        alerts.keep(os.path.join(os.path.dirname(os.path.abspath(history_path)), "alerts.csv"), new, found)
+    return drawn, found

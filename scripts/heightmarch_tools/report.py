@@ -6,56 +6,42 @@ Usage: scripts/report RUN_DIR [--history results/history.csv]
 Inputs: measurements.json (the run's typed rows, docs/measurements.md; format 1 or 2) and, where
 the run has them, claims.json, recommendation.json and alerts.json. Every speed is the median of
 the repetitions with their min-max; every ratio of two rows is taken per round and shown as the
-median of the per-round ratios with their min-max. With --history, the run is recorded
-(scripts/record_run.py: its rows appended to the history CSV, RUN_DIR/alerts.json against its
-machine's earlier runs, the history plot); a run's alerts.json opens the report.
+median of the per-round ratios with their min-max. With --history, the run, once complete, is
+recorded (record_run.py: RUN_DIR/alerts.json against its machine's earlier runs, the history plot,
+then its rows into the history CSV, under the history's lock); a run's alerts.json opens the
+report.
 """
-import math
 import os
-import statistics
 
-from . import cli, history, record_run, report_page
+from . import cli, record_run, report_page
 from .measurements import (ANY, HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label,  # noqa: E402
                           config, counted, depth_map, machine_rows, docs_link, glsl_pairs, groups, load_run, measurements_csv,
                           rays_rounds, read_claims, read_optional, samples_rounds, searches_per_isa,
-                          speedup, view_name, backend_colours)
+                          speedup, validate_alerts, validate_recommendation, view_name, backend_colours)
+from .escape import markdown as md, markdown_target
+from .report_content import (alerts_summary, fmt, fmt_change, fmt_error, fmt_number, fmt_ratio, fmt_spread,
+                             recommendation_columns, recommendation_intro, recommendation_rows, warnings)
 from .report_plots import plot_error_vs_angle, plot_error_vs_layers, plot_error_vs_speed, plot_isa_speedup
-from .spreads import per_round, relative_spread, spread
+from .spreads import per_round, spread
 from .writers import atomic_write
 
-SPREAD_LIMIT = 0.20  # (max - min) / median above this is flagged as a disturbed timing
 NOT_MEASURED = "Not measured in this run."
 
 
 # ---------------------------------------------------------------------------------------------
 # Text
 
-def fmt_spread(s, digits=1, scale=1.0, unit=""):
-    if s is None:
-        return "-"
-    f = "%%.%df" % digits
-    return "%s%s (%s-%s)" % (f % (s[0] * scale), unit, f % (s[1] * scale), f % (s[2] * scale))
+class Markup(str):
+    """Markdown this module wrote on purpose (bold, a link, an image), whose data went through md()
+    already; any other cell of md_table is text and is escaped there."""
 
 
-def fmt_ratio(s):
-    return fmt_spread(s, 2, unit="x")
-
-
-def fmt(value, digits=3, scale=1.0, unit=""):
-    if value is None or (isinstance(value, float) and math.isnan(value)):
-        return "-"
-    return ("%%.%df%%s" % digits) % (value * scale, unit)
-
-
-def fmt_error(value):
-    """A uv error in texels: 0 as 0, small ones with their magnitude, never a made-up 0.000."""
-    if value is None:
-        return "-"
-    return "0" if value == 0 else "%.3g" % value
-
-
-def load_averages(values):
-    return "/".join("%.2f" % x for x in values or []) or "?"
+def md_table(columns, rows):
+    """columns: [(title, right-aligned)]; rows: lists of cells, text (escaped here) or Markup."""
+    cell = lambda c: c if isinstance(c, Markup) else md(c)  # noqa: E731
+    lines = ["| " + " | ".join(cell(t) for t, _ in columns) + " |",
+             "|" + "|".join("---:" if right else "---" for _, right in columns) + "|"]
+    return lines + ["| " + " | ".join(cell(c) for c in cells) + " |" for cells in rows]
 
 
 def mrays(row):
@@ -66,19 +52,6 @@ def msamples(row):
     return fmt_spread(spread(samples_rounds(row)), 0, 1e-6)
 
 
-def md_cell(value):
-    """Any value as one Markdown table cell: '|' escaped (it would cut the row), no line breaks.
-    Every cell of report.md and tables.md goes through it (claims.md's through markdown_cell in C++)."""
-    return str(value).replace("|", "\\|").replace("\r", " ").replace("\n", " ")
-
-
-def md_table(columns, rows):
-    """columns: [(title, right-aligned)]; rows: lists of cells."""
-    lines = ["| " + " | ".join(md_cell(t) for t, _ in columns) + " |",
-             "|" + "|".join("---:" if right else "---" for _, right in columns) + "|"]
-    return lines + ["| " + " | ".join(md_cell(c) for c in cells) + " |" for cells in rows]
-
-
 def section(title, body, level="##"):
     return ["", level + " " + title, ""] + (body or [NOT_MEASURED])
 
@@ -87,92 +60,31 @@ def section(title, body, level="##"):
 # report.md: the first screen
 
 def section_alerts(alerts):
-    """alerts.json of a recorded run (scripts' regression tracking), or why there is none."""
-    if alerts is None:
-        return section("Alerts", ["No alerts.json: this run was not recorded into the history (a quick run without "
-                                  "`--record`, or `--out`), so it was not compared with earlier runs."])
-    found = alerts.get("alerts") or []
-    tested = alerts.get("series_tested", 0)
-    rule = "Rule: %s. Machine: `%s`." % (alerts.get("rule", "?"), alerts.get("machine", "?"))
-    if not found and tested == 0:  # the machine's first recorded run, or too few before it
-        return section("Alerts", ["No series tested: this machine has too few earlier recorded runs to test "
-                                  "against yet. %s" % rule])
-    if not found:
-        return section("Alerts", ["No change beyond noise in %s. %s" % ("%d series" % tested, rule)])
-    body = ["**%s** in %s of this machine's history. %s" % (counted(len(found), "alert"), "%d series" % tested, rule),
-            ""]
-    body += md_table([("series", False), ("kind", False), ("measure", False), ("baseline", True), ("new", True),
-                      ("change", True), ("", False)],
-                     [[a.get("series", "?"), a.get("kind", "?"), a.get("metric", "?"),
-                       "%s (spread %s)" % (fmt_number(a.get("baseline")), fmt_number(a.get("baseline_spread"))),
-                       fmt_number(a.get("new")), fmt_change(a.get("change")), a.get("message", "")] for a in found])
+    """alerts.json of a recorded run (the regression tracking), or why there is none."""
+    body = [md(alerts_summary(alerts))]
+    found = (alerts or {}).get("alerts") or []
+    if found:
+        body += [""] + md_table([("series", False), ("kind", False), ("measure", False), ("baseline", True), ("new", True),
+                                 ("change", True), ("", False)],
+                                [[a["series"], a["kind"], a["metric"],
+                                  "%s (spread %s)" % (fmt_number(a.get("baseline")), fmt_number(a.get("baseline_spread"))),
+                                  fmt_number(a.get("new")), fmt_change(a.get("change")), a["message"]] for a in found])
     return section("Alerts", body)
-
-
-def fmt_number(value):
-    return "-" if value is None else "%.4g" % value
-
-
-def fmt_change(value):
-    return "-" if value is None else "%+.1f%%" % (100 * value)
-
-
-def pick_cells(run, pick, measure):
-    """A recommendation's pick as cells: setting, time, its rows' worst error measures, preprocessing."""
-    rows = pick["rows"]
-    worst = max(r[measure] for r in rows)
-    wrong = max(r["wrong_surface_rate"] for r in rows)
-    precompute = [r for r in rows if r.get("precompute_seconds") is not None]
-    pre = "-"
-    if precompute:
-        worst_pre = max(precompute, key=lambda r: r["precompute_seconds"])
-        pre = "%.3g s once (%.3g ms a frame)" % (worst_pre["precompute_seconds"], worst_pre["precompute_ms_per_frame"])
-    ns = pick["ns_per_ray"]
-    return ["**%s**" % pick["label"], fmt_spread((ns["median"], ns["min"], ns["max"]), 2),
-            fmt_error(worst), fmt(wrong, 2, 100, "%"), "%.1f" % statistics.mean(r["samples_per_ray"] for r in rows), pre]
-
-
-def answer_cells(run, answer, measure):
-    if answer.get("choice"):
-        cells = pick_cells(run, answer["choice"], measure)
-        runner, ratio = answer.get("runner_up"), answer.get("runner_up_time_ratio")
-        if runner and ratio:
-            overlap = ratio["min"] <= 1.0 <= ratio["max"]
-            cells.append("%s: %s the time%s" % (runner["label"], fmt_ratio((ratio["median"], ratio["min"], ratio["max"])),
-                                               " (not distinguishable)" if overlap else ""))
-        else:
-            cells.append("-")
-        return cells
-    closest = answer.get("closest")
-    what = "none of %d meets the target" % answer.get("settings", 0)
-    if closest:
-        return [what + "; nearest: " + closest["label"]] + pick_cells(run, closest, measure)[1:] + ["-"]
-    return [what, "-", "-", "-", "-", "-", "-"]
 
 
 def section_recommendation(run, recommendation):
     title = "What to ship"
     if recommendation is None:
         return section(title, ["No recommendation.json in this run (computed by `heightmarch suite`, `claims` and "
-                               "`recommend` since measurements format 2; `heightmarch recommend %s` computes it)." % run.dir])
-    target = recommendation["target"]
-    measure = target["measure"]
-    body = ["The fastest configuration by measured time per ray (ns/ray: median (min-max) of the repetitions) at "
-            "each backend, among those with **%s**, on all heightfields as one setting (a shader runs one setting "
-            "for every material) and on each. Errors are the worst of the setting's heightfields; preprocessing "
-            "(cone map, min-depth pyramid) is built once per depth map and amortised over %d frames; it is not in "
-            "the time per ray. Why this target, and how to choose yours: [docs/recommendation.md](%s). The same "
-            "from any run at another target: `heightmarch recommend RUN_DIR --percentile p99 --max-error 1 "
-            "--max-wrong-surface 1`." % (target["description"], target["frames"], docs_link(run, "recommendation.md")), ""]
-    columns = [("backend", False), ("heightfield", False), ("configuration", False), ("ns/ray", True),
-               (measure.replace("uv_error_", "") + " (texels)", True), ("wrong surface", True), ("samples/ray", True),
-               ("preprocessing", False), ("next fastest", False)]
+                               "`recommend` since measurements format 2; `heightmarch recommend RUN_DIR` computes it)."])
+    body = [md(recommendation_intro(recommendation)) + " Why this target, and how to choose yours: "
+            "[docs/recommendation.md](%s). The same from any run at another target: `heightmarch recommend RUN_DIR "
+            "--percentile p99 --max-error 1 --max-wrong-surface 1`." % markdown_target(docs_link(run, "recommendation.md")), ""]
     cells = []
-    for b in recommendation["backends"]:
-        cells.append([b["name"], "**every heightfield**"] + answer_cells(run, b["all_heightfields"], measure))
-        for a in b["per_heightfield"]:
-            cells.append([b["name"], a["heightfield"]] + answer_cells(run, a, measure))
-    return section(title, body + md_table(columns, cells))
+    for r in recommendation_rows(recommendation):
+        cells.append([r["cells"][0], Markup("**%s**" % md(r["cells"][1])) if r["every"] else r["cells"][1],
+                      Markup("**%s**" % md(r["cells"][2])) if r["chosen"] else r["cells"][2]] + r["cells"][3:])
+    return section(title, body + md_table(recommendation_columns(recommendation["target"]["measure"]), cells))
 
 
 def headline_ratios(run):
@@ -215,11 +127,12 @@ def section_claims(run, claims):
     if not claims:
         return []
     body = ["Each claim's reading, rule, figures and checks: [claims.md](claims.md); the claims themselves: "
-            "[docs/claims.md](%s)." % docs_link(run, "claims.md"), ""]
+            "[docs/claims.md](%s)." % markdown_target(docs_link(run, "claims.md")), ""]
     for c in claims:
-        line = "- **%s %s**: %s" % (c["id"], c["verdict"], c["claim"])
+        line = "- **%s %s**: %s" % (md(c["id"]), md(c["verdict"]), md(c["claim"]))
         if c["id"] == "P2":
-            line += " (maxmip at a grazing one-texel peak: [docs/techniques.md](%s))" % docs_link(run, *MAXMIP_PEAK)
+            line += " (maxmip at a grazing one-texel peak: [docs/techniques.md](%s))" % markdown_target(
+                docs_link(run, *MAXMIP_PEAK))
         body.append(line)
     return section("The claims: the tutorials' (C1-C10) and the papers' (P1-P3)", body)
 
@@ -228,39 +141,10 @@ def section_machine(run):
     return section("Machine and provenance", md_table([("", False), ("", False)], machine_rows(run)))
 
 
-def noisy_rows(run):
-    """(relative spread, row) of the timed rows spread beyond SPREAD_LIMIT, worst first."""
-    noisy = sorted(((relative_spread(spread(rays_rounds(r))), r) for r in run.timed), key=lambda x: -x[0])
-    return [(s, r) for s, r in noisy if s > SPREAD_LIMIT]
-
-
-def warnings(run, faults):
-    """A busy machine, disturbed timings, roofline and ceiling faults: one paragraph each."""
-    lines = []
-    load = run.load
-    if load.get("busy"):
-        lines.append("**Warning: the machine was busy during this run** (%s). Load averages before %s, after %s; "
-                     "other processes used %s of the CPU time while timing. Speeds and ratios may be disturbed; "
-                     "errors and samples per ray are deterministic and unaffected." % (
-                         "; ".join(load.get("busy_reasons") or ["no reason given"]),
-                         load_averages(load.get("before")), load_averages(load.get("after")),
-                         fmt(load.get("other_cpu_share"), 1, 100, "%")))
-    noisy = noisy_rows(run)
-    if noisy:
-        lines.append("**Warning: %d of %d timed rows spread by more than %d%%** ((max-min)/median of rays/s); "
-                     "the worst: %s." % (len(noisy), len(run.timed), 100 * SPREAD_LIMIT,
-                                         "; ".join("%s (%.0f%%)" % (run.describe(r), 100 * s) for s, r in noisy[:5])))
-    if faults:
-        lines.append("**Warning: %s above 100%%**: timing disturbed, see the measurement faults under %s-%s in "
-                     "[tables.md](tables.md#every-backend)." % (
-                         counted(len(faults), "roofline or ceiling fraction"), HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS))
-    return lines
-
-
 def section_warnings(run, faults):
     body = []
-    for line in warnings(run, faults):
-        body += ["> " + line, ">"]
+    for head, text in warnings(run, faults):
+        body += ["> **%s** %s" % (md(head), md(text)), ">"]
     return section("Warnings", body[:-1]) if body else []
 
 
@@ -284,8 +168,8 @@ def section_matrix(run):
         return section("Techniques x layers, per heightfield", [])
     for (hf, backend, threads, view), group in groups(rows, lambda r: (r["heightfield"]["label"], r["backend"], r["threads"],
                                                                           view_name(r["view"]))).items():
-        body += ["", "### %s (%s)" % (hf, depth_map(group[0])), "",
-                 "%s, %s, %s view." % (backend, counted(threads, "thread"), view), ""]
+        body += ["", "### %s (%s)" % (md(hf), depth_map(group[0])), "",
+                 "%s, %s, %s view." % (md(backend), counted(threads, "thread"), md(view)), ""]
         body += md_table([("technique", False), ("layers", False), ("Mrays/s", True), ("samples/ray", True)] + ERROR_COLUMNS,
                          [[r["technique"], r["layers"], mrays(r), fmt(r.get("samples_per_ray"), 2)] + error_cells(r)
                           for r in group])
@@ -298,7 +182,8 @@ def section_glsl(run):
         return section("CPU against GLSL (OSMesa llvmpipe)", [])
     body = ["The same rays and parameters on both sides; CPU at the best ISA (%s). CPU/GLSL is the median "
             "(min-max) of the per-round ratios. Where the shadow technique's sample counts differ between the "
-            "CPU and llvmpipe, and why: [docs/techniques.md](%s)." % (run.best_isa, docs_link(run, *SHADOW_COUNTS)), ""]
+            "CPU and llvmpipe, and why: [docs/techniques.md](%s)." % (md(run.best_isa), markdown_target(
+                docs_link(run, *SHADOW_COUNTS))), ""]
     body += md_table([("heightfield", False), ("technique", False), ("layers", False), ("threads", True),
                       ("CPU %s Mrays/s" % run.best_isa, True), ("GLSL Mrays/s", True), ("CPU/GLSL", True)],
                      [[g["heightfield"]["label"], g["technique"], g["layers"], g["threads"], mrays(c), mrays(g),
@@ -328,7 +213,7 @@ def section_every_backend(run, faults):
             fraction = per_round(samples_rounds(r), samples_rounds(anchor))
             if fraction and fraction[0] > 1.0:
                 faults.append("%s: %s %s" % (run.describe(r), kind, fmt_spread(fraction, 0, 100, "%")))
-                fractions.append("fault (>100%: timing disturbed)")
+                fractions.append("fault (above 100%: timing disturbed)")
             else:
                 fractions.append(fmt_spread(fraction, 0, 100, "%"))
             if kind == "roofline":
@@ -344,7 +229,7 @@ def section_every_backend(run, faults):
                       ("x autovec", True)], cells)
     if faults:
         body += ["", "**Measurement faults** (a fraction above 100% means the anchor or the kernel was "
-                 "timed while the machine was disturbed; not a result):", ""] + ["- " + f for f in faults]
+                 "timed while the machine was disturbed; not a result):", ""] + ["- " + md(f) for f in faults]
     return section(title, body)
 
 
@@ -375,7 +260,7 @@ def section_exact_speed(run):
     body = ["The exact intersection of every ray (conservative float pass of the min-depth pyramid walk at "
             "%s, each hit cell solved in double): Mrays/s median (min-max); cells/ray: texel cells tested in "
             "the float pass, then solved in double; x POM-32: the median (min-max) of the per-round ratios over POM-32 at the "
-            "same ISA and threads." % run.best_isa, ""]
+            "same ISA and threads." % md(run.best_isa), ""]
     cells = []
     for r in rows:
         pom = run.partner(r, kind="trace", backend=run.best_isa, technique=HEADLINE_TECHNIQUE, layers=HEADLINE_LAYERS)
@@ -421,6 +306,10 @@ def cost_image(run_dir, images):
     return None
 
 
+def image(path):
+    return Markup("![](%s)" % markdown_target(path))
+
+
 def section_gallery(run):
     rows = sorted((r for r in run.with_purpose("gallery") if r.get("images")), key=run.order)
     body = []
@@ -428,11 +317,11 @@ def section_gallery(run):
         costs = [cost_image(run.dir, r["images"]) for r in group]
         with_cost = any(costs)
         body += ["%s, %s view. Shaded render at the technique's uv; uv error on one log scale (0.01 to 10 texels)%s." % (
-            hf, view, "; cost: height samples per pixel, on one log scale for every image (1 to 1024)" if with_cost else ""), ""]
+            md(hf), md(view), "; cost: height samples per pixel, on one log scale for every image (1 to 1024)" if with_cost else ""), ""]
         body += md_table([("technique", False), ("render", False), ("error", False)] + ([("cost", False)] if with_cost else [])
                          + ERROR_COLUMNS,
-                         [[run.label(r), "![](%s)" % r["images"]["render"], "![](%s)" % r["images"]["error"]]
-                          + (["![](%s)" % c if c else "-"] if with_cost else []) + error_cells(r)
+                         [[run.label(r), image(r["images"]["render"]), image(r["images"]["error"])]
+                          + ([image(c) if c else "-"] if with_cost else []) + error_cells(r)
                           for r, c in zip(group, costs)]) + [""]
     return section("Gallery", body[:-1])
 
@@ -478,44 +367,54 @@ TABLES = [("Techniques x layers, per heightfield", "techniques-x-layers-per-heig
 def main(argv=None):
     parser = cli.Parser(prog="report", description=__doc__.splitlines()[0])
     parser.add_argument("run_dir")
-    parser.add_argument("--history", help="history CSV to append this run's timed rows to, and to plot")
+    parser.add_argument("--history", help="record the run (a complete one) into this history CSV, and plot it")
     args = parser.parse_args(argv)
     run = load_run(args.run_dir)
     claims = read_claims(os.path.join(args.run_dir, "claims.json"))
-    recommendation = read_optional(os.path.join(args.run_dir, "recommendation.json"), "heightmarch-recommendation")
-    history_drawn = record_run.record(args.run_dir, args.history)[0] if args.history else None
-    recorded = history.read(args.history) if args.history else None
-    alerts = read_optional(os.path.join(args.run_dir, "alerts.json"), "heightmarch-alerts")
+    recommendation = read_optional(os.path.join(args.run_dir, "recommendation.json"), "heightmarch-recommendation",
+                                   validate_recommendation)
+    if args.history:  # the report is written while the run is recorded, before the history is
+        record_run.record(run.data, args.run_dir, args.history,
+                          lambda rows, drawn, found: write_report(run, claims, recommendation, found, rows, drawn))
+    else:
+        alerts = read_optional(os.path.join(args.run_dir, "alerts.json"), "heightmarch-alerts", validate_alerts)
+        write_report(run, claims, recommendation, alerts, None, None)
+    print("report: %s" % os.path.join(args.run_dir, "report.md"))
+    return 0
+
+
+def write_report(run, claims, recommendation, alerts, recorded, history_drawn):
+    """report.md, tables.md, plots/, measurements.csv and report.html; recorded: the history's
+    rows when the run is being recorded (history_drawn: whether its plot was drawn)."""
     faults = []  # the tables find them, the warnings on the first screen name them
     tables = (section_matrix(run) + section_glsl(run) + section_every_backend(run, faults)
               + section_searches_per_isa(run) + section_exact_speed(run) + section_threads(run) + section_gallery(run))
     plots = section_plots(run, recommendation, history_drawn)
     p = run.provenance
     title = "%s run of %s, commit %s" % (run.plan.get("name", "?"), p.get("date", "?"), p.get("commit", "?"))
-    md = ["# heightmarch report: " + title, "",
+    lines = ["# heightmarch report: " + md(title), "",
           "Parallax-mapping techniques on the CPU (packet kernels per ISA) and as GLSL (OSMesa llvmpipe), measured "
           "against the exact ray/heightfield intersection on %s (%s cores, %s). Explore it: [report.html](report.html) "
           "(every configuration on its error-against-cost frontier, with filters and images); the long tables: "
           "[tables.md](tables.md); the rows: [measurements.csv](measurements.csv), "
           "[measurements.json](measurements.json). What every measure means: [docs/measures.md](%s); the files: "
-          "[docs/measurements.md](%s)." % (p.get("cpu", "?"), p.get("cores", "?"), run.best_isa,
-                                           docs_link(run, "measures.md"), docs_link(run, "measurements.md"))]
+          "[docs/measurements.md](%s)." % (md(p.get("cpu", "?")), md(p.get("cores", "?")), md(run.best_isa),
+                                           markdown_target(docs_link(run, "measures.md")),
+                                           markdown_target(docs_link(run, "measurements.md")))]
     if run.load.get("busy"):  # the speeds below carry it; the warnings after the summary say why
-        md += ["", "*The machine was busy during this run: speeds and ratios may be disturbed (see the warnings below). "
+        lines += ["", "*The machine was busy during this run: speeds and ratios may be disturbed (see the warnings below). "
                    "Errors and samples per ray are deterministic and unaffected.*"]
-    md += section_alerts(alerts) + section_recommendation(run, recommendation)
-    md += section_claims(run, claims) + section_ratios(run) + section_warnings(run, faults)
-    md += section("The tables", ["In [tables.md](tables.md): " + "; ".join(
+    lines += section_alerts(alerts) + section_recommendation(run, recommendation)
+    lines += section_claims(run, claims) + section_ratios(run) + section_warnings(run, faults)
+    lines += section("The tables", ["In [tables.md](tables.md): " + "; ".join(
         "[%s](tables.md#%s)" % (t, anchor) for t, anchor in TABLES) + "."])
-    md += plots + section_machine(run)
-    tables_md = ["# heightmarch tables: " + title, "",
+    lines += plots + section_machine(run)
+    tables_md = ["# heightmarch tables: " + md(title), "",
                  "The long tables of [report.md](report.md). Speeds: median (min-max) of the repetitions; ratios: "
                  "median (min-max) of the per-round ratios."] + tables
-    atomic_write(os.path.join(args.run_dir, "measurements.csv"), measurements_csv(run.rows))
-    atomic_write(os.path.join(args.run_dir, "tables.md"), "\n".join(tables_md) + "\n")
-    atomic_write(os.path.join(args.run_dir, "report.md"), "\n".join(md) + "\n")
+    atomic_write(os.path.join(run.dir, "measurements.csv"), measurements_csv(run.rows))
+    atomic_write(os.path.join(run.dir, "tables.md"), "\n".join(tables_md) + "\n")
+    atomic_write(os.path.join(run.dir, "report.md"), "\n".join(lines) + "\n")
     report_page.write_page(run, claims, recommendation, alerts, recorded, warnings(run, faults), faults,
                            backend_colours(run.backend_names()))
-    print("report: %s" % os.path.join(args.run_dir, "report.md"))
-    return 0
 

@@ -6,12 +6,13 @@ script and style (page/) and Plotly (vendor/plotly.js-basic-dist-min/, MIT), bes
 all inlined; the gallery's images are the run's own files beside it (gallery/*.png). Nothing is
 fetched from the network when it opens. report.py calls write_page().
 """
-import html
-import json
 import os
 
 from .measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label, depth_map,
                           docs_link, glsl_pairs, machine_rows, ns_per_ray_rounds, rays_rounds, searches_per_isa, speedup, view_name)
+from .escape import csv_cell, html as esc, script_json
+from .report_content import (alerts_summary, fmt_ratio, fmt_spread, recommendation_columns, recommendation_intro,
+                             recommendation_rows)
 from .spreads import spread
 from .writers import atomic_write
 
@@ -19,12 +20,11 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 PLOTLY = os.path.join(HERE, "vendor", "plotly.js-basic-dist-min", "plotly-basic.min.js")
 PAGE_SCRIPT = os.path.join(HERE, "page", "page.js")
 PAGE_STYLE = os.path.join(HERE, "page", "page.css")
-MEASURES = ("uv_error_mean", "uv_error_rms", "uv_error_p50", "uv_error_p95", "uv_error_p99", "uv_error_max",
-            "wrong_surface_rate", "depth_error_mean", "shadow_error_mean", "shadow_mismatch_rate")
 
 
 def read(path):
-    with open(path) as f:
+    """A file of the page's own (its script, style, Plotly), beside this module."""
+    with open(path, encoding="utf-8") as f:
         return f.read()
 
 
@@ -59,7 +59,8 @@ def page_rows(run):
             "ns_per_ray": [rounded(x) for x in ns] if ns else None,
             "samples_per_ray": rounded(r.get("samples_per_ray")),
             "precompute_seconds": rounded(r.get("precompute_seconds")),
-            "errors": {m: rounded(r["errors"].get(m)) for m in MEASURES if r["errors"].get(m) is not None},
+            "errors": {m["name"]: rounded(r["errors"][m["name"]]) for m in run.measures
+                       if r["errors"].get(m["name"]) is not None},
             "images": r.get("images")})
     return out
 
@@ -73,35 +74,28 @@ def cell(value, cls=None):
 
 def table(columns, rows, cls=""):
     """columns: [(title, numeric)]; rows: lists of cells already escaped (HTML)."""
-    head = "".join("<th%s>%s</th>" % (' class="num"' if num else "", html.escape(t)) for t, num in columns)
+    head = "".join("<th%s>%s</th>" % (' class="num"' if num else "", esc(t)) for t, num in columns)
     body = "".join("<tr>%s</tr>" % "".join(cell(c, "num" if num else None) for c, (_, num) in zip(cells, columns))
                    for cells in rows)
     return '<table class="%s"><thead><tr>%s</tr></thead><tbody>%s</tbody></table>' % (cls, head, body)
 
 
-def spread_text(s, digits=1, scale=1.0, unit=""):
-    if s is None:
-        return "-"
-    f = "%%.%df" % digits
-    return "%s%s (%s-%s)" % (f % (s[0] * scale), unit, f % (s[1] * scale), f % (s[2] * scale))
-
-
 def link(href, text):
-    return '<a href="%s">%s</a>' % (html.escape(href, quote=True), html.escape(text))
+    return '<a href="%s">%s</a>' % (esc(href), esc(text))
 
 
 def glsl_table(run, pairs):
-    rows = [[html.escape(g["heightfield"]["label"]), html.escape(g["technique"]), html.escape(g["layers"]), g["threads"],
-             spread_text(spread(rays_rounds(c)), 1, 1e-6), spread_text(spread(rays_rounds(g)), 1, 1e-6),
-             spread_text(speedup(c, g), 2, unit="x")] for c, g in pairs]
+    rows = [[esc(g["heightfield"]["label"]), esc(g["technique"]), esc(g["layers"]), g["threads"],
+             fmt_spread(spread(rays_rounds(c)), 1, 1e-6), fmt_spread(spread(rays_rounds(g)), 1, 1e-6),
+             fmt_ratio(speedup(c, g))] for c, g in pairs]
     return table([("heightfield", False), ("technique", False), ("layers", False), ("threads", True),
                   ("CPU %s Mrays/s" % run.best_isa, True), ("GLSL Mrays/s", True), ("CPU/GLSL", True)], rows)
 
 
 def isa_table(run, found):
-    rows = [[html.escape(hf), html.escape(technique), threads, spread_text(spread(rays_rounds(glsl)), 1, 1e-6)] + [
+    rows = [[esc(hf), esc(technique), threads, fmt_spread(spread(rays_rounds(glsl)), 1, 1e-6)] + [
         c for isa in run.isas for c in (
-            (spread_text(spread(rays_rounds(by_isa[isa])), 1, 1e-6), spread_text(speedup(by_isa[isa], glsl), 2, unit="x"))
+            (fmt_spread(spread(rays_rounds(by_isa[isa])), 1, 1e-6), fmt_ratio(speedup(by_isa[isa], glsl)))
             if isa in by_isa else ("-", "-"))] for hf, technique, threads, glsl, by_isa in found]
     return table([("heightfield", False), ("technique", False), ("threads", True), ("GLSL Mrays/s", True)] + [
         c for isa in run.isas for c in (("%s Mrays/s" % isa, True), ("x llvmpipe", True))], rows)
@@ -126,38 +120,41 @@ def claims_html(claims, maxmip_link):
     for c in claims:
         checks = c.get("checks") or []
         passed = sum(1 for k in checks if k.get("passed"))
-        rows = [[html.escape(k.get("where", "")), html.escape(k.get("figures", "")),
+        rows = [[esc(k.get("where", "")), esc(k.get("figures", "")),
                  "yes" if k.get("passed") else "<b>no</b>"] for k in checks]
         note = (" Maxmip at a grazing one-texel peak: %s." % maxmip_link) if c["id"] == "P2" else ""
         parts.append('<details><summary><b>%s</b> <span class="verdict v-%s">%s</span> %s (%d / %d checks)</summary>'
                      '<p>Source: %s. Rule: %s%s</p>%s</details>' % (
-                         html.escape(c["id"]), html.escape(c["verdict"].replace(" ", "-")), html.escape(c["verdict"]),
-                         html.escape(c["claim"]), passed, len(checks), html.escape(c.get("source", "?")),
-                         html.escape(c.get("rule", "?")), note,
+                         esc(c["id"]), esc(c["verdict"].replace(" ", "-")), esc(c["verdict"]),
+                         esc(c["claim"]), passed, len(checks), esc(c.get("source", "?")),
+                         esc(c.get("rule", "?")), note,
                          table([("where", False), ("figures", False), ("passes", False)], rows) if rows else ""))
     return "".join(parts)
 
 
-def machine_html(run, warning_lines):
-    rows = machine_rows(run)
-    body = table([("", False), ("", False)], [[html.escape(k), html.escape(str(v))] for k, v in rows], "machine")
-    if warning_lines:
-        body += "".join('<p class="warning">%s</p>' % html.escape(w.replace("**", "")) for w in warning_lines)
-    else:
-        body += "<p>No warnings: the machine was not busy, and no timed row spread by more than 20%.</p>"
-    return body
+def machine_html(run):
+    return table([("", False), ("", False)], [[esc(k), esc(v)] for k, v in machine_rows(run)], "machine")
+
+
+def warnings_html(warnings):
+    """The warnings on the page's first screen, as report.md has them (report_content.warnings)."""
+    if not warnings:
+        return ""
+    return '<section id="warnings">%s</section>' % "".join(
+        '<p class="warning"><b>%s</b> %s</p>' % (esc(head), esc(text)) for head, text in warnings)
 
 
 def history_series(run, recorded):
     """The headline configuration (POM-32, 1 thread, default view, the first heightfield) over the
-    recorded runs, per machine (the history's machine column; the CPU where it has none) and backend."""
+    recorded runs, per machine (the history's machine column; the CPU where it has none) and backend.
+    The history holds names as CSV cells (escape.csv_cell): the heightfield is matched so."""
     if recorded is None:
         return None
     hf = run.heightfields[0] if run.heightfields else ""
     series = {}
     for r in recorded:
         if (r.get("technique"), r.get("layers"), r.get("threads"), r.get("heightfield")) != (
-                HEADLINE_TECHNIQUE, HEADLINE_LAYERS, "1", hf) or not r.get("view", "").startswith("default"):
+                HEADLINE_TECHNIQUE, HEADLINE_LAYERS, "1", csv_cell(hf)) or not r.get("view", "").startswith("default"):
             continue
         machine = r.get("machine") or r.get("cpu") or "?"
         series.setdefault(machine, {}).setdefault(r["backend"], []).append(
@@ -166,16 +163,23 @@ def history_series(run, recorded):
     return {"heightfield": hf, "machines": series}
 
 
-def write_page(run, claims, recommendation, alerts, recorded, warning_lines, faults, backend_colours):
+def write_page(run, claims, recommendation, alerts, recorded, warnings, faults, backend_colours):
     found = searches_per_isa(run)
     data = {
         "title": "%s run of %s, commit %s" % (run.plan.get("name", "?"), run.provenance.get("date", "?"),
                                                run.provenance.get("commit", "?")),
         "techniques": run.data["techniques"],
+        "measures": run.measures,
         "backend_colours": backend_colours,
         "rows": page_rows(run),
         "recommendation": recommendation,
+        # the table report.md shows, cell for cell (report_content), and the row each line opens
+        "recommendation_table": None if recommendation is None else {
+            "intro": recommendation_intro(recommendation),
+            "columns": [title for title, _ in recommendation_columns(recommendation["target"]["measure"])],
+            "rows": recommendation_rows(recommendation)},
         "alerts": alerts,
+        "alerts_summary": alerts_summary(alerts),
         "history": history_series(run, recorded),
         "isa_bars": isa_bars(found),
         "isas": run.isas,
@@ -191,17 +195,16 @@ def write_page(run, claims, recommendation, alerts, recorded, warning_lines, fau
         "claims": claims_html(claims, maxmip_link),
         "isa_table": isa_table(run, found) if found else "<p>Not measured in this run.</p>",
         "glsl_table": ("<p>The same rays and parameters on both sides; CPU at the best ISA (%s); CPU/GLSL: median "
-                       "(min-max) of the per-round ratios. See %s.</p>" % (html.escape(run.best_isa or "?"), shadow_link)
+                       "(min-max) of the per-round ratios. See %s.</p>" % (esc(run.best_isa or "?"), shadow_link)
                        + glsl_table(run, glsl_pairs(run))) if glsl_pairs(run) else "<p>Not measured in this run.</p>",
-        "machine": machine_html(run, warning_lines),
+        "machine": machine_html(run),
+        "warnings": warnings_html(warnings),
     }
-    # "</" would end the script element early: JSON may escape the slash
-    payload = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
     text = TEMPLATE % {
-        "title": html.escape(data["title"]),
+        "title": esc(data["title"]),
         "style": read(PAGE_STYLE),
         "plotly": read(PLOTLY).replace("</script", "<\\/script"),
-        "data": payload,
+        "data": script_json(data),
         "script": read(PAGE_SCRIPT),
         **static}
     atomic_write(os.path.join(run.dir, "report.html"), text)
@@ -223,10 +226,11 @@ TEMPLATE = """<!DOCTYPE html>
 <h1>heightmarch: %(title)s</h1>
 <nav><a href="#alerts">alerts</a> <a href="#recommendation">what to ship</a> <a href="#frontier">frontier</a>
 <a href="#claims">claims</a> <a href="#speed">speed per ISA and GLSL</a> <a href="#history">history</a>
-<a href="#provenance">provenance and warnings</a> <a href="report.md">report.md</a> <a href="tables.md">tables.md</a>
+<a href="#provenance">provenance</a> <a href="report.md">report.md</a> <a href="tables.md">tables.md</a>
 <a href="measurements.csv">measurements.csv</a></nav>
 </header>
 <main>
+%(warnings)s
 <section id="alerts"><h2>Alerts</h2><div id="alerts-body"></div></section>
 <section id="recommendation"><h2>What to ship</h2><div id="recommendation-body"></div></section>
 <section id="frontier"><h2>Error against cost, per heightfield</h2>
@@ -246,7 +250,7 @@ in the grey band at the bottom.</p>
 <details><summary>CPU against GLSL (table)</summary>%(glsl_table)s</details>
 </section>
 <section id="history"><h2>History of this machine</h2><div id="history-body"></div><div id="history-chart"></div></section>
-<section id="provenance"><h2>Provenance and warnings</h2>%(machine)s</section>
+<section id="provenance"><h2>Provenance</h2>%(machine)s</section>
 </main>
 <script>
 %(plotly)s

@@ -9,11 +9,15 @@ import statistics
 import matplotlib
 
 matplotlib.use("Agg")
+# Text is text: a '$' in a map's name is no mathtext (which would fail to parse, or typeset it).
+# Names enter a plot through terminal() (no control character), the rule for plot text.
+matplotlib.rcParams["text.parse_math"] = False
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import FixedLocator, FuncFormatter, NullLocator  # noqa: E402
 
 from .measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, backend_colours, counted, depth_map,  # noqa: E402
                           groups, ns_per_ray_rounds, speedup)
+from .escape import terminal  # noqa: E402
 from .spreads import spread  # noqa: E402
 
 MAX_PLOT_PIXELS = 1600  # widest plot, so a page shows it whole
@@ -113,7 +117,7 @@ def plot_error_vs_layers(run, path):
         log_axis(ax, "x", sorted({x for name, errors in series.items() for x, _ in errors
                                   if run.style[name.split(" = ")[0]]["layered"]}))
         error_axis(ax, [y for errors in series.values() for _, y in errors], "mean uv error (texels)")
-        ax.set_title("%s (%s)" % (hf, depth_map(rows[0])), fontsize=9)
+        ax.set_title("%s (%s)" % (terminal(hf), depth_map(rows[0])), fontsize=9)
         ax.set_xlabel("layers")
         ax.grid(True, which="both", alpha=0.3)
     finish(fig, path, "Error against layer count (default view; dashed: techniques without a layer count, "
@@ -148,7 +152,7 @@ def plot_error_vs_angle(run, path):
                 ax.plot(thetas, errors, markersize=3, linewidth=1, label=technique,
                         linestyle="-" if run.style[technique]["layered"] else "--", **technique_kw(run, technique))
             error_axis(ax, values, "mean uv error (texels)" if j == 0 else "")
-            ax.set_title("%s, %s layers" % (hf, spec), fontsize=8)
+            ax.set_title("%s, %s layers" % (terminal(hf), terminal(spec)), fontsize=8)
             ax.set_xlabel("view angle from the normal (degrees)" if i == len(heightfields) - 1 else "", fontsize=8)
             ax.tick_params(labelsize=7)
             ax.grid(True, which="both", alpha=0.3)
@@ -194,19 +198,19 @@ def plot_error_vs_speed(run, recommendation, path):
                     ax.plot([t[0]], [y], linestyle="none", marker="o", markersize=15, markerfacecolor="none",
                             markeredgecolor="black", markeredgewidth=1.3 if r["id"] == chosen.get(hf) else 0.8,
                             label="recommended here (ring) / for every heightfield (thin ring)")
-                    ax.annotate(run.label(r), (t[0], y), xytext=(9, 7), textcoords="offset points", fontsize=7,
+                    ax.annotate(terminal(run.label(r)), (t[0], y), xytext=(9, 7), textcoords="offset points", fontsize=7,
                                 fontweight="bold")
         ax.axhline(target["uv_error_texels"], color="black", linestyle="--", linewidth=0.8,
-                   label="target: %s" % target["description"])
+                   label="target: %s" % terminal(target["description"]))
         log_axis(ax, "x")
         error_axis(ax, [r["errors"][measure] for r in hf_rows], "%s uv error (texels)" % measure.replace("uv_error_", ""))
-        ax.set_title("%s (%s)" % (hf, depth_map(hf_rows[0])), fontsize=9)
-        ax.set_xlabel("ns per ray at %s, median (bars: min-max)" % backend["name"], fontsize=8)
+        ax.set_title("%s (%s)" % (terminal(hf), depth_map(hf_rows[0])), fontsize=9)
+        ax.set_xlabel("ns per ray at %s, median (bars: min-max)" % terminal(backend["name"]), fontsize=8)
         ax.grid(True, which="both", alpha=0.3)
         ax.plot([], [], linestyle="none", marker="o", markerfacecolor="white", color="gray",
                 label="hollow: wrong surface above %g%%" % (100 * target["wrong_surface_rate"]))
     finish(fig, path, "Error against time per ray at %s (the recommendation's backend; lines join a technique's fixed "
-                      "layer counts)" % backend["name"], axes)
+                      "layer counts)" % terminal(backend["name"]), axes)
     return True
 
 
@@ -243,7 +247,7 @@ def plot_isa_speedup(run, path):
                 ax.text(x, s[2], "%.1f" % s[0], ha="center", va="bottom", fontsize=6)
         ax.axhline(1.0, color="gray", linewidth=1)
         ax.set_xticks(range(len(by_group)))
-        ax.set_xticklabels(list(by_group), fontsize=7)
+        ax.set_xticklabels([terminal(g) for g in by_group], fontsize=7)
         ax.set_ylabel("rays/s over %s" % ("the naive port" if ref == "naive" else ref))
     finish(fig, path, "%s-%s speed-up per ISA: median of per-round ratios (bars: min-max)" % (
         HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS), axes)

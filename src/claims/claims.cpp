@@ -571,17 +571,18 @@ std::string claims_markdown(const std::vector<ClaimResult>& results, const std::
                    "| claim | verdict | checks passed |\n|---|---|---|\n";
   for (const ClaimResult& r : results) {
     const auto passed = std::count_if(r.checks.begin(), r.checks.end(), [](auto& c) { return c.passed; });
-    md += "| [" + r.id + "](#" + r.id + ") " + markdown_cell(r.claim) + " | **" + to_string(r.verdict) +
+    md += "| [" + r.id + "](#" + r.id + ") " + markdown_text(r.claim) + " | **" + to_string(r.verdict) +
           "** | " + std::to_string(passed) + " / " + std::to_string(r.checks.size()) + " |\n";
   }
   md += "\n## What to ship on these rows\n\n" + recommendation;
   for (const ClaimResult& r : results) {
-    md += "\n<a id=\"" + r.id + "\"></a>\n## " + r.id + ": " + r.claim + "\n\n";
-    md += "Source: " + r.source + " (docs/claims.md gives the words and the pages).\n\nRule: " + r.rule + "\n\n";
+    md += "\n<a id=\"" + r.id + "\"></a>\n## " + r.id + ": " + markdown_text(r.claim) + "\n\n";
+    md += "Source: " + markdown_text(r.source) + " (docs/claims.md gives the words and the pages).\n\nRule: " +
+          markdown_text(r.rule) + "\n\n";
     if (!r.checks.empty()) {
       md += "| where | figures | passes |\n|---|---|---|\n";
       for (const ClaimCheck& c : r.checks)
-        md += "| " + markdown_cell(c.where) + " | " + markdown_cell(c.figures) + " | " +
+        md += "| " + markdown_text(c.where) + " | " + markdown_text(c.figures) + " | " +
               (c.passed ? "yes" : "**no**") + " |\n";
     }
     md += "\nVerdict: **" + to_string(r.verdict) + "**";
@@ -589,7 +590,7 @@ std::string claims_markdown(const std::vector<ClaimResult>& results, const std::
       std::string failed;
       for (const ClaimCheck& c : r.checks)
         if (!c.passed) failed += (failed.empty() ? "" : "; ") + c.where;
-      md += " (not where: " + failed + ")";
+      md += " (not where: " + markdown_text(failed) + ")";
     }
     md += ".\n";
   }

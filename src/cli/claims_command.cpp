@@ -15,6 +15,7 @@
 #include "experiment/run_outputs.hpp"
 #include "heightmarch/error.hpp"
 #include "io/atomic_file.hpp"
+#include "io/markdown.hpp"
 #include "io/provenance.hpp"
 #include "util/string_format.hpp"
 
@@ -49,14 +50,14 @@ void write_claims(const std::string& dir, const ClaimsData& data, const PlanSett
                   const Recommendation& recommendation) {
   const std::vector<ClaimResult> results = evaluate_claims(data);
   const Provenance p = provenance();
-  const std::string provenance_line = "Measured " + p.date + " on " + p.cpu + " (" + std::to_string(p.cores) +
-                                      " cores), ISA " + to_string(settings.best_isa) + ", " +
-                                      std::to_string(settings.threads) + " threads, commit " + p.commit + ", " +
-                                      p.compiler + " (" + p.build_type + ").";
+  const std::string provenance_line = markdown_text(
+      "Measured " + p.date + " on " + p.cpu + " (" + std::to_string(p.cores) + " cores), ISA " +
+      to_string(settings.best_isa) + ", " + std::to_string(settings.threads) + " threads, commit " + p.commit + ", " +
+      p.compiler + " (" + p.build_type + ").");
   std::string heightfields, clamped;
   for (const auto& hf : settings.heightfields) {
-    heightfields += (heightfields.empty() ? "" : ", ") + hf.label();
-    if (hf.reading.wrap == Wrap::clamp) clamped += (clamped.empty() ? "" : ", ") + hf.label();
+    heightfields += (heightfields.empty() ? "" : ", ") + markdown_text(hf.label());
+    if (hf.reading.wrap == Wrap::clamp) clamped += (clamped.empty() ? "" : ", ") + markdown_text(hf.label());
   }
   const std::string configurations =
       "Configurations: heightfields " + heightfields + " (builtins at " +

@@ -13,5 +13,6 @@ Command add_glsl_command(CLI::App& app);
 Command add_suite_command(CLI::App& app);
 Command add_claims_command(CLI::App& app);
 Command add_recommend_command(CLI::App& app);
+Command add_report_command(CLI::App& app);
 
 }  // namespace heightmarch::cli

@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
   std::map<const CLI::App*, cli::Command> commands;
   std::string memory_limit;
   for (auto add : {cli::add_trace_command, cli::add_suite_command, cli::add_claims_command,
-                   cli::add_recommend_command, cli::add_glsl_command}) {
+                   cli::add_recommend_command, cli::add_report_command, cli::add_glsl_command}) {
     cli::Command run = add(app);
     CLI::App* command = app.get_subcommands({}).back();
     command->add_option("--memory-limit", memory_limit,
@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
                                               [&](const CLI::App* c) { return c->get_name() == argv[1]; });
   if (argc >= 2 && argv[1][0] != '-' && !known) {
     std::fprintf(stderr,
-                 "heightmarch: unknown command '%s' (trace, glsl, suite, claims, recommend; see --help)\n",
+                 "heightmarch: unknown command '%s' (trace, glsl, suite, claims, recommend, report; see --help)\n",
                  printable(argv[1]).c_str());
     return 2;
   }
@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::string message = e.what();
     if (message.empty() || argc < 2)
-      message = "a command is required (trace, glsl, suite, claims, recommend; see --help)";
+      message = "a command is required (trace, glsl, suite, claims, recommend, report; see --help)";
     std::fprintf(stderr, "heightmarch: %s\n", printable(message).c_str());
     return 2;
   } catch (const InputError& e) {  // --version's ISAs under a malformed HEIGHTMARCH_MAX_ISA

@@ -1,20 +1,24 @@
 // heightmarch suite: the main job. Builds the typed plan (suite_plan.hpp), measures every
 // configuration once, and writes the run's files from its rows into a fresh directory:
 // measurements.json, bench.json, recommendation.json, the gallery, claims.md/claims.json, and
-// through scripts/report measurements.csv, report.md and report.html.
+// through the report (report_command.hpp) measurements.csv, report.md and report.html.
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <memory>
+#include <set>
 
 #include "cli/claims_command.hpp"
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
 #include "cli/plan_options.hpp"
 #include "cli/recommend_command.hpp"
+#include "cli/report_command.hpp"
 #include "cli/run_directory.hpp"
 #include "experiment/claims_collector.hpp"
 #include "experiment/run_outputs.hpp"
@@ -123,22 +127,39 @@ void apply(const CandidateOptions& o, PlanSettings& s) {
   }
 }
 
-std::string shell_quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
+// The name of each heightfield in its gallery images' file names: its label as a plain file name
+// (letters, digits, '.', '_', '+' and '-', anything else '_'; at most 80 bytes; never starting
+// with '.' or '-'), unique in the run ("-2", "-3" after a taken one). A label is a name, never a
+// path: whatever the map's path, its images land in the run's gallery/.
+using GalleryNames = std::map<std::string, std::string>;
+GalleryNames gallery_names(const std::vector<Configuration>& plan) {
+  GalleryNames names;
+  std::set<std::string> taken;
+  for (const Configuration& c : plan) {
+    const std::string label = c.heightfield.label();
+    if (names.count(label)) continue;
+    std::string name;
+    for (char ch : label.substr(0, 80))
+      name += std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '_' || ch == '+' || ch == '-' ? ch : '_';
+    if (name.empty() || name[0] == '.' || name[0] == '-') name = "_" + name;
+    std::string unique = name;
+    for (std::size_t i = 2; taken.count(unique); ++i) unique = name + "-" + std::to_string(i);  // ends by taken.size() + 2
+    taken.insert(unique);
+    names[label] = unique;
+  }
+  return names;
 }
 
 // gallery/<heightfield>-<technique>[-<layers>]: the stem of a gallery row's images.
-std::string gallery_stem(const Configuration& c) {
+std::string gallery_stem(const Configuration& c, const GalleryNames& names) {
   const std::string what = c.kind == RunKind::exact ? "exact" : to_string(c.params.technique) + "-" + to_string(c.params.layers);
-  return "gallery/" + c.heightfield.label() + "-" + what;
+  return "gallery/" + names.at(c.heightfield.label()) + "-" + what;
 }
 
 // The render, error map and cost map of a gallery row, as PNGs beside each other in gallery/,
 // written into a fresh directory of its own (mkdtemp: nothing planted there is written through).
-void write_gallery_images(const std::string& dir, const TracedRow& traced) {
-  const std::string stem = dir + "/" + gallery_stem(traced.row.config);
+void write_gallery_images(const std::string& dir, const TracedRow& traced, const GalleryNames& names) {
+  const std::string stem = dir + "/" + gallery_stem(traced.row.config, names);
   std::string tmp = stem + ".tmp-XXXXXX";
   if (!::mkdtemp(tmp.data())) throw std::runtime_error(stem + ": cannot write (" + std::strerror(errno) + ")");
   try {
@@ -201,15 +222,16 @@ Command add_suite_command(CLI::App& app) {
                    std::to_string(plan_runs(plan, settings.repetitions)) + " runs) into " + dir.path());
     fs::create_directories(dir.path() + "/gallery");
     ClaimsCollector claims;
+    const GalleryNames names = gallery_names(plan);
     MeasuredPlan run = measure_with_progress(plan, settings, progress, [&](const TracedRow& traced) {
-      if (traced.row.config.purposes & kPurposeGallery) write_gallery_images(dir.path(), traced);
+      if (traced.row.config.purposes & kPurposeGallery) write_gallery_images(dir.path(), traced, names);
       claims.observe(traced);
     });
     for (Measurement& m : run.rows)
       if ((m.config.purposes & kPurposeGallery) && m.failure.empty()) {
-        m.render_image = gallery_stem(m.config) + "-render.png";
-        m.error_image = gallery_stem(m.config) + "-error.png";
-        if (m.samples_known) m.cost_image = gallery_stem(m.config) + "-cost.png";
+        m.render_image = gallery_stem(m.config, names) + "-render.png";
+        m.error_image = gallery_stem(m.config, names) + "-error.png";
+        if (m.samples_known) m.cost_image = gallery_stem(m.config, names) + "-cost.png";
       }
     dir.finished("measurements and gallery images");
     if (run.load.busy)
@@ -227,13 +249,11 @@ Command add_suite_command(CLI::App& app) {
       dir.finished("claims.md, claims.json");
     }
     progress.stage("report");
-    std::string report = "/usr/bin/python3 " + shell_quote(std::string(HEIGHTMARCH_SOURCE_DIR) + "/scripts/report") + " " +
-                         shell_quote(dir.path());
-    if (record) report += " --history results/history.csv";
-    if (std::system(report.c_str()) != 0)
-      throw std::runtime_error("scripts/report failed for " + dir.path());
+    write_report(dir.path(), "");
     dir.complete();
-    if (record) {
+    if (record) {  // only a complete run is recorded: the report again, now with the history and its alerts
+      progress.stage("recording into results/history.csv");
+      write_report(dir.path(), "results/history.csv");
       std::error_code ec;
       fs::remove("results/latest", ec);
       fs::create_directory_symlink(run_name, "results/latest");

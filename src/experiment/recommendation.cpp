@@ -338,11 +338,11 @@ std::string recommendation_markdown(const Recommendation& r) {
                    "the repetitions) on each heightfield, and one setting for all of them:\n\n"
                    "| backend | heightfield | recommendation |\n|---|---|---|\n";
   for (const BackendRecommendation& b : r.backends) {
-    md += "| " + markdown_cell(b.backend.name()) + " | **all** | " +
-          markdown_cell(answer_line(b.all_heightfields, r.target)) + " |\n";
+    md += "| " + markdown_text(b.backend.name()) + " | **all** | " +
+          markdown_text(answer_line(b.all_heightfields, r.target)) + " |\n";
     for (const Answer& a : b.per_heightfield)
-      md += "| " + markdown_cell(b.backend.name()) + " | " + markdown_cell(a.heightfield) + " | " +
-            markdown_cell(answer_line(a, r.target)) + " |\n";
+      md += "| " + markdown_text(b.backend.name()) + " | " + markdown_text(a.heightfield) + " | " +
+            markdown_text(answer_line(a, r.target)) + " |\n";
   }
   return md;
 }
@@ -353,7 +353,7 @@ std::string recommendation_text(const Recommendation& r) {
     text +=
         "  " + b.backend.name() + ", every heightfield: " + answer_line(b.all_heightfields, r.target) + "\n";
     for (const Answer& a : b.per_heightfield)
-      text += "    " + a.heightfield + ": " + answer_line(a, r.target) + "\n";
+      text += "    " + printable(a.heightfield) + ": " + answer_line(a, r.target) + "\n";
   }
   return text;
 }

@@ -4,10 +4,20 @@ import signal
 import subprocess
 import sys
 
+import pytest
+
 from heightmarch_tools import cli
 from heightmarch_tools.errors import CannotWrite, Unusable
 
 SCRIPTS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts")
+
+
+@pytest.fixture(autouse=True)
+def default_signals():
+    """cli.run takes SIGINT, SIGTERM and SIGHUP over; pytest's own handling comes back after each test."""
+    yield
+    for s in cli.SIGNALS:
+        signal.signal(s, signal.default_int_handler if s == signal.SIGINT else signal.SIG_DFL)
 
 
 def raises(exception):
@@ -24,8 +34,6 @@ def test_statuses_and_one_line(capsys):
     err = capsys.readouterr().err.splitlines()
     assert err == ["tool: x.json: row 3: threads: is -1", "tool: report.md: cannot write: No space left on device",
                    "tool: interrupted (SIGINT)", "tool: \\x1b]0;PWN\\x07"]
-    for s in cli.SIGNALS:
-        signal.signal(s, signal.SIG_DFL if s != signal.SIGINT else signal.default_int_handler)
 
 
 def test_sigterm_is_one_line_and_cleans_up(tmp_path):
@@ -39,3 +47,17 @@ def test_sigterm_is_one_line_and_cleans_up(tmp_path):
     child.send_signal(signal.SIGTERM)
     _, err = child.communicate(timeout=30)
     assert child.returncode == 128 + signal.SIGTERM and err == "tool: interrupted (SIGTERM)\n" and marker.exists()
+
+
+def test_a_bug_is_one_line_naming_where(capsys):
+    assert cli.run("tool", raises(ValueError("bad"))) == 1
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and err[0].startswith("tool: internal error: ValueError: bad (test_cli.py:")
+
+
+def test_what_a_tool_prints_is_printable(capsys):
+    def main():
+        print("BM_Trace/heightfield:\x1b]0;PWN\x07/isa:avx2\tq")
+        return 0
+    assert cli.run("tool", main) == 0
+    assert capsys.readouterr().out == "BM_Trace/heightfield:\\x1b]0;PWN\\x07/isa:avx2\\x09q\n"

@@ -1,5 +1,12 @@
-"""history: the machine key speed is compared within, and rows as the history records them."""
-from heightmarch_tools import history
+"""history and record_run: the machine key speed is compared within, rows as the history records
+and checks them, its repair, recordings that overlap or come from an incomplete run."""
+import multiprocessing
+import time
+
+import pytest
+
+from heightmarch_tools import history, record_run
+from heightmarch_tools.errors import Unusable
 
 
 def parts(**changes):
@@ -16,3 +23,82 @@ def test_a_machine_without_family_model_or_a_part_is_unknown():
     assert history.machine_key(parts(cpu="AMD EPYC")) == "unknown-amd-epyc-2c-avx512-gnu-12.2.0-release"
     assert history.machine_key(parts(build_type="")) == "unknown-amd-epyc-f25m17-2c-avx512-gnu-12.2.0-?"
     assert not history.is_known(history.machine_key(parts(cores="")))
+
+
+# ---------------------------------------------------------------------------------------------
+# The file: rows checked with their line numbers, repair, recordings that overlap
+
+@pytest.fixture(autouse=True)
+def no_plot(monkeypatch):
+    """The history plot is test_history.sh's; here it would only cost time."""
+    monkeypatch.setattr(record_run.history_plot, "draw", lambda *_: False)
+
+
+def run_data(commit, label="bricks"):
+    """A recorded run's measurements.json as record_run reads it: one timed POM-32 row."""
+    view = {"kind": "default", "width": 64, "height": 64, "theta": None, "phi": None}
+    return {"provenance": {"date": "2026-12-01T10:00:%02dZ" % int(commit[1:]), "commit": commit,
+                           "cpu": "AMD EPYC (family 25, model 17)", "cores": 2, "best_isa": "avx2",
+                           "compiler": "GNU 12.2.0", "build_type": "Release"},
+            "backends": ["scalar", "avx2"],
+            "rows": [{"kind": "trace", "purposes": ["isa"], "technique": "pom", "layers": "32", "backend": "avx2",
+                      "threads": 1, "heightfield": {"label": label, "width": 32, "height": 32}, "view": view,
+                      "samples_known": True, "samples_per_ray": 12.5,
+                      "errors": {"uv_error_mean": 0.25, "uv_error_p95": 1.5, "wrong_surface_rate": 0.01},
+                      "speed": {"rays_per_second": {"rounds": [2e7, 2.1e7, 1.9e7]}}}]}
+
+
+def recorded(tmp_path, commit, label="bricks", hold=0.0):
+    run_dir = tmp_path / commit
+    run_dir.mkdir()
+    return record_run.record(run_data(commit, label), str(run_dir), str(tmp_path / "history.csv"),
+                             lambda *_: time.sleep(hold))
+
+
+def test_a_recorded_run_is_read_back(tmp_path):
+    recorded(tmp_path, "c01", label="=HYPERLINK(\"x\")")
+    rows = history.read(str(tmp_path / "history.csv"))
+    assert len(rows) == 1 and rows[0]["heightfield"] == "'=HYPERLINK(\"x\")" and rows[0]["threads"] == "1"
+
+
+@pytest.mark.parametrize("bad, why", [
+    (lambda line: "<<<<<<< HEAD", "line 3: 1 cells, not 22 (a merge conflict's marker)"),
+    (lambda line: line.replace(",2e+07,", ",fast,"), "line 3: rays_per_second_median: is \"fast\", not a number"),
+    (lambda line: line.replace(",12.5,", ",nan,"), "line 3: samples_per_ray: is NaN, not a finite number"),
+    (lambda line: line.replace(",1,bricks,", ",0.5,bricks,"), "line 3: threads: is 0.5, not in [1, inf]"),
+    (lambda line: line.replace(",1,bricks,", ",2.5,bricks,"), "line 3: threads: is 2.5, not an integer")])
+def test_a_malformed_row_is_refused_with_its_line_and_repaired(tmp_path, capsys, bad, why):
+    recorded(tmp_path, "c01")
+    recorded(tmp_path, "c02")
+    path = tmp_path / "history.csv"
+    lines = path.read_text().splitlines()
+    lines[2] = bad(lines[2])
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(Unusable) as e:
+        history.read(str(path))
+    assert why in str(e.value) and "scripts/repair-history" in str(e.value)
+    with pytest.raises(Unusable):
+        recorded(tmp_path, "c03")  # a recording refuses it too, and adds nothing
+    assert history.repair([str(path)]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0].startswith("drops line 3: ") and out[-1].endswith("1 rows kept, 1 dropped")
+    assert [r["commit"] for r in history.read(str(path))] == ["c01"]
+
+
+def test_two_recordings_at_once_keep_both_rows(tmp_path):
+    recorded(tmp_path, "c01")
+    workers = [multiprocessing.Process(target=recorded, args=(tmp_path, c, "bricks", 0.5)) for c in ("c02", "c03")]
+    for w in workers:
+        w.start()
+    for w in workers:
+        w.join(60)
+    assert [w.exitcode for w in workers] == [0, 0]
+    assert sorted(r["commit"] for r in history.read(str(tmp_path / "history.csv"))) == ["c01", "c02", "c03"]
+
+
+def test_an_incomplete_run_is_not_recorded(tmp_path):
+    (tmp_path / "c01").mkdir()
+    (tmp_path / "c01" / "INCOMPLETE").write_text("This run did not complete.\n")
+    with pytest.raises(Unusable) as e:
+        record_run.record(run_data("c01"), str(tmp_path / "c01"), str(tmp_path / "history.csv"))
+    assert "INCOMPLETE" in str(e.value) and not (tmp_path / "history.csv").exists()

@@ -98,6 +98,19 @@ class Browser:
                 out.append("log: %s %s" % (entry.get("text"), entry.get("url", "")))
         return out
 
+    def open_report(self, run_dir):
+        """Opens RUN_DIR/report.html at 1400x1000 and waits until its script has drawn it; the ms it took."""
+        for domain in ("Runtime", "Log", "Page"):
+            self.call(domain + ".enable")
+        self.call("Emulation.setDeviceMetricsOverride", width=1400, height=1000, deviceScaleFactor=1, mobile=False)
+        self.call("Page.navigate", url="file://" + os.path.abspath(os.path.join(run_dir, "report.html")))
+        return int(self.wait_for("document.body && document.body.dataset.ready", "the page to be drawn"))
+
+    def check_no_errors(self):
+        errors = self.errors()
+        if errors:
+            raise Failure("%d console error(s), the first: %s" % (len(errors), errors[0]))
+
     def close(self):
         try:
             self.socket.close()
@@ -163,11 +176,7 @@ def check(run_dir, screenshot):
     run = load_run(run_dir)
     browser = Browser()
     try:
-        for domain in ("Runtime", "Log", "Page"):
-            browser.call(domain + ".enable")
-        browser.call("Emulation.setDeviceMetricsOverride", width=1400, height=1000, deviceScaleFactor=1, mobile=False)
-        browser.call("Page.navigate", url="file://" + os.path.abspath(os.path.join(run_dir, "report.html")))
-        ready_ms = int(browser.wait_for("document.body && document.body.dataset.ready", "the page to be drawn"))
+        ready_ms = browser.open_report(run_dir)
         state = browser.evaluate(STATE)
         measured = {r["technique"] for r in run.rows if r.get("technique") in run.style}
         if set(state["technique"]) != measured:
@@ -208,9 +217,7 @@ def check(run_dir, screenshot):
         with open(screenshot, "wb") as f:
             import base64
             f.write(base64.b64decode(shot["data"]))
-        errors = browser.errors()
-        if errors:
-            raise Failure("%d console error(s), the first: %s" % (len(errors), errors[0]))
+        browser.check_no_errors()
         size = os.path.getsize(os.path.join(run_dir, "report.html"))
         print("ok: no console error; drawn %d ms after it started loading (%.1f MB, %d rows); screenshot %s" % (
             ready_ms, size / 1e6, len(run.rows), screenshot))
@@ -218,12 +225,19 @@ def check(run_dir, screenshot):
         browser.close()
 
 
-if __name__ == "__main__":
-    if len(sys.argv) != 3:
-        print(__doc__.strip().splitlines()[2], file=sys.stderr)
+def main(check, doc):
+    """Runs check(*arguments) as a command: its usage (doc's third line) without the right number
+    of arguments, FAIL and exit 1 on a Failure."""
+    arguments = sys.argv[1:]
+    if len(arguments) != check.__code__.co_argcount:
+        print(doc.strip().splitlines()[2], file=sys.stderr)
         sys.exit(2)
     try:
-        check(sys.argv[1], sys.argv[2])
+        check(*arguments)
     except Failure as e:
         print("FAIL: report.html: %s" % e)
         sys.exit(1)
+
+
+if __name__ == "__main__":
+    main(check, __doc__)

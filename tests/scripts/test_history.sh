@@ -15,7 +15,7 @@ trap 'rm -rf "$tmp"' EXIT
 
 /usr/bin/python3 - "$tmp" <<'PY'
 import json, os, sys
-from heightmarch_tools import history, record_run
+from heightmarch_tools import alerts, history, record_run
 tmp = sys.argv[1]
 hist = os.path.join(tmp, "history.csv")
 ZEN4 = "AMD EPYC (family 25, model 17)"
@@ -48,7 +48,7 @@ def run(day, cpu=ZEN4, speed=None, samples=None):
     d = os.path.join(tmp, "run-%02d-%s" % (day, cpu[:3]))
     os.makedirs(d, exist_ok=True)
     json.dump(data, open(os.path.join(d, "measurements.json"), "w"))
-    drawn, found = record_run.record(d, hist)
+    drawn, found = record_run.record(data, d, hist)
     on_disk = json.load(open(os.path.join(d, "alerts.json")))
     if on_disk != found or set(on_disk) != {"format_version", "machine", "series_tested", "rule", "alerts"} \
             or on_disk["format_version"] != 1 or not drawn:
@@ -99,8 +99,7 @@ if found["alerts"] or found["series_tested"] != 0 or found["machine"] != "unknow
     fail("an unknown machine's run was judged: %s" % found)
 print("ok: another machine's runs and an unknown machine's are never judged against this machine's")
 
-kept = history.read(os.path.join(tmp, "alerts.csv"), ["date", "commit", "machine", "series", "kind", "metric", "baseline",
-                                                      "baseline_spread", "new", "change", "message"])
+kept = history.read(os.path.join(tmp, "alerts.csv"), alerts.ALERTS)
 if [(r["commit"], r["kind"]) for r in kept] != [("c06", "speed"), ("c07", "speed"), ("c08", "behaviour")]:
     fail("alerts.csv: %s" % [(r["commit"], r["kind"]) for r in kept])
 print("ok: alerts.csv keeps every run's alerts")

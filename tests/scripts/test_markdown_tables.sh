@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Every Markdown table of the docs and the README has as many cells in each row as in its header:
 # a '|' inside a cell ("|grad D|", "|dx| + |dy|") must be escaped as \|, or it cuts the row. The
-# report's and claims.md's cells are escaped by their writers (md_cell, markdown_cell), tested
+# report's and claims.md's cells are escaped by their writers (escape.markdown, markdown_text), tested
 # with them. Needs no build.
 # Usage: test_markdown_tables.sh [BUILD_DIR] (unused)
 set -euo pipefail

@@ -1,6 +1,8 @@
-// report.html's script: the run's data (the JSON in #report-data, written by scripts/report_page.py)
-// drawn with Plotly: the recommendation, the error-against-cost frontier per heightfield with its
+// report.html's script: the run's data (the JSON in #report-data, written by report_page.py) drawn
+// with Plotly: the recommendation, the error-against-cost frontier per heightfield with its
 // filters and a point's images, the speed per ISA and the history of this machine with its alerts.
+// Data becomes page text only through textContent (el's "text"), and Plotly's labels, which it
+// reads as a little HTML, only through esc(): a name with markup is shown, never run.
 "use strict";
 (function () {
   const DATA = JSON.parse(document.getElementById("report-data").textContent);
@@ -9,16 +11,14 @@
                    "<": "triangle-left", ">": "triangle-right", P: "cross", "+": "cross-thin", X: "x", x: "x-thin",
                    p: "pentagon", h: "hexagon", H: "hexagon2", "8": "octagon", "*": "star"};
   const STYLE = Object.fromEntries(DATA.techniques.map(t => [t.name, t]));
-  const MEASURES = [["uv_error_mean", "mean uv error (texels)"], ["uv_error_rms", "RMS uv error (texels)"],
-                    ["uv_error_p50", "p50 uv error (texels)"], ["uv_error_p95", "p95 uv error (texels)"],
-                    ["uv_error_p99", "p99 uv error (texels)"], ["uv_error_max", "max uv error (texels)"],
-                    ["wrong_surface_rate", "wrong surface (share of rays)"], ["depth_error_mean", "mean depth error"],
-                    ["shadow_error_mean", "mean shadow factor error"], ["shadow_mismatch_rate", "shadow mismatch (share)"]];
+  const MEASURES = DATA.measures.map(m => [m.name, m.label]);  // measurements.json's own list
   const COSTS = [["ns_per_ray", "time per ray (ns), median; bars: min-max"], ["samples_per_ray", "height samples per ray"]];
   const TARGET = DATA.recommendation ? DATA.recommendation.target : null;
   const PLOT_CONFIG = {displaylogo: false, responsive: true, modeBarButtonsToRemove: ["select2d", "lasso2d"]};
 
   // --- small helpers ---------------------------------------------------------------------------
+  const ESCAPES = {"&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;", "'": "&#39;"};
+  const esc = text => String(text).replace(/[&<>"']/g, c => ESCAPES[c]);
   function el(tag, attrs, ...children) {
     const node = document.createElement(tag);
     for (const [k, v] of Object.entries(attrs || {})) {
@@ -39,8 +39,9 @@
   const unique = values => [...new Set(values)];
   const meetsWrongBound = row => !TARGET || (row.errors.wrong_surface_rate ?? 0) <= TARGET.wrong_surface_rate;
 
+  // A configuration's figures, as lines of text: the first names it.
   function describe(row) {
-    const lines = [`<b>${label(row)}</b> (row ${row.id})`, `${row.heightfield}, ${row.view}`,
+    const lines = [`${label(row)} (row ${row.id})`, `${row.heightfield}, ${row.view}`,
                    `${row.backend}, ${row.threads} thread${row.threads === 1 ? "" : "s"}`];
     if (row.rays_per_second) lines.push(`Mrays/s ${spreadText(row.rays_per_second, 1, 1e-6)}`,
                                         `ns/ray ${spreadText(row.ns_per_ray, 2, 1)}`);
@@ -50,22 +51,16 @@
       if (row.errors[key] !== undefined)
         lines.push(`${name.replace(/ \(.*\)/, "")}: ${/rate/.test(key) ? percent(row.errors[key]) : errorText(row.errors[key])}`);
     if (row.precompute_seconds !== null) lines.push(`preprocessing ${num(row.precompute_seconds, 3)} s (once per map)`);
-    return lines.join("<br>");
+    return lines;
   }
+  // The same as a Plotly hover label.
+  const hoverText = row => describe(row).map((line, i) => (i ? esc(line) : `<b>${esc(line)}</b>`)).join("<br>");
 
   // --- alerts and the recommendation ------------------------------------------------------------
   function showAlerts() {
     const body = document.getElementById("alerts-body");
-    const a = DATA.alerts;
-    if (!a) {
-      body.append(el("p", {text: "No alerts.json: this run was not recorded into the history (a quick run without " +
-                                 "--record, or --out), so it was not compared with earlier runs."}));
-      return;
-    }
-    const found = a.alerts || [];
-    body.append(el("p", {text: found.length ? `${found.length} alert(s) in ${a.series_tested} series of machine ${a.machine}. Rule: ${a.rule}.`
-                             : a.series_tested ? `No change beyond noise in ${a.series_tested} series of machine ${a.machine}. Rule: ${a.rule}.`
-                             : `No series tested: machine ${a.machine} has too few earlier recorded runs to test against yet. Rule: ${a.rule}.`}));
+    body.append(el("p", {text: DATA.alerts_summary}));  // report.md's sentence
+    const found = DATA.alerts ? DATA.alerts.alerts || [] : [];
     if (found.length) {
       const list = el("ul", {class: "alerts"});
       for (const x of found) list.append(el("li", {text: `${x.kind}: ${x.message}`}));
@@ -73,40 +68,26 @@
     }
   }
 
+  // report.md's table, cell for cell (report_content.py); a row opens its configuration below.
   function showRecommendation() {
     const body = document.getElementById("recommendation-body");
-    const r = DATA.recommendation;
-    if (!r) {
+    const t = DATA.recommendation_table;
+    if (!t) {
       body.append(el("p", {text: "No recommendation.json in this run: `heightmarch recommend RUN_DIR` computes it."}));
       return;
     }
-    body.append(el("p", {}, `The fastest configuration by measured time per ray among those with ${r.target.description}, ` +
-                        `on every heightfield as one setting and on each; preprocessing amortised over ${r.target.frames} frames. `,
-                   el("a", {href: DATA.docs.recommendation, text: "Why this target"}), ". Click a row to see it."));
+    body.append(el("p", {}, t.intro + " ", el("a", {href: DATA.docs.recommendation, text: "Why this target"}),
+                   ". Click a row to see it."));
     const table = el("table", {class: "recommendation"});
-    table.append(el("tr", {}, ...["backend", "heightfield", "configuration", "ns/ray", r.target.measure, "wrong surface",
-                                  "samples/ray", "preprocessing", "next fastest"].map(t => el("th", {text: t}))));
+    table.append(el("tr", {}, ...t.columns.map(c => el("th", {text: c}))));
     const byId = Object.fromEntries(DATA.rows.map(row => [row.id, row]));
-    for (const b of r.backends)
-      for (const a of [b.all_heightfields].concat(b.per_heightfield)) {
-        const pick = a.choice || a.closest;
-        const cells = [b.name, a.heightfield || "every heightfield"];
-        if (!pick) cells.push(`none of ${a.settings} meets the target`, "-", "-", "-", "-", "-", "-");
-        else {
-          const worst = key => Math.max(...pick.rows.map(x => x[key] ?? 0));
-          const pre = Math.max(...pick.rows.map(x => x.precompute_seconds ?? 0));
-          const ns = pick.ns_per_ray;
-          cells.push((a.choice ? "" : `none meets; nearest: `) + pick.label, spreadText([ns.median, ns.min, ns.max], 2, 1),
-                     errorText(worst(r.target.measure)), percent(worst("wrong_surface_rate")),
-                     num(pick.rows.reduce((s, x) => s + x.samples_per_ray, 0) / pick.rows.length, 1),
-                     pre > 0 ? `${num(pre, 3)} s (${num(pre * 1e3 / r.target.frames, 3)} ms/frame)` : "-",
-                     a.runner_up ? `${a.runner_up.label}: ${spreadText([a.runner_up_time_ratio.median, a.runner_up_time_ratio.min,
-                                                                      a.runner_up_time_ratio.max], 2, 1, "x")} the time` : "-");
-        }
-        const tr = el("tr", {class: a.heightfield ? "" : "all"}, ...cells.map(c => el("td", {text: c})));
-        if (pick) tr.addEventListener("click", () => showDetail(byId[pick.rows[0].id]));
-        table.append(tr);
-      }
+    for (const r of t.rows) {
+      // bold where report.md is: the one setting for every heightfield, and a configuration that is a choice
+      const tr = el("tr", {class: r.every ? "all" : ""},
+                    ...r.cells.map((c, i) => el("td", {text: c, class: i === 2 && r.chosen ? "chosen" : ""})));
+      if (r.id !== null && byId[r.id]) tr.addEventListener("click", () => showDetail(byId[r.id], true));
+      table.append(tr);
+    }
     body.append(table);
   }
 
@@ -184,8 +165,8 @@
     const zero = Math.pow(10, low - 1);
     const tickvals = [zero], ticktext = ["0 (exact)"];
     for (let k = low; k <= high; ++k) { tickvals.push(Math.pow(10, k)); ticktext.push(String(Math.pow(10, k)).replace(/^(\d)e/, "$1e")); }
-    return {zero, axis: {type: "log", title: {text: title}, tickvals, ticktext, range: [low - 1.4, high + 0.2],
-                         zeroline: false}};
+    return {zero, axis: {type: "log", title: {text: esc(title)}, tickvals, ticktext, range: [low - 1.4, high + 0.2],
+                         zeroline: false, automargin: true}};
   }
 
   function paretoFront(points) {
@@ -230,8 +211,8 @@
         const group = mine.filter(r => r.technique === t);
         const marker = SYMBOLS[STYLE[t].marker] || "circle";
         traces.push({
-          type: "scatter", mode: "markers", name: t, uid: `cfg-${t}`, x: group.map(xOf), y: group.map(yOf),
-          customdata: group.map(r => r.id), text: group.map(describe), hovertemplate: "%{text}<extra></extra>",
+          type: "scatter", mode: "markers", name: esc(t), uid: `cfg-${DATA.techniques.findIndex(x => x.name === t)}`, x: group.map(xOf), y: group.map(yOf),
+          customdata: group.map(r => r.id), text: group.map(hoverText), hovertemplate: "%{text}<extra></extra>",
           marker: {color: STYLE[t].color, size: 9, line: {color: STYLE[t].color, width: 1.5},
                    symbol: group.map(r => meetsWrongBound(r) ? marker : `${marker}-open`)},
           error_x: cost === "ns_per_ray" ? {type: "data", symmetric: false, array: group.map(r => r.ns_per_ray[2] - r.ns_per_ray[0]),
@@ -249,7 +230,7 @@
                      y: ringed.map(yOf), textposition: ringed.map(r => (xOf(r) > middle ? "top left" : "top right")),
                      textfont: {size: 11}, hoverinfo: "skip", cliponaxis: false,
                      text: ringed.map(r => (rec.here.has(r.id) && rec.everywhere.has(r.id) ? "recommended here and for all: "
-                                            : rec.here.has(r.id) ? "recommended: " : "one setting for all: ") + label(r)),
+                                            : rec.here.has(r.id) ? "recommended: " : "one setting for all: ") + esc(label(r))),
                      marker: {symbol: "circle-open", size: 24, color: "black",
                               line: {width: ringed.map(r => rec.here.has(r.id) ? 2.5 : 1)}}});
       const shapes = [{type: "rect", xref: "paper", x0: 0, x1: 1, yref: "y", y0: zero / 5, y1: zero * 3,
@@ -261,12 +242,12 @@
       holder.append(div);
       const depth = mine[0].depth_map;
       Plotly.newPlot(div, traces, {
-        title: {text: hf.includes(depth) ? hf : `${hf} (${depth})`, font: {size: 14}}, showlegend: false, hovermode: "closest",
-        margin: {l: 70, r: 20, t: 40, b: 55}, height: 380,
-        xaxis: {type: "log", title: {text: costTitle}}, yaxis: axis, shapes}, PLOT_CONFIG);
+        title: {text: esc(hf.includes(depth) ? hf : `${hf} (${depth})`), font: {size: 14}}, showlegend: false,
+        hovermode: "closest", margin: {l: 70, r: 20, t: 40, b: 55}, height: 380,
+        xaxis: {type: "log", title: {text: esc(costTitle)}, automargin: true}, yaxis: axis, shapes}, PLOT_CONFIG);
       div.on("plotly_click", ev => {
         const id = ev.points[0].customdata;
-        if (id !== undefined) showDetail(DATA.rows.find(r => r.id === id));
+        if (id !== undefined) showDetail(DATA.rows.find(r => r.id === id), true);
       });
     }
     document.getElementById("frontier").dataset.points = String(rows.length);
@@ -277,13 +258,15 @@
     return el("figure", {}, el("img", {src, alt: caption, loading: "lazy"}), el("figcaption", {text: caption}));
   }
 
-  function showDetail(row) {
+  // A configuration's figures and images below the frontier; scroll: bring them into view (a row
+  // of the recommendation's table opens them from far above).
+  function showDetail(row, scroll) {
     const box = document.getElementById("detail");
     box.textContent = "";
     if (!row) return;
     box.append(el("h3", {text: `${label(row)} on ${row.heightfield}: ${row.backend}, ${row.threads} thread(s), ${row.view}`}));
     const measures = el("p", {class: "figures"});
-    measures.innerHTML = describe(row);
+    for (const line of describe(row)) measures.append(el("span", {text: line}), el("br"));
     box.append(measures);
     // Images exist for the gallery's rows: its configurations on its heightfield and view.
     const gallery = DATA.gallery.filter(g => g.label === row.label);
@@ -308,6 +291,7 @@
         : `No images on ${row.label}: the gallery renders ${unique(DATA.gallery.map(g => g.label)).join(", ") || "nothing"} in this run.`}));
     }
     box.append(images);
+    if (scroll) box.scrollIntoView({block: "start"});
   }
 
   // --- speed per ISA ------------------------------------------------------------------------------
@@ -324,13 +308,13 @@
       const mine = bars.filter(b => b.heightfield === hf.value && String(b.threads) === th.value);
       const backends = DATA.isas.concat(["glsl"]).filter(b => mine.some(m => m.bars[b]));
       Plotly.react("isa-chart", backends.map(b => ({
-        type: "bar", name: b, x: mine.map(m => m.technique), y: mine.map(m => m.bars[b] ? m.bars[b][0] : null),
+        type: "bar", name: esc(b), x: mine.map(m => esc(m.technique)), y: mine.map(m => m.bars[b] ? m.bars[b][0] : null),
         marker: {color: DATA.backend_colours[b]},
         error_y: {type: "data", symmetric: false, array: mine.map(m => m.bars[b] ? m.bars[b][2] - m.bars[b][0] : 0),
                   arrayminus: mine.map(m => m.bars[b] ? m.bars[b][0] - m.bars[b][1] : 0), thickness: 1},
-        hovertemplate: `${b}: %{y:.1f} Mrays/s<extra>%{x}</extra>`})),
-        {barmode: "group", height: 360, margin: {l: 70, r: 20, t: 30, b: 40},
-         yaxis: {type: "log", title: {text: "Mrays/s, median (bars: min-max)"}}}, PLOT_CONFIG);
+        hovertemplate: `${esc(b)}: %{y:.1f} Mrays/s<extra>%{x}</extra>`})),
+        {barmode: "group", height: 360, margin: {l: 70, r: 20, t: 30, b: 40}, xaxis: {automargin: true},
+         yaxis: {type: "log", title: {text: "Mrays/s, median (bars: min-max)"}, automargin: true}}, PLOT_CONFIG);
     };
     hf.addEventListener("change", draw);
     th.addEventListener("change", draw);
@@ -355,18 +339,22 @@
     body.append(el("p", {text: `POM-32, 1 thread, default view, ${h.heightfield}, over the recorded runs of one machine ` +
                                "(median; bars: min-max). Alerts of this run are listed at the top of the page."}),
                 el("label", {}, "machine ", pick));
+    // One label per recorded run, the axis's categories and every point's x alike: its date and commit on two lines.
+    const runLabel = p => `${esc(p.date.slice(5, 16).replace("T", " "))}<br>${esc(p.commit.slice(0, 12))}`;
     const draw = () => {
       const series = h.machines[pick.value];
-      const runs = unique(Object.values(series).flat().map(p => `${p.date} ${p.commit}`)).sort();
-      Plotly.react("history-chart", Object.entries(series).map(([backend, points]) => {
-        points = points.slice().sort((a, b) => (a.date < b.date ? -1 : 1));
-        return {type: "scatter", mode: "lines+markers", name: backend, x: points.map(p => `${p.date.slice(0, 16)} ${p.commit}`),
-                y: points.map(p => p.mrays[0]), marker: {color: DATA.backend_colours[backend.replace("-autovec", " autovec")]},
-                line: {color: DATA.backend_colours[backend.replace("-autovec", " autovec")]},
-                error_y: {type: "data", symmetric: false, array: points.map(p => p.mrays[2] - p.mrays[0]),
-                          arrayminus: points.map(p => p.mrays[0] - p.mrays[1]), thickness: 1}};
-      }), {height: 380, margin: {l: 70, r: 20, t: 20, b: 90}, xaxis: {type: "category", categoryarray: runs},
-           yaxis: {type: "log", title: {text: "Mrays/s"}}}, PLOT_CONFIG);
+      const points = Object.values(series).flat().sort((a, b) => (a.date < b.date ? -1 : 1));
+      Plotly.react("history-chart", Object.entries(series).map(([backend, mine]) => {
+        mine = mine.slice().sort((a, b) => (a.date < b.date ? -1 : 1));
+        const colour = DATA.backend_colours[backend.replace("-autovec", " autovec")];
+        return {type: "scatter", mode: "lines+markers", name: esc(backend), x: mine.map(runLabel),
+                y: mine.map(p => p.mrays[0]), marker: {color: colour}, line: {color: colour},
+                error_y: {type: "data", symmetric: false, array: mine.map(p => p.mrays[2] - p.mrays[0]),
+                          arrayminus: mine.map(p => p.mrays[0] - p.mrays[1]), thickness: 1}};
+      }), {height: 400, margin: {l: 70, r: 20, t: 20, b: 40},
+           xaxis: {type: "category", categoryarray: unique(points.map(runLabel)), tickangle: 0, automargin: true,
+                   title: {text: "recorded run (date, commit)"}},
+           yaxis: {type: "log", title: {text: "Mrays/s"}, automargin: true}}, PLOT_CONFIG);
     };
     pick.addEventListener("change", draw);
     draw();

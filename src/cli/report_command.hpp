@@ -1,0 +1,17 @@
+#pragma once
+// heightmarch report: a run's report.md, tables.md, plots, measurements.csv and report.html,
+// written from its measurements.json by the Python report that ships with the tool (the package
+// heightmarch_tools in share/heightmarch/python beside bin/ where installed; in the build tree, a
+// link to scripts/heightmarch_tools). The suite's report stage runs it the same way.
+#include <string>
+
+namespace heightmarch::cli {
+
+// Writes the report of run_dir, and records the run into `history` when it is not empty (the
+// report refuses to record a run still INCOMPLETE). The report runs under /usr/bin/python3 in a
+// process group of its own: a SIGINT, SIGTERM or SIGHUP to this process is passed to it, and once
+// it has ended this process ends by the same signal (an interrupted run stays INCOMPLETE). Throws
+// InputError when the report finds its input unusable, std::runtime_error when it fails.
+void write_report(const std::string& run_dir, const std::string& history);
+
+}  // namespace heightmarch::cli
