@@ -231,7 +231,7 @@ TEST(Recommendation, RecommendReadsARunToTheSuitesAnswer) {
   EXPECT_NE(other.output.find("at p95 <= 2 texel, wrong surface <= 100%"), std::string::npos) << other.output;
   for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
            {"recommend " + out + " --percentile p90", "--percentile: p90 not in"},
-           {"recommend " + out + " --max-wrong-surface 101", "--max-wrong-surface: Value 101 not in range"},
+           {"recommend " + out + " --max-wrong-surface 101", "--max-wrong-surface: must be in [0, 100], not 101"},
            {"recommend /nonexistent", "/nonexistent: cannot open measurements.json"}}) {
     const auto r = test::run_cli(args);
     EXPECT_EQ(r.status, 2) << args << ": " << r.output;
@@ -328,7 +328,7 @@ TEST(SuiteFilters, TheUsersMapsTechniquesLayersIsasThreadsAndParts) {
            {"--parts matrix,everything", "--parts: everything not in"},
            {"--layers 0", "layer"},
            {"--view-angles 80-30", "view angles '80-30' must satisfy 0 <= NEAR < FAR <= 89"},
-           {"--scale 2", "--scale 2"},
+           {"--scale 2", "--scale: must be in (0, 1], not 2"},
            {"--no-builtins", "--no-builtins requires --heightmap"}}) {
     const auto r = test::run_cli("suite --quick --dry-run " + args);
     EXPECT_EQ(r.status, 2) << args << ": " << r.output;

@@ -10,8 +10,6 @@
 
 namespace heightmarch {
 
-enum class Wrap { repeat, clamp };
-
 // The sampling formula of docs/conventions.md, written plainly with integer wrapping: x = u W - 0.5, i0 = floor(x),
 // fx = x - i0, taps wrapped or clamped, blended as a + f (b - a) in x, then in y.
 // The kernels' packet sampler (src/kernels/sampler.hpp) must agree with it bit for bit.

@@ -103,7 +103,7 @@ void trace_tiles(TraceRangeFn kernel, const KernelTexture& texture, const Kernel
 
 void autovec_pom(const DepthMap& map, const RayBatch& rays, float min_layers, float max_layers, float scale, Isa isa,
                  HitBuffers& hits) {
-  if (!cpu_supports(isa)) throw InputError("ISA " + to_string(isa) + " is not supported by this CPU");
+  check_cpu_supports(isa, "the auto-vectorised port");
   trace_port(kernel_table(isa).autovec_pom, map, rays, min_layers, max_layers, scale, hits);
 }
 

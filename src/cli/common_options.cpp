@@ -6,21 +6,57 @@
 
 #include "heightmarch/error.hpp"
 #include "heightmarch/glsl_runner.hpp"
+#include "util/string_format.hpp"
 
 namespace heightmarch::cli {
+
+CLI::Validator in_range(double low, double high, bool open_low) {
+  const auto bound = [](double v) { return string_format("%.15g", v); };
+  const std::string range = std::isinf(high) ? (open_low ? "> " : ">= ") + bound(low)
+                                             : std::string("in ") + (open_low ? "(" : "[") + bound(low) + ", " +
+                                                   bound(high) + "]";
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        double value = 0;
+        if (!CLI::detail::lexical_cast(text, value)) return "'" + text + "' is not a number";
+        if (!((open_low ? value > low : value >= low) && value <= high)) return "must be " + range + ", not " + text;
+        return "";
+      },
+      range);
+}
+
+void add_map_options(CLI::App& app, MapOptions& o, const std::string& which) {
+  app.add_option("--convention", o.convention, "depth (white = deep) or height (white = high), of " + which)
+      ->check(CLI::IsMember({"depth", "height"}))
+      ->capture_default_str();
+  app.add_option("--channel", o.channel,
+                 "the channel holding the depth, of " + which + ": an index from 0, or r, g, b, a (default: the first)");
+  app.add_option("--wrap", o.wrap, "repeat or clamp: how " + which + " is sampled beyond its edges")
+      ->check(CLI::IsMember({"repeat", "clamp"}))
+      ->capture_default_str();
+  app.add_flag("--allow-flat", o.allow_flat,
+               "measure a map whose depth channel is constant while another channel varies (refused without it, "
+               "as a map read from the wrong channel)");
+}
+
+MapReading map_reading(const MapOptions& o) {
+  MapReading reading;
+  reading.convention = parse_convention(o.convention);
+  if (!o.channel.empty()) reading.channel = parse_channel(o.channel);
+  reading.wrap = parse_wrap(o.wrap);
+  reading.allow_flat = o.allow_flat;
+  return reading;
+}
 
 void add_trace_options(CLI::App& app, TraceOptions& o, bool exact_allowed) {
   app.add_option("--heightmap", o.heightmap, "PATH, or builtin:NAME (" + [] {
     std::string names;
     for (const auto& n : builtin_heightfield_names()) names += (names.empty() ? "" : ", ") + n;
     return names;
-  }() + ")")->capture_default_str();
-  app.add_option("--res", o.res, "resolution of a builtin heightfield")->check(CLI::Range(1, kMaxDepthMapSide))->capture_default_str();
-  app.add_option("--seed", o.seed, "seed of a builtin heightfield")->check(CLI::Range(0, 1 << 30))->capture_default_str();
-  app.add_option("--convention", o.convention, "depth (white = deep) or height (white = high)")
-      ->check(CLI::IsMember({"depth", "height"}))->capture_default_str();
-  app.add_option("--channel", o.channel, "the depth map file's channel holding the depth: an index from 0, or r, g, b, a "
-                 "(default: the first)");
+  }() + "), either followed by its own " + kMapEntryOptionsHelp)->capture_default_str();
+  app.add_option("--res", o.res, "resolution of a builtin heightfield")->check(in_range(1, kMaxDepthMapSide))->capture_default_str();
+  app.add_option("--seed", o.seed, "seed of a builtin heightfield")->check(in_range(0, 1 << 30))->capture_default_str();
+  add_map_options(app, o.map, "the map");
   app.add_option("--view", o.view,
                  "default, default:NEAR-FAR (the span of view angles, degrees; default 30-80), or "
                  "sweep:THETA[,PHI] in degrees")
@@ -35,21 +71,20 @@ void add_trace_options(CLI::App& app, TraceOptions& o, bool exact_allowed) {
                  "(default: 1024x1024; tutorial: 800x600; a pose file gives each pose's)");
   app.add_option("--rays", o.rays, "CSV file of rays (tx,ty,vx,vy,vz; V towards the eye) instead of a view")
       ->excludes(app.get_option("--view"))->excludes(app.get_option("--size"))->excludes(app.get_option("--views"));
-  app.add_option("--tile", o.tile, "tile side in pixels")->check(CLI::Range(1, 4096))->capture_default_str();
+  app.add_option("--tile", o.tile, "tile side in pixels")->check(in_range(1, 4096))->capture_default_str();
   app.add_option("--technique", o.technique, technique_names() + (exact_allowed ? ", or exact (the reference itself)" : ""))
       ->capture_default_str();
   app.add_option("--layers", o.layers, "layer count N, or dynamic range A-B")->capture_default_str();
   app.add_option("--refine", o.refine,
                  "refinement steps: relief's halvings, secant's regula falsi steps, cone's halvings "
                  "(default: the technique's, 5; cone 4)")
-      ->check(CLI::Range(0, kMaxRefineSteps));
-  app.add_option("--scale", o.scale, "height scale s, in [0, 1]")->capture_default_str();
-  app.add_option("--wrap", o.wrap, "repeat or clamp")->check(CLI::IsMember({"repeat", "clamp"}))->capture_default_str();
+      ->check(in_range(0, kMaxRefineSteps));
+  app.add_option("--scale", o.scale, "height scale s")->check(in_range(0, 1))->capture_default_str();
   app.add_flag("--discard", o.discard, "discard rays whose final uv leaves [0,1]^2");
   app.add_option("--light", o.light, "x,y,z direction towards the light (shadow)")->capture_default_str();
-  app.add_option("--threads", o.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
+  app.add_option("--threads", o.threads, "worker threads (0: all cores)")->check(in_range(0, 1024))->capture_default_str();
   app.add_option("--repetitions", o.repetitions, "timed repetitions (speed: their median, min and max)")
-      ->check(CLI::Range(1, 1000))->capture_default_str();
+      ->check(in_range(1, 1000))->capture_default_str();
   add_out_options(app, o.out, "directory for hits.exr, error.png, render.png and metrics.json (with --rays: metrics.json and rays.csv)");
   app.add_flag("--json", o.json, "print the metrics as JSON");
 }
@@ -110,9 +145,7 @@ Configuration trace_configuration(const TraceOptions& o, RunKind kind, LayerSpec
   Configuration c;
   c.kind = kind;
   c.purposes = kPurposeCommand;
-  c.heightfield = parse_heightfield(o.heightmap, o.res, std::uint64_t(o.seed),
-                                    o.convention == "height" ? Convention::height : Convention::depth,
-                                    o.channel.empty() ? 0 : parse_channel(o.channel));
+  c.heightfield = parse_heightfield(o.heightmap, o.res, std::uint64_t(o.seed), map_reading(o.map));
   if (!o.rays.empty()) {
     c.view = rays_file_view(o.rays);
   } else {
@@ -140,9 +173,8 @@ Configuration trace_configuration(const TraceOptions& o, RunKind kind, LayerSpec
     if (layers_asked) *layers_asked = asked;
   }
   p.refine = o.refine;
-  if (!std::isfinite(o.scale)) throw InputError("--scale " + std::to_string(o.scale) + " is not a finite number");
   p.scale = float(o.scale);
-  p.wrap = o.wrap == "repeat" ? Wrap::repeat : Wrap::clamp;
+  p.wrap = c.heightfield.reading.wrap;
   p.discard = o.discard;
   std::stringstream in(o.light);
   char c1 = 0, c2 = 0;

@@ -11,7 +11,11 @@ namespace heightmarch::cli {
 void add_plan_options(CLI::App& command, PlanOptions& o, const std::string& quick_help) {
   command.add_flag("--quick", o.quick, quick_help);
   command.add_option("--heightmap", o.heightmap,
-                     "depth map files, comma-separated, measured beside the builtins");
+                     std::string("depth map files, comma-separated, measured beside the builtins; each may carry its "
+                                 "own ") + kMapEntryOptionsHelp);
+  add_map_options(command, o.map, "every --heightmap file");
+  for (const char* option : {"--convention", "--channel", "--wrap", "--allow-flat"})
+    command.get_option(option)->needs(command.get_option("--heightmap"));
   command
       .add_flag("--no-builtins", o.no_builtins,
                 "measure the --heightmap files alone, without the builtin heightfields")
@@ -20,11 +24,12 @@ void add_plan_options(CLI::App& command, PlanOptions& o, const std::string& quic
       .add_option("--threads", o.threads,
                   "thread counts, comma-separated (0: all cores; default: 1 and all cores)")
       ->delimiter(',')
-      ->check(CLI::Range(0, 1024));
+      ->check(in_range(0, 1024));
   command.add_option("--repetitions", o.repetitions, "timed repetitions per configuration (at least 5 for published figures)")
-      ->check(CLI::Range(1, 1000))
+      ->check(in_range(1, 1000))
       ->capture_default_str();
-  command.add_option("--scale", o.scale, "height scale s of every configuration, in (0, 1] (default 0.1)");
+  command.add_option("--scale", o.scale, "height scale s of every configuration (default 0.1)")
+      ->check(in_range(0, 1, true));
   command.add_option(
       "--view-angles", o.view_angles,
       "NEAR-FAR: the view angles from the normal, in degrees, that the default view spans from its near "
@@ -42,14 +47,10 @@ PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
   if (o.no_builtins) settings.heightfields.clear();
   std::stringstream in(o.heightmap);
   for (std::string path; std::getline(in, path, ',');)
-    if (!path.empty()) settings.heightfields.push_back(parse_heightfield(path));
+    if (!path.empty()) settings.heightfields.push_back(parse_heightfield(path, 512, 1, map_reading(o.map)));
   if (settings.heightfields.empty()) throw InputError("--heightmap '" + o.heightmap + "' names no depth map");
   give_unique_labels(settings.heightfields);  // one label per map in every result
-  if (o.scale) {
-    if (!(*o.scale > 0 && *o.scale <= 1))
-      throw InputError("--scale " + std::to_string(*o.scale) + " must be in (0, 1]");
-    settings.scale = float(*o.scale);
-  }
+  if (o.scale) settings.scale = float(*o.scale);
   if (!o.view_angles.empty()) {
     parse_view_angles(o.view_angles, settings.window);
     settings.sweep_angles = sweep_angles(settings.window.near_degrees, settings.window.far_degrees);

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/common_options.hpp"
 #include "cli/progress.hpp"
 #include "experiment/measurement_session.hpp"
 #include "experiment/plan_runner.hpp"
@@ -19,7 +20,8 @@ namespace heightmarch::cli {
 // depth maps or both), at which scale and view angles, threads and repetitions.
 struct PlanOptions {
   bool quick = false;
-  std::string heightmap;     // depth map files, comma-separated
+  std::string heightmap;     // depth map files, comma-separated, each perhaps with its own reading
+  MapOptions map;            // how the --heightmap files are read, where their entries do not say
   bool no_builtins = false;  // the --heightmap files alone
   std::vector<int> threads;  // thread counts (0: all cores); none given: 1 and all cores
   int repetitions = 5;

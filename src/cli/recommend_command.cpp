@@ -15,6 +15,7 @@
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/common_options.hpp"
 #include "cli/run_directory.hpp"
 #include "experiment/run_outputs.hpp"
 #include "heightmarch/error.hpp"
@@ -43,17 +44,17 @@ void add_target_options(CLI::App& command, RecommendationTarget& t) {
   command
       .add_option("--max-error", t.uv_error_texels,
                   "the recommendation's bound on that percentile, in texels")
-      ->check(CLI::NonNegativeNumber)
+      ->check(in_range(0))
       ->capture_default_str();
   command
       .add_option_function<double>(
           "--max-wrong-surface", [&t](double percent) { t.wrong_surface_rate = percent / 100.0; },
           "the recommendation's bound on the share of rays on a wrong surface (uv error above one texel), in "
           "percent")
-      ->check(CLI::Range(0.0, 100.0))
+      ->check(in_range(0, 100))
       ->default_str(string_format("%g", 100.0 * t.wrong_surface_rate));
   command.add_option("--frames", t.frames, "frames the preprocessing (cone map, pyramid) is amortised over")
-      ->check(CLI::Range(1, 1 << 30))
+      ->check(in_range(1, 1 << 30))
       ->capture_default_str();
 }
 

@@ -140,7 +140,7 @@ void write_gallery_images(const std::string& dir, const TracedRow& traced, const
 Command add_suite_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand("suite", "the main job: the measured plan, gallery, claims and report into results/");
   auto o = std::make_shared<SuiteOptions>();
-  add_plan_options(*command, o->plan, "a smoke run of a minute or two: two heightfields, small views");
+  add_plan_options(*command, o->plan, "a smoke run of under a minute on 2 cores: two heightfields, small views");
   add_out_options(*command, o->out, "run directory (default: a fresh results/<date>-<commit>-<time>)");
   command->add_flag("--no-glsl", o->no_glsl, "skip the GLSL rows");
   add_gl_options(*command, o->gl);
@@ -173,7 +173,8 @@ Command add_suite_command(CLI::App& app) {
     std::size_t timed = 0;
     for (const Configuration& c : plan) timed += c.timed;
     progress.stage("measuring " + std::to_string(plan.size()) + " configurations (" + std::to_string(timed) + " timed, " +
-                   std::to_string(settings.repetitions) + " interleaved repetitions each) into " + dir.path());
+                   std::to_string(settings.repetitions) + " interleaved repetitions each: " +
+                   std::to_string(plan_runs(plan, settings.repetitions)) + " runs) into " + dir.path());
     fs::create_directories(dir.path() + "/gallery");
     ClaimsCollector claims;
     const GalleryNames names = gallery_names(plan);

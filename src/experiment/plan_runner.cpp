@@ -17,9 +17,7 @@ using Clock = std::chrono::steady_clock;
 class PlanRunner {
  public:
   PlanRunner(const std::vector<Configuration>& plan, const MeasureOptions& options, MeasurementSession& session)
-      : plan_(plan), options_(options), session_(session) {
-    for (const Configuration& c : plan) total_steps_ += 1 + (c.timed ? std::size_t(options.repetitions) : 0);
-  }
+      : plan_(plan), options_(options), session_(session), total_steps_(plan_runs(plan, options.repetitions)) {}
 
   MeasuredPlan run() {
     MeasuredPlan result;
@@ -108,11 +106,17 @@ class PlanRunner {
   const std::vector<Configuration>& plan_;
   const MeasureOptions& options_;
   MeasurementSession& session_;
-  std::size_t total_steps_ = 0, done_steps_ = 0;
+  std::size_t total_steps_, done_steps_ = 0;
   double other_ticks_ = 0, timed_seconds_ = 0;
 };
 
 }  // namespace
+
+std::size_t plan_runs(const std::vector<Configuration>& plan, int repetitions) {
+  std::size_t runs = 0;
+  for (const Configuration& c : plan) runs += 1 + (c.timed ? std::size_t(repetitions) : 0);
+  return runs;
+}
 
 MeasuredPlan measure_plan(const std::vector<Configuration>& plan, const MeasureOptions& options,
                           MeasurementSession& session) {

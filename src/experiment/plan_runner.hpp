@@ -16,7 +16,7 @@ struct MeasureOptions {
   int repetitions = 5;              // timed rounds (at least one)
   double min_seconds = 0.04;        // per repetition: traces repeat until this much time passed
   std::function<void(const TracedRow&)> on_traced;  // after a row's accuracy is measured
-  // Progress: what runs, how many of how many (accuracy and timing steps together).
+  // Progress: what runs, how many of the plan_runs() runs are done.
   std::function<void(const std::string& what, std::size_t done, std::size_t total)> progress;
 };
 
@@ -26,6 +26,10 @@ struct MeasuredPlan {
   int repetitions = 0;
   double min_seconds = 0;
 };
+
+// The runs measure_plan makes of a plan, which its progress counts: one for each configuration's
+// accuracy, and `repetitions` for each timed one.
+std::size_t plan_runs(const std::vector<Configuration>& plan, int repetitions);
 
 // Runs the plan. Configurations that share a heightfield and view share one scene and one set
 // of exact hits; round r times each timed configuration of a scene before round r + 1 starts.

@@ -97,8 +97,12 @@ void write_row(JsonWriter& json, const Measurement& m) {
       .value("label", c.heightfield.label())
       .value("source", c.heightfield.describe())
       .value("width", m.depth_map_width)
-      .value("height", m.depth_map_height)
-      .end_object();
+      .value("height", m.depth_map_height);
+  if (c.heightfield.builtin.empty())  // how the file was read (its wrap is the row's)
+    json.value("convention", to_string(c.heightfield.reading.convention)).value("channel", c.heightfield.reading.channel);
+  else
+    json.null("convention").null("channel");
+  json.end_object();
   c.has_technique() ? json.value("technique", to_string(c.params.technique)) : json.null("technique");
   if (c.shader)
     json.begin_object("shader").value("path", c.shader->path).value("label", c.shader->label()).end_object();
@@ -143,7 +147,7 @@ void write_row(JsonWriter& json, const Measurement& m) {
     json.null("near_angle").null("far_angle");
   json.value("description", describe(view)).end_object();
   json.value("scale", double(c.params.scale))
-      .value("wrap", c.params.wrap == Wrap::repeat ? "repeat" : "clamp")
+      .value("wrap", to_string(c.params.wrap))
       .value("discard", c.params.discard)
       .value("rays", m.rays);
   if (m.samples_known)
@@ -431,6 +435,25 @@ void write_run_outputs(const std::string& dir, const TracedRow& traced) {
   csv.commit();
 }
 
+namespace {
+
+// The backends the rows measured (never those the CPU lacks), in display order: the ISA list's,
+// then the other run kinds' labels in the kinds' order.
+std::vector<std::string> measured_backends(const std::vector<Measurement>& rows) {
+  std::vector<std::string> order;
+  for (Isa isa : all_isas()) order.push_back(to_string(isa));
+  for (int k = 0; k < kRunKindCount; ++k)
+    if (const std::string_view label = info(RunKind(k)).backend_label; !label.empty()) order.emplace_back(label);
+  std::vector<std::string> measured;
+  for (const std::string& b : order)
+    if (std::find(measured.begin(), measured.end(), b) == measured.end() &&
+        std::any_of(rows.begin(), rows.end(), [&](const Measurement& m) { return m.config.backend() == b; }))
+      measured.push_back(b);
+  return measured;
+}
+
+}  // namespace
+
 std::string measurements_json(const MeasuredPlan& run, const std::string& plan_name) {
   JsonWriter json;
   json.begin_object()
@@ -468,8 +491,7 @@ std::string measurements_json(const MeasuredPlan& run, const std::string& plan_n
   for (const ErrorMeasure& m : error_measure_list())
     json.begin_object().value("name", m.name).value("label", m.label).end_object();
   json.end_array().begin_array("backends");
-  for (Isa isa : all_isas()) json.value("", to_string(isa));
-  for (const char* b : {"glsl", "naive", "exact", "calibration"}) json.value("", b);
+  for (const std::string& b : measured_backends(run.rows)) json.value("", b);
   json.end_array().begin_array("rows");
   for (const Measurement& m : run.rows) {
     json.begin_object();

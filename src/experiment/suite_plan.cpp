@@ -27,6 +27,7 @@ Configuration on_view(const PlanSettings& s, const HeightfieldSource& hf, RunKin
   c.heightfield = hf;
   c.view = s.window;
   c.params.scale = s.scale;
+  c.params.wrap = hf.reading.wrap;  // as the map's user means it sampled
   c.isa = s.best_isa;
   c.threads = s.threads;
   if (kind == RunKind::glsl) c.gl = s.gl;

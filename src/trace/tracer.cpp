@@ -20,7 +20,7 @@ TraceRangeFn pick(const TraceRangeFn (&row)[kAddressingCount], const SamplerText
 
 Tracer::Tracer(const DepthMap& map, const TechniqueParams& params, Isa isa)
     : params_(params), isa_(isa), texture_(map, params.wrap) {
-  if (!cpu_supports(isa)) throw InputError("ISA " + to_string(isa) + " is not supported by this CPU");
+  check_cpu_supports(isa, "tracing");
   precomputed_ = build_precomputed(map, params.wrap, info(params.technique).needs);
   const KernelTable& table = kernel_table(isa);
   technique_kernel_ = pick(table.technique[int(params.technique)], texture_);

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The suite's plumbing on its quick plan: one typed row per configuration in measurements.json
-# (every technique on the CPU and as GLSL, the searches at every ISA, roofline, naive port,
-# the exact reference and the calibration loop timed, sweeps, gallery, claims), every
+# (every technique on the CPU and as GLSL, the searches at every ISA this CPU runs, roofline, naive
+# port, the exact reference and the calibration loop timed, sweeps, gallery, claims), every
 # timed row with at least 5 repetitions and its spread, bench.json named as heightmarch-bench
 # names, the claims, the recommendation, the report with spreads, the result files against their
 # JSON Schemas, report.html in headless Chromium (check_report_page.py; its screenshot goes to
@@ -28,15 +28,28 @@ for f in measurements.json measurements.csv bench.json recommendation.json claim
 done
 [ ! -e "$run/INCOMPLETE" ] || fail "a completed run still says INCOMPLETE"
 [ "$(stat -c %a "$run/report.md")" = 644 ] || fail "report.md is not world-readable"
-echo "ok: a fresh run directory with every file; latest and history untouched by --quick"
+# The progress counts what its header announces: "... 415 runs) into DIR", then "n/415 runs done".
+runs_announced="$(sed -n 's/.*: \([0-9]*\) runs) into .*/\1/p' "$tmp/suite.out")"
+[ -n "$runs_announced" ] && grep -q "^  $runs_announced/$runs_announced runs done" "$tmp/suite.out" &&
+  ! grep -v "/$runs_announced runs done" "$tmp/suite.out" | grep -q "runs done" ||
+  { cat "$tmp/suite.out"; fail "the progress does not count the runs its header announces"; }
+echo "ok: a fresh run directory with every file; latest and history untouched by --quick; progress counts its header's runs"
 
 "$build/heightmarch" claims --list > "$tmp/claims.list" || fail "claims --list exited non-zero"
-/usr/bin/python3 - "$run" "$tmp/claims.list" <<'PY' || fail "measurements.json or bench.json lacks what the plan asked for"
+# The ISAs this CPU runs (under HEIGHTMARCH_MAX_ISA where set), as the tool says: the suite's
+# searches run at each of them, and at no other.
+runs="$("$build/heightmarch" --version | sed -n 's/^ISAs this CPU runs: \([^(]*\).*/\1/p')"
+[ -n "$runs" ] || fail "heightmarch --version does not name the ISAs this CPU runs"
+/usr/bin/python3 - "$run" "$tmp/claims.list" "$runs" <<'PY' || fail "measurements.json or bench.json lacks what the plan asked for"
 import json, os, sys
 run = sys.argv[1]
+cpu_isas = [name.strip() for name in sys.argv[3].split(",")]
 m = json.load(open(run + "/measurements.json"))
 rows = m["rows"]
 techniques = [t["name"] for t in m["techniques"]]
+assert [b for b in m["backends"] if b not in ("glsl", "naive", "exact")] == cpu_isas, (m["backends"], cpu_isas)
+assert set(m["backends"]) == {r["backend"] for r in rows}, (m["backends"], sorted({r["backend"] for r in rows}))
+assert m["provenance"]["best_isa"] == cpu_isas[-1], (m["provenance"]["best_isa"], cpu_isas)
 def has(**want):
     return any(all(r.get(k) == v for k, v in want.items()) for r in rows)
 for hf in ("bricks", "terrain"):
@@ -47,9 +60,10 @@ for hf in ("bricks", "terrain"):
     for layers in ("8", "32", "8-32"):
         assert any(r["kind"] == "trace" and r["technique"] == "pom" and r["layers"] == layers for r in sel), (hf, layers)
     assert any(r["kind"] == "roofline" for r in sel) and any(r["kind"] == "naive" for r in sel), hf
-    isas = [b for b in m["backends"] if b not in ("glsl", "naive", "exact", "calibration")]
+# (every technique on the CPU and as GLSL, the searches at every ISA this CPU runs, roofline, naive
+# port, the exact reference and the calibration loop timed, sweeps, gallery, claims), every
     for t in ("steep", "relief", "pom", "secant", "cone", "maxmip"):
-        for isa in isas:
+        for isa in cpu_isas:
             assert any(r["kind"] == "trace" and r["technique"] == t and r["layers"] in ("32", "1") and r["backend"] == isa
                        and "isa" in r["purposes"] and r["speed"] for r in sel), (hf, t, isa)
     assert any(r["kind"] == "exact" and "exact" in r["purposes"] and r["speed"] for r in sel), hf
