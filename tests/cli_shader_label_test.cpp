@@ -54,7 +54,7 @@ std::string json_query(const std::string& path, const std::string& expression) {
 TEST(ShaderLabel, LabelAndBenchmarkNameAreTheShaders) {
   Configuration c;
   c.kind = RunKind::glsl;
-  c.heightfield = parse_heightfield("builtin:bricks", 64, 1, Convention::depth);
+  c.heightfield = parse_heightfield("builtin:bricks", 64);
   c.view = parse_view("default", 48, 40);
   c.params.technique = Technique::pom;
   c.params.layers = parse_layer_spec("32");

@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <set>
+#include <sstream>
 
 #include "test_support.hpp"
 
@@ -159,6 +161,67 @@ TEST(Cli, ChannelPicksTheDepth) {
   }
 }
 
+// A normal map in RGB with the depth in alpha: trace refuses to read its constant red channel as
+// the depth, in one line naming the channel that varies; the alpha read as meant (--channel, or
+// the entry's own :channel=) and the flat map asked for (--allow-flat) run.
+TEST(Cli, TheDepthInAlphaIsNotReadAsAFlatRed) {
+  const std::string dir = test::temp_dir("depth-in-alpha");
+  std::vector<std::uint8_t> rgba(16 * 16 * 4);
+  for (std::size_t i = 0; i < rgba.size(); i += 4) {
+    rgba[i] = rgba[i + 1] = 128;
+    rgba[i + 2] = 255;
+    rgba[i + 3] = std::uint8_t(i / 4 % 16 * 16);
+  }
+  auto image = OIIO::ImageOutput::create(dir + "/rgba.png");
+  OIIO::ImageSpec spec(16, 16, 4, OIIO::TypeDesc::UINT8);
+  spec.attribute("oiio:UnassociatedAlpha", 1);
+  ASSERT_TRUE(image && image->open(dir + "/rgba.png", spec));
+  ASSERT_TRUE(image->write_image(OIIO::TypeDesc::UINT8, rgba.data()) && image->close());
+  const std::string trace = "trace --size 16x16 --repetitions 1 --heightmap " + dir + "/rgba.png";
+  auto r = test::run_cli(trace);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  EXPECT_NE(r.output.find("rgba.png: channel 0 (R), read as the depth, is constant (0.501961) while channel 3 (A) varies"),
+            std::string::npos) << r.output;
+  for (const std::string& meant : {trace + " --channel a", trace + ":channel=a"}) {
+    r = test::run_cli(meant);
+    EXPECT_EQ(r.status, 0) << meant << ": " << r.output;
+  }
+  r = test::run_cli(trace + " --allow-flat");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: " + dir + "/rgba.png: channel 0 (R), read as the depth, is constant"), std::string::npos)
+      << r.output;
+}
+
+// The suite reads each map as its user means it: --convention, --channel and --wrap for every
+// file, and each entry's own options over them, recorded in measurements.json.
+TEST(Cli, SuiteReadsEachMapAsMeant) {
+  const std::string dir = test::temp_dir("suite-maps");
+  std::vector<std::uint8_t> ramp(32 * 32 * 2);
+  for (std::size_t i = 0; i < ramp.size(); i += 2) ramp[i] = ramp[i + 1] = std::uint8_t(i / 2 % 32 * 8);
+  auto image = OIIO::ImageOutput::create(dir + "/ramp.png");
+  ASSERT_TRUE(image && image->open(dir + "/ramp.png", OIIO::ImageSpec(32, 32, 2, OIIO::TypeDesc::UINT8)));
+  ASSERT_TRUE(image->write_image(OIIO::TypeDesc::UINT8, ramp.data()) && image->close());
+  const auto r = test::run_cli("suite --quick --no-glsl --no-builtins --heightmap " + dir + "/ramp.png," + dir +
+                               "/ramp.png:channel=1:wrap=clamp:convention=depth --convention height --parts matrix "
+                               "--techniques pom --layers 8 --isas scalar --threads 1 --repetitions 1 --out " + dir + "/run");
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream in(dir + "/run/measurements.json");
+  const std::string json((std::istreambuf_iterator<char>(in)), {});
+  const auto field = [&](const std::string& entry, const std::string& name) {  // of the entry's heightfield object
+    const std::size_t at = json.find("\"source\": \"" + dir + entry + "\"");
+    const std::size_t key = json.find("\"" + name + "\": ", at);
+    return at == std::string::npos || key == std::string::npos ? "(none)"
+                                                                : json.substr(key, json.find_first_of(",\n}", key) - key);
+  };
+  EXPECT_EQ(field("/ramp.png:convention=height", "convention"), "\"convention\": \"height\"");
+  EXPECT_EQ(field("/ramp.png:convention=height", "channel"), "\"channel\": 0");
+  EXPECT_EQ(field("/ramp.png:convention=height", "wrap"), "\"wrap\": \"repeat\"");
+  EXPECT_EQ(field("/ramp.png:channel=1:wrap=clamp", "convention"), "\"convention\": \"depth\"");
+  EXPECT_EQ(field("/ramp.png:channel=1:wrap=clamp", "channel"), "\"channel\": 1");
+  EXPECT_EQ(field("/ramp.png:channel=1:wrap=clamp", "wrap"), "\"wrap\": \"clamp\"");
+}
+
 // What a ray file may hold: a UTF-8 byte order mark, 1e-50 (0 as a float), V.z = 5e-7 exactly.
 TEST(Cli, RaysFileEdgeValuesAreAccepted) {
   const std::string dir = test::temp_dir("edge-rays");
@@ -246,9 +309,47 @@ TEST(Cli, HelpAndVersion) {
   const auto version = test::run_cli("--version");
   EXPECT_EQ(version.status, 0);
   EXPECT_EQ(version.output.rfind("heightmarch ", 0), 0u) << version.output;
+  EXPECT_NE(version.output.find("\nISAs this CPU runs: " + runnable_isa_names() + "\n"), std::string::npos) << version.output;
   // The help lists every technique of the registry.
   const auto trace_help = test::run_cli("trace --help");
   for (const TechniqueInfo& t : techniques()) EXPECT_NE(trace_help.output.find(std::string(t.name)), std::string::npos) << t.name;
+}
+
+// An ISA the CPU does not run (simulated with the cap, which hides sse4.2 from any x86-64 CPU's
+// list): the refusal names the variable or option and the ISAs this CPU runs.
+TEST(Cli, AnIsaTheCpuLacksIsNamedWithTheIsasItRuns) {
+  if (all_isas().size() < 2) GTEST_SKIP() << "this architecture's list holds the scalar reference alone";
+  const std::string capped = "HEIGHTMARCH_MAX_ISA=scalar ";
+  const std::string runs = "; it runs scalar (capped by HEIGHTMARCH_MAX_ISA=scalar)\n";
+  auto r = test::run_command(capped + "HEIGHTMARCH_ISA=sse4.2 " HEIGHTMARCH_CLI " trace --size 8x8");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.output, "heightmarch: HEIGHTMARCH_ISA=sse4.2: this CPU does not run sse4.2" + runs);
+  r = test::run_command(capped + HEIGHTMARCH_CLI " trace --size 8x8 --isa sse4.2");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.output, "heightmarch: --isa sse4.2: this CPU does not run sse4.2" + runs);
+  r = test::run_command(capped + HEIGHTMARCH_CLI " suite --quick --isas scalar,sse4.2 --dry-run");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.output, "heightmarch: --isas sse4.2: this CPU does not run sse4.2" + runs);
+  r = test::run_command("HEIGHTMARCH_MAX_ISA=avx3 " HEIGHTMARCH_CLI " --version");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.output.rfind("heightmarch: HEIGHTMARCH_MAX_ISA=avx3: not an ISA (scalar", 0), 0u) << r.output;
+}
+
+// claims without --out writes a fresh directory under results/, as the suite does, never into the
+// current directory.
+TEST(Cli, ClaimsWriteAFreshRunDirectoryByDefault) {
+  const std::string dir = test::temp_dir("claims-default");
+  const auto r = test::run_command("cd " + dir + " && " HEIGHTMARCH_CLI
+                                   " claims --quick --no-builtins --heightmap builtin:waves --repetitions 1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_FALSE(fs::exists(dir + "/claims.md"));
+  std::vector<fs::path> runs;
+  for (const auto& entry : fs::directory_iterator(dir + "/results")) runs.push_back(entry.path());
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_NE(runs[0].filename().string().find("-claims-quick"), std::string::npos) << runs[0];
+  for (const char* file : {"claims.md", "claims.json", "measurements.json", "recommendation.json"})
+    EXPECT_TRUE(fs::exists(runs[0] / file)) << file;
+  EXPECT_NE(r.output.find("claims: done in "), std::string::npos) << r.output;
 }
 
 // A suite never writes into a directory that holds a run, nor into one another run holds.
@@ -266,6 +367,49 @@ TEST(Cli, SuiteRefusesAnOccupiedRunDirectory) {
   ::close(fd);
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("another run is writing into this directory"), std::string::npos) << r.output;
+}
+
+// heightmarch-bench times the suite's plan: for the same filters, window (the bench's is single)
+// and filter of the depth map, it lists the suite's timed configurations (both print plan_line();
+// compared without the purposes, which a configuration the bench also times for another part
+// joins); beside them only the Highway forms (the port, POM's structure) and the technique x
+// layers matrix at the ISAs other than the widest asked for.
+TEST(Cli, BenchTimesTheSuitesPlan) {
+  const std::string bench = std::filesystem::path(HEIGHTMARCH_CLI).parent_path().string() + "/heightmarch-bench";
+  if (!std::filesystem::exists(bench)) GTEST_SKIP() << "heightmarch-bench is not built here (HEIGHTMARCH_BUILD_BENCHMARKS=OFF)";
+  const auto lines = [](const std::string& output, bool timed_only) {
+    std::set<std::string> out;
+    std::istringstream in(output);
+    for (std::string line; std::getline(in, line);)
+      if (line.find('\t') != std::string::npos && (!timed_only || line.find("\ttimed\t") != std::string::npos))
+        out.insert(line.substr(0, line.rfind('\t')));
+    return out;
+  };
+  const std::string widest = to_string(best_isa());
+  for (const auto& [parts, filter] : {std::pair<std::string, std::string>{"matrix,isa,glsl,roofline,exact", "bilinear"},
+                                       {"matrix,isa,naive", "trilinear"}}) {
+    for (const std::string& isas : {widest, "scalar," + widest}) {
+      SCOPED_TRACE(parts + " at " + isas + ", " + filter);
+      const auto suite = test::run_cli("suite --dry-run --views single --no-builtins --heightmap builtin:bricks "
+                                       "--techniques pom,maxmip --layers 8,8-32 --threads 1 --isas " + isas +
+                                       " --parts " + parts + " --filter " + filter);
+      const auto benched = test::run_command(bench + " --hm_dry_run --hm_heightfields=builtin:bricks "
+                                             "--hm_techniques=pom,maxmip --hm_layers=8,8-32 --hm_threads=1 --hm_isas=" +
+                                             isas + " --hm_parts=" + parts + " --hm_filters=" + filter);
+      ASSERT_EQ(suite.status, 0) << suite.output;
+      ASSERT_EQ(benched.status, 0) << benched.output;
+      const std::set<std::string> in_suite = lines(suite.output, true), in_bench = lines(benched.output, false);
+      ASSERT_FALSE(in_suite.empty());
+      for (const std::string& line : in_suite) EXPECT_EQ(in_bench.count(line), 1u) << "not in the bench: " << line;
+      for (const std::string& line : in_bench) {
+        if (in_suite.count(line)) continue;
+        const bool highway = line.find("\thighway") != std::string::npos;  // the port and the structured POM
+        const bool matrix_elsewhere =
+            line.find("\ttrace\t") != std::string::npos && line.find("\t" + widest + "\t") == std::string::npos;
+        EXPECT_TRUE(highway || matrix_elsewhere) << "only in the bench: " << line;
+      }
+    }
+  }
 }
 
 // heightmarch-bench's own flags are checked like the CLI's: one line, exit 2.
@@ -343,14 +487,26 @@ std::string fixture_dir() {
     write_text(d, "bad_header.csv", "x,y,z\n1,2,3\n");
     write_text(d, "zero.csv", "tx,ty,vx,vy,vz\n0.5,0.5,0,0,0\n");
     write_text(d, "huge_value.csv", "tx,ty,vx,vy,vz\n0.5,0.5,1e50,0,1\n");
-    write_text(d, "conflict.glsl", "// mine\nvec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) {\n  return texCoords;\n}\n"
-                                   "void main() {}\n");
+    // LearnOpenGL's parallax_mapping.fs, whole, as a user might pass it
+    write_text(d, "whole.fs", "#version 330 core\nout vec4 FragColor;\nuniform sampler2D depthMap;\n"
+                              "uniform float heightScale;\n// void main() is below\n"
+                              "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) {\n  return texCoords;\n}\n\n"
+                              "void main()\n{\n  FragColor = vec4(1.0);\n}\n");
     write_text(d, "typo.glsl", "// mine\n\nvec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) {\n  return texCoordz;\n}\n");
-    write_text(d, "nofunction.glsl", "void main() {}\n");
+    write_text(d, "nofunction.glsl", "float depthAt(vec2 uv) { return 0.5; }\n");
     write_text(d, "rgb.csv", "tx,ty,vx,vy,vz\n0.5,0.5,0,0,1\n");
     write_text(d, "a_file", "");
     ::mkfifo((d + "/fifo.png").c_str(), 0644);
     write_jpegs(d);
+    std::vector<std::uint8_t> rgba(8 * 8 * 4, 128);
+    for (std::size_t i = 3; i < rgba.size(); i += 4) rgba[i] = std::uint8_t(i);
+    auto alpha = OIIO::ImageOutput::create(d + "/rgba_alpha.png");
+    OIIO::ImageSpec spec(8, 8, 4, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:UnassociatedAlpha", 1);
+    if (alpha && alpha->open(d + "/rgba_alpha.png", spec)) {
+      alpha->write_image(OIIO::TypeDesc::UINT8, rgba.data());
+      alpha->close();
+    }
     write_text(d, "discard.glsl",
                "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) {\n  if (texCoords.x > 0.5) discard;\n  return texCoords;\n}\n");
     return d;
@@ -386,7 +542,15 @@ std::vector<BadInput> bad_inputs() {
       {"BadWrap", "trace --wrap mirror", "--wrap"},
       {"BadView", "trace --view sweep:95", "THETA"},
       {"BadLight", "trace --technique shadow --light 1,1,-1", "light"},
-      {"BadIsa", "trace --isa neon", "unknown ISA 'neon'"},
+      {"BadIsa", "trace --isa neon", "--isa neon: unknown ISA (scalar"},
+      // Every numeric option's range in one form, never DBL_MAX's 309 digits.
+      {"NegativeMaxError", "recommend /nonexistent --max-error -1", "--max-error: must be >= 0, not -1"},
+      {"NanMaxWrongSurface", "recommend /nonexistent --max-wrong-surface nan", "--max-wrong-surface: must be in [0, 100], not nan"},
+      {"ZeroFrames", "recommend /nonexistent --frames 0", "--frames: must be in [1, 1073741824], not 0"},
+      {"SuiteZeroScale", "suite --quick --scale 0", "--scale: must be in (0, 1], not 0"},
+      {"SuiteZeroRepetitions", "suite --quick --repetitions 0", "--repetitions: must be in [1, 1000], not 0"},
+      {"ClaimsNegativeThreads", "claims --quick --threads 2,-1", "--threads: must be in [0, 1024], not -1"},
+      {"TraceTextTile", "trace --tile big", "--tile: 'big' is not a number"},
       {"UnknownCommand", "frobnicate", "unknown command"},
       {"EmptyCsv", "trace --rays " + d + "/empty.csv", "empty rays file"},
       {"HeaderOnlyCsv", "trace --rays " + d + "/header_only.csv", "no rays"},
@@ -409,13 +573,23 @@ std::vector<BadInput> bad_inputs() {
       {"HugeJpeg", "trace --size 8x8 --heightmap " + d + "/huge.jpg", "declares 16000x16000 pixels in only 400 bytes"},
       {"MissingChannel", "trace --size 8x8 --heightmap " + d + "/whole.jpg --channel g", "has no channel 1"},
       {"BadChannel", "trace --size 8x8 --heightmap " + d + "/whole.jpg --channel x", "--channel 'x'"},
-      {"ChannelOfBuiltin", "trace --size 8x8 --channel 1", "--channel applies to a depth map file"},
-      {"ShaderConflict", "glsl --size 8x8 --shader " + d + "/conflict.glsl", "conflict.glsl:5:6: error: function `main' redefined"},
+      {"ChannelOfBuiltin", "trace --size 8x8 --channel 1", "a channel (--channel, :channel=) applies to a depth map file"},
+      {"HeightOfBuiltin", "trace --size 8x8 --convention height", "applies to a depth map file, not builtin:bricks"},
+      {"UnknownEntryOption", "suite --quick --heightmap " + d + "/whole.jpg:chanel=g --dry-run",
+       "unknown option 'chanel' (convention, channel, wrap)"},
+      {"SuiteConventionWithoutMaps", "suite --quick --convention height --dry-run", "--convention requires --heightmap"},
+      {"SuiteDepthInAlpha", "suite --quick --no-glsl --heightmap " + d + "/rgba_alpha.png --out " + d + "/suite-alpha",
+       "rgba_alpha.png: channel 0 (R), read as the depth, is constant"},
+      {"ClaimsDepthInAlpha", "claims --quick --heightmap " + d + "/rgba_alpha.png --out " + d + "/claims-alpha",
+       "rgba_alpha.png: channel 0 (R), read as the depth, is constant"},
+      {"WholeShader", "glsl --size 8x8 --shader " + d + "/whole.fs",
+       "whole.fs:10: defines main(): a function vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) is expected, not a "
+       "whole shader"},
       {"ShaderTypo", "glsl --size 8x8 --shader " + d + "/typo.glsl", "typo.glsl:4:9: error: `texCoordz' undeclared"},
       {"ShaderWithoutFunction", "glsl --size 8x8 --shader " + d + "/nofunction.glsl", "does not define vec2 ParallaxMapping"},
       {"BadExtraHeightmapInSuite", "suite --quick --no-glsl --heightmap " + d + "/truncated.jpg --out " + d + "/suite",
        "truncated.jpg: cannot read pixels"},
-      {"DiscardingShader", "glsl --size 16x16 --repetitions 1 --shader " + d + "/discard.glsl",
+      {"DiscardingShader", "glsl --size 16x16 --views single --repetitions 1 --shader " + d + "/discard.glsl",
        "discard.glsl: left 128 of 256 rays without a hit (does it call discard?)"},
       {"NoSuchGlPath", "glsl --size 8x8 --gl vulkan", "--gl vulkan: not a GL path (osmesa|egl)"},
       {"DeviceWithOsmesa", "glsl --size 8x8 --gl osmesa --gl-device software", "OSMesa has no devices"},

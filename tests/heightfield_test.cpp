@@ -61,11 +61,11 @@ TEST(Loading, FormatsDepthsAndChannels) {
                                    {"f.tif", 1, OIIO::TypeDesc::FLOAT, &gray, 0.0f}};
   for (const Case& c : cases) {
     write_image(dir + "/" + c.file, 3, 2, c.channels, c.type, *c.pixels);
-    const DepthMap depth = load_depth_map(dir + "/" + c.file, Convention::depth);
+    const DepthMap depth = load_depth_map(dir + "/" + c.file);
     ASSERT_EQ(depth.width, 3) << c.file;
     ASSERT_EQ(depth.height, 2) << c.file;
     for (int k = 0; k < 6; ++k) EXPECT_NEAR(depth.texels[k], gray[k], c.tolerance + 1e-6f) << c.file << " texel " << k;
-    const DepthMap height = load_depth_map(dir + "/" + c.file, Convention::height);
+    const DepthMap height = load_depth_map(dir + "/" + c.file, {Convention::height});
     for (int k = 0; k < 6; ++k) EXPECT_NEAR(height.texels[k], 1.0f - depth.texels[k], 1e-6f) << c.file;
   }
 }
@@ -83,7 +83,7 @@ TEST(Loading, AlphaNeverScalesTheDepth) {
   write_image(dir + "/rgba.png", 3, 2, 4, OIIO::TypeDesc::UINT8, rgba);
   write_image(dir + "/ga.png", 3, 2, 2, OIIO::TypeDesc::UINT8, ga);
   for (const char* file : {"rgba.png", "ga.png"}) {
-    const DepthMap depth = load_depth_map(dir + "/" + file, Convention::depth);
+    const DepthMap depth = load_depth_map(dir + "/" + file);
     for (int k = 0; k < 6; ++k) EXPECT_NEAR(depth.texels[k], gray[k], 1.0f / 255 + 1e-6f) << file << " texel " << k;
   }
 }
@@ -93,14 +93,14 @@ TEST(Loading, HandWrittenPfm) {
   const float texels[2] = {0.0f, 1.0f};
   std::ofstream(dir + "/row.pfm", std::ios::binary) << "Pf\n2 1\n-1.0\n"
                                                     << std::string(reinterpret_cast<const char*>(texels), sizeof texels);
-  const DepthMap map = load_depth_map(dir + "/row.pfm", Convention::depth);
+  const DepthMap map = load_depth_map(dir + "/row.pfm");
   EXPECT_EQ(map.texels, (std::vector<float>{0.0f, 1.0f}));
 }
 
 TEST(Loading, RowZeroIsVZero) {
   const std::string dir = test::temp_dir("rows");
   write_image(dir + "/rows.exr", 1, 2, 1, OIIO::TypeDesc::FLOAT, {0.2f, 0.8f});
-  const DepthMap map = load_depth_map(dir + "/rows.exr", Convention::depth);
+  const DepthMap map = load_depth_map(dir + "/rows.exr");
   EXPECT_FLOAT_EQ(map.at(0, 0), 0.2f);
   EXPECT_FLOAT_EQ(map.at(0, 1), 0.8f);
 }
@@ -108,7 +108,7 @@ TEST(Loading, RowZeroIsVZero) {
 TEST(Loading, OutOfRangeValuesAreClamped) {
   const std::string dir = test::temp_dir("range");
   write_image(dir + "/range.exr", 2, 1, 1, OIIO::TypeDesc::FLOAT, {-0.5f, 3.0f});
-  const DepthMap map = load_depth_map(dir + "/range.exr", Convention::depth);
+  const DepthMap map = load_depth_map(dir + "/range.exr");
   EXPECT_EQ(map.texels, (std::vector<float>{0.0f, 1.0f}));
 }
 
@@ -126,7 +126,7 @@ TEST(Loading, HostileFilesAreInputErrors) {
   for (const char* file : {"nan.exr", "empty.png", "text.png", "magic.png", "huge.pfm", "zero.pfm", "truncated.pfm",
                            "missing.png"}) {
     try {
-      load_depth_map(dir + "/" + file, Convention::depth);
+      load_depth_map(dir + "/" + file);
       ADD_FAILURE() << file << " was accepted";
     } catch (const InputError& e) {
       const std::string message = e.what();
@@ -135,7 +135,7 @@ TEST(Loading, HostileFilesAreInputErrors) {
     }
   }
   try {
-    load_depth_map(dir + "/nan.exr", Convention::depth);
+    load_depth_map(dir + "/nan.exr");
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("2 NaN/Inf texels (first at 1,0)"), std::string::npos) << e.what();
   }
@@ -154,9 +154,78 @@ TEST(Loading, FirstSubimageOfAMultiImageFile) {
   out->open(path, specs[1], OIIO::ImageOutput::AppendSubimage);
   out->write_image(OIIO::TypeDesc::FLOAT, second);
   out->close();
-  const DepthMap map = load_depth_map(path, Convention::depth);
+  const DepthMap map = load_depth_map(path);
   EXPECT_EQ(map.width, 2);
   EXPECT_FLOAT_EQ(map.texels[1], 0.6f);
+}
+
+// A normal map in RGB (a constant 0.5 on a flat normal) with the depth in alpha: reading R, the
+// default, would measure a flat map; it is refused naming the channel that varies. The depth
+// read from alpha, a flat map allowed on purpose, and a map constant in every channel all load.
+TEST(Loading, AConstantChannelWhileAnotherVariesIsRefused) {
+  const std::string dir = test::temp_dir("flat-channel");
+  const std::vector<float> depth = {0.0f, 0.25f, 0.5f, 1.0f, 0.75f, 0.125f};
+  std::vector<float> normal_and_depth, constant;
+  for (float d : depth) {
+    normal_and_depth.insert(normal_and_depth.end(), {0.5f, 0.5f, 1.0f, d});
+    constant.insert(constant.end(), {0.5f, 0.5f, 1.0f, 1.0f});
+  }
+  write_image(dir + "/rgba.png", 3, 2, 4, OIIO::TypeDesc::UINT8, normal_and_depth);
+  write_image(dir + "/flat.png", 3, 2, 4, OIIO::TypeDesc::UINT8, constant);
+  write_image(dir + "/grey.png", 3, 2, 1, OIIO::TypeDesc::UINT8, std::vector<float>(6, 0.5f));
+  try {
+    load_depth_map(dir + "/rgba.png");
+    ADD_FAILURE() << "a constant red channel beside a varying alpha was read as the depth";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("rgba.png: channel 0 (R), read as the depth, is constant (0.501961) while "
+                                         "channel 3 (A) varies: choose the depth's channel with --channel 3"),
+              std::string::npos) << e.what();
+  }
+  MapReading alpha;
+  alpha.channel = 3;
+  const DepthMap read = load_depth_map(dir + "/rgba.png", alpha);
+  for (int k = 0; k < 6; ++k) EXPECT_NEAR(read.texels[k], depth[k], 1.0f / 255 + 1e-6f) << k;
+  MapReading flat;
+  flat.allow_flat = true;
+  EXPECT_EQ(load_depth_map(dir + "/rgba.png", flat).texels, std::vector<float>(6, 128.0f / 255));
+  EXPECT_EQ(load_depth_map(dir + "/flat.png").texels, std::vector<float>(6, 128.0f / 255));
+  EXPECT_EQ(load_depth_map(dir + "/grey.png").texels, std::vector<float>(6, 128.0f / 255));
+}
+
+// A map list's entry carries its own reading, typed, and describe() writes it back as it is read.
+TEST(MapEntries, OptionsOfAnEntryOverrideTheCommandsReading) {
+  const std::string dir = test::temp_dir("entries");
+  write_image(dir + "/rock.png", 2, 2, 4, OIIO::TypeDesc::UINT8, std::vector<float>(16, 0.5f));
+  MapReading defaults;
+  defaults.convention = Convention::height;
+  const HeightfieldSource plain = parse_heightfield(dir + "/rock.png", 512, 1, defaults);
+  EXPECT_EQ(plain.reading, defaults);
+  const HeightfieldSource own = parse_heightfield(dir + "/rock.png:wrap=clamp:channel=a:convention=depth", 512, 1, defaults);
+  EXPECT_EQ(own.path, dir + "/rock.png");
+  EXPECT_EQ(own.reading.convention, Convention::depth);
+  EXPECT_EQ(own.reading.channel, 3);
+  EXPECT_EQ(own.reading.wrap, Wrap::clamp);
+  EXPECT_EQ(own.describe(), dir + "/rock.png:channel=3:wrap=clamp");
+  EXPECT_EQ(parse_heightfield(own.describe()), own);
+  EXPECT_EQ(parse_heightfield("builtin:waves:wrap=clamp").reading.wrap, Wrap::clamp);
+  // A file whose own name ends like an option is that file.
+  std::ofstream(dir + "/odd:wrap=clamp") << "a file of that name";
+  EXPECT_EQ(parse_heightfield(dir + "/odd:wrap=clamp").path, dir + "/odd:wrap=clamp");
+  for (const auto& [entry, message] : std::vector<std::pair<std::string, std::string>>{
+           {dir + "/rock.png:chanel=a", "unknown option 'chanel' (convention, channel, wrap)"},
+           {dir + "/rock.png:wrap=clamp:wrap=repeat", "wrap given twice"},
+           {dir + "/rock.png:wrap=mirror", "rock.png:wrap=mirror: wrap 'mirror': repeat or clamp"},
+           {dir + "/rock.png:convention=up", "depth (white = deep) or height (white = high)"},
+           {dir + "/rock.png:channel=x", "a channel index from 0, or r, g, b, a"},
+           {"builtin:bricks:channel=1", "applies to a depth map file, not builtin:bricks"},
+           {"builtin:bricks:convention=height", "applies to a depth map file, not builtin:bricks"}}) {
+    try {
+      parse_heightfield(entry);
+      ADD_FAILURE() << entry << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

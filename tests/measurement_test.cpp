@@ -5,8 +5,11 @@
 #include <cmath>
 
 #include "baselines/naive_port.hpp"
+#include "baselines/structured_pom.hpp"
 #include "experiment/plan_runner.hpp"
 #include "experiment/run_outputs.hpp"
+#include "heightmarch/error.hpp"
+#include "experiment/suite_plan.hpp"
 #include "kernels/kernel_abi.hpp"
 #include "test_support.hpp"
 
@@ -132,6 +135,14 @@ TEST(Registry, MeasuresFollowTheHitList) {
   }
 }
 
+// The ISA list names its CPU features, and src/registry/isa.cpp checks every one of them in C++.
+TEST(Registry, EveryIsasCpuFeaturesAreChecked) {
+  for (Isa isa : all_isas()) EXPECT_NO_THROW(cpu_supports(isa)) << to_string(isa);
+  EXPECT_TRUE(cpu_supports(Isa::scalar));
+  EXPECT_EQ(isa_named("scalar"), Isa::scalar);
+  EXPECT_THROW(isa_named("auto"), InputError);  // a name of the list, whichever CPU: never "the best here"
+}
+
 TEST(Plan, SpreadOfEvenAndOddCounts) {
   const Spread odd = spread_of({3.0, 1.0, 2.0});
   EXPECT_EQ(odd.median, 2.0);
@@ -154,19 +165,50 @@ TEST(Plan, BenchmarkNamesCarryTheSizes) {
   EXPECT_EQ(benchmark_name(c, 64, 64).rfind("BM_AutoVecPort/heightfield:bricks/technique:pom/layers:8-32/isa:scalar/", 0), 0u);
   c.kind = RunKind::highway;
   EXPECT_EQ(benchmark_name(c, 64, 64).rfind("BM_HighwayPort/heightfield:bricks/technique:pom/layers:8-32/isa:scalar/", 0), 0u);
+  c.kind = RunKind::calibration;
+  EXPECT_EQ(benchmark_name(c, 64, 64), "BM_Calibration/heightfield:bricks/isa:calibration/threads:1/view:48x40/depth_map:64x64");
+}
+
+// The calibration loop, scripts/compare's control: timed like any row, with nothing to check or
+// measure but its time, at every thread count; every suite plan holds it at each of its thread
+// counts on each heightfield.
+TEST(Plan, TheCalibrationLoopIsTimedAndInEveryPlan) {
+  std::vector<Configuration> plan;
+  for (int threads : {1, 2}) {
+    Configuration c = small(Technique::pom, "32", kPurposeCalibration);
+    c.kind = RunKind::calibration;
+    c.threads = threads;
+    plan.push_back(c);
+  }
+  MeasureOptions options;
+  options.repetitions = 2;
+  options.min_seconds = 0.0;
+  for (const Measurement& m : measure_plan(plan, options).rows) {
+    EXPECT_TRUE(m.failure.empty()) << m.failure;
+    EXPECT_FALSE(m.errors.has_value());
+    EXPECT_FALSE(m.samples_known);
+    ASSERT_EQ(m.seconds.size(), 2u);
+    for (double s : m.seconds) EXPECT_GT(s, 0.0);
+  }
+  PlanSettings settings = suite_settings(true, 2);
+  int calibrations = 0;
+  for (const Configuration& c : suite_plan(settings)) calibrations += c.kind == RunKind::calibration && c.timed;
+  EXPECT_EQ(calibrations, int(settings.heightfields.size() * settings.thread_counts.size()));
 }
 
 // The anchors of POM-32 at every ISA: the auto-vectorised port and the Highway port (where this
 // build has it) take the naive port's samples and land within its tolerance of the reference; the
-// ceiling is the same on every ISA and marches every ray to its bound (depth 1 everywhere).
+// structured Highway POM (where it runs) equals the reference bit for bit (its backend checks);
+// the ceiling is the same on every ISA and marches every ray to its bound (depth 1 everywhere).
 TEST(Plan, AnchorsAreCheckedAtEveryIsa) {
   std::vector<Configuration> plan;
   Configuration naive = small(Technique::pom, "32", kPurposeNaive);
   naive.kind = RunKind::naive;
   plan.push_back(naive);
   for (Isa isa : supported_isas())
-    for (RunKind kind : {RunKind::autovec, RunKind::highway, RunKind::ceiling}) {
+    for (RunKind kind : {RunKind::autovec, RunKind::highway, RunKind::highway_structured, RunKind::ceiling}) {
       if (kind == RunKind::highway && !highway_port_runs(isa)) continue;
+      if (kind == RunKind::highway_structured && !highway_structured_runs(isa)) continue;
       Configuration c = small(Technique::pom, "32", kPurposeNaive);
       c.kind = kind;
       c.isa = isa;

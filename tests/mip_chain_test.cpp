@@ -1,10 +1,12 @@
 // Trilinear filtering's parts: the mip chain against glGenerateMipmap's box (odd sides too), the
 // level of detail against GL's formula (and on views minified by exactly 2 and 4, which must read
-// levels 1 and 2 at every ISA), and the gradients a view's pixel grid gives its rays.
+// levels 1 and 2 at every ISA), and the gradients a view's pixel grid gives its rays (a view set's
+// too).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "heightmarch/mip_chain.hpp"
 #include "heightmarch/sampler.hpp"
@@ -111,6 +113,27 @@ TEST(PixelGradients, SweepViewStepsOnePixel) {
   }
 }
 
+// A view set's gradients are its cameras' own: every view of the set around the surface, turned and
+// moved on the repeating map (its entry points wrapped modulo 1), keeps the lengths of the single
+// view's gradients at the same pixel; none jumps by the wrap or crosses into another view's cell.
+TEST(PixelGradients, AViewSetsAreItsCamerasTurnedWithThem) {
+  ViewSpec single = parse_view("default", 64, 64);
+  ViewSpec around = single;
+  apply_views("single", single);
+  apply_views("around", around);
+  const RayBatch a = make_view_rays(single), b = make_view_rays(around);
+  std::map<std::uint32_t, std::size_t> at;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (!a.is_padding(i)) at[a.origin[i]] = i;
+  ASSERT_GT(b.views, 1u);
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    if (b.is_padding(i)) continue;
+    const std::size_t j = at.at(b.origin[i]);
+    ASSERT_NEAR(std::hypot(b.du_dx[i], b.dv_dx[i]), std::hypot(a.du_dx[j], a.dv_dx[j]), 1e-6) << i;
+    ASSERT_NEAR(std::hypot(b.du_dy[i], b.dv_dy[i]), std::hypot(a.du_dy[j], a.dv_dy[j]), 1e-6) << i;
+  }
+}
+
 // A 4 x 3 grid whose pixels (0, 0), (3, 0), (2, 1) and (3, 1) miss the plane, with T = (10 x + y,
 // 100 y + x) at pixel (x, y): the quad partner's difference where it is there, the other side's
 // where it is not, zero along an axis with neither.
@@ -130,7 +153,7 @@ TEST(PixelGradients, QuadPartnersAndOneSidedWhereTheyMiss) {
   for (std::size_t i = 0; i < pixels.size(); ++i) rays.origin[i] = pixels[i];
   rays.image_width = 4;
   rays.image_height = 3;
-  set_pixel_gradients(rays);
+  set_pixel_gradients(rays, 4, 3);
   const auto expect = [&](int x, int y, float du_dx, float dv_dx, float du_dy, float dv_dy) {
     const std::size_t i = std::size_t(std::find(pixels.begin(), pixels.end(), std::uint32_t(y * 4 + x)) - pixels.begin());
     ASSERT_LT(i, pixels.size());

@@ -43,6 +43,11 @@ struct OpOutputs {
   float looked_up[kOpLanes];
   std::int32_t looked_up_int[kOpLanes];
   float narrowed[kOpLanes];  // vdouble stored to float
+  // lanes moved (the walks' refill)
+  std::uint32_t bits[kOpLanes];  // mask_bits of m, per packet
+  std::int32_t loaded_int[kOpLanes];
+  float expanded[kOpLanes], compressed[kOpLanes], scattered[kOpLanes];
+  std::int32_t expanded_int[kOpLanes], compressed_int[kOpLanes], scattered_int[kOpLanes];
 };
 
 using OpFn = void (*)(const OpInputs&, OpOutputs&);
@@ -76,6 +81,7 @@ using OpFn = void (*)(const OpInputs&, OpOutputs&);
   X(int_min, exact, min(i, j), i < j ? i : j)                                          \
   X(int_max, exact, max(i, j), i > j ? i : j)                                          \
   X(int_select, exact, select(m, i, j), m ? i : j)                                     \
+  X(pow2, exact, pow2((i & vint<W>(127)) - vint<W>(63)), std::ldexp(1.0f, (i & 127) - 63)) \
   X(mask_and, exact, m & n, m && n)                                                    \
   X(mask_or, exact, m | n, m || n)                                                     \
   X(mask_not, exact, !m, !m)
@@ -117,6 +123,7 @@ struct PacketOps {
   OpFn lane_ops[kLaneOpCount] = {};  // in HEIGHTMARCH_TEST_LANE_OPS' order
   OpFn reductions = nullptr;         // any, all, none, all_true, reduce_add, reduce_min per packet
   OpFn memory = nullptr;             // the gathers, fetch_taps, register_pairs, store_bytes, lookup
+  OpFn moves = nullptr;              // mask_bits, the integer load, expand_load, compress_store, scatter
 };
 
 struct DoubleOps {

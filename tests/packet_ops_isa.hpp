@@ -104,6 +104,22 @@ constexpr test::PacketOps make_packet_ops() {
       lookup(int_table, entry).store(out.looked_up_int + first);
     }
   };
+  ops.moves = +[](const test::OpInputs& in, test::OpOutputs& out) {
+    for (int first = 0; first < test::kOpLanes; first += W) {
+      const InputPackets<W> p(in, first);
+      out.bits[first / W] = mask_bits(p.m);
+      vint<W>::load(in.i + first).store(out.loaded_int + first);
+      // From the texture: element k to the m lane of rank k.
+      expand_load(in.texels + first, p.m, p.a).store(out.expanded + first);
+      expand_load(in.ints + first, p.m, p.i).store(out.expanded_int + first);
+      compress_store(out.compressed + first, p.m, p.a);
+      compress_store(out.compressed_int + first, p.m, p.i);
+      // Lane l to element first + W - 1 - l.
+      const vint<W> reversed = vint<W>(first + W - 1) - to_int(vfloat<W>::load(in.lane));
+      scatter(out.scattered, reversed, p.m, p.a);
+      scatter(out.scattered_int, reversed, p.m, p.i);
+    }
+  };
   return ops;
 }
 

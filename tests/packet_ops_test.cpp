@@ -293,6 +293,43 @@ void check_reductions_and_memory(const test::PacketOps& ops, const test::OpInput
   }
 }
 
+// mask_bits, the integer load, expand_load, compress_store and scatter, packet by packet.
+void check_moves(const test::PacketOps& ops, const test::OpInputs& in, Mismatches& bad) {
+  test::OpOutputs out{};
+  ops.moves(in, out);
+  const int w = ops.width;
+  for (int first = 0; first < kOpLanes; first += w) {
+    std::uint32_t bits = 0;
+    int rank = 0;  // true lanes so far
+    for (int k = first; k < first + w; ++k) {
+      const bool m = in.m[k] != 0.0f;
+      const std::string lane = "m=" + show(m);
+      if (out.loaded_int[k] != in.i[k]) bad.add("vint load", k, "", show(out.loaded_int[k]), show(in.i[k]));
+      const float expanded = m ? in.texels[first + rank] : in.a[k];
+      if (!same(out.expanded[k], expanded, Nan::exact)) bad.add("expand_load", k, lane, show(out.expanded[k]), show(expanded));
+      const std::int32_t expanded_int = m ? in.ints[first + rank] : in.i[k];
+      if (out.expanded_int[k] != expanded_int)
+        bad.add("expand_load (int32)", k, lane, show(out.expanded_int[k]), show(expanded_int));
+      const int mirror = first + w - 1 - (k - first);
+      const float scattered = m ? in.a[k] : 0.0f;
+      if (!same(out.scattered[mirror], scattered, Nan::exact))
+        bad.add("scatter", k, lane, show(out.scattered[mirror]), show(scattered));
+      const std::int32_t scattered_int = m ? in.i[k] : 0;
+      if (out.scattered_int[mirror] != scattered_int)
+        bad.add("scatter (int32)", k, lane, show(out.scattered_int[mirror]), show(scattered_int));
+      if (m) {
+        bits |= 1u << (k - first);
+        if (!same(out.compressed[first + rank], in.a[k], Nan::exact))
+          bad.add("compress_store", k, lane, show(out.compressed[first + rank]), show(in.a[k]));
+        if (out.compressed_int[first + rank] != in.i[k])
+          bad.add("compress_store (int32)", k, lane, show(out.compressed_int[first + rank]), show(in.i[k]));
+        ++rank;
+      }
+    }
+    if (out.bits[first / w] != bits) bad.add("mask_bits", first, "lanes " + std::to_string(first) + "..", show(out.bits[first / w]), show(bits));
+  }
+}
+
 void check_double_ops(const test::DoubleOps& ops, const test::OpInputs& in, Mismatches& bad) {
   test::OpOutputs out{};
   int op = 0;
@@ -344,6 +381,7 @@ TEST_P(PacketOpsTest, EveryOpMatchesTheScalarContract) {
       lanes.fill_indices(in, ops.width, round);
       check_lane_ops(ops, in, bad);
       check_reductions_and_memory(ops, in, bad);
+      check_moves(ops, in, bad);
     }
     EXPECT_EQ(bad.count(), 0) << bad.text();
   }

@@ -30,9 +30,9 @@ Candidate row(int id, const std::string& hf, Technique t, const char* layers, do
   c.grid = kind == RunKind::trace;
   c.technique = t;
   c.layers = layers_for(t, parse_layer_spec(layers));
-  c.uv_error[int(ErrorPercentile::p99)] = p99;
-  c.uv_error[int(ErrorPercentile::max)] = 10 * p99;
-  c.wrong_surface_rate = wrong;
+  c.selection.uv_error[int(ErrorPercentile::p99)] = p99;
+  c.selection.uv_error[int(ErrorPercentile::max)] = 10 * p99;
+  c.selection.wrong_surface_rate = wrong;
   c.samples_per_ray = samples;
   c.rays = 1000;
   for (double f : {1.0, 1.02, 0.98, 1.01, 0.99}) c.seconds.push_back(ns * f * 1e-9 * double(c.rays));
@@ -54,7 +54,8 @@ TEST(Recommendation, FastestByTimeNotBySamples) {
   EXPECT_EQ(a.meeting, 2) << "pom 8 has 2% wrong surface";
   ASSERT_TRUE(a.runner_up && a.runner_up_ratio);
   EXPECT_EQ(a.runner_up->label(), "cone 10");
-  EXPECT_NEAR(a.runner_up_ratio->median, 11.6 / 6.1, 1e-9) << "the per-round ratio of the times";
+  EXPECT_NEAR(a.runner_up_ratio->ratio, 11.6 / 6.1, 1e-9) << "the ratio of the median times";
+  EXPECT_NEAR(a.runner_up_ratio->per_round.median, 11.6 / 6.1, 1e-9);
   EXPECT_NEAR(a.choice->time().median, 6.1e-9, 1e-15);
 }
 
@@ -123,10 +124,78 @@ TEST(Recommendation, DeclaredBackendsAreTheGridsAndGlslAtItsThreads) {
   EXPECT_EQ(r.backends[0].backend.name(), "avx2, 2 threads");
   EXPECT_EQ(r.backends[1].backend.name(), "glsl, 2 threads");
   const std::string json = recommendation_json(r);
-  for (const char* key : {"\"format\": \"heightmarch-recommendation\"", "\"format_version\": 1",
+  for (const char* key : {"\"format\": \"heightmarch-recommendation\"", "\"format_version\": 2",
                           "\"measure\": \"uv_error_p99\"", "\"all_heightfields\"", "\"per_heightfield\"",
                           "\"ns_per_ray\"", "\"precompute_ms_per_frame\""})
     EXPECT_NE(json.find(key), std::string::npos) << key;
+}
+
+// The held-out figures: p99 and wrong-surface rate on the held-out set, with intervals.
+Accuracy held_out(double p99, double wrong) {
+  Accuracy a;
+  a.uv_error[int(ErrorPercentile::p99)] = p99;
+  a.uv_error_ci[int(ErrorPercentile::p99)] = {0.9 * p99, 1.1 * p99};
+  a.uv_error[int(ErrorPercentile::max)] = 10 * p99;
+  a.wrong_surface_rate = wrong;
+  a.wrong_surface_ci = {0.9 * wrong, 1.1 * wrong};
+  a.rays = 1000;
+  return a;
+}
+
+// A configuration that meets the target on the window it was chosen on but not on the held-out
+// views is not recommended: the answer moves to the next that holds and says so.
+TEST(Recommendation, APlantedWindowOnlySettingIsNotRecommended) {
+  std::vector<Candidate> rows = {row(0, "waves", Technique::pom, "8", 2.0, 0.30, 0.003),
+                                 row(1, "waves", Technique::pom, "16", 3.0, 0.40, 0.004),
+                                 row(2, "waves", Technique::relief, "16", 4.0, 0.20, 0.002),
+                                 row(3, "waves", Technique::maxmip, "1", 9.0, 0.0, 0.0)};
+  rows[0].held_out = held_out(0.70, 0.009);   // the plant: meets on the window only
+  rows[1].held_out = held_out(0.45, 0.0055);  // misses the wrong-surface bound by 10%
+  rows[2].held_out = held_out(0.25, 0.003);
+  rows[3].held_out = held_out(0.0, 0.0);
+  const Recommendation r = recommend(rows, RecommendationTarget{});
+  const Answer& a = cpu(r).per_heightfield.at(0);
+  ASSERT_TRUE(a.choice);
+  EXPECT_EQ(a.choice->label(), "relief 16");
+  EXPECT_TRUE(a.held_out_checked);
+  EXPECT_EQ(a.meeting, 2);
+  ASSERT_EQ(a.failed_held_out.size(), 2u);
+  EXPECT_EQ(a.failed_held_out[0].label(), "pom 8");
+  ASSERT_TRUE(a.near_miss);
+  EXPECT_EQ(a.near_miss->pick.label(), "pom 16");
+  EXPECT_NEAR(a.near_miss->margin, 1.1, 1e-9);
+  EXPECT_EQ(a.near_miss->measure, "wrong surface");
+  const std::string text = recommendation_text(r);
+  EXPECT_NE(text.find("not pom 8, pom 16, which meet the target on the window but not on the held-out views"),
+            std::string::npos) << text;
+  EXPECT_NE(text.find("the next that holds: relief 16"), std::string::npos) << text;
+  EXPECT_NE(text.find("held-out p99 0.25 (0.225-0.275) texel, wrong surface 0.3% (0.27-0.33%)"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("near miss pom 16: 1.33x faster, wrong surface 10% over its bound"), std::string::npos) << text;
+  const std::string json = recommendation_json(r);
+  for (const char* key : {"\"held_out\": {", "\"uv_error_p99_ci\": [", "\"failed_held_out\": [", "\"near_miss\": {",
+                          "\"held_out_checked\": true", "\"format_version\": 2"})
+    EXPECT_NE(json.find(key), std::string::npos) << key;
+  // Without held-out twins the window decides, and the answer says it was not checked.
+  for (Candidate& c : rows) c.held_out.reset();
+  const Recommendation window_only = recommend(rows, RecommendationTarget{});
+  EXPECT_EQ(cpu(window_only).per_heightfield.at(0).choice->label(), "pom 8");
+  EXPECT_NE(recommendation_text(window_only).find("(not checked on held-out views)"), std::string::npos);
+}
+
+// The choice and its runner-up's ratio read one statistic: a runner-up slower by median time
+// reads slower, whatever its per-round ratios' median would say.
+TEST(Recommendation, TheRunnerUpNeverReadsFasterThanTheChoice) {
+  Candidate choice = row(0, "waves", Technique::pom, "32", 1.0, 0.2, 0.001);
+  Candidate second = row(1, "waves", Technique::relief, "8", 1.0, 0.2, 0.001);
+  choice.seconds = {1e-6, 1e-6, 1e-6, 3e-6, 3e-6};  // median 1 us
+  second.seconds = {0.9e-6, 0.9e-6, 2e-6, 2e-6, 2e-6};  // median 2 us; per-round ratios' median 0.9
+  const Recommendation r = recommend({choice, second}, RecommendationTarget{});
+  const Answer& a = cpu(r).per_heightfield.at(0);
+  ASSERT_TRUE(a.choice && a.runner_up_ratio);
+  EXPECT_EQ(a.choice->label(), "pom 32");
+  EXPECT_GE(a.runner_up_ratio->ratio, 1.0);
+  EXPECT_FALSE(a.runner_up_ratio->distinguishable());
 }
 
 TEST(Recommendation, TargetsOutsideTheirRangeAreRefused) {
@@ -162,7 +231,7 @@ TEST(Recommendation, RecommendReadsARunToTheSuitesAnswer) {
   EXPECT_NE(other.output.find("at p95 <= 2 texel, wrong surface <= 100%"), std::string::npos) << other.output;
   for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
            {"recommend " + out + " --percentile p90", "--percentile: p90 not in"},
-           {"recommend " + out + " --max-wrong-surface 101", "--max-wrong-surface: Value 101 not in range"},
+           {"recommend " + out + " --max-wrong-surface 101", "--max-wrong-surface: must be in [0, 100], not 101"},
            {"recommend /nonexistent", "/nonexistent: cannot open measurements.json"}}) {
     const auto r = test::run_cli(args);
     EXPECT_EQ(r.status, 2) << args << ": " << r.output;
@@ -230,8 +299,8 @@ TEST(SuiteFilters, TheUsersMapsTechniquesLayersIsasThreadsAndParts) {
   s.best_isa = Isa::scalar;
   s.thread_counts = {2};
   s.scale = 0.05f;
-  s.near_degrees = 45;
-  s.far_degrees = 85;
+  s.window.near_degrees = 45;
+  s.window.far_degrees = 85;
   s.parts = kPurposeMatrix | kPurposeGlsl | kPurposeIsa;
   for (const Configuration& c : suite_plan(s)) {
     EXPECT_NE(c.purposes & s.parts, 0u);
@@ -251,7 +320,7 @@ TEST(SuiteFilters, TheUsersMapsTechniquesLayersIsasThreadsAndParts) {
       "--threads 1 --parts matrix --view-angles 45-85 --scale 0.05 --dry-run");
   ASSERT_EQ(dry.status, 0) << dry.output;
   EXPECT_NE(dry.output.find("waves\ttrace\tpom\t8\t"), std::string::npos) << dry.output;
-  EXPECT_NE(dry.output.find("default:45-85 256x256\tbilinear\ttimed\tmatrix\n1 configurations\n"), std::string::npos)
+  EXPECT_NE(dry.output.find("around:45-85 256x256\tbilinear\ttimed\tmatrix\n1 configurations\n"), std::string::npos)
       << dry.output;
   for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
            {"--techniques pom,bogus", "--techniques: bogus not in"},
@@ -259,7 +328,7 @@ TEST(SuiteFilters, TheUsersMapsTechniquesLayersIsasThreadsAndParts) {
            {"--parts matrix,everything", "--parts: everything not in"},
            {"--layers 0", "layer"},
            {"--view-angles 80-30", "view angles '80-30' must satisfy 0 <= NEAR < FAR <= 89"},
-           {"--scale 2", "--scale 2"},
+           {"--scale 2", "--scale: must be in (0, 1], not 2"},
            {"--no-builtins", "--no-builtins requires --heightmap"},
            {"--filter nearest", "--filter: nearest not in"}}) {
     const auto r = test::run_cli("suite --quick --dry-run " + args);
@@ -300,8 +369,8 @@ TEST(SuiteFilters, FilterReadsTheRunAndComparesTheMatrix) {
       "suite --quick --no-builtins --heightmap builtin:waves --techniques pom --layers 8 --threads 1 "
       "--parts matrix,filters --filter trilinear,bilinear --dry-run");
   ASSERT_EQ(dry.status, 0) << dry.output;
-  EXPECT_NE(dry.output.find("default 256x256\ttrilinear\ttimed\tmatrix\n"), std::string::npos) << dry.output;
-  EXPECT_NE(dry.output.find("default 256x256\tbilinear\taccuracy\tfilters\n"), std::string::npos) << dry.output;
+  EXPECT_NE(dry.output.find("around 256x256\ttrilinear\ttimed\tmatrix\n"), std::string::npos) << dry.output;
+  EXPECT_NE(dry.output.find("around 256x256\tbilinear\taccuracy\tfilters\n"), std::string::npos) << dry.output;
   const auto claims = test::run_cli("claims --quick --filter bilinear,trilinear --out " + test::temp_dir("claims-filters"));
   EXPECT_EQ(claims.status, 2) << claims.output;
   EXPECT_NE(claims.output.find("claims --filter takes one filter"), std::string::npos) << claims.output;

@@ -3,6 +3,8 @@
 // both filters. And the same output for any thread count and tile size.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <tuple>
 
 #include "heightmarch/error.hpp"
@@ -111,6 +113,54 @@ TEST(Dispatch, EnvironmentOverrideIsHonoured) {
     if (!cpu_supports(isa)) {
       EXPECT_THROW(parse_isa(to_string(isa)), InputError);
     }
+}
+
+// HEIGHTMARCH_MAX_ISA takes the CPU for one whose widest ISA is the cap: every question about
+// the ISAs answers as it would there, the Tracer refuses an ISA above it, and the refusal of
+// HEIGHTMARCH_ISA names the variable and the ISAs this CPU (so capped) runs.
+TEST(Dispatch, EnvironmentCapIsHonoured) {
+  const char* set = std::getenv("HEIGHTMARCH_MAX_ISA");  // the capped phase of scripts/test sets it
+  const std::string saved = set ? set : "";
+  unsetenv("HEIGHTMARCH_MAX_ISA");
+  const std::vector<Isa> hardware = supported_isas();
+  const DepthMap map = make_builtin_heightfield("flat", 16, 1);
+  for (Isa cap : all_isas()) {
+    SCOPED_TRACE(to_string(cap));
+    setenv("HEIGHTMARCH_MAX_ISA", to_string(cap).c_str(), 1);
+    std::vector<Isa> expected;
+    for (Isa isa : hardware)
+      if (int(isa) <= int(cap)) expected.push_back(isa);
+    EXPECT_EQ(supported_isas(), expected);
+    EXPECT_EQ(best_isa(), expected.back());
+    for (Isa isa : all_isas()) {
+      if (cpu_supports(isa)) continue;
+      EXPECT_THROW(Tracer(map, TechniqueParams{}, isa), InputError);
+      setenv("HEIGHTMARCH_ISA", to_string(isa).c_str(), 1);
+      try {
+        select_isa("");
+        ADD_FAILURE() << "HEIGHTMARCH_ISA=" << to_string(isa) << " accepted";
+      } catch (const InputError& e) {
+        std::string runs;
+        for (Isa r : expected) runs += (runs.empty() ? "" : ", ") + to_string(r);
+        EXPECT_NE(std::string(e.what()).find("HEIGHTMARCH_ISA=" + to_string(isa) + ": this CPU does not run " +
+                                             to_string(isa) + "; it runs " + runs),
+                  std::string::npos) << e.what();
+        if (std::find(hardware.begin(), hardware.end(), isa) != hardware.end()) {
+          EXPECT_NE(std::string(e.what()).find("capped by HEIGHTMARCH_MAX_ISA=" + to_string(cap)), std::string::npos)
+              << e.what();
+        }
+      }
+      unsetenv("HEIGHTMARCH_ISA");
+    }
+  }
+  setenv("HEIGHTMARCH_MAX_ISA", "avx3", 1);
+  EXPECT_THROW(best_isa(), InputError);
+  setenv("HEIGHTMARCH_MAX_ISA", "", 1);  // empty: no cap
+  EXPECT_EQ(supported_isas(), hardware);
+  if (saved.empty())
+    unsetenv("HEIGHTMARCH_MAX_ISA");
+  else
+    setenv("HEIGHTMARCH_MAX_ISA", saved.c_str(), 1);
 }
 
 }  // namespace

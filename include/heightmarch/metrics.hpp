@@ -21,6 +21,22 @@ float uv_error_texels(float u, float v, float exact_u, float exact_v, int width,
 // Height samples of the batch's real rays (padding excluded).
 std::uint64_t total_samples(const RayBatch& rays, const HitBuffers& hits);
 
+// A 95% confidence interval.
+struct Interval {
+  double low = 0, high = 0;
+};
+
+// Rays of one azimuth sector of V (45 degrees wide, centred on 0, 45, ..., 315) or one band of
+// view angles from the normal (15 degrees wide): where a measure varies across a view set.
+struct ErrorGroup {
+  double from = 0, to = 0;  // degrees
+  std::size_t rays = 0;
+  double p99 = 0, wrong_surface_rate = 0;
+  Interval wrong_surface_ci;
+};
+inline constexpr int kAzimuthSectors = 8;
+inline constexpr double kViewAngleBand = 15.0;
+
 struct ErrorSummary {
   std::size_t rays = 0;        // real rays measured (not discarded)
   std::size_t discarded = 0;
@@ -38,7 +54,23 @@ struct ErrorSummary {
   std::array<VisibilityError, kHitChannelCount> visibility{};  // by HitChannel
   // Layered techniques: the share of rays within one layer's texture step of the exact hit.
   std::optional<double> within_one_layer_step;
+  // 95% confidence intervals (docs/measures.md#confidence): of p50, p95 and p99 from order
+  // statistics, of the wrong-surface rate by Clopper-Pearson, each on the rays' effective number
+  // (the rays over the design effect of the tiles they were traced in: neighbouring pixels err
+  // alike). effective_rays: the wrong-surface rate's.
+  Interval p50_ci, p95_ci, p99_ci, wrong_surface_ci;
+  double effective_rays = 0;
+  std::vector<ErrorGroup> by_azimuth, by_view_angle;  // groups with rays only
 };
+
+// Clopper-Pearson: the exact 95% interval of a rate from `successes` of `trials` (either may be
+// fractional: an effective number of rays).
+Interval clopper_pearson(double successes, double trials);
+// The 95% interval of the p-quantile (p in (0, 1)) as fractions of the sorted values' ranks, from
+// the binomial law of the order statistics over `trials` (effective) values.
+Interval quantile_rank_interval(double p, double trials);
+// The regularized incomplete beta function I_x(a, b), a, b > 0, x in [0, 1].
+double incomplete_beta(double a, double b, double x);
 
 // The measures of the hit, one row each: X(name, ErrorSummary member, label). With those of each
 // output measured against the light's visibility, NAME_error_mean ("mean LABEL error") and

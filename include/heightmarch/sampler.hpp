@@ -10,8 +10,6 @@
 
 namespace heightmarch {
 
-enum class Wrap { repeat, clamp };
-
 // How a technique's samples read the depth map: bilinear (GL_LINEAR on level 0, the surface the
 // exact reference intersects) or trilinear (GL_LINEAR_MIPMAP_LINEAR over the mip chain, at the
 // level of detail of the ray's pixel footprint: heightmarch/mip_chain.hpp).

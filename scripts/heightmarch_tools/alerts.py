@@ -7,9 +7,9 @@
   alert when it differs from that baseline by more than MIN_CHANGE and by more than SPREADS
   times their spread (1.4826 x the median absolute deviation, a standard deviation where the
   runs are normal).
-- Behaviour, on every series of the run: samples per ray and the uv error measures are
-  deterministic, so any change against the machine's previous run of the series (beyond float
-  printing) is an alert.
+- Behaviour, on every series of the run: samples per ray, the uv error measures and the packet
+  kernels' SIMD use are deterministic, so any change against the machine's previous run of the
+  series (beyond float printing) is an alert.
 
 The alerts go to RUN/alerts.json and are kept, one line each, in results/alerts.csv.
 """
@@ -31,7 +31,7 @@ ALERTS = history.Table(CSV_COLUMNS, {"baseline": 0.0, "baseline_spread": 0.0, "n
                        may_be_empty=("baseline", "baseline_spread", "new", "change"))
 RULE = ("speed: the fastest repetition's rays/s of each headline series against the median of its last %d "
         "runs on this machine (at least %d), an alert beyond %d%% and %g x their spread (1.4826 MAD); behaviour: "
-        "any change of samples per ray or uv error against the machine's previous run of the series"
+        "any change of samples per ray, uv error or SIMD use against the machine's previous run of the series"
         % (RUNS, MIN_RUNS, round(100 * MIN_CHANGE), SPREADS))
 
 

@@ -67,17 +67,28 @@ def load_benchmarks(path):
 
 
 def context_value(data, key):
-    """A context entry as text ("unknown" where missing); sizes reduced to WxH."""
+    """A context entry as text ("unknown" where missing); a single view's size reduced to WxH ("default
+    1024x1024" and "1024x1024" are one), a view set kept whole ("around:1024x1024": another window)."""
     value = (data.get("context") or {}).get(key)
     value = "" if value is None or isinstance(value, (dict, list)) else str(value).strip()
     if key in ("heightmarch_view", "heightmarch_depth_map"):
-        size = re.search(r"\d+x\d+", value)  # "default 1024x1024" and "1024x1024" are one size
-        value = size.group(0) if size else value
+        size = re.fullmatch(r"(?:default )?(\d+x\d+)", value)
+        value = size.group(1) if size else value
     return value or "unknown"
 
 
 def seconds(b, field="real_time"):
     return b[field] * TIME_UNIT[b["time_unit"]]
+
+
+def clock(name):
+    """The clock a benchmark is judged on: CPU time at 1 thread, where waiting for a core shared
+    with other processes does not count (heightmarch-bench runs a 1-thread trace on its main
+    thread, so revisions that measured the thread's CPU time measured the same); wall time
+    otherwise: a slower parallel trace may spend no more CPU time, and a GLSL draw runs in
+    llvmpipe's worker process, not in the one whose CPU time is counted. A suite's bench.json
+    gives both as the wall time."""
+    return "cpu_time" if "/threads:1/" in name + "/" and not name.startswith("BM_GLSL/") else "real_time"
 
 
 # ---------------------------------------------------------------------------------------------

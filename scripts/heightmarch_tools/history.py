@@ -5,20 +5,22 @@ naming each.
 """
 import csv
 import io
+import os
 import re
 
 from .cli import Parser
 from .errors import Unusable
 from .escape import csv_cell, terminal
 from .measurements import depth_map, gl_label, view_name
-from .readers import Where, read_csv
+from .readers import Where, read_csv, read_text
 from .spreads import spread
 from .writers import atomic_write, locked
 
 MACHINE_PARTS = ["cpu", "cores", "best_isa", "compiler", "build_type"]
 SERIES_FIELDS = ["backend", "threads", "heightfield", "technique", "layers", "view", "depth_map", "filter"]
-# Deterministic measures: any change at the same configuration is a behaviour change.
-MEASURES = ["samples_per_ray", "uv_error_mean", "uv_error_p95", "wrong_surface_rate"]
+# Deterministic measures: any change at the same configuration is a behaviour change. SIMD use
+# (the packet kernels' share of busy lanes) came last: older files lack its column.
+MEASURES = ["samples_per_ray", "uv_error_mean", "uv_error_p95", "wrong_surface_rate", "simd_utilization"]
 COLUMNS = (["date", "commit", "machine"] + MACHINE_PARTS + SERIES_FIELDS
            + ["rays_per_second_median", "rays_per_second_min", "rays_per_second_max"] + MEASURES)
 UNKNOWN_PREFIX = "unknown-"
@@ -93,6 +95,8 @@ def measure(row, name):
     errors = row.get("errors") or {}
     if name == "samples_per_ray":
         value = row.get("samples_per_ray") if row.get("samples_known") else None
+    elif name == "simd_utilization":
+        value = row.get("simd_utilization")
     else:
         # measurements.json names them as bench.json does (uv_error_mean) or, before, without "error_"
         value = errors.get(name, errors.get(name.replace("uv_error_", "uv_")))
@@ -146,6 +150,19 @@ class Table:
 HISTORY = Table(COLUMNS, dict({"threads": 1, "rays_per_second_median": 0.0, "rays_per_second_min": 0.0,
                                "rays_per_second_max": 0.0}, **{m: 0.0 for m in MEASURES}),
                 may_be_empty=MEASURES, integers=("threads",))
+
+
+def without(*names):
+    """HISTORY without some of its columns: a history written before they existed."""
+    return Table([c for c in COLUMNS if c not in names], {k: v for k, v in HISTORY.numbers.items() if k not in names},
+                 may_be_empty=[m for m in MEASURES if m not in names], integers=("threads",))
+
+
+# Histories written before a column existed, and what their rows were: before SIMD use was
+# recorded, its cell is empty; before filters, every row read level 0.
+EARLIER = [(without("simd_utilization"), {"simd_utilization": ""}),
+           (without("filter"), {"filter": "bilinear"}),
+           (without("filter", "simd_utilization"), {"filter": "bilinear", "simd_utilization": ""})]
 REPAIR = "scripts/repair-history drops the rows it cannot read, naming each"
 
 
@@ -154,36 +171,32 @@ def as_written(row, table=HISTORY):
     return {k: csv_cell(v) if k in table.text_columns() else v for k, v in row.items()}
 
 
-# The columns of histories written before a series field existed, and what their rows were: before
-# filters, every row read level 0.
-EARLIER = [([c for c in COLUMNS if c != "filter"], {"filter": "bilinear"})]
+def header(path):
+    """The first row of a CSV file; None where it does not exist or is empty."""
+    if not os.path.lexists(path):
+        return None
+    return next(csv.reader(io.StringIO(read_text(path), newline="")), None)
 
 
-def cells_of(path, table):
-    """read_csv's (line, cells) of a file of the table's columns; a history of earlier columns
-    (EARLIER) has its rows' cells put in today's, with what they were."""
-    try:
-        return read_csv(path, table.columns)
-    except Unusable:
-        if table is not HISTORY:
-            raise
-        for columns, implied in EARLIER:
-            try:
-                found = read_csv(path, columns)
-            except Unusable:
-                continue
-            return [(line, [dict(zip(columns, cells), **implied)[c] for c in table.columns] if len(cells) == len(columns)
-                     else cells) for line, cells in found]
-        raise
+def layout(path, table=HISTORY):
+    """The table a file was written with and what its rows lack: a history's of today, or of before
+    a column (EARLIER) by its header."""
+    if table is HISTORY:
+        found = header(path)
+        for earlier, implied in EARLIER:
+            if found == earlier.columns:
+                return earlier, implied
+    return table, {}
 
 
 def read(path, table=HISTORY):
     """The rows of a history file (or of alerts.csv, alerts.ALERTS), every cell checked; []
     where it does not exist yet. A malformed row is refused with its line number."""
+    written, implied = layout(path, table)
     rows = []
-    for line, cells in cells_of(path, table):
+    for line, cells in read_csv(path, written.columns):
         try:
-            rows.append(table.check(Where("%s: line %d" % (terminal(path), line)), cells))
+            rows.append(dict(written.check(Where("%s: line %d" % (terminal(path), line)), cells), **implied))
         except Unusable as e:
             raise Unusable("%s (%s)" % (e, REPAIR) if table is HISTORY else str(e))
     return rows
@@ -214,9 +227,10 @@ def repair(argv=None):
     args = parser.parse_args(argv)
     with locked(args.history):
         kept, dropped = [], 0
-        for line, cells in cells_of(args.history, HISTORY):
+        written, implied = layout(args.history)
+        for line, cells in read_csv(args.history, written.columns):
             try:
-                kept.append(HISTORY.check(Where("line %d" % line), cells))
+                kept.append(dict(written.check(Where("line %d" % line), cells), **implied))
             except Unusable as e:
                 dropped += 1
                 print("drops %s: %s" % (e, terminal(",".join(cells))[:200]))

@@ -18,9 +18,9 @@ from .spreads import per_round
 MEASUREMENTS_FORMAT = "heightmarch-measurements"
 MEASUREMENTS_VERSION = 2  # the newest this reads; 1: the measures were named uv_mean, uv_p95, ...
 CLAIMS_VERSION = 2        # 1: a bare list of claims
-KINDS = ("trace", "glsl", "roofline", "ceiling", "naive", "autovec", "exact")
+KINDS = ("trace", "glsl", "roofline", "ceiling", "naive", "autovec", "exact", "calibration")
 GL_FIELDS = ("path", "device", "renderer", "version", "driver", "label")  # a GLSL row's renderer (its "gl")
-NON_ISA_BACKENDS = ("glsl", "naive", "exact")
+NON_ISA_BACKENDS = ("glsl", "naive", "exact", "calibration")
 # The configuration every backend runs (ISA sweep, naive port, roofline, thread scaling).
 HEADLINE_TECHNIQUE, HEADLINE_LAYERS = "pom", "32"
 ANY = object()  # a field that `Run.partner` does not compare
@@ -153,7 +153,26 @@ def validate_row(row, where, techniques, backends):
     errors = row.get("errors")
     if errors is not None:
         for key, value in where["errors"].object(errors).items():
-            where["errors"][key].number(value, 0, LARGEST, none=True)
+            if key == "confidence":  # each measure's 95% interval, and the effective rays
+                for name, interval in where["errors"][key].object(value).items():
+                    w = where["errors"][key][name]
+                    if name == "effective_rays":
+                        w.number(interval, 0, LARGEST)
+                    else:
+                        w.numbers(interval, 0, LARGEST, least=2)
+                        w.check(len(interval) == 2, "is not a pair of numbers")
+            elif key in ("by_azimuth", "by_view_angle"):  # over a view set: its groups' figures
+                for i, group in enumerate(where["errors"][key].list(value)):
+                    w = where["errors"][key][i]
+                    w.object(group, ("from", "to", "rays", "uv_error_p99", "wrong_surface_rate", "wrong_surface_ci"))
+                    for name in ("from", "to"):
+                        w[name].number(group[name], -360, 360)
+                    w["rays"].integer(group["rays"], 0, 2 ** 53)
+                    w["uv_error_p99"].number(group["uv_error_p99"], 0, LARGEST)
+                    w["wrong_surface_rate"].number(group["wrong_surface_rate"], 0, 1)
+                    w["wrong_surface_ci"].numbers(group["wrong_surface_ci"], 0, 1, least=2)
+            else:
+                where["errors"][key].number(value, 0, LARGEST, none=True)
     gl = row.get("gl")  # a GLSL row's renderer (absent before rows recorded it)
     if gl is not None:
         where["gl"].object(gl, GL_FIELDS)
@@ -203,26 +222,52 @@ def validate_answer(answer, where, measure):
     where["heightfield"].text(answer.get("heightfield"), none=True)
     where["settings"].integer(answer.get("settings", 0), 0, 2 ** 31)
     for key in ("choice", "closest", "runner_up"):
-        pick = answer.get(key)
-        if pick is None:
-            continue
-        w = where[key]
-        w.object(pick, ("label", "ns_per_ray", "rows"))
-        w["label"].text(pick["label"])
-        validate_spread(pick["ns_per_ray"], w["ns_per_ray"])
-        for i, r in enumerate(w["rows"].list(pick["rows"])):
-            wr = w["rows"][i]
-            wr.object(r, ("id", measure, "wrong_surface_rate", "samples_per_ray"))
-            wr["id"].integer(r["id"], 0, MAX_ID)
-            wr["heightfield"].text(r.get("heightfield", ""))
-            wr[measure].number(r[measure], 0, LARGEST)
-            wr["wrong_surface_rate"].number(r["wrong_surface_rate"], 0, 1)
-            wr["samples_per_ray"].number(r["samples_per_ray"], 0, LARGEST)
-            for key in ("precompute_seconds", "precompute_ms_per_frame"):
-                wr[key].number(r.get(key), 0, LARGEST, none=True)
-        w["rows"].check(pick["rows"], "is empty")
-    if answer.get("runner_up_time_ratio") is not None:
-        validate_spread(answer["runner_up_time_ratio"], where["runner_up_time_ratio"])
+        if answer.get(key) is not None:
+            validate_pick(answer[key], where[key], measure)
+    for i, pick in enumerate(where["failed_held_out"].list(answer.get("failed_held_out", []))):
+        validate_pick(pick, where["failed_held_out"][i], measure)
+    near = answer.get("near_miss")
+    if near is not None:  # format 2
+        where["near_miss"].object(near, ("setting", "margin", "measure"))
+        where["near_miss"]["margin"].number(near["margin"], 0, LARGEST)
+        where["near_miss"]["measure"].text(near["measure"])
+        validate_pick(near["setting"], where["near_miss"]["setting"], measure)
+    ratio = answer.get("runner_up_time_ratio")
+    if ratio is not None and "per_round" in ratio:  # format 2: the ratio of the medians, the rounds' spread
+        where["runner_up_time_ratio"].object(ratio, ("ratio", "per_round", "distinguishable"))
+        where["runner_up_time_ratio"]["ratio"].number(ratio["ratio"], 0, LARGEST)
+        validate_spread(ratio["per_round"], where["runner_up_time_ratio"]["per_round"])
+    elif ratio is not None:
+        validate_spread(ratio, where["runner_up_time_ratio"])
+
+
+def validate_pick(pick, w, measure):
+    w.object(pick, ("label", "ns_per_ray", "rows"))
+    w["label"].text(pick["label"])
+    validate_spread(pick["ns_per_ray"], w["ns_per_ray"])
+    for i, r in enumerate(w["rows"].list(pick["rows"])):
+        wr = w["rows"][i]
+        wr.object(r, ("id", measure, "wrong_surface_rate", "samples_per_ray"))
+        wr["id"].integer(r["id"], 0, MAX_ID)
+        wr["heightfield"].text(r.get("heightfield", ""))
+        wr[measure].number(r[measure], 0, LARGEST)
+        wr["wrong_surface_rate"].number(r["wrong_surface_rate"], 0, 1)
+        wr["samples_per_ray"].number(r["samples_per_ray"], 0, LARGEST)
+        for key in ("precompute_seconds", "precompute_ms_per_frame"):
+            wr[key].number(r.get(key), 0, LARGEST, none=True)
+        for key in ("selection", "held_out"):  # format 2: the figures on each view set, with their intervals
+            figures = r.get(key)
+            if figures is None:
+                continue
+            wf = wr[key]
+            wf.object(figures, (measure, measure + "_ci", "wrong_surface_rate", "wrong_surface_ci"))
+            wf[measure].number(figures[measure], 0, LARGEST)
+            wf["wrong_surface_rate"].number(figures["wrong_surface_rate"], 0, 1)
+            for ci, high in ((measure + "_ci", LARGEST), ("wrong_surface_ci", 1)):
+                wf[ci].check(isinstance(figures[ci], list) and len(figures[ci]) == 2, "is not a pair of numbers")
+                for x in figures[ci]:
+                    wf[ci].number(x, 0, high)
+    w["rows"].check(pick["rows"], "is empty")
 
 
 def validate_spread(s, where):
@@ -314,7 +359,23 @@ def speedup(row, reference):
 # ---------------------------------------------------------------------------------------------
 # Rows
 
+def is_view_set(view):
+    """Whether a row's figures are over a view set (docs/measures.md#view-sets): the default view or a
+    sweep seen around the surface, the tutorial's scene, camera poses or fresh rays; or over a
+    held-out draw of a window (a seed of its own). Such figures are another series than the single
+    view's."""
+    return bool(view.get("around") or view["kind"] in ("tutorial", "poses") or view.get("fresh_rays")
+                or view.get("seed"))
+
+
 def view_name(view, angles=True):
+    """'default 1024x1024', 'sweep 128x128 theta 70 phi 270'; a view set as the tool describes it
+    ('around 1024x1024', 'around 1024x1024 seed 2', 'tutorial:16 566x425'), a sweep around without
+    its angle where angles is false ('sweep around 128x128')."""
+    if is_view_set(view):
+        if view["kind"] == "sweep" and not angles:
+            return "sweep around %dx%d" % (view["width"], view["height"])
+        return view["description"]
     name = "%s %dx%d" % (view["kind"], view["width"], view["height"])
     if view.get("near_angle") is not None and (view["near_angle"], view["far_angle"]) != (30, 80):
         name = "%s:%g-%g %dx%d" % (view["kind"], view["near_angle"], view["far_angle"], view["width"], view["height"])
@@ -351,7 +412,8 @@ def config(row):
             "technique": row.get("technique"), "layers": row.get("layers"),
             "heightfield": row["heightfield"]["label"], "depth_map": depth_map(row),
             "view": (view["kind"], view["width"], view["height"], view.get("theta"), view.get("phi"),
-                     view.get("near_angle"), view.get("far_angle")),
+                     view.get("near_angle"), view.get("far_angle"), view.get("around"), view.get("seed"),
+                     view.get("views")),
             "scene": (row.get("scale"), row.get("wrap"), row.get("discard")),
             # null for the exact reference (every filter's); absent before filters: bilinear
             "filter": row.get("filter", "bilinear")}
@@ -370,12 +432,16 @@ def csv_value(value):
 
 
 def flat_row(row, prefix=""):
-    """A row as flat (column, value) pairs: nested fields joined by '.', lists by ';'."""
+    """A row as flat (column, value) pairs: nested fields joined by '.', lists by ';', lists of objects
+    (a view set's groups) by their index ('errors.by_azimuth.0.wrong_surface_rate')."""
     out = []
     for key, value in row.items():
         name = prefix + key
         if isinstance(value, dict):
             out += flat_row(value, name + ".")
+        elif isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
+            for i, v in enumerate(value):
+                out += flat_row(v, "%s.%d." % (name, i))
         elif isinstance(value, list):
             text = ";".join(csv_value(v) for v in value)
             out.append((name, csv_cell(text) if any(isinstance(v, str) for v in value) else text))
@@ -420,6 +486,11 @@ class Run:
         # comparison's; runs before filters read level 0
         self.filter = next((r["filter"] for r in self.rows if r.get("filter") and r.get("technique")
                             and "filters" not in r.get("purposes", [])), "bilinear")
+        # The window the answer was measured over (its timed candidates' view) and its held-out set.
+        window = next((r for p in ("matrix", "claims", "glsl") for r in self.with_purpose(p) if r.get("speed")), None)
+        held_out = next(iter(self.with_purpose("held-out")), None)
+        self.window = view_name(window["view"]) if window else None
+        self.held_out_window = view_name(held_out["view"]) if held_out else None
 
     def with_purpose(self, purpose):
         return [r for r in self.rows if purpose in r.get("purposes", [])]
@@ -533,6 +604,13 @@ def filter_pairs(run):
     run also measured under a compared filter (purpose "filters", accuracy only)."""
     pairs = [(run.partner(r, filter=ANY), r) for r in sorted(run.with_purpose("filters"), key=run.order)]
     return [(own, other) for own, other in pairs if own is not None]
+
+
+def walks_per_isa(run):
+    """searches_per_isa's entries of the walks: the techniques of shape "walk" (measurements.json's
+    techniques say; none in a run from before they did), whose SIMD use is their own measure."""
+    walks = {t["name"] for t in run.data["techniques"] if t.get("shape") == "walk"}
+    return [f for f in searches_per_isa(run) if any(r["technique"] in walks for r in f[4].values())]
 
 
 def searches_per_isa(run):

@@ -21,9 +21,9 @@ from .measurements import (ANY, HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK
                           rays_rounds, read_claims, read_optional, samples_rounds, searches_per_isa,
                           speedup, validate_alerts, validate_recommendation, view_name, backend_colours)
 from .escape import markdown as md, markdown_target
-from .report_content import (FILTER_DOCS, alerts_summary, filter_table, filters_intro, filters_title, fmt, fmt_change,
-                             fmt_error, fmt_number, fmt_ratio, fmt_spread, recommendation_columns, recommendation_intro,
-                             recommendation_rows, warnings)
+from .report_content import (FILTER_DOCS, alerts_summary, breakdown_lines, filter_table, filters_intro, filters_title,
+                             fmt, fmt_change, fmt_error, fmt_number, fmt_ratio, fmt_spread, recommendation_columns,
+                             recommendation_intro, recommendation_rows, walks_table, warnings, WALKS_INTRO)
 from .report_plots import plot_error_vs_angle, plot_error_vs_layers, plot_error_vs_speed, plot_isa_speedup
 from .spreads import per_round, spread
 from .writers import atomic_write
@@ -80,14 +80,18 @@ def section_recommendation(run, recommendation):
     if recommendation is None:
         return section(title, ["No recommendation.json in this run (computed by `heightmarch suite`, `claims` and "
                                "`recommend` since measurements format 2; `heightmarch recommend RUN_DIR` computes it)."])
-    body = [md(recommendation_intro(recommendation)) + " Why this target, and how to choose yours: "
+    body = [md(recommendation_intro(recommendation, run)) + " Why this target, and how to choose yours: "
             "[docs/recommendation.md](%s). The same from any run at another target: `heightmarch recommend RUN_DIR "
             "--percentile p99 --max-error 1 --max-wrong-surface 1`." % markdown_target(docs_link(run, "recommendation.md")), ""]
     cells = []
     for r in recommendation_rows(recommendation):
         cells.append([r["cells"][0], Markup("**%s**" % md(r["cells"][1])) if r["every"] else r["cells"][1],
                       Markup("**%s**" % md(r["cells"][2])) if r["chosen"] else r["cells"][2]] + r["cells"][3:])
-    return section(title, body + md_table(recommendation_columns(recommendation["target"]["measure"]), cells))
+    varying = breakdown_lines(run, recommendation)
+    if varying:  # where the choice's figures vary over the window: the page shows each row's groups
+        varying = ["", md("Where a choice's wrong-surface rate varies over the window beyond its 95% intervals:"),
+                   ""] + ["- " + md(line) for line in varying]
+    return section(title, body + md_table(recommendation_columns(recommendation["target"]["measure"]), cells) + varying)
 
 
 def headline_ratios(run):
@@ -133,6 +137,9 @@ def section_claims(run, claims):
             "[docs/claims.md](%s)." % markdown_target(docs_link(run, "claims.md")), ""]
     for c in claims:
         line = "- **%s %s**: %s" % (md(c["id"]), md(c["verdict"]), md(c["claim"]))
+        if c.get("summary"):  # claims.json format 3: the count and where it fails
+            line += ". " + md(c["summary"][0].upper() + c["summary"][1:] + (
+                "; under the previous rule: %s" % c["previous"]["verdict"] if c.get("previous") else ""))
         if c["id"] == "P2":
             line += " (maxmip at a grazing one-texel peak: [docs/techniques.md](%s))" % markdown_target(
                 docs_link(run, *MAXMIP_PEAK))
@@ -268,6 +275,13 @@ def section_searches_per_isa(run):
     return section(title, body)
 
 
+def section_walks(run):
+    """The walks' samples/s with their SIMD use, at every ISA."""
+    title = "The walks' lanes at every ISA"
+    walks = walks_table(run)
+    return section(title, [WALKS_INTRO, ""] + md_table(*walks) if walks else [])
+
+
 def section_exact_speed(run):
     """The exact reference's own speed, against POM-32 on the same rays, ISA and threads."""
     rows = sorted((r for r in run.timed if r["kind"] == "exact"), key=run.order)
@@ -327,9 +341,21 @@ def image(path):
     return Markup("![](%s)" % markdown_target(path))
 
 
-def section_gallery(run):
+def shipped(recommendation):
+    """(heightfield, technique, layers) -> the backends that recommend it there."""
+    out = {}
+    for b in (recommendation or {}).get("backends", []):
+        for a in b["per_heightfield"]:
+            if a.get("choice"):
+                out.setdefault((a["heightfield"], a["choice"]["technique"], a["choice"]["layers"]), []).append(b["name"])
+    return out
+
+
+def section_gallery(run, recommendation):
     rows = sorted((r for r in run.with_purpose("gallery") if r.get("images")), key=run.order)
-    body = []
+    ships = shipped(recommendation)
+    body = [md("Each map's recommended configuration (what to ship) beside its exact render, and on the first map "
+               "the tutorial's comparison; one perspective view, drawn by the CPU kernel."), ""]
     for (hf, view), group in groups(rows, lambda r: (r["heightfield"]["label"], view_name(r["view"]))).items():
         costs = [cost_image(run.dir, r["images"]) for r in group]
         with_cost = any(costs)
@@ -337,7 +363,9 @@ def section_gallery(run):
             md(hf), md(view), "; cost: height samples per pixel, on one log scale for every image (1 to 1024)" if with_cost else ""), ""]
         body += md_table([("technique", False), ("render", False), ("error", False)] + ([("cost", False)] if with_cost else [])
                          + ERROR_COLUMNS,
-                         [[run.label(r), image(r["images"]["render"]), image(r["images"]["error"])]
+                         [[run.label(r) + "".join(" (what to ship, %s)" % b for b in ships.get(
+                             (r["heightfield"]["label"], r.get("technique"), r.get("layers")), [])),
+                           image(r["images"]["render"]), image(r["images"]["error"])]
                           + ([image(c) if c else "-"] if with_cost else []) + error_cells(r)
                           for r, c in zip(group, costs)]) + [""]
     return section("Gallery", body[:-1])
@@ -376,6 +404,7 @@ TABLES = [("Techniques x layers, per heightfield", "techniques-x-layers-per-heig
           ("CPU against GLSL", "cpu-against-glsl"),
           ("Every backend", "every-backend"),
           ("The searches at every ISA, against GLSL", "the-searches-at-every-isa-against-glsl"),
+          ("The walks' lanes at every ISA", "the-walks-lanes-at-every-isa"),
           ("The exact reference's speed", "the-exact-references-speed"),
           ("Thread scaling (%s-%s)" % (HEADLINE_TECHNIQUE.upper(), HEADLINE_LAYERS), "thread-scaling-pom-32"),
           ("Gallery", "gallery")]
@@ -405,7 +434,7 @@ def write_report(run, claims, recommendation, alerts, recorded, history_drawn):
     rows when the run is being recorded (history_drawn: whether its plot was drawn)."""
     faults = []  # the tables find them, the warnings on the first screen name them
     tables = (section_matrix(run) + section_glsl(run) + section_every_backend(run, faults)
-              + section_searches_per_isa(run) + section_exact_speed(run) + section_threads(run) + section_gallery(run))
+              + section_searches_per_isa(run) + section_walks(run) + section_exact_speed(run) + section_threads(run) + section_gallery(run, recommendation))
     plots = section_plots(run, recommendation, history_drawn)
     p = run.provenance
     title = "%s run of %s, commit %s" % (run.plan.get("name", "?"), p.get("date", "?"), p.get("commit", "?"))

@@ -7,7 +7,7 @@ escape.html or the page's textContent), so the two cannot drift apart.
 import math
 import statistics
 
-from .measurements import HEADLINE_LAYERS, HEADLINE_TECHNIQUE, counted, rays_rounds
+from .measurements import HEADLINE_LAYERS, HEADLINE_TECHNIQUE, counted, rays_rounds, samples_rounds, walks_per_isa
 from .spreads import relative_spread, spread
 
 SPREAD_LIMIT = 0.20  # (max - min) / median above this is flagged as a disturbed timing
@@ -53,17 +53,66 @@ def load_averages(values):
 
 
 # ---------------------------------------------------------------------------------------------
+# The walks' table
+
+WALKS_INTRO = ("The techniques that walk the min-depth pyramid, a divergent walk per lane whose lanes take the "
+               "tile's next ray as theirs ends: Msamples/s median (min-max) and SIMD use (of the lanes the kernel "
+               "read, the share that belonged to a ray still walking) at every ISA.")
+
+
+def walks_table(run):
+    """The walks' samples/s beside their SIMD use at every ISA: ([(title, numeric)], rows of text),
+    or None where the run timed no walk."""
+    found = walks_per_isa(run)
+    if not found:
+        return None
+    simd_use = lambda row: fmt(row.get("simd_utilization"), 0, 100, "%")
+    columns = [("heightfield", False), ("technique", False), ("threads", True)] + [
+        column for isa in run.isas for column in (("%s Msamples/s" % isa, True), ("%s SIMD use" % isa, True))]
+    rows = [[hf, technique, str(threads)] + [
+        cell for isa in run.isas for cell in (
+            (fmt_spread(spread(samples_rounds(by_isa[isa])), 0, 1e-6), simd_use(by_isa[isa])) if isa in by_isa
+            else ("-", "-"))] for hf, technique, threads, _, by_isa in found]
+    return columns, rows
+
+
+# ---------------------------------------------------------------------------------------------
 # The recommendation's table
 
 def recommendation_columns(measure):
     """[(title, numeric)]: the table's columns, in words."""
+    short = measure.replace("uv_error_", "")
     return [("backend", False), ("heightfield", False), ("configuration", False), ("time per ray (ns)", True),
-            ("%s uv error (texels)" % measure.replace("uv_error_", ""), True), ("wrong surface", True),
-            ("samples per ray", True), ("preprocessing", False), ("next fastest", False)]
+            ("held-out %s uv error (texels, 95%% interval)" % short, True), ("held-out wrong surface", True),
+            ("window: %s uv error; wrong surface" % short, True), ("samples per ray", True), ("preprocessing", False),
+            ("next fastest", False), ("notes", False)]
+
+
+def fmt_interval(value, interval, scale=1.0, unit=""):
+    """'0.43 (0.41-0.45)', '0.38% (0.33-0.42%)'; the figure alone without an interval."""
+    if value is None:
+        return "-"
+    if not interval:
+        return "%.3g%s" % (value * scale, unit)
+    return "%.3g%s (%.3g-%.3g%s)" % (value * scale, unit, interval[0] * scale, interval[1] * scale, unit)
+
+
+def worst_figures(rows, measure, key):
+    """A pick's worst rows on one view set ('selection', or 'held_out'; format 1 rows carry the
+    window's figures on the row itself) as text: (the measure, the wrong-surface rate), each with its
+    interval; None where a row was not measured there."""
+    sets = [r.get(key) if key in r else (r if key == "selection" else None) for r in rows]
+    if any(f is None for f in sets):
+        return None
+    worst = max(sets, key=lambda f: f[measure])
+    wrong = max(sets, key=lambda f: f["wrong_surface_rate"])
+    return (fmt_interval(worst[measure], worst.get(measure + "_ci")),
+            fmt_interval(wrong["wrong_surface_rate"], wrong.get("wrong_surface_ci"), 100, "%"))
 
 
 def pick_cells(pick, measure):
-    """A recommendation's pick as cells: setting, time, its rows' worst error measures, preprocessing."""
+    """A recommendation's pick as cells: setting, time, its rows' worst figures on the held-out set and
+    on the window, samples, preprocessing."""
     rows = pick["rows"]
     precompute = [r for r in rows if r.get("precompute_seconds") is not None]
     pre = "-"
@@ -71,28 +120,52 @@ def pick_cells(pick, measure):
         worst = max(precompute, key=lambda r: r["precompute_seconds"])
         pre = "%.3g s once (%.3g ms a frame)" % (worst["precompute_seconds"], worst.get("precompute_ms_per_frame") or 0)
     ns = pick["ns_per_ray"]
-    return [pick["label"], fmt_spread((ns["median"], ns["min"], ns["max"]), 2), fmt_error(max(r[measure] for r in rows)),
-            fmt(max(r["wrong_surface_rate"] for r in rows), 2, 100, "%"),
+    held_out = worst_figures(rows, measure, "held_out") or ("not measured", "not measured")
+    return [pick["label"], fmt_spread((ns["median"], ns["min"], ns["max"]), 2), held_out[0], held_out[1],
+            "; ".join(worst_figures(rows, measure, "selection")),
             "%.1f" % statistics.mean(r["samples_per_ray"] for r in rows), pre]
+
+
+def answer_notes(answer):
+    """What else an answer says: the faster settings that held on the window only, the near miss,
+    and whether held-out views checked it."""
+    notes = []
+    failed = answer.get("failed_held_out") or []
+    if failed:
+        notes.append("not %s: met the target on the window, not on the held-out views"
+                     % ", ".join(p["label"] for p in failed))
+    near = answer.get("near_miss")
+    if near:
+        notes.append("near miss %s: %s %.0f%% over its bound" % (near["setting"]["label"], near["measure"],
+                                                                 100 * (near["margin"] - 1)))
+    if answer.get("held_out_checked") is False:
+        notes.append("not checked on held-out views")
+    return "; ".join(notes) or "-"
+
+
+def runner_up_text(answer):
+    runner, ratio = answer.get("runner_up"), answer.get("runner_up_time_ratio")
+    if not (runner and ratio):
+        return "-"
+    if "per_round" in ratio:  # format 2: the ratio of the median times that rank them, the rounds' spread
+        rounds = ratio["per_round"]
+        return "%s: %.2fx the time (per round %.2f-%.2f)%s" % (
+            runner["label"], ratio["ratio"], rounds["min"], rounds["max"],
+            "" if ratio["distinguishable"] else " (not distinguishable)")
+    overlap = ratio["min"] <= 1.0 <= ratio["max"]
+    return "%s: %s the time%s" % (runner["label"], fmt_ratio((ratio["median"], ratio["min"], ratio["max"])),
+                                  " (not distinguishable)" if overlap else "")
 
 
 def answer_cells(answer, measure):
     """The cells after backend and heightfield, and whether the first (the setting) is a choice."""
     if answer.get("choice"):
-        cells = pick_cells(answer["choice"], measure)
-        runner, ratio = answer.get("runner_up"), answer.get("runner_up_time_ratio")
-        if runner and ratio:
-            overlap = ratio["min"] <= 1.0 <= ratio["max"]
-            cells.append("%s: %s the time%s" % (runner["label"], fmt_ratio((ratio["median"], ratio["min"], ratio["max"])),
-                                               " (not distinguishable)" if overlap else ""))
-        else:
-            cells.append("-")
-        return cells, True
+        return pick_cells(answer["choice"], measure) + [runner_up_text(answer), answer_notes(answer)], True
     closest = answer.get("closest")
     what = "none of %d meets the target" % answer.get("settings", 0)
     if closest:
-        return [what + "; nearest: " + closest["label"]] + pick_cells(closest, measure)[1:] + ["-"], False
-    return [what, "-", "-", "-", "-", "-", "-"], False
+        return [what + "; nearest: " + closest["label"]] + pick_cells(closest, measure)[1:] + ["-", answer_notes(answer)], False
+    return [what] + ["-"] * 8 + [answer_notes(answer)], False
 
 
 def recommendation_rows(recommendation):
@@ -110,15 +183,45 @@ def recommendation_rows(recommendation):
     return out
 
 
-def recommendation_intro(recommendation):
+def recommendation_intro(recommendation, run):
     """The sentence above the table, before its links."""
     target = recommendation["target"]
     return ("The fastest configuration by measured time per ray (median (min-max) of the repetitions) at each backend, "
             "among those with %s, on all heightfields as one setting (a shader runs one setting for every material) "
-            "and on each. Errors are the worst of the setting's heightfields; preprocessing (cone map, min-depth "
-            "pyramid) is built once per depth map and amortised over %d frames; it is not in the time per ray. "
-            "\"Not distinguishable\": the next fastest's time ratio spans 1 over the repetitions, so the two are equally "
-            "fast as measured." % (target["description"], target["frames"]))
+            "and on each. Chosen over the window %s and checked on its held-out set %s: a setting meets the target only "
+            "where its held-out figures do too (95%% intervals beside them). Errors are the worst of the setting's "
+            "heightfields; preprocessing (cone map, min-depth pyramid) is built once per depth map and amortised over "
+            "%d frames; it is not in the time per ray. \"Not distinguishable\": the next fastest's time ratio spans 1 "
+            "over the repetitions, so the two are equally fast as measured; a near miss is the fastest setting that "
+            "misses a bound by less than 20%%." % (target["description"], run.window or "?",
+                                                    run.held_out_window or "(none measured)", target["frames"]))
+
+
+def varies(groups):
+    """Whether the wrong-surface rate differs between groups beyond their intervals."""
+    intervals = [g["wrong_surface_ci"] for g in groups if g.get("rays")]
+    return len(intervals) > 1 and max(lo for lo, _ in intervals) > min(hi for _, hi in intervals)
+
+
+def breakdown_lines(run, recommendation):
+    """Where a choice's wrong-surface rate varies over the window beyond its intervals, by azimuth
+    sector of V or band of view angles, at the first backend: its range and the worst group."""
+    lines = []
+    for b in recommendation["backends"][:1]:
+        for a in b["per_heightfield"]:
+            if not a.get("choice"):
+                continue
+            errors = (run.by_id.get(a["choice"]["rows"][0]["id"]) or {}).get("errors") or {}
+            for key, what in (("by_azimuth", "azimuth of V"), ("by_view_angle", "view angle")):
+                groups = errors.get(key) or []
+                if not varies(groups):
+                    continue
+                worst = max(groups, key=lambda g: g["wrong_surface_rate"])
+                lines.append("%s, %s (%s): wrong surface %s to %s by %s; the worst %g to %g degrees (p99 %.3g)" % (
+                    a["heightfield"], a["choice"]["label"], b["name"],
+                    fmt(min(g["wrong_surface_rate"] for g in groups), 2, 100, "%"),
+                    fmt(worst["wrong_surface_rate"], 2, 100, "%"), what, worst["from"], worst["to"], worst["uv_error_p99"]))
+    return lines
 
 
 # ---------------------------------------------------------------------------------------------

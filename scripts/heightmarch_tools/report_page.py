@@ -12,9 +12,9 @@ from .measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHA
                           docs_link, filter_pairs, gl_label, glsl_pairs, machine_rows, ns_per_ray_rounds, rays_rounds,
                           searches_per_isa, speedup, view_name)
 from .escape import csv_cell, html as esc, script_json
-from .report_content import (FILTER_DOCS, alerts_summary, filter_table, filters_intro, filters_title, fmt_ratio,
-                             fmt_spread, recommendation_columns, recommendation_intro,
-                             recommendation_rows)
+from .report_content import (FILTER_DOCS, alerts_summary, breakdown_lines, filter_table, filters_intro, filters_title,
+                             fmt_ratio, fmt_spread, recommendation_columns, recommendation_intro, recommendation_rows,
+                             walks_table, WALKS_INTRO)
 from .spreads import spread
 from .writers import atomic_write
 
@@ -54,6 +54,8 @@ def page_rows(run):
             continue
         if r.get("filter") not in (None, run.filter):  # the other filter's rows: their own table
             continue
+        if r.get("purposes") == ["held-out"]:  # read through the recommendation, not a point of its own
+            continue
         rays, ns = spread(rays_rounds(r)), spread(ns_per_ray_rounds(r))
         out.append({
             "id": r["id"], "heightfield": keys[id(r)], "label": r["heightfield"]["label"], "depth_map": depth_map(r),
@@ -66,6 +68,7 @@ def page_rows(run):
             "precompute_seconds": rounded(r.get("precompute_seconds")),
             "errors": {m["name"]: rounded(r["errors"][m["name"]]) for m in run.measures
                        if r["errors"].get(m["name"]) is not None},
+            "breakdown": {k: r["errors"][k] for k in ("by_azimuth", "by_view_angle") if r["errors"].get(k)} or None,
             "images": r.get("images")})
     return out
 
@@ -142,11 +145,15 @@ def claims_html(claims, maxmip_link):
         rows = [[esc(k.get("where", "")), esc(k.get("figures", "")),
                  "yes" if k.get("passed") else "<b>no</b>"] for k in checks]
         note = (" Maxmip at a grazing one-texel peak: %s." % maxmip_link) if c["id"] == "P2" else ""
-        parts.append('<details><summary><b>%s</b> <span class="verdict v-%s">%s</span> %s (%d / %d checks)</summary>'
+        previous = c.get("previous")
+        if previous:  # claims.json format 3: a rule revised in this release, the previous verdict beside it
+            note += " Revised in this release, because %s. The previous rule: %s Its verdict: %s (%s)." % (
+                esc(previous["reason"]), esc(previous["rule"]), esc(previous["verdict"]), esc(previous["summary"]))
+        parts.append('<details><summary><b>%s</b> <span class="verdict v-%s">%s</span> %s (%d / %d checks)%s</summary>'
                      '<p>Source: %s. Rule: %s%s</p>%s</details>' % (
                          esc(c["id"]), esc(c["verdict"].replace(" ", "-")), esc(c["verdict"]),
-                         esc(c["claim"]), passed, len(checks), esc(c.get("source", "?")),
-                         esc(c.get("rule", "?")), note,
+                         esc(c["claim"]), passed, len(checks), ": " + esc(c["summary"]) if c.get("summary") else "",
+                         esc(c.get("source", "?")), esc(c.get("rule", "?")), note,
                          table([("where", False), ("figures", False), ("passes", False)], rows) if rows else ""))
     return "".join(parts)
 
@@ -184,6 +191,7 @@ def history_series(run, recorded):
 
 def write_page(run, claims, recommendation, alerts, recorded, warnings, faults, backend_colours):
     found = searches_per_isa(run)
+    walks = walks_table(run)
     data = {
         "title": "%s run of %s, commit %s" % (run.plan.get("name", "?"), run.provenance.get("date", "?"),
                                                run.provenance.get("commit", "?")),
@@ -194,9 +202,10 @@ def write_page(run, claims, recommendation, alerts, recorded, warnings, faults, 
         "recommendation": recommendation,
         # the table report.md shows, cell for cell (report_content), and the row each line opens
         "recommendation_table": None if recommendation is None else {
-            "intro": recommendation_intro(recommendation),
+            "intro": recommendation_intro(recommendation, run),
             "columns": [title for title, _ in recommendation_columns(recommendation["target"]["measure"])],
-            "rows": recommendation_rows(recommendation)},
+            "rows": recommendation_rows(recommendation),
+            "varies": breakdown_lines(run, recommendation)},
         "alerts": alerts,
         "alerts_summary": alerts_summary(alerts),
         "history": history_series(run, recorded),
@@ -213,6 +222,8 @@ def write_page(run, claims, recommendation, alerts, recorded, warnings, faults, 
     static = {
         "claims": claims_html(claims, maxmip_link),
         "isa_table": isa_table(run, found) if found else "<p>Not measured in this run.</p>",
+        "walk_table": ("<p>%s</p>" % esc(WALKS_INTRO) + table(walks[0], [[esc(c) for c in row] for row in walks[1]])
+                       if walks else "<p>Not measured in this run.</p>"),
         "glsl_table": ("<p>The same rays and parameters on both sides; CPU at the best ISA (%s); CPU/GLSL: median "
                        "(min-max) of the per-round ratios. See %s.</p>" % (esc(run.best_isa or "?"), shadow_link)
                        + glsl_table(run, glsl_pairs(run))) if glsl_pairs(run) else "<p>Not measured in this run.</p>",
@@ -271,6 +282,7 @@ in the grey band at the bottom.</p>
 <section id="speed"><h2>Speed per ISA, and CPU against GLSL</h2>
 <div id="isa-filters"></div><div id="isa-chart"></div>
 <details><summary>The searches at every ISA, against GLSL (table)</summary>%(isa_table)s</details>
+<details><summary>The walks' samples/s and SIMD use at every ISA (table)</summary>%(walk_table)s</details>
 <details><summary>CPU against GLSL (table)</summary>%(glsl_table)s</details>
 </section>
 <section id="history"><h2>History of this machine</h2><div id="history-body"></div><div id="history-chart"></div></section>

@@ -114,7 +114,7 @@ namespace heightmarch {
 
 HWY_EXPORT(TracePom);
 
-TraceRangeFn highway_kernel(Isa isa) {
+int highway_dispatch_entry(Isa isa) {
   std::int64_t targets = 0;
 #define HEIGHTMARCH_HIGHWAY_TARGET(id, highway_targets) \
   if (isa == Isa::id) targets = highway_targets;
@@ -122,12 +122,17 @@ TraceRangeFn highway_kernel(Isa isa) {
 #undef HEIGHTMARCH_HIGHWAY_TARGET
   // Compiled by Highway, run by this CPU (Highway's check and ours).
   const std::int64_t target = targets & HWY_TARGETS & hwy::SupportedTargets();
-  if (target == 0 || !cpu_supports(isa)) return nullptr;
+  if (target == 0 || !cpu_supports(isa)) return -1;
   // The target's entry of Highway's dispatch table, as ChosenTarget::GetIndex() finds the best
   // one's (the last entry is its portable fallback, HWY_EMU128 or HWY_SCALAR).
   const std::int64_t bit =
       target & (HWY_EMU128 | HWY_SCALAR) ? HWY_CHOSEN_TARGET_MASK_SCALAR : HWY_CHOSEN_TARGET_SHIFT(target);
-  return HWY_DISPATCH_TABLE(TracePom)[hwy::Num0BitsBelowLS1Bit_Nonzero64(std::uint64_t(bit))];
+  return int(hwy::Num0BitsBelowLS1Bit_Nonzero64(std::uint64_t(bit)));
+}
+
+TraceRangeFn highway_kernel(Isa isa) {
+  const int entry = highway_dispatch_entry(isa);
+  return entry < 0 ? nullptr : HWY_DISPATCH_TABLE(TracePom)[entry];
 }
 
 }  // namespace heightmarch

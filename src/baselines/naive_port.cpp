@@ -83,9 +83,15 @@ namespace {
 // from hits.samples, as the naive port's.
 void trace_port(TraceRangeFn kernel, const DepthMap& map, const RayBatch& rays, float min_layers, float max_layers,
                 float scale, HitBuffers& hits) {
-  hits.resize(rays.size());
   const KernelTexture texture{map.texels.data(), map.width, map.height, map.width, Wrap::repeat};
-  const KernelParams params{min_layers, max_layers, 0, scale, false, {0.0f, 0.0f, 1.0f}};
+  trace_tiles(kernel, texture, KernelParams{min_layers, max_layers, 0, scale, false, {0.0f, 0.0f, 1.0f}}, rays, hits);
+}
+
+}  // namespace
+
+void trace_tiles(TraceRangeFn kernel, const KernelTexture& texture, const KernelParams& params, const RayBatch& rays,
+                 HitBuffers& hits) {
+  hits.resize(rays.size());
   const KernelRays kernel_rays{rays.tx.data(), rays.ty.data(), rays.vx.data(), rays.vy.data(), rays.vz.data()};
   const KernelHits out = kernel_hits(hits);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.tile_count(), 1), [&](const auto& tiles) {
@@ -95,11 +101,9 @@ void trace_port(TraceRangeFn kernel, const DepthMap& map, const RayBatch& rays, 
   });
 }
 
-}  // namespace
-
 void autovec_pom(const DepthMap& map, const RayBatch& rays, float min_layers, float max_layers, float scale, Isa isa,
                  HitBuffers& hits) {
-  if (!cpu_supports(isa)) throw InputError("ISA " + to_string(isa) + " is not supported by this CPU");
+  check_cpu_supports(isa, "the auto-vectorised port");
   trace_port(kernel_table(isa).autovec_pom, map, rays, min_layers, max_layers, scale, hits);
 }
 

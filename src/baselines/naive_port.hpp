@@ -6,12 +6,18 @@
 #include "heightmarch/hits.hpp"
 #include "heightmarch/isa.hpp"
 #include "heightmarch/rays.hpp"
+#include "kernels/kernel_abi.hpp"
 
 namespace heightmarch {
 
 // Traces every ray of the batch with the tutorial's POM loop (fixed or dynamic layer count).
 void naive_pom(const DepthMap& map, const RayBatch& rays, float min_layers, float max_layers, float scale,
                HitBuffers& hits);
+
+// A kernel of the dispatch boundary's signature over the batch's tiles (TBB), writing every hit:
+// the ports' and the structured Highway POM's loop.
+void trace_tiles(TraceRangeFn kernel, const KernelTexture& texture, const KernelParams& params, const RayBatch& rays,
+                 HitBuffers& hits);
 
 // The same port vectorised by the compiler over rays (autovec_port.hpp), built with the ISA's
 // flags, over the same tiles. Same u, v and samples as naive_pom. Throws InputError when the CPU

@@ -70,33 +70,58 @@ struct ClaimsData {
   std::vector<std::string> heightfields(bool large_maps = false) const;
 };
 
-enum class Verdict { holds, holds_partly, refuted, not_measured };
+// On the share of a claim's checks that pass (docs/claims.md#verdicts): holds (all), mostly holds (at
+// least kMostlyShare), holds partly (between), mostly refuted (at most 1 - kMostlyShare, some),
+// refuted (none).
+enum class Verdict { holds, mostly_holds, holds_partly, mostly_refuted, refuted, not_measured };
+inline constexpr double kMostlyShare = 0.75;
 std::string to_string(Verdict verdict);
+Verdict verdict_of(std::size_t passed, std::size_t checks);
 
 struct ClaimCheck {
-  std::string where;    // e.g. "bricks, 32 layers"
-  std::string figures;  // e.g. "POM 0.21 vs steep 1.30 texels"
+  std::string heightfield;
+  std::string at;        // where on it, e.g. "32 layers" (empty: the heightfield as a whole)
+  std::string figures;   // e.g. "POM 0.21 vs steep 1.30 texels"
   bool passed;
+  std::string deciding;  // the figure that decides, against its bound: "0.54x, against at most 0.5x"
+  std::string where() const;  // "bricks, 32 layers"
 };
 
 struct ClaimResult {
   std::string id, claim, source, rule;
   std::vector<ClaimCheck> checks;
   Verdict verdict = Verdict::not_measured;
+  std::size_t passed = 0;
+  // The verdict with its count and where it fails (or, mostly refuted, where it holds): "holds on
+  // 13 of 15 checks; fails at 8 layers on bricks (0.54x, against at most 0.5x) and toybox (...)".
+  std::string summary;
+  // A rule revised in this release: why, the previous rule's words, and its verdict on the same
+  // figures, shown beside the new one (never silently).
+  struct Previous {
+    std::string reason, rule, summary;
+    Verdict verdict = Verdict::not_measured;
+  };
+  std::optional<Previous> previous;
 };
 
 // A claim: its words and source, the rule it implements (fixed before any figure is seen), the
-// rows it reads on every heightfield (large-map rows only on the builtins) and what decides it.
+// rows it reads on every heightfield (large-map rows only on the builtins) and what decides it;
+// where its rule was revised, why and the previous rule.
 struct Claim {
   std::string id, claim, source, rule;
   std::vector<ClaimRow> rows;
   ClaimResult (*evaluate)(const Claim& claim, const ClaimsData& data);
+  struct Revision {
+    std::string reason, previous_rule;
+    ClaimResult (*previous)(const Claim& claim, const ClaimsData& data);
+  };
+  std::optional<Revision> revision = std::nullopt;
 };
 // C1-C10 and P1-P3, in order.
 const std::vector<Claim>& claims();
 
-// Applies every claim's rule to the figures: holds when every check passes, holds partly when
-// some do, refuted when none do, not measured without checks. Deterministic: the same figures
+// Applies every claim's rule to the figures: a verdict on the share of its checks that pass
+// (verdict_of), not measured without checks; a revised rule's previous verdict beside it. Deterministic: the same figures
 // give the same results (speeds never decide a verdict but P2's, a claim about time).
 std::vector<ClaimResult> evaluate_claims(const ClaimsData& data);
 
@@ -108,9 +133,10 @@ std::string compare_speeds(const ClaimFigure& a, const ClaimFigure& b);
 // then each claim's rule and checks.
 std::string claims_markdown(const std::vector<ClaimResult>& results, const std::string& provenance_line,
                             const std::string& configurations, const std::string& recommendation);
-// claims.json: {"format": "heightmarch-claims", "format_version": 2, "claims": [...]} (version 1
-// was the bare list).
-inline constexpr int kClaimsFormatVersion = 2;
+// claims.json: {"format": "heightmarch-claims", "format_version": 3, "claims": [...]} (version 1
+// was the bare list; version 3 added the count, the summary, each check's heightfield, place and
+// deciding figure, and a revised rule's previous verdict).
+inline constexpr int kClaimsFormatVersion = 3;
 std::string claims_json(const std::vector<ClaimResult>& results);
 
 }  // namespace heightmarch

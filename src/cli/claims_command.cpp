@@ -54,26 +54,28 @@ void write_claims(const std::string& dir, const ClaimsData& data, const PlanSett
       "Measured " + p.date + " on " + p.cpu + " (" + std::to_string(p.cores) + " cores), ISA " +
       to_string(settings.best_isa) + ", " + std::to_string(settings.threads) + " threads, commit " + p.commit + ", " +
       p.compiler + " (" + p.build_type + ").");
-  std::string heightfields;
-  for (const auto& hf : settings.heightfields)
+  std::string heightfields, clamped;
+  for (const auto& hf : settings.heightfields) {
     heightfields += (heightfields.empty() ? "" : ", ") + markdown_text(hf.label());
+    if (hf.reading.wrap == Wrap::clamp) clamped += (clamped.empty() ? "" : ", ") + markdown_text(hf.label());
+  }
   const std::string configurations =
       "Configurations: heightfields " + heightfields + " (builtins at " +
       std::to_string(settings.heightfields.front().resolution) + " x " +
       std::to_string(settings.heightfields.front().resolution) + "), scale " +
-      string_format("%g", settings.scale) + ", REPEAT, " + to_string(settings.filter) +
-      " filtering (docs/conventions.md#filters); on the default view at " +
-      std::to_string(settings.view_size) + " x " + std::to_string(settings.view_size) +
-      " pixels, view angles " +
-      string_format("%g to %g degrees", settings.near_degrees, settings.far_degrees) +
-      " (the same rows as the report's tables): " + claim_rows_text(ClaimView::default_view) +
+      string_format("%g", settings.scale) + ", REPEAT" + (clamped.empty() ? "" : " (" + clamped + ": CLAMP_TO_EDGE)") + ", " +
+      to_string(settings.filter) + " filtering (docs/conventions.md#filters); on the window " + describe(settings.window) +
+      " (docs/measures.md#view-sets; the same rows as the report's tables): " +
+      claim_rows_text(ClaimView::default_view) +
       "; on sweep views of " + std::to_string(settings.sweep_size) + " x " +
-      std::to_string(settings.sweep_size) + " rays: " + claim_rows_text(ClaimView::sweep) +
+      std::to_string(settings.sweep_size) + " rays" +
+      (settings.window.kind == ViewSpec::Kind::perspective && !settings.window.around ? "" : " seen around") +
+      ": " + claim_rows_text(ClaimView::sweep) +
       (settings.large_maps
            ? "; for P2, the builtins at " + std::to_string(kLargeMapSide) + " x " +
-                 std::to_string(kLargeMapSide) + " on the default view at " +
+                 std::to_string(kLargeMapSide) + " on the window at about " +
                  std::to_string(kLargeMapViewSide) + " x " + std::to_string(kLargeMapViewSide) +
-                 " pixels: " + claim_rows_text(ClaimView::large_map)
+                 " rays: " + claim_rows_text(ClaimView::large_map)
            : std::string()) +
       ". Errors are uv errors in "
       "texels against the exact intersection; sharp depth changes (|grad D| at the exact hit, top decile of "
@@ -89,7 +91,8 @@ void write_claims(const std::string& dir, const ClaimsData& data, const PlanSett
                                                             recommendation_markdown(recommendation)));
   write_file_atomically(dir + "/claims.json", claims_json(results));
   for (const ClaimResult& r : results)
-    std::printf("%-4s %-13s %s\n", r.id.c_str(), to_string(r.verdict).c_str(), r.claim.c_str());
+    std::printf("%-4s %-14s %s\n     %s%s\n", r.id.c_str(), to_string(r.verdict).c_str(), r.claim.c_str(),
+                r.summary.c_str(), r.previous ? (" (previous rule: " + to_string(r.previous->verdict) + ")").c_str() : "");
 }
 
 namespace {
@@ -97,7 +100,7 @@ namespace {
 struct ClaimsOptions {
   PlanOptions plan;
   RecommendationTarget target;
-  OutOptions out{"."};
+  OutOptions out;
   std::string isa;
   bool list = false;
 };
@@ -110,7 +113,8 @@ Command add_claims_command(CLI::App& app) {
   auto o = std::make_shared<ClaimsOptions>();
   add_plan_options(*command, o->plan, "the quick plan's heightfields and sizes");
   add_out_options(*command, o->out,
-                  "directory for claims.md, claims.json, measurements.json and recommendation.json");
+                  "directory for claims.md, claims.json, measurements.json and recommendation.json (default: a "
+                  "fresh results/<date>-<commit>-<time>-claims)");
   command->add_option("--isa", o->isa, isa_names() + " or auto");
   command->add_flag("--list", o->list, "list the claims (id, words, the rows each reads) and measure nothing");
   add_target_options(*command, o->target);
@@ -124,18 +128,26 @@ Command add_claims_command(CLI::App& app) {
       throw InputError("claims --filter takes one filter: the claims are read under one (suite compares filters)");
     settings.best_isa = select_isa(o->isa);
     validate(o->target);
-    RunDirectory dir(o->out.out, o->out.existing());  // checked and locked before the run
+    const std::vector<Configuration> plan = with_held_out(claims_plan(settings), settings);
+    MeasurementSession session;
+    session.load_depth_maps(plan);  // every file decoded once, before the run directory exists
+    // checked and locked before the run
+    RunDirectory dir(o->out.out.empty() ? "results/" + fresh_run_name(o->plan.quick, "claims") : o->out.out,
+                     o->out.existing());
     Progress progress("claims");
-    progress.stage("measuring " + std::to_string(settings.heightfields.size()) + " heightfields");
+    progress.stage("measuring " + std::to_string(plan.size()) + " configurations on " +
+                   std::to_string(settings.heightfields.size()) + " heightfields (" +
+                   std::to_string(plan_runs(plan, settings.repetitions)) + " runs) into " + dir.path());
     ClaimsCollector claims;
-    const MeasuredPlan run = measure_with_progress(claims_plan(settings), settings, progress,
-                                                   [&](const TracedRow& traced) { claims.observe(traced); });
+    const MeasuredPlan run = measure_with_progress(plan, settings, progress,
+                                                   [&](const TracedRow& traced) { claims.observe(traced); }, session);
     write_file_atomically(dir.path() + "/measurements.json", measurements_json(run, settings.name + " claims"));
     dir.finished("measurements.json");
     const Recommendation recommendation = recommend(candidates(run.rows), o->target);
     write_recommendation(dir.path(), recommendation);
     write_claims(dir.path(), claims.data(run.rows), settings, recommendation);
     dir.complete();
+    std::fprintf(stderr, "claims: done in %.0f s: %s/claims.md\n", progress.total_seconds(), dir.path().c_str());
     return 0;
   };
 }

@@ -2,6 +2,7 @@
 // The options trace and glsl share (what to trace, how, and where to), declared once on a CLI11
 // command and turned into one typed Configuration.
 #include <CLI/CLI.hpp>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -9,6 +10,11 @@
 #include "experiment/configuration.hpp"
 
 namespace heightmarch::cli {
+
+// The one range check of every numeric option: "--max-error: must be >= 0, not -1", "--scale: must
+// be in (0, 1], not 0". NaN and text that is no number are refused too. (CLI11's own Range writes
+// its bounds with std::to_string, DBL_MAX as 309 digits, and lets NaN through.)
+CLI::Validator in_range(double low, double high = std::numeric_limits<double>::infinity(), bool open_low = false);
 
 // --out (with `help`) and --replace on a command that writes results (trace, glsl, claims, suite),
 // declared once for all; the directory's guard is RunDirectory.
@@ -21,15 +27,31 @@ struct OutOptions {
 };
 void add_out_options(CLI::App& command, OutOptions& options, const std::string& help);
 
+// How depth map files are read and sampled (a MapReading): trace's map, or every --heightmap file
+// of suite and claims, whose entries may say otherwise for themselves (rock.png:channel=a).
+struct MapOptions {
+  std::string convention = "depth";
+  std::string channel;  // empty: the first
+  std::string wrap = "repeat";
+  bool allow_flat = false;
+};
+// What a map's entry may say for itself, for the help texts of --heightmap.
+inline constexpr const char* kMapEntryOptionsHelp =
+    "options, which win over --convention, --channel and --wrap: PATH:convention=height:channel=a:wrap=clamp";
+// `which`: what they apply to, for the help texts.
+void add_map_options(CLI::App& command, MapOptions& options, const std::string& which);
+MapReading map_reading(const MapOptions& options);
+
 struct TraceOptions {
   // The scene
   std::string heightmap = "builtin:bricks";
   int res = 512;
   int seed = 1;
-  std::string convention = "depth";
-  std::string channel;  // empty: the first
+  MapOptions map;  // its wrap is the technique's too
   std::string view = "default";
-  std::string size = "1024x1024";
+  std::string views;  // empty: around for the default view, single for a sweep
+  std::optional<std::uint32_t> views_seed;  // none: the window's selection seed
+  std::string size;   // empty: the window's own (views_size_help)
   std::string rays;
   int tile = kDefaultTileSize;
   // The technique
@@ -37,8 +59,7 @@ struct TraceOptions {
   std::string layers = "32";
   std::optional<int> refine;  // none: the technique's default (the registry's)
   double scale = 0.1;
-  std::string wrap = "repeat";
-  std::string filter = "bilinear";
+  std::string filter;  // empty: bilinear, or trilinear for the tutorial's scene
   bool discard = false;
   std::string light = "1,1,1";
   // The run
@@ -48,15 +69,16 @@ struct TraceOptions {
   bool json = false;
 };
 
+// --views on a command (trace, glsl, suite, claims, heightmarch-bench): the window a run measures.
+void add_views_option(CLI::App& command, std::string& views, const std::string& default_text);
+
 // Declares the options on a command; `exact_allowed`: --technique also takes "exact".
 void add_trace_options(CLI::App& command, TraceOptions& options, bool exact_allowed);
 
-// The configuration the options describe (kind exact for --technique exact when allowed).
+// The configuration the options describe (kind exact for --technique exact when allowed), and in
+// `layers_asked`, if given, --layers as asked (the configuration's technique may take one sample).
 // Throws InputError naming the option for values CLI11 cannot check on its own.
-Configuration trace_configuration(const TraceOptions& options, RunKind kind);
-
-// Reads every depth map file the plan names (each once), before the run: a bad one is one line.
-void check_depth_map_files(const std::vector<Configuration>& plan);
+Configuration trace_configuration(const TraceOptions& options, RunKind kind, LayerSpec* layers_asked = nullptr);
 
 // --threads 0 (the default) means all cores.
 int resolve_threads(int threads);

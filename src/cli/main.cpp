@@ -8,6 +8,7 @@
 
 #include "cli/commands.hpp"
 #include "heightmarch/error.hpp"
+#include "heightmarch/isa.hpp"
 #include "heightmarch/memory_budget.hpp"
 #include "io/provenance.hpp"
 
@@ -16,8 +17,11 @@ int main(int argc, char** argv) {
   CLI::App app("heightmarch: parallax-mapping techniques as SIMD packet kernels and as GLSL, measured "
                "against the exact ray/heightfield intersection",
                "heightmarch");
-  app.set_version_flag("--version", "heightmarch " HEIGHTMARCH_VERSION " (commit " + provenance().commit + ", " +
-                                        provenance().build_type + ")");
+  // The ISAs too: what a run here can measure (scripts/test reads them for its capped phase).
+  app.set_version_flag("--version", [] {
+    return "heightmarch " HEIGHTMARCH_VERSION " (commit " + provenance().commit + ", " + provenance().build_type +
+           ")\nISAs this CPU runs: " + runnable_isa_names();
+  });
   app.require_subcommand(1);
   std::map<const CLI::App*, cli::Command> commands;
   std::string memory_limit;
@@ -52,6 +56,9 @@ int main(int argc, char** argv) {
     if (message.empty() || argc < 2)
       message = "a command is required (trace, glsl, suite, claims, recommend, report; see --help)";
     std::fprintf(stderr, "heightmarch: %s\n", printable(message).c_str());
+    return 2;
+  } catch (const InputError& e) {  // --version's ISAs under a malformed HEIGHTMARCH_MAX_ISA
+    std::fprintf(stderr, "heightmarch: %s\n", e.what());
     return 2;
   }
   try {

@@ -11,7 +11,11 @@ namespace heightmarch::cli {
 void add_plan_options(CLI::App& command, PlanOptions& o, const std::string& quick_help) {
   command.add_flag("--quick", o.quick, quick_help);
   command.add_option("--heightmap", o.heightmap,
-                     "depth map files, comma-separated, measured beside the builtins");
+                     std::string("depth map files, comma-separated, measured beside the builtins; each may carry its "
+                                 "own ") + kMapEntryOptionsHelp);
+  add_map_options(command, o.map, "every --heightmap file");
+  for (const char* option : {"--convention", "--channel", "--wrap", "--allow-flat"})
+    command.get_option(option)->needs(command.get_option("--heightmap"));
   command
       .add_flag("--no-builtins", o.no_builtins,
                 "measure the --heightmap files alone, without the builtin heightfields")
@@ -20,22 +24,25 @@ void add_plan_options(CLI::App& command, PlanOptions& o, const std::string& quic
       .add_option("--threads", o.threads,
                   "thread counts, comma-separated (0: all cores; default: 1 and all cores)")
       ->delimiter(',')
-      ->check(CLI::Range(0, 1024));
+      ->check(in_range(0, 1024));
   command.add_option("--repetitions", o.repetitions, "timed repetitions per configuration (at least 5 for published figures)")
-      ->check(CLI::Range(1, 1000))
+      ->check(in_range(1, 1000))
       ->capture_default_str();
-  command.add_option("--scale", o.scale, "height scale s of every configuration, in (0, 1] (default 0.1)");
+  command.add_option("--scale", o.scale, "height scale s of every configuration (default 0.1)")
+      ->check(in_range(0, 1, true));
   command.add_option(
       "--view-angles", o.view_angles,
       "NEAR-FAR: the view angles from the normal, in degrees, that the default view spans from its near "
       "edge to its far edge (default 30-80); the sweeps cover the same span");
   command
       .add_option("--filter", o.filters,
-                  "the filter the run's figures are read with: bilinear (level 0, default) or trilinear (the mip "
-                  "chain, as shipped shaders read it); suite: a second, comma-separated, adds the technique x layers "
+                  "the filter the run's figures are read with: bilinear (level 0; the default) or trilinear (the "
+                  "mip chain, as shipped shaders read it; the default of --views tutorial, as the tutorial reads "
+                  "it); suite: a second, comma-separated, adds the technique x layers "
                   "matrix's accuracy under it, which the report sets beside the first's")
       ->delimiter(',')
       ->check(CLI::IsMember(filter_names()));
+  add_views_option(command, o.views, "around");
 }
 
 PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
@@ -48,22 +55,21 @@ PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
   if (o.no_builtins) settings.heightfields.clear();
   std::stringstream in(o.heightmap);
   for (std::string path; std::getline(in, path, ',');)
-    if (!path.empty()) settings.heightfields.push_back(parse_heightfield(path));
+    if (!path.empty()) settings.heightfields.push_back(parse_heightfield(path, 512, 1, map_reading(o.map)));
   if (settings.heightfields.empty()) throw InputError("--heightmap '" + o.heightmap + "' names no depth map");
   give_unique_labels(settings.heightfields);  // one label per map in every result
-  if (o.scale) {
-    if (!(*o.scale > 0 && *o.scale <= 1))
-      throw InputError("--scale " + std::to_string(*o.scale) + " must be in (0, 1]");
-    settings.scale = float(*o.scale);
-  }
+  if (o.scale) settings.scale = float(*o.scale);
   if (!o.view_angles.empty()) {
-    ViewSpec view;
-    parse_view_angles(o.view_angles, view);
-    settings.near_degrees = view.near_degrees;
-    settings.far_degrees = view.far_degrees;
-    settings.sweep_angles = sweep_angles(view.near_degrees, view.far_degrees);
+    parse_view_angles(o.view_angles, settings.window);
+    settings.sweep_angles = sweep_angles(settings.window.near_degrees, settings.window.far_degrees);
   }
+  // The window holds as many rays as the plan's frame, whichever it is.
+  const double rays = double(settings.window.width) * settings.window.height;
+  apply_views(o.views, settings.window);
+  size_views_for_rays(settings.window, rays);
+  // The tutorial's scene is read as the tutorial reads its depth map, unless asked otherwise.
   if (!o.filters.empty()) settings.filter = parse_filter(o.filters.front());
+  else if (settings.window.kind == ViewSpec::Kind::tutorial) settings.filter = Filter::trilinear;
   for (const std::string& name : o.filters) {
     const Filter filter = parse_filter(name);
     if (filter != settings.filter &&
@@ -77,15 +83,22 @@ PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
 }
 
 MeasuredPlan measure_with_progress(const std::vector<Configuration>& plan, const PlanSettings& settings,
-                                   Progress& progress, const std::function<void(const TracedRow&)>& on_traced) {
+                                   Progress& progress, const std::function<void(const TracedRow&)>& on_traced,
+                                   MeasurementSession& session) {
   MeasureOptions measure;
   measure.repetitions = settings.repetitions;
   measure.min_seconds = settings.min_seconds;
   measure.on_traced = on_traced;
   measure.progress = [&](const std::string& what, std::size_t done, std::size_t total) { progress.step(what, done, total); };
-  MeasuredPlan run = measure_plan(plan, measure);
+  MeasuredPlan run = measure_plan(plan, measure, session);
   progress.finish_line();
   return run;
+}
+
+MeasuredPlan measure_with_progress(const std::vector<Configuration>& plan, const PlanSettings& settings,
+                                   Progress& progress, const std::function<void(const TracedRow&)>& on_traced) {
+  MeasurementSession session;
+  return measure_with_progress(plan, settings, progress, on_traced, session);
 }
 
 }  // namespace heightmarch::cli

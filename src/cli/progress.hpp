@@ -1,6 +1,7 @@
 #pragma once
-// Progress of a long run: on a terminal, one updating line (what runs, how far, time left); a
-// line per stage otherwise (CI, logs).
+// Progress of a long run: on a terminal, one updating line (what runs, how many of the plan's runs
+// are done (plan_runs: the stage's header names that total), time left); a line per tenth
+// otherwise (CI, logs).
 #include <unistd.h>
 
 #include <chrono>
@@ -26,11 +27,11 @@ class Progress {
     const double seconds = seconds_since(stage_start_);
     const double left = done ? seconds / double(done) * double(total - done) : 0.0;
     if (interactive_) {
-      std::fprintf(stderr, "\r\033[K  [%zu/%zu] %.0f s left  %s", done, total, left, what.substr(0, 90).c_str());
+      std::fprintf(stderr, "\r\033[K  [%zu/%zu runs] %.0f s left  %s", done, total, left, what.substr(0, 85).c_str());
       std::fflush(stderr);
       pending_line_ = true;
     } else if (done * 10 / total != (done - 1) * 10 / total) {  // every tenth
-      std::fprintf(stderr, "  %zu/%zu done, %.0f s left\n", done, total, left);
+      std::fprintf(stderr, "  %zu/%zu runs done, %.0f s left\n", done, total, left);
     }
   }
 

@@ -3,21 +3,26 @@
 // prints the recommendation. Also the target options and recommendation.json of suite and claims.
 #include "cli/recommend_command.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/common_options.hpp"
 #include "cli/run_directory.hpp"
 #include "experiment/run_outputs.hpp"
 #include "heightmarch/error.hpp"
+#include "experiment/plan_runner.hpp"
 #include "heightmarch/memory_budget.hpp"
 #include "io/atomic_file.hpp"
+#include "io/json_writer.hpp"
 #include "util/input_file.hpp"
 #include "util/string_format.hpp"
 
@@ -39,17 +44,17 @@ void add_target_options(CLI::App& command, RecommendationTarget& t) {
   command
       .add_option("--max-error", t.uv_error_texels,
                   "the recommendation's bound on that percentile, in texels")
-      ->check(CLI::NonNegativeNumber)
+      ->check(in_range(0))
       ->capture_default_str();
   command
       .add_option_function<double>(
           "--max-wrong-surface", [&t](double percent) { t.wrong_surface_rate = percent / 100.0; },
           "the recommendation's bound on the share of rays on a wrong surface (uv error above one texel), in "
           "percent")
-      ->check(CLI::Range(0.0, 100.0))
+      ->check(in_range(0, 100))
       ->default_str(string_format("%g", 100.0 * t.wrong_surface_rate));
   command.add_option("--frames", t.frames, "frames the preprocessing (cone map, pyramid) is amortised over")
-      ->check(CLI::Range(1, 1 << 30))
+      ->check(in_range(1, 1 << 30))
       ->capture_default_str();
 }
 
@@ -130,22 +135,65 @@ class RowFields {
   std::string where_;
 };
 
-// The ISA named in a row, whichever machine measured it (no check that this CPU runs it).
-Isa isa_named(const std::string& name) {
-  for (Isa isa : all_isas())
-    if (to_string(isa) == name) return isa;
-  throw InputError("backend '" + name + "' is no ISA of " + isa_names());
+// A row's errors as the recommendation reads them, each figure with its 95% interval; a run
+// written before the intervals were (errors without confidence) gives each figure as its own
+// interval. Format 1 named the percentiles uv_p99.
+Accuracy accuracy_of(const RowFields& f, int format_version) {
+  const Json& errors = f.at("errors");
+  const Json& confidence = errors.is_object() && errors.contains("confidence") ? errors.at("confidence") : Json();
+  const auto interval = [&](const std::string& name, double value) -> Interval {
+    if (!confidence.is_object() || !confidence.contains(name)) return {value, value};
+    const Json& ci = confidence.at(name);
+    const std::string path = "errors.confidence." + name;
+    if (!ci.is_array() || ci.size() != 2) f.refuse(path, "is not a pair of numbers");
+    return {f.number(ci[0], path, 0.0, kLargest), f.number(ci[1], path, 0.0, kLargest)};
+  };
+  Accuracy a;
+  for (ErrorPercentile p : kErrorPercentiles) {
+    const std::string name = format_version >= 2 ? measure_name(p) : "uv_" + to_string(p);
+    a.uv_error[int(p)] = f.number(f.at(errors, name, "errors." + name), "errors." + name, 0.0, kLargest);
+    a.uv_error_ci[int(p)] = interval(measure_name(p), a.uv_error[int(p)]);
+  }
+  a.wrong_surface_rate =
+      f.number(f.at(errors, "wrong_surface_rate", "errors.wrong_surface_rate"), "errors.wrong_surface_rate", 0.0, 1.0);
+  a.wrong_surface_ci = interval("wrong_surface_rate", a.wrong_surface_rate);
+  a.rays = std::size_t(f.integer(f.at("rays"), "rays", 0, kMaxRays));
+  return a;
+}
+
+// What a row and its held-out twin share (everything but the view's seed), with a seed: a
+// candidate's key at its seed + 1 is its twin's at its own.
+std::string twin_key(const RowFields& f, std::int64_t seed) {
+  Json key = Json::array();
+  for (const char* field : {"kind", "backend", "threads", "technique", "layers", "refine", "scale", "wrap", "filter", "discard"})
+    key.push_back(f.optional(field));
+  key.push_back(f.at(f.at("heightfield"), "label", "heightfield.label"));
+  Json view = f.at("view");
+  if (!view.is_object()) f.refuse("view", "is not an object");
+  view.erase("seed");
+  view.erase("description");
+  key.push_back(view);
+  key.push_back(seed);
+  return key.dump();
+}
+
+std::int64_t view_seed(const RowFields& f) {
+  const Json& view = f.at("view");
+  return view.is_object() && view.contains("seed") ? f.integer(view.at("seed"), "view.seed", 0, 1 << 30) : 0;
 }
 
 // A row of measurements.json as a candidate, or none for a row the recommendation does not read
-// (the same rows candidates() takes from a run's Measurements). Format 1 named the percentiles uv_p99.
+// (the same rows candidates() takes from a run's Measurements): a technique row, timed, on the
+// window (no sweep, rays file or fresh rays).
 std::optional<Candidate> candidate_of(const RowFields& f, int format_version) {
   const std::string kind = f.text(f.at("kind"), "kind");
   if (kind != "trace" && kind != "glsl") return std::nullopt;
   if (!(f.has_purpose("matrix") || f.has_purpose("claims") || f.has_purpose("glsl"))) return std::nullopt;
   if (f.at("technique").is_null() || !f.optional("shader").is_null()) return std::nullopt;
   if (f.at("errors").is_null() || f.at("speed").is_null() || !f.at("failure").is_null()) return std::nullopt;
-  if (f.text(f.at(f.at("view"), "kind", "view.kind"), "view.kind") != "default") return std::nullopt;
+  const std::string view_kind = f.text(f.at(f.at("view"), "kind", "view.kind"), "view.kind");
+  const Json& fresh = f.at("view").is_object() && f.at("view").contains("fresh_rays") ? f.at("view").at("fresh_rays") : Json();
+  if (view_kind == "sweep" || view_kind == "rays" || !fresh.is_null()) return std::nullopt;
   const std::int64_t rays = f.integer(f.at("rays"), "rays", 0, kMaxRays);
   if (rays == 0) return std::nullopt;
   Candidate c;
@@ -166,13 +214,7 @@ std::optional<Candidate> candidate_of(const RowFields& f, int format_version) {
   c.layers = parse_layer_spec(f.text(f.at("layers"), "layers"));
   // Runs before filters read level 0.
   if (const Json& filter = f.optional("filter"); !filter.is_null()) c.filter = parse_filter(f.text(filter, "filter"));
-  const Json& errors = f.at("errors");
-  for (ErrorPercentile p : kErrorPercentiles) {
-    const std::string name = format_version >= 2 ? measure_name(p) : "uv_" + to_string(p);
-    c.uv_error[int(p)] = f.number(f.at(errors, name, "errors." + name), "errors." + name, 0.0, kLargest);
-  }
-  c.wrong_surface_rate = f.number(f.at(errors, "wrong_surface_rate", "errors.wrong_surface_rate"),
-                                  "errors.wrong_surface_rate", 0.0, 1.0);
+  c.selection = accuracy_of(f, format_version);
   const Json& samples = f.at("samples_per_ray");
   c.samples_per_ray = samples.is_null() ? 0.0 : f.number(samples, "samples_per_ray", 0.0, kLargest);
   c.rays = std::size_t(rays);
@@ -184,31 +226,165 @@ std::optional<Candidate> candidate_of(const RowFields& f, int format_version) {
   return c;
 }
 
-std::vector<Candidate> read_candidates(const std::string& path) {
+// A run's measurements.json and its format version.
+struct Measurements {
+  Json data;
+  int version = 0;
+};
+
+Measurements read_measurements(const std::string& path) {
   const std::uintmax_t size = check_input_file(path, "measurements.json", kMaxMeasurementsBytes);
   check_memory_budget(double(size) * kJsonParseFactor, path + ": reading measurements.json");
-  Json data;
+  Measurements m;
+  Json& data = m.data;
   try {
     data = Json::parse(read_input_file(path, "measurements.json", kMaxMeasurementsBytes));
   } catch (const Json::exception& e) {  // nlohmann refuses NaN, Infinity and 1e400 as not JSON
     throw InputError(path + ": not JSON (" + e.what() + ")");
   }
-  int version = 0;
   if (data.is_object() && data.value("format", "") == "heightmarch-measurements" &&
       data.contains("format_version"))
-    version = data["format_version"].is_number_integer() ? data["format_version"].get<int>() : 0;
+    m.version = data["format_version"].is_number_integer() ? data["format_version"].get<int>() : 0;
   else if (data.is_object() && data.value("schema", "") == "heightmarch-measurements/1")
-    version = 1;
-  if (version < 1 || version > kMeasurementsFormatVersion)
+    m.version = 1;
+  if (m.version < 1 || m.version > kMeasurementsFormatVersion)
     throw InputError(path + ": not a heightmarch measurements.json of format 1 to " +
                      std::to_string(kMeasurementsFormatVersion));
-  const Json& rows = data.contains("rows") ? data["rows"] : Json();
-  if (!rows.is_array()) throw InputError(path + ": rows is not a list");
+  if (!data.contains("rows") || !data["rows"].is_array()) throw InputError(path + ": rows is not a list");
+  return m;
+}
+
+// The candidates of a run, each joined to its held-out twin (a row with the held-out purpose whose
+// configuration is the candidate's on its window's next seed) where there is one.
+std::vector<Candidate> read_candidates(const Measurements& m, const std::string& path) {
+  const Json& rows = m.data["rows"];
   std::vector<Candidate> out;
-  for (std::size_t i = 0; i < rows.size(); ++i)
-    if (auto c = candidate_of(RowFields(rows[i], path + ": rows[" + std::to_string(i) + "]"), version))
+  std::vector<std::string> keys;  // each candidate's twin's key
+  std::map<std::string, std::pair<int, Accuracy>> held_out;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const RowFields f(rows[i], path + ": rows[" + std::to_string(i) + "]");
+    if (auto c = candidate_of(f, m.version)) {
       out.push_back(std::move(*c));
+      keys.push_back(twin_key(f, view_seed(f) + 1));
+    } else if (f.has_purpose("held-out") && !f.at("errors").is_null() && f.at("failure").is_null()) {
+      held_out[twin_key(f, view_seed(f))] = {int(f.integer(f.at("id"), "id", 0, std::numeric_limits<int>::max())),
+                                             accuracy_of(f, m.version)};
+    }
+  }
+  for (std::size_t i = 0; i < out.size(); ++i)
+    if (const auto it = held_out.find(keys[i]); it != held_out.end()) {
+      out[i].held_out_id = it->second.first;
+      out[i].held_out = it->second.second;
+    }
   return out;
+}
+
+// The outside check (docs/recommendation.md#the-outside-check): a row's configuration again, its
+// window's rays replaced by fresh ones drawn like the window's (every azimuth and position uniform,
+// the view angles from its own), for its accuracy.
+Configuration fresh_rays_configuration(const RowFields& f, std::size_t rays, std::uint32_t seed) {
+  Configuration c;
+  const bool glsl = f.text(f.at("kind"), "kind") == "glsl";
+  c.kind = glsl ? RunKind::glsl : RunKind::trace;
+  c.isa = glsl ? Isa::scalar : isa_named(f.text(f.at("backend"), "backend"));
+  c.threads = int(f.integer(f.at("threads"), "threads", 1, 1 << 20));
+  const Json& hf = f.at("heightfield");
+  c.heightfield = parse_heightfield(f.text(f.at(hf, "source", "heightfield.source"), "heightfield.source"),
+                                    int(f.integer(f.at(hf, "width", "heightfield.width"), "heightfield.width", 1, kMaxDepthMapSide)));
+  c.heightfield.name = f.text(f.at(hf, "label", "heightfield.label"), "heightfield.label");
+  TechniqueParams& p = c.params;
+  p.technique = parse_technique(f.text(f.at("technique"), "technique"));
+  p.layers = layers_for(p.technique, parse_layer_spec(f.text(f.at("layers"), "layers")));
+  p.refine = int(f.integer(f.at("refine"), "refine", 0, kMaxRefineSteps));
+  p.scale = float(f.number(f.at("scale"), "scale", 0.0, 1.0, true));
+  p.wrap = f.text(f.at("wrap"), "wrap") == "clamp" ? Wrap::clamp : Wrap::repeat;
+  p.discard = f.at("discard").is_boolean() && f.at("discard").get<bool>();
+  validate(p);
+  const Json& view = f.at("view");
+  const std::string kind = f.text(f.at(view, "kind", "view.kind"), "view.kind");
+  c.view = parse_view("default", int(f.integer(f.at(view, "width", "view.width"), "view.width", 1, kMaxViewSide)),
+                      int(f.integer(f.at(view, "height", "view.height"), "view.height", 1, kMaxViewSide)));
+  if (kind == "tutorial") {
+    apply_views("tutorial:" + std::to_string(f.integer(f.at(view, "views", "view.views"), "view.views", 1, kMaxSetViews)),
+                c.view);
+  } else if (kind == "poses") {
+    apply_views(f.text(f.at(view, "file", "view.file"), "view.file"), c.view);
+  } else if (kind == "default") {
+    c.view.near_degrees = float(f.number(f.at(view, "near_angle", "view.near_angle"), "view.near_angle", 0.0, kMaxViewDegrees));
+    c.view.far_degrees = float(f.number(f.at(view, "far_angle", "view.far_angle"), "view.far_angle", 0.0, kMaxViewDegrees));
+  } else {
+    f.refuse("view.kind", "is " + kind + ": no window to draw fresh rays like");
+  }
+  c.view.fresh_rays = rays;
+  c.view.seed = seed;
+  c.timed = false;
+  c.purposes = kPurposeCommand;
+  return c;
+}
+
+// Every choice of the recommendation measured on fresh rays: per backend, the rows of its choice
+// for all heightfields and on each, each configuration once; a table of the figures and their
+// intervals against the target's bounds, and outside-check.json in `out` if given.
+int outside_check(const Recommendation& recommendation, const Measurements& measurements, std::size_t rays,
+                  std::uint32_t seed, const std::string& out) {
+  std::map<int, const Json*> by_id;
+  for (const Json& row : measurements.data.at("rows"))
+    if (row.is_object() && row.contains("id") && row["id"].is_number_integer()) by_id[row["id"].get<int>()] = &row;
+  std::vector<Configuration> plan;
+  struct Checked {
+    std::string backend, heightfield, setting;
+    std::size_t config;
+  };
+  std::vector<Checked> checked;
+  for (const BackendRecommendation& b : recommendation.backends)
+    for (const Answer& a : b.per_heightfield) {
+      if (!a.choice) continue;
+      const int id = a.choice->rows.front().id;
+      const Configuration c =
+          fresh_rays_configuration(RowFields(*by_id.at(id), "measurements.json: row " + std::to_string(id)), rays, seed);
+      std::size_t index = std::find_if(plan.begin(), plan.end(), [&](const Configuration& p) { return p.same_measurement(c); }) - plan.begin();
+      if (index == plan.size()) plan.push_back(c);
+      checked.push_back({b.backend.name(), a.heightfield, a.choice->label(), index});
+    }
+  MeasureOptions options;
+  options.repetitions = 1;
+  options.min_seconds = 0;
+  const MeasuredPlan run = measure_plan(plan, options);
+  const RecommendationTarget& t = recommendation.target;
+  std::string text = string_format("Outside check at %s: each choice on %zu fresh rays (seed %u: every azimuth and entry "
+                                   "point uniform, the view angles drawn from the window's), against the exact "
+                                   "intersection; 95%% intervals:\n",
+                                   describe(t).c_str(), rays, seed);
+  JsonWriter json;
+  json.begin_object().value("format", "heightmarch-outside-check").value("format_version", 1);
+  json.value("target", describe(t)).value("rays", rays).value("seed", (long long)seed).begin_array("checks");
+  int failed = 0;
+  for (const Checked& k : checked) {
+    const Measurement& m = run.rows[k.config];
+    if (!m.errors) throw InputError(k.heightfield + " " + k.setting + ": not measured (" + m.failure + ")");
+    const Accuracy a = accuracy_of(*m.errors);
+    const double value = a.error(t.percentile);
+    const Interval ci = a.error_ci(t.percentile);
+    const bool meets = value <= t.uv_error_texels && a.wrong_surface_rate <= t.wrong_surface_rate;
+    const bool consistent = ci.low <= t.uv_error_texels && a.wrong_surface_ci.low <= t.wrong_surface_rate;
+    failed += !consistent;
+    text += string_format("  %s, %s: %s: %s %.3g (%.3g-%.3g) texel, wrong surface %.3g%% (%.3g-%.3g%%): %s\n",
+                          k.backend.c_str(), k.heightfield.c_str(), k.setting.c_str(), to_string(t.percentile).c_str(),
+                          value, ci.low, ci.high, 100 * a.wrong_surface_rate, 100 * a.wrong_surface_ci.low,
+                          100 * a.wrong_surface_ci.high,
+                          meets ? "meets the target" : consistent ? "on the bound (within the 95% interval)"
+                                                                   : "misses the target");
+    json.begin_object().value("backend", k.backend).value("heightfield", k.heightfield).value("setting", k.setting);
+    json.value("view", describe(m.config.view)).value(measure_name(t.percentile), value);
+    json.begin_array(measure_name(t.percentile) + "_ci").value("", ci.low).value("", ci.high).end_array();
+    json.value("wrong_surface_rate", a.wrong_surface_rate);
+    json.begin_array("wrong_surface_ci").value("", a.wrong_surface_ci.low).value("", a.wrong_surface_ci.high).end_array();
+    json.value("meets", meets).value("within_interval", consistent).end_object();
+  }
+  json.end_array().value("missed", failed).end_object();
+  std::fputs(text.c_str(), stdout);
+  if (!out.empty()) write_file_atomically(out + "/outside-check.json", json.str() + "\n");
+  return failed ? 1 : 0;
 }
 
 struct RecommendOptions {
@@ -216,6 +392,8 @@ struct RecommendOptions {
   RecommendationTarget target;
   std::string out;
   bool json = false;
+  std::size_t outside_rays = 0;
+  std::uint32_t outside_seed = 1;
 };
 
 }  // namespace
@@ -232,19 +410,32 @@ Command add_recommend_command(CLI::App& app) {
                       "directory to write recommendation.json into (the run's own, to add or replace its "
                       "recommendation, or any other)");
   command->add_flag("--json", o->json, "print recommendation.json instead of the summary");
+  command
+      ->add_option("--outside-check", o->outside_rays,
+                   "also trace each choice on this many fresh rays per map (every azimuth and entry point uniform, "
+                   "the view angles drawn from the run's window) against the exact intersection, and say whether it "
+                   "meets the target within its 95% interval (exit 1 where one misses); with --out, "
+                   "outside-check.json")
+      ->check(CLI::Range(std::size_t(1000), std::size_t(64) << 20));
+  command->add_option("--outside-seed", o->outside_seed, "the seed of the outside check's rays")
+      ->check(CLI::Range(1, 1 << 30))
+      ->capture_default_str();
   return [o] {
     validate(o->target);
     std::optional<RunDirectory> out;  // checked and locked before the run is read
     if (!o->out.empty()) out.emplace(o->out, RunDirectory::Existing::beside);
     std::string path = o->measurements;
     if (std::filesystem::is_directory(path)) path += "/measurements.json";
-    const Recommendation recommendation = recommend(read_candidates(path), o->target);
+    const Measurements measurements = read_measurements(path);
+    const Recommendation recommendation = recommend(read_candidates(measurements, path), o->target);
     if (recommendation.backends.empty())
       throw InputError(
           path + ": no timed technique rows of the technique x layers grid or the claims to recommend from");
     if (out) write_recommendation(out->path(), recommendation);
     std::printf(
         "%s", (o->json ? recommendation_json(recommendation) : recommendation_text(recommendation)).c_str());
+    if (o->outside_rays)
+      return outside_check(recommendation, measurements, o->outside_rays, o->outside_seed, out ? out->path() : "");
     return 0;
   };
 }

@@ -81,12 +81,12 @@ void RunDirectory::complete() {
   fs::remove(path_ + "/INCOMPLETE", ec);
 }
 
-std::string fresh_run_name(bool quick) {
+std::string fresh_run_name(bool quick, const std::string& kind) {
   const Provenance p = provenance();
   const std::time_t now = std::time(nullptr);
   char time[16];
   std::strftime(time, sizeof time, "%H%M%S", std::gmtime(&now));
-  return p.date.substr(0, 10) + "-" + p.commit + "-" + time + (quick ? "-quick" : "");
+  return p.date.substr(0, 10) + "-" + p.commit + "-" + time + (kind.empty() ? "" : "-" + kind) + (quick ? "-quick" : "");
 }
 
 }  // namespace heightmarch::cli

@@ -34,7 +34,8 @@ class RunDirectory {
   int lock_fd_ = -1;
 };
 
-// results/<UTC date>-<commit>-<HHMMSS>[-quick]: unique per run of a commit.
-std::string fresh_run_name(bool quick);
+// <UTC date>-<commit>-<HHMMSS>[-KIND][-quick] (KIND: a command other than the suite, "claims"):
+// unique per run of a commit, the name of a run's directory under results/.
+std::string fresh_run_name(bool quick, const std::string& kind = "");
 
 }  // namespace heightmarch::cli

@@ -7,6 +7,7 @@
 
 #include "exact/cell_quadratic.hpp"
 #include "kernels/pyramid_walk.hpp"
+#include "simd/isa_packets.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
@@ -19,13 +20,26 @@ namespace heightmarch::HEIGHTMARCH_ISA_NS {
 // become depth errors of the same size; eta is at least 5 times their sum (docs/conventions.md,
 // the exact intersection). The lane stops in a cell (depth: its entry) no
 // later than the first cell the exact path touches, or (depth 1) shows the path clear to depth 1.
+template <int W>
+vfloat<W> exact_margin(const TexelPath<W>& path) {
+  using F = vfloat<W>;
+  return F(0x1p-20f) * (abs(path.x0) + abs(path.y0)) + F(0x1p-18f) * (abs(path.dx) + abs(path.dy) + F(4.0f));
+}
+
+// The conservative walk of each ray of the packet, queued.
 template <int W, Addressing ADDRESSING>
-HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
+void queue_exact_bound(const KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray, WalkQueue& queue, int i) {
+  const TexelPath<W> path = texel_path(k, ray);
+  queue_walk(k, path.x0, path.y0, path.dx, path.dy, exact_margin(path), queue, i);
+}
+
+// The packet's outcome from its conservative walks.
+template <int W, Addressing ADDRESSING>
+HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray, const PyramidWalk<W>& walk) {
   using F = vfloat<W>;
   const TexelPath<W> path = texel_path(k, ray);
-  const F &x0 = path.x0, &y0 = path.y0, &dx = path.dx, &dy = path.dy;
-  const F eta = F(0x1p-20f) * (abs(x0) + abs(y0)) + F(0x1p-18f) * (abs(dx) + abs(dy) + F(4.0f));
-  const PyramidWalk<W> walk = walk_pyramid<true>(k, x0, y0, dx, dy, eta);
+  const F &dx = path.dx, &dy = path.dy;
+  const F eta = exact_margin(path);
   // Where the walk stopped past 0 it had shown depth - D < -eta + (its rounding, < eta / 2);
   // depth - D changes by at most 1 + |dx| + |dy| per unit depth, so the path is clear a little
   // further, nu: far enough that the double walk starts in the cell the pass stopped in, not at

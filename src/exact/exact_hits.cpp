@@ -43,7 +43,9 @@ void check_exact_path_lengths(const DepthMap& map, const RayBatch& rays, const T
 }
 
 ExactReference::ExactReference(const DepthMap& map, const TechniqueParams& params, Isa isa)
-    : map_(&map), params_(params), isa_(isa), intersector_(map, params.wrap), texture_(map, params.wrap) {}
+    : map_(&map), params_(params), isa_(isa), intersector_(map, params.wrap), texture_(map, params.wrap) {
+  check_cpu_supports(isa, "the exact reference");  // its float pass runs at the ISA
+}
 
 void ExactReference::run(const RayBatch& rays, LightVisibility visibility, HitBuffers& hits) const {
   check_exact_path_lengths(*map_, rays, params_);

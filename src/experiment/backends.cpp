@@ -1,11 +1,17 @@
 #include "experiment/backends.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <string>
 
 #include "baselines/naive_port.hpp"
+#include "baselines/structured_pom.hpp"
 #include "heightmarch/error.hpp"
 #include "heightmarch/glsl_runner.hpp"
 #include "heightmarch/metrics.hpp"
@@ -44,7 +50,9 @@ class TracerBackend : public Backend {
   void trace(const Configuration& c, Scene& scene, HitBuffers& hits, Measurement& row) override {
     const TraceStats stats = (tracer(c, scene).*run_)(scene.rays, hits);
     if (c.kind == RunKind::trace) row.simd_utilization = stats.simd_utilization();
-    if (c.isa == Isa::scalar) return;
+    // A held-out twin runs the kernel its candidate row checked on the window's every azimuth; a
+    // scalar trace to check it again would cost more than the twin itself.
+    if (c.isa == Isa::scalar || c.purposes == kPurposeHeldOut) return;
     const long long i = first_difference(scene.rays, hits, scene.reference(c.kind, params(c), run_));
     if (i >= 0)
       row.failure = to_string(c.kind) + " output differs from the scalar reference at ray " + std::to_string(i);
@@ -167,6 +175,34 @@ class PortBackend : public Backend {
   }
 };
 
+// The hand-written POM's structure on Google Highway's ops at the configuration's ISA's Highway
+// target, checked bit for bit against the technique's scalar reference (its hits are the same).
+class StructuredBackend : public Backend {
+ public:
+  void trace(const Configuration& c, Scene& scene, HitBuffers& hits, Measurement& row) override {
+    kernel(c, scene).run(scene.rays, hits);
+    const long long i = first_difference(scene.rays, hits, scene.reference(RunKind::trace, c.params, &Tracer::run));
+    if (i >= 0)
+      row.failure = "the structured Highway POM differs from the scalar reference at ray " + std::to_string(i);
+  }
+
+  std::function<TraceTime()> timer(const Configuration& c, Scene& scene) override {
+    const HighwayStructuredPom& k = kernel(c, scene);
+    return wall_timed([&k, &scene] { k.run(scene.rays, scene.scratch); });
+  }
+
+  void forget() override { kernels_.clear(); }
+
+ private:
+  const HighwayStructuredPom& kernel(const Configuration& c, Scene& scene) {
+    auto& slot = kernels_[&c];
+    if (!slot) slot = std::make_unique<HighwayStructuredPom>(scene.map, c.params, c.isa);
+    return *slot;
+  }
+
+  std::map<const Configuration*, std::unique_ptr<HighwayStructuredPom>> kernels_;
+};
+
 // The exact reference itself (its float pass at the configuration's ISA): its accuracy is zero by
 // definition; its speed is what is measured.
 class ExactBackend : public Backend {
@@ -189,6 +225,41 @@ class ExactBackend : public Backend {
   std::map<const Configuration*, std::unique_ptr<ExactReference>> references_;
 };
 
+// The machine's own speed, the control scripts/compare sets the other rows against: a loop no
+// commit of heightmarch changes, of a fixed number of steps per ray, over the batch's rays in
+// blocks on the configuration's threads. Each block is one chain of dependent 64-bit
+// multiply-xorshift steps: bound by the multiplier's latency, so no compiler flag or ISA can
+// vectorise, reorder or shorten it, and its time follows the cores' clock and sharing alone.
+class CalibrationBackend : public Backend {
+ public:
+  void trace(const Configuration&, Scene& scene, HitBuffers& hits, Measurement& row) override {
+    hits.resize(scene.rays.size());  // no hits: nothing to check or measure but the time
+    row.samples_known = false;
+  }
+
+  bool has_accuracy() const override { return false; }
+
+  std::function<TraceTime()> timer(const Configuration&, Scene& scene) override {
+    return wall_timed([this, rays = scene.rays.ray_count] { run(rays); });
+  }
+
+ private:
+  static constexpr std::size_t kStepsPerRay = 16, kBlockRays = 4096;
+
+  void run(std::size_t rays) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays, kBlockRays), [this](const tbb::blocked_range<std::size_t>& r) {
+      std::uint64_t x = r.begin() | 1;
+      for (std::size_t i = 0; i < r.size() * kStepsPerRay; ++i) {
+        x ^= x >> 29;
+        x *= 0xbf58476d1ce4e5b9ull;
+      }
+      sink_.fetch_xor(x, std::memory_order_relaxed);  // the chain's result is used: never optimised away
+    });
+  }
+
+  std::atomic<std::uint64_t> sink_{0};
+};
+
 }  // namespace
 
 std::unique_ptr<Backend> make_backend(RunKind kind) {
@@ -200,7 +271,9 @@ std::unique_ptr<Backend> make_backend(RunKind kind) {
     case RunKind::naive:
     case RunKind::autovec:
     case RunKind::highway: return std::make_unique<PortBackend>();
+    case RunKind::highway_structured: return std::make_unique<StructuredBackend>();
     case RunKind::exact: return std::make_unique<ExactBackend>();
+    case RunKind::calibration: return std::make_unique<CalibrationBackend>();
   }
   throw std::logic_error("no backend for run kind " + to_string(kind));
 }

@@ -19,7 +19,7 @@ std::string to_string(RunKind kind) { return std::string(info(kind).name); }
 std::string purpose_name(unsigned bit) {
   static const char* const names[kPurposeCount] = {"matrix", "isa",     "glsl",   "roofline", "naive",
                                                    "sweep",  "gallery", "claims", "command", "large-maps",
-                                                   "exact",  "filters"};
+                                                   "exact",  "held-out", "calibration", "filters"};
   for (unsigned i = 0; i < kPurposeCount; ++i)
     if (bit == (1u << i)) return names[i];
   return "?";
@@ -50,6 +50,16 @@ bool Configuration::same_measurement(const Configuration& o) const {
          threads == o.threads && shader == o.shader && same_gl;
 }
 
+std::string plan_line(const Configuration& c) {
+  std::string purposes;
+  for (unsigned i = 0; i < kPurposeCount; ++i)
+    if (c.purposes & (1u << i)) purposes += (purposes.empty() ? "" : ",") + purpose_name(1u << i);
+  const std::string layers = c.has_layers() ? to_string(c.params.layers) : "";
+  return c.heightfield.label() + "\t" + to_string(c.kind) + "\t" + c.label() + "\t" + layers + "\t" + c.backend() + "\t" +
+         std::to_string(c.threads) + "\t" + describe(c.view) + "\t" +
+         (c.has_filter() ? to_string(c.params.filter) : "-") + "\t" + (c.timed ? "timed" : "accuracy") + "\t" + purposes;
+}
+
 void add_to_plan(std::vector<Configuration>& plan, const Configuration& config) {
   for (Configuration& c : plan)
     if (c.same_measurement(config)) {
@@ -68,22 +78,29 @@ std::string benchmark_name(const Configuration& c, int map_width, int map_height
   std::string name = std::string(kind.benchmark_prefix) + "/heightfield:" + label;
   if (c.shader) name.append("/").append(c.shader->label());
   if (c.has_technique()) name += "/technique:" + to_string(c.params.technique);
-  if (c.kind != RunKind::exact) name += "/layers:" + to_string(c.params.layers);
+  if (c.has_layers()) name += "/layers:" + to_string(c.params.layers);
   name += "/isa:" + (kind.benchmark_isa_label.empty() ? c.backend() : std::string(kind.benchmark_isa_label)) +
           "/threads:" + std::to_string(c.threads);
   if (c.kind == RunKind::glsl) {
     const GlTarget gl = c.gl.path ? c.gl : resolved(c.gl);
     name += "/gl:" + to_string(*gl.path) + (gl.device.empty() ? "" : "@" + gl.device);
   }
-  // The default view at its default angles by its size alone, as names have always read.
-  const bool plain = c.view.kind == ViewSpec::Kind::perspective &&
-                     c.view.near_degrees == kDefaultNearDegrees && c.view.far_degrees == kDefaultFarDegrees;
-  name += plain ? "/view:" + std::to_string(c.view.width) + "x" + std::to_string(c.view.height)
-                : "/view:" + describe(c.view);
-  name += "/depth_map:" + std::to_string(map_width) + "x" + std::to_string(map_height);
+  name += "/view:" + benchmark_view(c.view) + "/depth_map:" + std::to_string(map_width) + "x" +
+          std::to_string(map_height);
   // Bilinear by no segment, as names have always read.
   if (takes_filter(c.kind) && c.params.filter != Filter::bilinear) name += "/filter:" + to_string(c.params.filter);
   return name;
+}
+
+std::string benchmark_view(const ViewSpec& view) {
+  // The single default view at its default angles by its size alone, as names have always read.
+  if (view.kind == ViewSpec::Kind::perspective && !view.around && view.seed == 0 && view.fresh_rays == 0 &&
+      view.near_degrees == kDefaultNearDegrees && view.far_degrees == kDefaultFarDegrees)
+    return std::to_string(view.width) + "x" + std::to_string(view.height);
+  // Others as described, in one field: "around:1024x1024", "tutorial:16:566x425".
+  std::string segment;
+  for (char ch : describe(view)) segment += ch == ' ' ? std::string(":") : ch == '/' ? std::string("%2F") : std::string(1, ch);
+  return segment;
 }
 
 }  // namespace heightmarch

@@ -31,7 +31,9 @@ namespace heightmarch {
   X(naive, "naive", "BM_NaivePort", true, false, "naive", "scalar-naive") /* the tutorial's POM in C++ */ \
   X(autovec, "autovec", "BM_AutoVecPort", true, true, "", "") /* that port vectorised by the compiler */ \
   X(highway, "highway", "BM_HighwayPort", true, true, "", "") /* that port written with Google Highway */ \
-  X(exact, "exact", "BM_Exact", false, true, "exact", "exact") /* the exact reference */
+  X(highway_structured, "highway-structured", "BM_HighwayStructured", true, true, "", "") /* POM's kernel on Highway's ops */ \
+  X(exact, "exact", "BM_Exact", false, true, "exact", "exact") /* the exact reference */      \
+  X(calibration, "calibration", "BM_Calibration", false, false, "calibration", "calibration") /* a fixed loop */
 
 #define HEIGHTMARCH_RUN_KIND_ENUM(id, ...) id,
 enum class RunKind { HEIGHTMARCH_RUN_KINDS(HEIGHTMARCH_RUN_KIND_ENUM) };
@@ -51,8 +53,9 @@ const RunKindInfo& info(RunKind kind);
 std::string to_string(RunKind kind);
 
 // Whether a run kind samples with its configuration's filter (TechniqueParams::filter): the
-// kernels, their anchors and GLSL do; the ports are the tutorial's code as written (level 0), and
-// the exact reference intersects the level-0 surface whatever the filter.
+// kernels, their anchors and GLSL do; the ports (and POM's structure on Highway's ops) are their
+// code as written (level 0), and the exact reference intersects the level-0 surface whatever the
+// filter.
 constexpr bool takes_filter(RunKind kind) {
   return kind == RunKind::trace || kind == RunKind::glsl || kind == RunKind::roofline || kind == RunKind::ceiling;
 }
@@ -70,9 +73,11 @@ enum Purpose : unsigned {
   kPurposeCommand = 1u << 8,   // asked for on the command line (trace, glsl)
   kPurposeLargeMaps = 1u << 9, // the papers' claim on large depth maps (P2)
   kPurposeExact = 1u << 10,    // the exact reference's own speed
-  kPurposeFilters = 1u << 11,  // the matrix's accuracy under the other filters asked for
+  kPurposeHeldOut = 1u << 11,  // a candidate's accuracy on the held-out view set (recommendation.hpp)
+  kPurposeCalibration = 1u << 12,  // the machine's own speed: the control of scripts/compare
+  kPurposeFilters = 1u << 13,  // the matrix's accuracy under the other filters asked for
 };
-inline constexpr unsigned kPurposeCount = 12;
+inline constexpr unsigned kPurposeCount = 14;
 inline constexpr unsigned kAllPurposes = (1u << kPurposeCount) - 1;
 std::string purpose_name(unsigned single_purpose_bit);
 
@@ -104,6 +109,12 @@ struct Configuration {
   // Whether a registry technique is part of the configuration (its run kind traces one, and it
   // is not a brought-in shader).
   bool has_technique() const { return info(kind).traces_technique && !shader; }
+  // Whether a layer spec is part of the configuration (the exact reference and the calibration
+  // loop take none).
+  bool has_layers() const { return kind != RunKind::exact && kind != RunKind::calibration; }
+  // Whether a filter is part of its row (params.filter; the ports' is bilinear, level 0): the
+  // exact reference is every filter's, and the calibration loop reads no map.
+  bool has_filter() const { return has_layers(); }
   // Whether the configuration runs code built for its ISA.
   bool on_isa() const { return info(kind).runs_at_isa; }
   // What traces, for people and result files: the technique ("pom"), the brought-in shader
@@ -114,6 +125,12 @@ struct Configuration {
   // The same measurement: equal in everything but timed and purposes.
   bool same_measurement(const Configuration& other) const;
 };
+
+// The configuration as one tab-separated line, as `suite --dry-run` and `heightmarch-bench
+// --hm_dry_run` list a plan: heightfield, kind, what traces, layers (none for exact), backend,
+// threads, view, filter ("-" where the row has none: Configuration::has_filter), "timed" or
+// "accuracy", purposes (comma-separated).
+std::string plan_line(const Configuration& config);
 
 // Adds a configuration to a plan, or merges it into the same measurement already there
 // (purposes join; timed if either is).
@@ -127,5 +144,8 @@ void add_to_plan(std::vector<Configuration>& plan, const Configuration& config);
 // (a path not given is resolved, by asking the worker). A trilinear configuration's name ends in
 // /filter:trilinear (bilinear has no segment, as before filters).
 std::string benchmark_name(const Configuration& config, int depth_map_width, int depth_map_height);
+// Its view: the single default view by its size ("1024x1024"), any other (a view set, a sweep) as
+// described in one field ("around:1024x1024", "around:1024x1024:seed:2"): another series.
+std::string benchmark_view(const ViewSpec& view);
 
 }  // namespace heightmarch

@@ -16,10 +16,8 @@ using Clock = std::chrono::steady_clock;
 
 class PlanRunner {
  public:
-  PlanRunner(const std::vector<Configuration>& plan, const MeasureOptions& options)
-      : plan_(plan), options_(options) {
-    for (const Configuration& c : plan) total_steps_ += 1 + (c.timed ? std::size_t(options.repetitions) : 0);
-  }
+  PlanRunner(const std::vector<Configuration>& plan, const MeasureOptions& options, MeasurementSession& session)
+      : plan_(plan), options_(options), session_(session), total_steps_(plan_runs(plan, options.repetitions)) {}
 
   MeasuredPlan run() {
     MeasuredPlan result;
@@ -107,19 +105,31 @@ class PlanRunner {
 
   const std::vector<Configuration>& plan_;
   const MeasureOptions& options_;
-  MeasurementSession session_;
-  std::size_t total_steps_ = 0, done_steps_ = 0;
+  MeasurementSession& session_;
+  std::size_t total_steps_, done_steps_ = 0;
   double other_ticks_ = 0, timed_seconds_ = 0;
 };
 
 }  // namespace
 
-MeasuredPlan measure_plan(const std::vector<Configuration>& plan, const MeasureOptions& options) {
+std::size_t plan_runs(const std::vector<Configuration>& plan, int repetitions) {
+  std::size_t runs = 0;
+  for (const Configuration& c : plan) runs += 1 + (c.timed ? std::size_t(repetitions) : 0);
+  return runs;
+}
+
+MeasuredPlan measure_plan(const std::vector<Configuration>& plan, const MeasureOptions& options,
+                          MeasurementSession& session) {
   if (options.repetitions < 1 || options.repetitions > 1000)
     throw InputError("repetitions " + std::to_string(options.repetitions) + " outside [1, 1000]");
   if (!(options.min_seconds >= 0.0 && options.min_seconds <= 60.0))
     throw InputError("time per repetition outside [0, 60] s");
-  return PlanRunner(plan, options).run();
+  return PlanRunner(plan, options, session).run();
+}
+
+MeasuredPlan measure_plan(const std::vector<Configuration>& plan, const MeasureOptions& options) {
+  MeasurementSession session;
+  return measure_plan(plan, options, session);
 }
 
 }  // namespace heightmarch

@@ -45,8 +45,22 @@ struct RecommendationBackend {
   friend bool operator==(const RecommendationBackend&, const RecommendationBackend&) = default;
 };
 
+// A row's accuracy as a target reads it: its uv error percentiles and wrong-surface rate, each with
+// its 95% interval (metrics.hpp; the max's is the max itself).
+struct Accuracy {
+  double uv_error[4] = {0, 0, 0, 0};  // by ErrorPercentile
+  Interval uv_error_ci[4];
+  double wrong_surface_rate = 0;
+  Interval wrong_surface_ci;
+  std::size_t rays = 0;
+  double error(ErrorPercentile p) const { return uv_error[int(p)]; }
+  Interval error_ci(ErrorPercentile p) const { return uv_error_ci[int(p)]; }
+};
+Accuracy accuracy_of(const ErrorSummary& errors);
+
 // A measured configuration as the recommendation reads it: the typed fields of a run's row (a
-// Measurement in the suite and claims, a row of measurements.json in `heightmarch recommend`).
+// Measurement in the suite and claims, a row of measurements.json in `heightmarch recommend`),
+// with its accuracy on the held-out view set where its twin was measured.
 struct Candidate {
   int id = 0;               // the row's id in its run
   std::string heightfield;  // its label, unique within the run
@@ -56,19 +70,18 @@ struct Candidate {
   Technique technique = Technique::pom;
   LayerSpec layers;
   Filter filter = Filter::bilinear;  // the run's: one filter per recommendation
-  double uv_error[4] = {0, 0, 0, 0};  // by ErrorPercentile
-  double wrong_surface_rate = 0;
+  Accuracy selection;               // on the window, where the choice is made
+  std::optional<Accuracy> held_out;  // on the held-out set, where it is checked
+  int held_out_id = -1;
   double samples_per_ray = 0;
-  std::size_t rays = 0;         // real rays of one trace of the view
-  std::vector<double> seconds;  // one trace of the view, per repetition (round)
+  std::size_t rays = 0;         // real rays of one trace of the window
+  std::vector<double> seconds;  // one trace of the window, per repetition (round)
   std::optional<double> precompute_seconds;
-
-  double error(ErrorPercentile p) const { return uv_error[int(p)]; }
 };
 
 // The rows a recommendation may choose from: timed, measured, unfailed technique rows on the
-// default view (CPU kernels and GLSL; brought-in shaders excluded) of the technique x layers grid,
-// the claims and GLSL.
+// window (CPU kernels and GLSL; brought-in shaders excluded) of the technique x layers grid, the
+// claims and GLSL, each joined to its held-out twin (purpose held-out) where there is one.
 std::vector<Candidate> candidates(const std::vector<Measurement>& rows);
 
 // A configuration's time: per round, the mean over its heightfields of the seconds per ray.
@@ -81,12 +94,36 @@ struct Pick {
   std::string label() const;  // "relief 16", "maxmip"
 };
 
-// The answer for one heightfield, or for all of them as one setting (heightfield empty).
+// How much slower one pick is than another, in the statistic that ranks them: the ratio of their
+// median times (so a slower pick never reads faster), and the spread of the per-round ratios
+// (including 1: not distinguishable on this machine).
+struct TimeRatio {
+  double ratio = 1;
+  Spread per_round;
+  bool distinguishable() const { return per_round.min > 1.0 || per_round.max < 1.0; }
+};
+
+// A setting that misses the target by little: the larger of its measures over their bounds
+// (1.08: 8% over), on the figures that decided (the held-out ones where they miss).
+struct NearMiss {
+  Pick pick;
+  double margin = 0;
+  std::string measure;  // "p99", "wrong surface"
+};
+// A near miss misses a bound by less than this share of it.
+inline constexpr double kNearMissShare = 0.2;
+
+// The answer for one heightfield, or for all of them as one setting (heightfield empty). A
+// setting meets the target where its figures on the window do and, where its held-out twins were
+// measured, theirs do too.
 struct Answer {
   std::string heightfield;                // empty: one setting for every heightfield
   int settings = 0, meeting = 0;          // configurations measured on it (on all), and meeting the target
+  bool held_out_checked = false;          // every setting's rows had their held-out twins
   std::optional<Pick> choice, runner_up;  // the fastest meeting the target, and the next
-  std::optional<Spread> runner_up_ratio;  // per round: the runner-up's time over the choice's
+  std::optional<TimeRatio> runner_up_ratio;  // the runner-up's time over the choice's
+  std::vector<Pick> failed_held_out;      // faster than the choice, met the target on the window only
+  std::optional<NearMiss> near_miss;      // the fastest that misses by less than kNearMissShare, if faster
   std::optional<Pick> closest;            // none meets: the one nearest to meeting it
 };
 
@@ -106,8 +143,9 @@ struct Recommendation {
 // InputError for a target validate() refuses, or candidates of more than one filter.
 Recommendation recommend(const std::vector<Candidate>& candidates, const RecommendationTarget& target);
 
-// recommendation.json (docs/measurements.md), and for people a few lines per backend.
-inline constexpr int kRecommendationFormatVersion = 1;
+// recommendation.json (docs/measurements.md; format 2 added the held-out figures, their intervals
+// and the near miss), and for people a few lines per backend.
+inline constexpr int kRecommendationFormatVersion = 2;
 std::string recommendation_json(const Recommendation& recommendation);
 std::string recommendation_text(const Recommendation& recommendation);
 std::string recommendation_markdown(const Recommendation& recommendation);  // a table, for claims.md

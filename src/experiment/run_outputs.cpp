@@ -43,9 +43,26 @@ void write_spread(JsonWriter& json, const std::string& key, const std::vector<do
   json.end_object();
 }
 
+void write_interval(JsonWriter& json, const std::string& key, const Interval& i) {
+  json.begin_array(key).value("", i.low).value("", i.high).end_array();
+}
+
+void write_groups(JsonWriter& json, const std::string& key, const std::vector<ErrorGroup>& groups) {
+  json.begin_array(key);
+  for (const ErrorGroup& g : groups) {
+    json.begin_object().value("from", g.from).value("to", g.to).value("rays", g.rays);
+    json.value("uv_error_p99", g.p99).value("wrong_surface_rate", g.wrong_surface_rate);
+    write_interval(json, "wrong_surface_ci", g.wrong_surface_ci);
+    json.end_object();
+  }
+  json.end_array();
+}
+
 // Every measure under its one name (error_measures: the shadow's two null for other techniques),
-// the rays discarded and, for layered techniques, the share within one layer step.
-void write_errors(JsonWriter& json, const std::optional<ErrorSummary>& errors) {
+// the rays discarded and, for layered techniques, the share within one layer step; the 95%
+// intervals of the percentiles and the wrong-surface rate; over a view set, the rays by azimuth
+// sector and view-angle band.
+void write_errors(JsonWriter& json, const std::optional<ErrorSummary>& errors, bool view_set) {
   if (!errors) {
     json.null("errors");
     return;
@@ -56,6 +73,16 @@ void write_errors(JsonWriter& json, const std::optional<ErrorSummary>& errors) {
   json.value("discarded", e.discarded);
   e.within_one_layer_step ? json.value("within_one_layer_step", *e.within_one_layer_step)
                           : json.null("within_one_layer_step");
+  json.begin_object("confidence");
+  write_interval(json, "uv_error_p50", e.p50_ci);
+  write_interval(json, "uv_error_p95", e.p95_ci);
+  write_interval(json, "uv_error_p99", e.p99_ci);
+  write_interval(json, "wrong_surface_rate", e.wrong_surface_ci);
+  json.value("effective_rays", e.effective_rays).end_object();
+  if (view_set) {
+    write_groups(json, "by_azimuth", e.by_azimuth);
+    write_groups(json, "by_view_angle", e.by_view_angle);
+  }
   json.end_object();
 }
 
@@ -70,14 +97,18 @@ void write_row(JsonWriter& json, const Measurement& m) {
       .value("label", c.heightfield.label())
       .value("source", c.heightfield.describe())
       .value("width", m.depth_map_width)
-      .value("height", m.depth_map_height)
-      .end_object();
+      .value("height", m.depth_map_height);
+  if (c.heightfield.builtin.empty())  // how the file was read (its wrap is the row's)
+    json.value("convention", to_string(c.heightfield.reading.convention)).value("channel", c.heightfield.reading.channel);
+  else
+    json.null("convention").null("channel");
+  json.end_object();
   c.has_technique() ? json.value("technique", to_string(c.params.technique)) : json.null("technique");
   if (c.shader)
     json.begin_object("shader").value("path", c.shader->path).value("label", c.shader->label()).end_object();
   else
     json.null("shader");
-  if (c.kind == RunKind::exact)
+  if (!c.has_layers())
     json.null("layers").null("min_layers").null("max_layers");
   else
     json.value("layers", to_string(c.params.layers))
@@ -96,26 +127,29 @@ void write_row(JsonWriter& json, const Measurement& m) {
         .end_object();
   else
     json.null("gl");
-  json.begin_object("view").value("kind", c.view.kind == ViewSpec::Kind::perspective ? "default"
-                                          : c.view.kind == ViewSpec::Kind::sweep     ? "sweep"
-                                                                                     : "rays");
-  if (c.view.kind == ViewSpec::Kind::rays_file)
-    json.value("width", std::size_t(m.rays)).value("height", 1).value("file", c.view.rays_path);
+  const ViewSpec& view = c.view;
+  const char* const kinds[] = {"default", "sweep", "rays", "tutorial", "poses"};  // by ViewSpec::Kind
+  json.begin_object("view").value("kind", kinds[int(view.kind)]);
+  if (view.kind == ViewSpec::Kind::rays_file)
+    json.value("width", std::size_t(m.rays)).value("height", 1).value("file", view.path);
   else
-    json.value("width", c.view.width).value("height", c.view.height);
-  if (c.view.kind == ViewSpec::Kind::sweep)
-    json.value("theta", double(c.view.theta_degrees)).value("phi", double(c.view.phi_degrees));
+    json.value("width", view.width).value("height", view.height);
+  if (view.kind == ViewSpec::Kind::poses) json.value("file", view.path);
+  json.value("around", view.around).value("views", view.views).value("seed", (long long)view.seed);
+  view.fresh_rays ? json.value("fresh_rays", view.fresh_rays) : json.null("fresh_rays");
+  if (view.kind == ViewSpec::Kind::sweep)
+    json.value("theta", double(view.theta_degrees)).value("phi", double(view.phi_degrees));
   else
     json.null("theta").null("phi");
-  if (c.view.kind == ViewSpec::Kind::perspective)
-    json.value("near_angle", double(c.view.near_degrees)).value("far_angle", double(c.view.far_degrees));
+  if (view.kind == ViewSpec::Kind::perspective)
+    json.value("near_angle", double(view.near_degrees)).value("far_angle", double(view.far_degrees));
   else
     json.null("near_angle").null("far_angle");
-  json.value("description", describe(c.view)).end_object();
+  json.value("description", describe(view)).end_object();
   json.value("scale", double(c.params.scale))
-      .value("wrap", c.params.wrap == Wrap::repeat ? "repeat" : "clamp");
+      .value("wrap", to_string(c.params.wrap));
   // The ports read level 0 (bilinear); the exact reference is every filter's.
-  c.kind == RunKind::exact ? json.null("filter") : json.value("filter", to_string(c.params.filter));
+  c.has_filter() ? json.value("filter", to_string(c.params.filter)) : json.null("filter");
   json.value("discard", c.params.discard)
       .value("rays", m.rays);
   if (m.samples_known)
@@ -127,7 +161,7 @@ void write_row(JsonWriter& json, const Measurement& m) {
   c.kind == RunKind::trace ? json.value("simd_utilization", m.simd_utilization)
                            : json.null("simd_utilization");
   m.precompute_seconds ? json.value("precompute_seconds", *m.precompute_seconds) : json.null("precompute_seconds");
-  write_errors(json, m.errors);
+  write_errors(json, m.errors, is_view_set(c.view));
   if (m.seconds.empty()) {
     json.null("speed");
   } else {
@@ -290,6 +324,21 @@ std::string summary_text(const Measurement& m) {
                 e.mean, e.rms, e.p50, e.p95, e.p99, e.max, 100.0 * e.wrong_surface_rate, e.depth_error_mean,
                 e.discarded);
   text += buf;
+  std::snprintf(buf, sizeof buf,
+                "  95%% intervals: p95 %.4g-%.4g, p99 %.4g-%.4g texels, wrong surface %.3g-%.3g%% (%.0f effective "
+                "rays of %zu)\n",
+                e.p95_ci.low, e.p95_ci.high, e.p99_ci.low, e.p99_ci.high, 100.0 * e.wrong_surface_ci.low,
+                100.0 * e.wrong_surface_ci.high, e.effective_rays, e.rays);
+  text += buf;
+  if (is_view_set(c.view))
+    for (const auto& [what, groups] : {std::pair{"azimuth of V", &e.by_azimuth}, std::pair{"view angle", &e.by_view_angle}}) {
+      text += std::string("  by ") + what + " (degrees: p99, wrong surface):";
+      for (const ErrorGroup& g : *groups) {
+        std::snprintf(buf, sizeof buf, " %g-%g: %.3g, %.2f%%;", g.from, g.to, g.p99, 100.0 * g.wrong_surface_rate);
+        text += buf;
+      }
+      text.back() = '\n';
+    }
   for (const HitChannelInfo& channel : hit_channels()) {
     const ErrorSummary::VisibilityError& v = e.visibility[std::size_t(channel.id)];
     if (!v.measured) continue;
@@ -388,6 +437,25 @@ void write_run_outputs(const std::string& dir, const TracedRow& traced) {
   csv.commit();
 }
 
+namespace {
+
+// The backends the rows measured (never those the CPU lacks), in display order: the ISA list's,
+// then the other run kinds' labels in the kinds' order.
+std::vector<std::string> measured_backends(const std::vector<Measurement>& rows) {
+  std::vector<std::string> order;
+  for (Isa isa : all_isas()) order.push_back(to_string(isa));
+  for (int k = 0; k < kRunKindCount; ++k)
+    if (const std::string_view label = info(RunKind(k)).backend_label; !label.empty()) order.emplace_back(label);
+  std::vector<std::string> measured;
+  for (const std::string& b : order)
+    if (std::find(measured.begin(), measured.end(), b) == measured.end() &&
+        std::any_of(rows.begin(), rows.end(), [&](const Measurement& m) { return m.config.backend() == b; }))
+      measured.push_back(b);
+  return measured;
+}
+
+}  // namespace
+
 std::string measurements_json(const MeasuredPlan& run, const std::string& plan_name) {
   JsonWriter json;
   json.begin_object()
@@ -418,14 +486,14 @@ std::string measurements_json(const MeasuredPlan& run, const std::string& plan_n
         .value("layered", t.layered)
         .value("color", std::string(t.color))
         .value("marker", std::string(t.marker))
+        .value("shape", t.shape == KernelShape::walk ? "walk" : "march")  // the report's walk table
         .value("description", std::string(t.description))
         .end_object();
   json.end_array().begin_array("measures");
   for (const ErrorMeasure& m : error_measure_list())
     json.begin_object().value("name", m.name).value("label", m.label).end_object();
   json.end_array().begin_array("backends");
-  for (Isa isa : all_isas()) json.value("", to_string(isa));
-  for (const char* b : {"glsl", "naive", "exact"}) json.value("", b);
+  for (const std::string& b : measured_backends(run.rows)) json.value("", b);
   json.end_array().begin_array("rows");
   for (const Measurement& m : run.rows) {
     json.begin_object();
@@ -450,12 +518,12 @@ std::string benchmark_json(const MeasuredPlan& run) {
       .value("heightmarch_build_type", p.build_type)
       .value("heightmarch_best_isa", to_string(best_isa()))
       .value("heightmarch_error_measures", error_measure_names());
-  // The sizes of the benchmark view and depth maps, when one size serves every timed row.
+  // The benchmark view (benchmark_view) and the depth maps' size, when one serves every timed row.
   std::string view, map;
   bool one_view = true, one_map = true;
   for (const Measurement& m : run.rows) {
     if (m.seconds.empty()) continue;
-    const std::string v = std::to_string(m.config.view.width) + "x" + std::to_string(m.config.view.height);
+    const std::string v = benchmark_view(m.config.view);
     const std::string d = std::to_string(m.depth_map_width) + "x" + std::to_string(m.depth_map_height);
     one_view = one_view && (view.empty() || view == v);
     one_map = one_map && (map.empty() || map == d);

@@ -1,25 +1,33 @@
 #include "experiment/suite_plan.hpp"
 
 #include <algorithm>
+#include <cmath>
+
+#include "baselines/naive_port.hpp"
+#include "baselines/structured_pom.hpp"
+#include "heightmarch/error.hpp"
 
 namespace heightmarch {
 namespace {
 
-std::vector<LayerSpec> specs(std::initializer_list<const char*> texts) {
+constexpr LayerSpec kThirtyTwo = LayerSpec::fixed(32), kEightToThirtyTwo = LayerSpec::range(8, 32);
+
+// Fixed counts, then 8-32.
+std::vector<LayerSpec> specs(std::initializer_list<int> counts) {
   std::vector<LayerSpec> out;
-  for (const char* t : texts) out.push_back(parse_layer_spec(t));
+  for (int n : counts) out.push_back(LayerSpec::fixed(n));
+  out.push_back(kEightToThirtyTwo);
   return out;
 }
 
-// A configuration on the default view of a heightfield, at the plan's scale.
+// A configuration on the plan's window over a heightfield, at the plan's scale.
 Configuration on_view(const PlanSettings& s, const HeightfieldSource& hf, RunKind kind, unsigned purposes) {
   Configuration c;
   c.kind = kind;
   c.heightfield = hf;
-  c.view = parse_view("default", s.view_size, s.view_size);
-  c.view.near_degrees = s.near_degrees;
-  c.view.far_degrees = s.far_degrees;
+  c.view = s.window;
   c.params.scale = s.scale;
+  c.params.wrap = hf.reading.wrap;  // as the map's user means it sampled
   c.params.filter = takes_filter(kind) ? s.filter : Filter::bilinear;
   c.isa = s.best_isa;
   c.threads = s.threads;
@@ -38,7 +46,23 @@ bool wanted(const PlanSettings& s, Technique t) {
   return std::find(s.techniques.begin(), s.techniques.end(), t) != s.techniques.end();
 }
 
+// A sweep at theta, seen around the surface unless the window is the single view, in tiles of
+// 1/16 of its side: each row of tiles takes 16 sectors of azimuth.
+ViewSpec sweep_for(const PlanSettings& s, double theta) {
+  ViewSpec view = sweep_view(theta, s.sweep_size, s.sweep_size);
+  if (s.window.kind == ViewSpec::Kind::perspective && !s.window.around) return view;
+  apply_views("around", view);
+  view.tile_size = std::clamp(s.sweep_size / 16, 1, kDefaultTileSize);
+  return view;
+}
+
 }  // namespace
+
+ViewSpec around_window(int side) {
+  ViewSpec view = parse_view("default", side, side);
+  apply_views("around", view);
+  return view;
+}
 
 PlanSettings suite_settings(bool quick, int threads) {
   PlanSettings s;
@@ -46,11 +70,11 @@ PlanSettings suite_settings(bool quick, int threads) {
   const int resolution = quick ? 256 : 512;
   for (const BuiltinHeightfield& b : builtin_heightfields())
     if (b.use == BuiltinHeightfield::in_quick_suite || (!quick && b.use == BuiltinHeightfield::in_suite))
-      s.heightfields.push_back(parse_heightfield(std::string("builtin:") + b.name, resolution));
+      s.heightfields.push_back(HeightfieldSource::of(b, resolution));
   for (const TechniqueInfo& t : techniques()) s.techniques.push_back(t.id);
-  s.layer_specs = quick ? specs({"8", "32", "8-32"}) : specs({"4", "8", "10", "16", "32", "64", "8-32"});
-  s.few_layer_specs = specs({"8", "32", "8-32"});
-  s.view_size = quick ? 256 : 1024;
+  s.layer_specs = quick ? specs({8, 32}) : specs({4, 8, 10, 16, 32, 64});
+  s.few_layer_specs = specs({8, 32});
+  s.window = around_window(quick ? 256 : 1024);
   s.sweep_size = quick ? 48 : 128;
   // 0 to 85 degrees: from the normal to nearly grazing, beyond the default view's 30-80
   s.sweep_angles = sweep_angles(0.0f, 85.0f);
@@ -74,6 +98,98 @@ std::vector<double> sweep_angles(float near_degrees, float far_degrees) {
   return angles;
 }
 
+void apply(const PlanFilters& f, PlanSettings& s) {
+  if (!f.techniques.empty()) {
+    s.techniques.clear();
+    for (const std::string& name : f.techniques) {
+      const Technique t = parse_technique(name);
+      if (!wanted(s, t)) s.techniques.push_back(t);
+    }
+  }
+  if (!f.layers.empty()) {
+    s.layer_specs.clear();
+    for (const std::string& text : f.layers) s.layer_specs.push_back(parse_layer_spec(text));
+    s.few_layer_specs = s.layer_specs;
+  }
+  if (!f.isas.empty()) {
+    std::vector<Isa> isas;
+    for (const std::string& name : f.isas) isas.push_back(parse_isa(name, "--isas"));
+    s.isas.clear();
+    for (Isa isa : all_isas())  // narrowest first, as the plan lists them
+      if (std::find(isas.begin(), isas.end(), isa) != isas.end()) s.isas.push_back(isa);
+    s.best_isa = s.isas.back();
+  }
+  if (!f.parts.empty()) {
+    s.parts = 0;
+    for (const std::string& name : f.parts) {
+      unsigned bit = 0;
+      for (unsigned i = 0; i < kPurposeCount; ++i)
+        if (purpose_name(1u << i) == name && (1u << i) != kPurposeCommand) bit = 1u << i;
+      if (!bit) throw InputError("unknown part '" + name + "' of the plan");
+      s.parts |= bit;
+    }
+  }
+}
+
+std::vector<std::string> part_names() {
+  std::vector<std::string> names;
+  for (unsigned i = 0; i < kPurposeCount; ++i)
+    if ((1u << i) != kPurposeCommand) names.push_back(purpose_name(1u << i));
+  return names;
+}
+
+std::vector<Configuration> benchmark_plan(const PlanSettings& settings) {
+  std::vector<Configuration> timed;
+  for (const Configuration& c : suite_plan(settings))
+    if (c.timed) timed.push_back(c);
+  return timed;
+}
+
+ViewSpec gallery_view(const PlanSettings& s) {
+  ViewSpec view = parse_view("default", s.gallery_width, s.gallery_height);
+  view.near_degrees = s.window.kind == ViewSpec::Kind::perspective ? s.window.near_degrees : kDefaultNearDegrees;
+  view.far_degrees = s.window.kind == ViewSpec::Kind::perspective ? s.window.far_degrees : kDefaultFarDegrees;
+  return view;
+}
+
+std::vector<Configuration> recommended_gallery_plan(const Recommendation& recommendation, const PlanSettings& s,
+                                                    const std::vector<Configuration>& measured) {
+  std::vector<Configuration> out;
+  const auto add = [&](Configuration c) {
+    c.view = gallery_view(s);
+    c.timed = false;
+    if (std::none_of(measured.begin(), measured.end(), [&](const Configuration& m) { return m.same_measurement(c); }))
+      add_to_plan(out, c);
+  };
+  for (const BackendRecommendation& b : recommendation.backends)
+    for (const Answer& a : b.per_heightfield) {
+      if (!a.choice) continue;
+      const auto hf = std::find_if(s.heightfields.begin(), s.heightfields.end(),
+                                   [&](const HeightfieldSource& h) { return h.label() == a.heightfield; });
+      if (hf == s.heightfields.end()) continue;
+      add(with_technique(on_view(s, *hf, RunKind::exact, kPurposeGallery), Technique::pom, kThirtyTwo));
+      add(with_technique(on_view(s, *hf, RunKind::trace, kPurposeGallery), a.choice->technique, a.choice->layers));
+    }
+  return out;
+}
+
+std::vector<Configuration> with_held_out(std::vector<Configuration> plan, const PlanSettings& s) {
+  if (!(s.parts & kPurposeHeldOut)) return plan;
+  const std::size_t candidates = plan.size();
+  for (std::size_t i = 0; i < candidates; ++i) {
+    const Configuration& c = plan[i];
+    if (!(c.purposes & (kPurposeMatrix | kPurposeGlsl | kPurposeClaims)) || !c.has_technique() ||
+        !(c.kind == RunKind::trace || c.kind == RunKind::glsl) || !(c.view == s.window))
+      continue;
+    Configuration twin = c;
+    twin.view = held_out_view(c.view);
+    twin.timed = false;
+    twin.purposes = kPurposeHeldOut;
+    add_to_plan(plan, twin);
+  }
+  return plan;
+}
+
 std::vector<Configuration> claims_plan(const PlanSettings& s) {
   std::vector<Configuration> plan;
   // A claim row on a heightfield: default-view rows timed (claims show speeds beside costs, and
@@ -84,12 +200,12 @@ std::vector<Configuration> claims_plan(const PlanSettings& s) {
         if (row.view != view) continue;
         Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeClaims), row.technique, row.layers);
         if (view == ClaimView::sweep) {
-          c.view = sweep_view(row.theta, s.sweep_size, s.sweep_size);
+          c.view = sweep_for(s, row.theta);
           c.timed = false;
         }
         if (view == ClaimView::large_map) {
           c.heightfield.resolution = kLargeMapSide;
-          c.view.width = c.view.height = kLargeMapViewSide;
+          size_views_for_rays(c.view, double(kLargeMapViewSide) * kLargeMapViewSide);
           c.purposes = kPurposeLargeMaps;
         }
         add_to_plan(plan, c);
@@ -107,13 +223,13 @@ std::vector<Configuration> claims_plan(const PlanSettings& s) {
 
 std::vector<Configuration> suite_plan(const PlanSettings& s) {
   std::vector<Configuration> plan;
-  const LayerSpec pom32 = parse_layer_spec("32");
   for (const HeightfieldSource& hf : s.heightfields) {
     // Technique x layers at the best ISA and all threads, and the same as GLSL; adjacent, so the
-    // CPU/GLSL pairs of a round are timed close together.
+    // CPU/GLSL pairs of a round are timed close together. Asked for, the matrix at every other
+    // ISA and thread count too.
     for (Technique technique : s.techniques)
       for (const LayerSpec& layers :
-           info(technique).layered ? s.layer_specs : std::vector<LayerSpec>{LayerSpec{}}) {
+           info(technique).layered ? s.layer_specs : std::vector<LayerSpec>{LayerSpec::fixed(1)}) {
         const TechniqueInfo& t = info(technique);
         add_to_plan(plan, with_technique(on_view(s, hf, RunKind::trace, kPurposeMatrix), t.id, layers));
         if (s.glsl) add_to_plan(plan, with_technique(on_view(s, hf, RunKind::glsl, kPurposeGlsl), t.id, layers));
@@ -123,16 +239,23 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
           c.timed = false;
           add_to_plan(plan, c);
         }
+        if (s.matrix_everywhere)
+          for (int threads : s.thread_counts)
+            for (Isa isa : s.isas) {
+              Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeMatrix), t.id, layers);
+              c.isa = isa;
+              c.threads = threads;
+              add_to_plan(plan, c);
+            }
       }
     // The registry's searches at 32 layers at every ISA and thread count (each against
-    // llvmpipe); POM-32 with its anchors: the roofline and the
-    // compute ceiling, the naive port and its auto-vectorised form; and the exact reference at
-    // the best ISA.
+    // llvmpipe); POM-32 with its anchors: the roofline and the compute ceiling, the naive port,
+    // its auto-vectorised and its Highway forms; and the exact reference at the best ISA.
     for (int threads : s.thread_counts) {
       for (Isa isa : s.isas) {
         for (const TechniqueInfo& t : techniques()) {
           if (!t.search || !wanted(s, t.id)) continue;
-          Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeIsa), t.id, pom32);
+          Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeIsa), t.id, kThirtyTwo);
           c.isa = isa;
           c.threads = threads;
           add_to_plan(plan, c);
@@ -141,23 +264,33 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
           Configuration roofline = on_view(s, hf, ceiling, kPurposeRoofline);
           roofline.isa = isa;
           roofline.threads = threads;
-          roofline.params.layers = pom32;
+          roofline.params.layers = kThirtyTwo;
           add_to_plan(plan, roofline);
         }
-        Configuration autovec = with_technique(on_view(s, hf, RunKind::autovec, kPurposeNaive), Technique::pom, pom32);
-        autovec.isa = isa;
-        autovec.threads = threads;
-        add_to_plan(plan, autovec);
+        // The ports at the ISA: vectorised by the compiler, and, where this build has Google Highway
+        // for the ISA, written with it (the naive port, and the hand-written kernel's structure).
+        for (RunKind port : {RunKind::autovec, RunKind::highway, RunKind::highway_structured}) {
+          if (port == RunKind::highway && !(s.highway && highway_port_runs(isa))) continue;
+          if (port == RunKind::highway_structured && !(s.highway && highway_structured_runs(isa))) continue;
+          Configuration c = with_technique(on_view(s, hf, port, kPurposeNaive), Technique::pom, kThirtyTwo);
+          c.isa = isa;
+          c.threads = threads;
+          add_to_plan(plan, c);
+        }
       }
-      Configuration exact = with_technique(on_view(s, hf, RunKind::exact, kPurposeExact), Technique::pom, pom32);
+      Configuration exact = with_technique(on_view(s, hf, RunKind::exact, kPurposeExact), Technique::pom, kThirtyTwo);
       exact.threads = threads;
       add_to_plan(plan, exact);
-      for (const char* layers : {"32", "8-32"}) {
-        Configuration naive = with_technique(on_view(s, hf, RunKind::naive, kPurposeNaive), Technique::pom,
-                                             parse_layer_spec(layers));
+      for (const LayerSpec& layers : {kThirtyTwo, kEightToThirtyTwo}) {
+        Configuration naive = with_technique(on_view(s, hf, RunKind::naive, kPurposeNaive), Technique::pom, layers);
         naive.threads = threads;
         add_to_plan(plan, naive);
       }
+      // The control of every speed: a fixed loop in the same rounds as the scene's timed rows.
+      Configuration calibration = on_view(s, hf, RunKind::calibration, kPurposeCalibration);
+      calibration.threads = threads;
+      calibration.params.layers = kThirtyTwo;
+      add_to_plan(plan, calibration);
       if (s.glsl && threads != s.threads)  // llvmpipe at fewer threads too, for a few layer specs
         for (Technique technique : s.techniques)
           for (const LayerSpec& layers : s.few_layer_specs) {
@@ -175,7 +308,7 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
         if (writes_visibility(t)) continue;  // its own measure is against the light, not the hit
         for (const LayerSpec& layers : s.few_layer_specs) {
           Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeSweep), t.id, layers);
-          c.view = sweep_view(theta, s.sweep_size, s.sweep_size);
+          c.view = sweep_for(s, theta);
           c.timed = false;
           add_to_plan(plan, c);
           if (!t.layered) break;
@@ -184,23 +317,22 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
   }
   // The gallery: the tutorial's comparison collage, with numbers, on the first heightfield.
   const HeightfieldSource& first = s.heightfields.front();
-  auto gallery = [&](RunKind kind, Technique technique, const char* layers) {
-    Configuration c = with_technique(on_view(s, first, kind, kPurposeGallery), technique, parse_layer_spec(layers));
-    c.view.width = s.gallery_width;
-    c.view.height = s.gallery_height;
+  auto gallery = [&](RunKind kind, Technique technique, const LayerSpec& layers) {
+    Configuration c = with_technique(on_view(s, first, kind, kPurposeGallery), technique, layers);
+    c.view = gallery_view(s);
     c.timed = false;
     add_to_plan(plan, c);
   };
-  gallery(RunKind::exact, Technique::pom, "32");
-  for (Technique t : s.techniques)
-    gallery(RunKind::trace, t, writes_visibility(info(t)) ? "32" : "10");  // a shadow from a close hit
-  if (wanted(s, Technique::pom)) gallery(RunKind::trace, Technique::pom, "32");
+  gallery(RunKind::exact, Technique::pom, kThirtyTwo);
+  for (Technique t : s.techniques)  // a shadow from a close hit
+    gallery(RunKind::trace, t, writes_visibility(info(t)) ? kThirtyTwo : LayerSpec::fixed(10));
+  if (wanted(s, Technique::pom)) gallery(RunKind::trace, Technique::pom, kThirtyTwo);
   for (const Configuration& c : claims_plan(s)) add_to_plan(plan, c);
   // The parts asked for: a configuration stays for the purposes it serves among them.
   std::vector<Configuration> kept;
   for (Configuration& c : plan)
     if ((c.purposes &= s.parts) != 0) kept.push_back(std::move(c));
-  return kept;
+  return with_held_out(std::move(kept), s);
 }
 
 }  // namespace heightmarch

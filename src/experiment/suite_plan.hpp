@@ -6,8 +6,12 @@
 
 #include "claims/claims.hpp"
 #include "experiment/configuration.hpp"
+#include "experiment/recommendation.hpp"
 
 namespace heightmarch {
+
+// The default view of side x side pixels seen around the surface, at the default span.
+ViewSpec around_window(int side);
 
 struct PlanSettings {
   std::string name;                            // "default", "quick"
@@ -22,9 +26,11 @@ struct PlanSettings {
   // effect the run shows: the technique x layers matrix under each, accuracy only (kPurposeFilters).
   Filter filter = Filter::bilinear;
   std::vector<Filter> compared_filters;
-  float near_degrees = kDefaultNearDegrees;  // the default view's span of view angles
-  float far_degrees = kDefaultFarDegrees;
-  int view_size = 1024;                        // default view side, pixels
+  // The window of the rows on the default view (the matrix, the searches at every ISA, GLSL, the
+  // anchors, the claims): the default view turned around the surface unless asked otherwise
+  // (--views), at its span of view angles; its held-out set checks the recommendation's candidates
+  // (docs/measures.md#view-sets). Sweeps are turned around too, unless the window is single.
+  ViewSpec window = around_window(1024);
   int sweep_size = 128;                        // sweep views: side, pixels
   std::vector<double> sweep_angles;            // degrees
   int gallery_width = 512, gallery_height = 384;
@@ -38,7 +44,28 @@ struct PlanSettings {
   int repetitions = 5;
   double min_seconds = 0.04;                   // per repetition
   bool large_maps = true;                      // P2's rows on the builtins at kLargeMapSide
+  // heightmarch-bench's: POM-32 written with Google Highway (the naive port beside its
+  // auto-vectorised form, and the hand-written kernel's structure), at every ISA it runs at
+  // (naive_port.hpp, structured_pom.hpp; the suite's report and history do not tell
+  // its rows from the trace rows of the same backend yet), and the matrix at every ISA and thread
+  // count (the regression tools time layer counts at several ISAs).
+  bool highway = false;
+  bool matrix_everywhere = false;
 };
+
+// The candidates a user names (suite's --techniques, --layers, --isas, --parts and
+// heightmarch-bench's --hm_ twins), each checked against its list and turned into typed values
+// once, here: the techniques in the order given (repeats dropped), the layer specs as the matrix's
+// and the sweeps' and GLSL's at fewer threads, the ISAs narrowest first (the widest is the
+// matrix's; each one the CPU must run), the parts. An empty list leaves its setting as it was.
+// Throws InputError.
+struct PlanFilters {
+  std::vector<std::string> techniques, layers, isas, parts;
+};
+void apply(const PlanFilters& filters, PlanSettings& settings);
+
+// The purposes a user may leave out or keep: every one but `command` (trace and glsl's).
+std::vector<std::string> part_names();
 
 // The default or quick settings: that plan's builtins, every technique, every ISA the CPU runs,
 // one thread and `threads` (all cores).
@@ -48,13 +75,31 @@ PlanSettings suite_settings(bool quick, int threads);
 std::vector<double> sweep_angles(float near_degrees, float far_degrees);
 
 // Everything a suite run measures: the matrix, POM-32 at every ISA and thread count, GLSL, the
-// roofline, the naive port, sweeps, the gallery, the claims' rows and the matrix's accuracy
-// under the compared filters.
+// roofline, the naive port, the calibration loop, sweeps, the gallery, the claims' rows and the
+// matrix's accuracy under the compared filters.
 std::vector<Configuration> suite_plan(const PlanSettings& settings);
 
-// The claims' rows alone (what `heightmarch claims` runs): every row each claim declares
-// (claims.hpp) on every heightfield, sweeps untimed, and with large_maps the large-map rows on
-// the builtins at kLargeMapSide.
+// What heightmarch-bench times: the timed configurations of suite_plan(settings), in its order.
+std::vector<Configuration> benchmark_plan(const PlanSettings& settings);
+
+// The plan and, where its parts take them, the held-out twins of its candidates (its technique
+// rows on the window with the matrix, GLSL or claims purpose): each the same configuration on the
+// window's held-out set, for its accuracy only (purpose held-out).
+std::vector<Configuration> with_held_out(std::vector<Configuration> plan, const PlanSettings& settings);
+
+// The gallery's view: one perspective view of gallery_width x gallery_height at the window's span
+// (a picture of one camera, not a set's patchwork).
+ViewSpec gallery_view(const PlanSettings& settings);
+
+// What to ship, seen: on every heightfield with a recommendation, its exact render and each declared
+// backend's recommended configuration there (by the CPU kernel at the plan's best ISA), on the
+// gallery's view, for their images; none that `measured` already holds.
+std::vector<Configuration> recommended_gallery_plan(const Recommendation& recommendation, const PlanSettings& settings,
+                                                    const std::vector<Configuration>& measured);
+
+// The claims' rows alone (what `heightmarch claims` runs, with_held_out): every row each claim
+// declares (claims.hpp) on every heightfield, sweeps untimed, and with large_maps the large-map
+// rows on the builtins at kLargeMapSide.
 std::vector<Configuration> claims_plan(const PlanSettings& settings);
 
 }  // namespace heightmarch

@@ -67,10 +67,39 @@ std::string map_locations(const std::string& line, const std::string& path) {
   return out;
 }
 
+// The line (from 1) of a definition of main() ("void main(", outside // comments), or 0: a whole
+// fragment shader rather than the function the harness calls. Scanned by hand, as above.
+std::size_t main_definition_line(const std::string& text) {
+  std::size_t line = 1, start = 0;
+  // One line per pass, as in user_source.
+  while (start < text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    std::string code = text.substr(start, end - start);
+    code = code.substr(0, code.find("//"));
+    for (std::size_t at = code.find("main"); at != std::string::npos; at = code.find("main", at + 1)) {
+      std::size_t after = at + 4, before = at;
+      while (after < code.size() && (code[after] == ' ' || code[after] == '\t')) ++after;
+      while (before > 0 && (code[before - 1] == ' ' || code[before - 1] == '\t')) --before;
+      const bool word = (at == 0 || !is_word(code[at - 1])) && (at + 4 == code.size() || !is_word(code[at + 4]));
+      if (word && after < code.size() && code[after] == '(' && before >= 4 && code.compare(before - 4, 4, "void") == 0 &&
+          (before == 4 || !is_word(code[before - 5])))
+        return line;
+    }
+    start = end + 1;
+    ++line;
+  }
+  return 0;
+}
+
 }  // namespace
 
 std::string user_source(const std::string& text, const std::string& path) {
   if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw InputError(path + ": empty shader file");
+  if (const std::size_t line = main_definition_line(text))
+    throw InputError(path + ":" + std::to_string(line) +
+                     ": defines main(): a function vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) is expected, not a "
+                     "whole shader (give the function, and what it calls, in a file of its own)");
   if (text.find("ParallaxMapping") == std::string::npos)
     throw InputError(path + ": does not define vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)");
   std::string out;

@@ -16,7 +16,7 @@ inline constexpr long long kHarnessFirstLine = 10'000'000;
 
 // The file's text with its #version line and its declarations of the harness's uniforms blanked
 // (kept as empty lines, so line numbers hold). Throws InputError naming `path` for a text that is
-// empty or defines no ParallaxMapping.
+// empty, a whole shader (it defines main()) or defines no ParallaxMapping.
 std::string user_source(const std::string& text, const std::string& path);
 
 // The compiler's log, lines joined with "; ", each "S:L(C)" location rewritten as "PATH:L:C" (a

@@ -92,10 +92,15 @@ double bytes_held_at_open(const std::string& path, std::uintmax_t file_bytes) {
   return pnm ? 2.0 * double(file_bytes) : 0.0;
 }
 
+struct ChannelRead {
+  DepthMap map;
+  OIIO::ImageSpec spec;  // the file's: its channels and their names
+};
+
 // Channel `channel` of subimage 0, level 0 (the first image of a multi-image file), as GLSL's
 // .r reads the first; integer formats normalised to [0, 1] by OIIO. Everything the load takes
 // is asked of the budget from the header, before any pixel is read.
-DepthMap read_channel(const std::string& path, std::uintmax_t file_bytes, int channel) {
+ChannelRead read_channel(const std::string& path, std::uintmax_t file_bytes, int channel) {
   if (const double held = bytes_held_at_open(path, file_bytes); held > 0)
     check_memory_budget(held, path + " (its reader holds the whole file)");
   SilencedStderr silenced;
@@ -140,15 +145,47 @@ DepthMap read_channel(const std::string& path, std::uintmax_t file_bytes, int ch
                                  rows);
     if (!read || in->has_error()) throw InputError(path + ": cannot read pixels (" + one_line(in->geterror()) + ")");
   }
-  return map;
+  return {std::move(map), spec};
+}
+
+bool constant(const std::vector<float>& texels) {
+  return std::all_of(texels.begin(), texels.end(), [&](float t) { return t == texels.front(); });
+}
+
+// "channel 3 (A)"
+std::string channel_name(const OIIO::ImageSpec& spec, int channel) {
+  return "channel " + std::to_string(channel) +
+         (channel < int(spec.channelnames.size()) ? " (" + spec.channelnames[channel] + ")" : "");
+}
+
+// A map whose channel read as the depth is constant while another channel of the file varies
+// (the depth in alpha beside a normal map in RGB) is a map read wrong: refused naming the channel
+// that varies, or with allow_flat measured flat after a warning. The map's texels are released
+// while the other channels are read, one at a time, and put back.
+void check_flat_channel(const std::string& path, std::uintmax_t file_bytes, const ChannelRead& read,
+                        const MapReading& reading, DepthMap& map) {
+  const float value = map.texels.front();
+  std::vector<float>().swap(map.texels);
+  for (int other = 0; other < read.spec.nchannels; ++other) {
+    if (other == reading.channel || constant(read_channel(path, file_bytes, other).map.texels)) continue;
+    const std::string what = path + ": " + channel_name(read.spec, reading.channel) + ", read as the depth, is constant (" +
+                             std::to_string(value) + ") while " + channel_name(read.spec, other) + " varies";
+    if (!reading.allow_flat)
+      throw InputError(what + ": choose the depth's channel with --channel " + std::to_string(other) + " (in a map list, " +
+                       path + ":channel=" + std::to_string(other) + "), or measure the flat map with --allow-flat");
+    std::fprintf(stderr, "heightmarch: warning: %s; measured flat (--allow-flat)\n", printable(what).c_str());
+    break;
+  }
+  map.texels.assign(std::size_t(map.width) * std::size_t(map.height), value);
 }
 
 }  // namespace
 
-DepthMap load_depth_map(const std::string& path, Convention convention, int channel) {
+DepthMap load_depth_map(const std::string& path, const MapReading& reading) {
   // A device or FIFO is refused before OIIO opens it (its IFF reader spins on /dev/zero).
   const std::uintmax_t file_bytes = check_input_file(path, "depth map", kMaxDepthMapFileBytes);
-  DepthMap map = read_channel(path, file_bytes, channel);
+  ChannelRead read = read_channel(path, file_bytes, reading.channel);
+  DepthMap& map = read.map;
   std::size_t outside = 0;
   for (float& d : map.texels) {
     if (!std::isfinite(d)) continue;  // check_depth_map names them
@@ -156,13 +193,14 @@ DepthMap load_depth_map(const std::string& path, Convention convention, int chan
       ++outside;
       d = std::fmin(1.0f, std::fmax(0.0f, d));
     }
-    if (convention == Convention::height) d = 1.0f - d;
+    if (reading.convention == Convention::height) d = 1.0f - d;
   }
   check_depth_map(map, path);
+  if (read.spec.nchannels > 1 && constant(map.texels)) check_flat_channel(path, file_bytes, read, reading, map);
   if (outside)
     std::fprintf(stderr, "heightmarch: warning: %s: %zu texels outside [0, 1] clamped\n", printable(path).c_str(),
                  outside);
-  return map;
+  return std::move(map);
 }
 
 std::string HeightfieldSource::label() const {
@@ -178,9 +216,16 @@ void give_unique_labels(std::vector<HeightfieldSource>& sources) {
   }
   std::vector<std::string> labels;
   for (const HeightfieldSource& s : unique) labels.push_back(s.label());
+  // A file's name shared: its path; its path shared too (one file read two ways): its entry.
+  const auto path_shared = [&](const HeightfieldSource& s) {
+    return std::count_if(unique.begin(), unique.end(), [&](const HeightfieldSource& o) { return o.path == s.path; }) > 1;
+  };
   for (std::size_t i = 0; i < unique.size(); ++i) {
     const bool shared = std::count(labels.begin(), labels.end(), labels[i]) > 1;
-    unique[i].name = shared && unique[i].builtin.empty() ? unique[i].path : labels[i];
+    if (!shared || !unique[i].builtin.empty())
+      unique[i].name = labels[i];
+    else
+      unique[i].name = path_shared(unique[i]) ? unique[i].describe() : unique[i].path;
   }
   for (std::size_t i = 0; i < unique.size(); ++i)
     for (std::size_t j = i + 1; j < unique.size(); ++j)
@@ -190,29 +235,96 @@ void give_unique_labels(std::vector<HeightfieldSource>& sources) {
   sources = std::move(unique);
 }
 
-std::string HeightfieldSource::describe() const { return builtin.empty() ? path : "builtin:" + builtin; }
+std::string HeightfieldSource::describe() const {
+  std::string text = builtin.empty() ? path : "builtin:" + builtin;
+  const MapReading plain;
+  if (reading.convention != plain.convention) text += ":convention=" + to_string(reading.convention);
+  if (reading.channel != plain.channel) text += ":channel=" + std::to_string(reading.channel);
+  if (reading.wrap != plain.wrap) text += ":wrap=" + to_string(reading.wrap);
+  return text;
+}
 
-int parse_channel(const std::string& text) {
+int parse_channel(const std::string& text, const std::string& what) {
   static const std::string names = "rgba";
   if (text.size() == 1 && names.find(char(std::tolower(static_cast<unsigned char>(text[0])))) != std::string::npos)
     return int(names.find(char(std::tolower(static_cast<unsigned char>(text[0])))));
   int channel = -1;
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), channel);
   if (text.empty() || error != std::errc() || end != text.data() + text.size() || channel < 0 || channel > 1023)
-    throw InputError("--channel '" + text + "': a channel index from 0, or r, g, b, a");
+    throw InputError(what + " '" + text + "': a channel index from 0, or r, g, b, a");
   return channel;
 }
 
-HeightfieldSource parse_heightfield(const std::string& text, int resolution, std::uint64_t seed, Convention convention,
-                                    int channel) {
+Convention parse_convention(const std::string& text, const std::string& what) {
+  for (Convention c : {Convention::depth, Convention::height})
+    if (text == to_string(c)) return c;
+  throw InputError(what + " '" + text + "': depth (white = deep) or height (white = high)");
+}
+
+Wrap parse_wrap(const std::string& text, const std::string& what) {
+  for (Wrap w : {Wrap::repeat, Wrap::clamp})
+    if (text == to_string(w)) return w;
+  throw InputError(what + " '" + text + "': repeat or clamp");
+}
+
+std::string to_string(Convention convention) { return convention == Convention::height ? "height" : "depth"; }
+std::string to_string(Wrap wrap) { return wrap == Wrap::clamp ? "clamp" : "repeat"; }
+
+namespace {
+
+// Takes the trailing ":key=value" options off a map list's entry into `reading`; `text` keeps the
+// rest. Options are read from the end until a segment is no key=value.
+void take_entry_options(const std::string& entry, std::string& text, MapReading& reading) {
+  std::vector<std::string> seen;
+  // Each pass shortens text by a segment, or stops.
+  for (std::size_t colon = text.rfind(':'); colon != std::string::npos && colon > 0; colon = text.rfind(':')) {
+    const std::string segment = text.substr(colon + 1);
+    const std::size_t equals = segment.find('=');
+    if (equals == std::string::npos) return;
+    const std::string key = segment.substr(0, equals), value = segment.substr(equals + 1);
+    const std::string what = entry + ": " + key;
+    if (std::find(seen.begin(), seen.end(), key) != seen.end())
+      throw InputError("map list entry '" + entry + "': " + key + " given twice");
+    if (key == "convention")
+      reading.convention = parse_convention(value, what);
+    else if (key == "channel")
+      reading.channel = parse_channel(value, what);
+    else if (key == "wrap")
+      reading.wrap = parse_wrap(value, what);
+    else
+      throw InputError("map list entry '" + entry + "': unknown option '" + key + "' (convention, channel, wrap)");
+    seen.push_back(key);
+    text.erase(colon);
+  }
+}
+
+
+void check_resolution(int resolution) {
   if (resolution < 1 || resolution > kMaxDepthMapSide)
     throw InputError("heightfield resolution " + std::to_string(resolution) + " outside [1, " +
                      std::to_string(kMaxDepthMapSide) + "]");
+}
+
+}  // namespace
+
+HeightfieldSource HeightfieldSource::of(const BuiltinHeightfield& builtin, int resolution, std::uint64_t seed) {
+  check_resolution(resolution);
+  HeightfieldSource source;
+  source.builtin = builtin.name;
+  source.resolution = resolution;
+  source.seed = seed;
+  return source;
+}
+
+HeightfieldSource parse_heightfield(const std::string& entry, int resolution, std::uint64_t seed,
+                                    const MapReading& reading) {
+  check_resolution(resolution);
   HeightfieldSource source;
   source.resolution = resolution;
   source.seed = seed;
-  source.convention = convention;
-  source.channel = channel;
+  source.reading = reading;
+  std::string text = entry;
+  if (!std::filesystem::exists(entry)) take_entry_options(entry, text, source.reading);
   const std::string prefix = "builtin:";
   const auto& names = builtin_heightfield_names();
   const bool prefixed = text.rfind(prefix, 0) == 0;
@@ -225,7 +337,11 @@ HeightfieldSource parse_heightfield(const std::string& text, int resolution, std
       throw InputError("unknown builtin heightfield '" + name + "' (" + list + ")");
     }
     source.builtin = name;
-    if (channel != 0) throw InputError("--channel applies to a depth map file, not builtin:" + name);
+    if (source.reading.channel != 0)
+      throw InputError("a channel (--channel, :channel=) applies to a depth map file, not builtin:" + name);
+    if (source.reading.convention != Convention::depth)
+      throw InputError("the height convention (--convention, :convention=) applies to a depth map file, not builtin:" +
+                       name + ", a depth map");
   } else {
     if (text.empty()) throw InputError("empty heightfield name");
     if (!std::filesystem::exists(text)) {
@@ -240,7 +356,7 @@ HeightfieldSource parse_heightfield(const std::string& text, int resolution, std
 
 DepthMap load_heightfield(const HeightfieldSource& source) {
   if (!source.builtin.empty()) return make_builtin_heightfield(source.builtin, source.resolution, source.seed);
-  return load_depth_map(source.path, source.convention, source.channel);
+  return load_depth_map(source.path, source.reading);
 }
 
 }  // namespace heightmarch

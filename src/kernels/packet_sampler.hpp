@@ -7,6 +7,7 @@
 
 #include "heightmarch/mip_chain.hpp"
 #include "kernels/kernel_abi.hpp"
+#include "simd/isa_packets.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 

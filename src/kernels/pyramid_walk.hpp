@@ -12,10 +12,13 @@
 // Two users: the maxmip technique (techniques/maxmip.hpp) and, made conservative, the exact
 // reference's float pass (src/exact/exact_bound.hpp).
 #include <algorithm>
+#include <bit>
 #include <limits>
 
 #include "heightmarch/min_depth_pyramid.hpp"
+#include "heightmarch/technique.hpp"
 #include "kernels/kernel_context.hpp"
+#include "simd/isa_packets.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
@@ -88,183 +91,6 @@ void cell_texels(const KernelTexture& texture, vfloat<W> cx, vfloat<W> cy, vfloa
   }
 }
 
-// The walk's outcome per lane: the depth at which it entered the cell it stopped in (or, cut
-// off by the bound, the depth it had cleared), and that cell's quadratic over its span.
-template <int W>
-struct PyramidWalk {
-  vfloat<W> t;
-  vfloat<W> cx, cy;              // the cell it stopped in
-  vfloat<W> c0, c1, c2, span;    // its quadratic (not kept by the conservative walk)
-  vfloat<W> t00, t10, t01, t11;  // its texels (kept by the conservative walk only)
-  vbool<W> reached;  // stopped in a cell it may touch
-  vbool<W> cut_off;  // stopped by the bound on passes
-  vint<W> samples;
-};
-
-// CONSERVATIVE (the exact reference's float pass): every test is loosened by a margin eta that
-// bounds the walk's rounding, so that a lane stops no later than the first cell the exact path
-// touches (docs/conventions.md, the exact intersection).
-template <bool CONSERVATIVE, int W, Addressing ADDRESSING>
-PyramidWalk<W> walk_pyramid(KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloat<W> y0, vfloat<W> dx,
-                            vfloat<W> dy, vfloat<W> eta) {
-  using F = vfloat<W>;
-  using I = vint<W>;
-  using B = vbool<W>;
-  constexpr bool kRepeat = ADDRESSING != Addressing::clamp;
-  constexpr float kInf = std::numeric_limits<float>::infinity();
-  const KernelTexture& texture = k.texture;
-  const F width(float(texture.width)), height(float(texture.height));
-  const F inv_width(1.0f / float(texture.width)), inv_height(1.0f / float(texture.height));
-  const int top = texture.min_depth_pyramid.levels - 1;  // -1: no interior cell (CLAMP, one texel wide)
-  const I top_level(top < 0 ? 0 : top);
-  const auto clamp_cell = [&](F c, F n) { return kRepeat ? c : min(max(c, F(-1.0f)), n - F(1.0f)); };
-
-  // A path parallel to an axis (dx = +0: the callers compute 0 - p, never -0) exits on the
-  // high side at infinity.
-  const B high_x = !(dx < F(0.0f)), high_y = !(dy < F(0.0f));
-  const F inv_dx = F(1.0f) / dx, inv_dy = F(1.0f) / dy;
-
-  PyramidWalk<W> walk;
-  walk.t = F(0.0f);
-  walk.c0 = walk.c1 = walk.c2 = walk.span = F(0.0f);
-  walk.t00 = walk.t10 = walk.t01 = walk.t11 = F(0.0f);
-  walk.reached = !B::all_true();
-  walk.samples = I(0);
-  F& t = walk.t;
-  F cx = clamp_cell(floor_to_cell(x0, dx), width), cy = clamp_cell(floor_to_cell(y0, dy), height);
-  // Start where a block is about an eighth of the path's extent: the levels above it would
-  // almost always be descended again, those below it climbed.
-  const F extent = abs(dx) + abs(dy);
-  I level(0);
-  for (int l = 1; l <= top; ++l) level = select(extent >= F(float(1 << (l + 3))), I(l), level);
-  // Per level: where its entries start (MinDepthPyramid's layout), its blocks a side
-  // (ceil(cells / 2^L)), 2^L and 2^-L, looked up by each lane's level (register permutes where
-  // the ISA has them) rather than carried along in selects at every change of level.
-  static_assert(MinDepthPyramid::kMaxLevels <= 16, "the per-level tables are Table16s");
-  Table16<std::int32_t> level_offset, level_blocks_x;
-  Table16<float> level_size, level_inv_size;
-  const int last_cell_x = kRepeat ? texture.width - 1 : texture.width - 2;
-  for (int l = 0; l <= std::max(top, 0); ++l) {
-    level_offset.values[l] = top < 0 ? 0 : texture.min_depth_pyramid.level_offsets[l];
-    level_blocks_x.values[l] = (last_cell_x >> l) + 1;
-    level_size.values[l] = float(1 << l);
-    level_inv_size.values[l] = 1.0f / float(1 << l);
-  }
-  B active = B::all_true();
-  // Each pass advances t or descends a level: the cells on the path times the levels bound it.
-  const F lane_bound = F(float(2 * (top + 2))) * (extent + F(2.0f));
-  F pass(0.0f);
-  B cut_off = !B::all_true();
-  constexpr int kMaxPasses = 1 << 25;
-  for (int p = 0; p < kMaxPasses && any(active); ++p) {
-    pass = pass + F(1.0f);
-    // Past its bound a lane stops where it is, its path clear down to t (cut off).
-    const B over = active & (pass > lane_bound);
-    cut_off = cut_off | over;
-    active = active & !over;
-    B interior = B::all_true();
-    if constexpr (!kRepeat)
-      interior = (cx >= F(0.0f)) & (cx < width - F(1.0f)) & (cy >= F(0.0f)) & (cy < height - F(1.0f));
-    const B in_pyramid = active & interior & (top >= 0 ? B::all_true() : !B::all_true());
-    const F size = lookup(level_size, level), inv_size = lookup(level_inv_size, level);
-
-    // The lane's box: its block at its level (blocks tile the period: REPEAT keeps a level only
-    // while 2^L divides both sides), or (CLAMP edge cells) the cell, infinite on its outer side.
-    const F bx_unwrapped = floor(cx * inv_size), by_unwrapped = floor(cy * inv_size);
-    F x_lo = bx_unwrapped * size, y_lo = by_unwrapped * size;
-    F x_hi = x_lo + size, y_hi = y_lo + size;
-    if constexpr (!kRepeat) {
-      x_hi = min(x_hi, width - F(1.0f));
-      y_hi = min(y_hi, height - F(1.0f));
-      x_lo = select(interior, x_lo, select(cx < F(0.0f), F(-kInf), cx));
-      x_hi = select(interior, x_hi, select(cx >= width - F(1.0f), F(kInf), cx + F(1.0f)));
-      y_lo = select(interior, y_lo, select(cy < F(0.0f), F(-kInf), cy));
-      y_hi = select(interior, y_hi, select(cy >= height - F(1.0f), F(kInf), cy + F(1.0f)));
-    }
-    const F tx = (select(high_x, x_hi, x_lo) - x0) * inv_dx, ty = (select(high_y, y_hi, y_lo) - y0) * inv_dy;
-    const F te = min(tx, ty);
-    const F t_end = min(te, F(1.0f));
-
-    F shallowest(-kInf);
-    if (top >= 0) {
-      // The block's entry; REPEAT wraps the block index into the level's nb blocks a side.
-      F bx = bx_unwrapped, by = by_unwrapped;
-      if constexpr (kRepeat) {
-        const F nbx = width * inv_size, nby = height * inv_size;
-        if constexpr (ADDRESSING == Addressing::repeat_pow2) {  // exact in float: no correction
-          bx = bx - nbx * floor(bx * inv_width * size);
-          by = by - nby * floor(by * inv_height * size);
-        } else {
-          bx = wrap_cell(bx, nbx, inv_width * size);
-          by = wrap_cell(by, nby, inv_height * size);
-        }
-      }
-      const I entry = lookup(level_offset, level) + to_int(by) * lookup(level_blocks_x, level) + to_int(bx);
-      if constexpr (!CONSERVATIVE) k.count(in_pyramid, walk.samples, 1);
-      shallowest = select(in_pyramid, gather(texture.min_depth_pyramid.texels, select(in_pyramid, entry, I(0))), F(-kInf));
-    }
-    const F clear_above = shallowest - eta;  // the path is clear of the block above this depth
-    const B skip = in_pyramid & (t_end < clear_above);
-    const B descend = in_pyramid & (!skip) & (I(0) < level);
-    const B solve = active & (!skip) & (!descend);
-
-    B hit = !B::all_true();
-    if (any(solve)) {
-      F t00, t10, t01, t11;
-      cell_texels<ADDRESSING>(texture, cx, cy, t00, t10, t01, t11);
-      k.count(solve, walk.samples, CONSERVATIVE ? 1 : 4);
-      const F fx = (x0 - cx) + dx * t, fy = (y0 - cy) + dy * t;
-      const F e = t10 - t00, f = t01 - t00, g = (t11 - t10) - (t01 - t00);
-      const F c0 = t - (t00 + e * fx + f * fy + g * fx * fy) + eta;
-      const F c1 = F(1.0f) - (e * dx + f * dy + g * (fx * dy + fy * dx));
-      const F c2 = F(0.0f) - g * dx * dy;
-      const F span = t_end - t;
-      hit = solve & reaches_patch(c0, c1, c2, span);
-      if constexpr (CONSERVATIVE) {  // the exact reference solves the cell again in double
-        walk.t00 = select(hit, t00, walk.t00);
-        walk.t10 = select(hit, t10, walk.t10);
-        walk.t01 = select(hit, t01, walk.t01);
-        walk.t11 = select(hit, t11, walk.t11);
-      } else {
-        walk.c0 = select(hit, c0, walk.c0);
-        walk.c1 = select(hit, c1, walk.c1);
-        walk.c2 = select(hit, c2, walk.c2);
-        walk.span = select(hit, span, walk.span);
-      }
-      walk.reached = walk.reached | hit;
-      active = active & !hit;
-    }
-
-    // Leaving the box without a hit: no hit at all past depth 1, else into the next box.
-    // Descending: nothing in the block is met before the path reaches its shallowest depth.
-    const B leave = skip | (solve & !hit);
-    const B beyond = leave & !(te < F(1.0f));
-    active = active & !beyond;
-    const B move = leave & !beyond;
-    const B reach = descend & (clear_above > t);
-    const F t_next = select(move, te, min(clear_above, t_end));
-    const F at_x = min(max(floor_to_cell(x0 + dx * t_next, dx), x_lo), x_hi - F(1.0f));
-    const F at_y = min(max(floor_to_cell(y0 + dy * t_next, dy), y_lo), y_hi - F(1.0f));
-    const B exit_x = move & !(tx > ty), exit_y = move & !(ty > tx);
-    const B step = move | reach;
-    t = select(step, t_next, t);
-    cx = select(step, clamp_cell(select(exit_x, select(high_x, x_hi, x_lo - F(1.0f)), at_x), width), cx);
-    cy = select(step, clamp_cell(select(exit_y, select(high_y, y_hi, y_lo - F(1.0f)), at_y), height), cy);
-
-    // Up a level only out of the block's parent: inside it the parent would be descended again.
-    // The parent changes where the crossed side lies on a multiple of twice the block's side.
-    const F half_inv = inv_size * F(0.5f);
-    const F side_x = select(high_x, x_hi, x_lo) * half_inv, side_y = select(high_y, y_hi, y_lo) * half_inv;
-    const B new_parent = (exit_x & !(floor(side_x) != side_x)) | (exit_y & !(floor(side_y) != side_y));
-    const B up = move & new_parent & (level < top_level);
-    level = select(up, level + I(1), select(descend, level - I(1), level));
-  }
-  walk.cut_off = cut_off | active;
-  walk.cx = cx;
-  walk.cy = cy;
-  return walk;
-}
-
 // A ray's path: P = s V.xy / V.z, its uv offset per unit depth (as the layered techniques'), and
 // in texel space its start (x0, y0) and its offset per unit depth (dx, dy).
 template <int W>
@@ -285,5 +111,431 @@ TexelPath<W> texel_path(const KernelContext<W, ADDRESSING>& k, const RayPacket<W
   path.dy = F(0.0f) - path.p_y * height;
   return path;
 }
+
+// The walks of a range of rays keep every lane busy (the persistent threads of Aila and Laine
+// 2009, and the ray streams of Wald et al. and Embree, on SIMD lanes): a walk's pass reads a
+// pyramid entry, and a cell it may touch waits for a solve that reads four texels, so the two run
+// apart, each on full packets. A lane walks a ray from a queue until it needs a cell solved (the
+// lane hands it to a list), has ended (clear beyond depth 1, or cut off by its bound: it leaves
+// its outcome), and takes the queue's next ray at the next pass. The list is then solved a packet
+// at a time; a ray whose path clears its cell goes on into the next round's queue. A lane computes
+// the same for its ray whichever lane it is and whenever it starts, so the outcome of every ray is
+// that of a walk per packet.
+//
+// The queues hold rays as the lanes do, a field a column; the outcomes are kept in the order the
+// walks ended, with each ray's position, from which the caller makes the hits a packet at a time
+// in ray order (src/isa/kernel_table.hpp, trace_walks).
+inline constexpr int kWalkQueueRays = 1024;  // a tile of the default 32 x 32 pixels
+inline constexpr int kWalkQueuePadding = 32;  // the widest packet: a pair of 16
+inline constexpr int kWalkQueueSize = kWalkQueueRays + kWalkQueuePadding;
+
+// 0, 1, 2, ...: queue positions, for the lanes that take them.
+struct WalkQueuePositions {
+  alignas(64) float values[kWalkQueueSize] = {};
+  constexpr WalkQueuePositions() {
+    for (int i = 0; i < kWalkQueueSize; ++i) values[i] = float(i);
+  }
+};
+inline constexpr WalkQueuePositions kWalkQueuePositions{};
+
+// How a ray's walk ended.
+enum class WalkEnd { clear = 0, reached = 1, cut_off = 2 };
+
+// A queue of rays as the lanes hold them (the ray's index in the range, its path, where its walk
+// is); whole packets are read and written past its last ray.
+struct WalkQueue {
+  enum Field { x0, y0, dx, dy, inv_dx, inv_dy, eta, left, t, cx, cy, kFields };
+  alignas(64) float column[kFields][kWalkQueueSize];
+  alignas(64) std::int32_t ray[kWalkQueueSize], level[kWalkQueueSize], samples[kWalkQueueSize];
+
+  // Rays [n, n + padding) read as zeros.
+  void end_at(int n) {
+    for (float* c : column) std::fill(c + n, c + n + kWalkQueuePadding, 0.0f);
+    for (std::int32_t* c : {ray, level, samples}) std::fill(c + n, c + n + kWalkQueuePadding, 0);
+  }
+};
+
+// A walk-shaped technique's first step (KernelShape::walk, technique_list.hpp), specialised in its
+// kernel header: whether its walk is conservative, and queue(k, ray, queue, i), which queues a
+// packet's walks; its kernel then makes the hits from their outcomes. Empty for a march.
+template <Technique T>
+struct WalkSteps {};
+
+// The rays' outcomes in the order their walks ended (`where` each ray's): the depth at which it
+// entered the cell it stopped in (or, cut off by the bound, the depth it had cleared), that cell,
+// and the cell's quadratic over its span (c0, c1, c2, span) or, for the conservative walk, its
+// texels (t00, t10, t01, t11); 0 for a ray that reached no cell.
+struct WalkOutcomes {
+  alignas(64) float t[kWalkQueueSize], cx[kWalkQueueSize], cy[kWalkQueueSize], end[kWalkQueueSize];
+  alignas(64) float cell[4][kWalkQueueSize];
+  alignas(64) std::int32_t samples[kWalkQueueSize];
+  alignas(64) std::int32_t where[kWalkQueueRays];
+  int count = 0;
+};
+
+// The outcome of one packet of rays, as the techniques read it.
+template <int W>
+struct PyramidWalk {
+  vfloat<W> t;
+  vfloat<W> cx, cy;              // the cell it stopped in
+  vfloat<W> c0, c1, c2, span;    // its quadratic (the walk that is not conservative)
+  vfloat<W> t00, t10, t01, t11;  // its texels (the conservative walk)
+  vbool<W> reached;  // stopped in a cell it may touch
+  vbool<W> cut_off;  // stopped by the bound on passes
+  vint<W> samples;
+
+  // Rays i .. i + W - 1.
+  static PyramidWalk at(const WalkOutcomes& out, int i) {
+    using F = vfloat<W>;
+    const vint<W> at = vint<W>::load(out.where + i);
+    PyramidWalk walk;
+    walk.t = gather(out.t, at);
+    walk.cx = gather(out.cx, at);
+    walk.cy = gather(out.cy, at);
+    walk.c0 = walk.t00 = gather(out.cell[0], at);
+    walk.c1 = walk.t10 = gather(out.cell[1], at);
+    walk.c2 = walk.t01 = gather(out.cell[2], at);
+    walk.span = walk.t11 = gather(out.cell[3], at);
+    const F end = gather(out.end, at);
+    walk.reached = !(end != F(float(WalkEnd::reached)));
+    walk.cut_off = !(end != F(float(WalkEnd::cut_off)));
+    walk.samples = gather(out.samples, at);
+    return walk;
+  }
+};
+
+// A cell index clamped to [-1, n - 1] (CLAMP: the edge cells repeat the edge texels); REPEAT
+// wraps where it reads.
+template <Addressing ADDRESSING, int W>
+vfloat<W> clamp_cell(vfloat<W> c, vfloat<W> n) {
+  if constexpr (ADDRESSING != Addressing::clamp) return c;
+  return min(max(c, vfloat<W>(-1.0f)), n - vfloat<W>(1.0f));
+}
+
+// At most this many passes a lane, so that its count stays exact in float. (Only a path of more
+// than 2^18 cells, far beyond the default view's, has a larger bound below.)
+inline constexpr float kMaxLanePasses = float((1 << 24) - 1);
+
+// Queues the walks of rays i .. i + W - 1 (their index in the range) along the path
+// (x0 + dx t, y0 + dy t); eta: the conservative walk's margin (0 otherwise).
+template <int W, Addressing ADDRESSING>
+void queue_walk(const KernelContext<W, ADDRESSING>& k, vfloat<W> x0, vfloat<W> y0, vfloat<W> dx, vfloat<W> dy,
+                vfloat<W> eta, WalkQueue& q, int i) {
+  using F = vfloat<W>;
+  const int top = k.texture.min_depth_pyramid.levels - 1;  // -1: no interior cell (CLAMP, one texel wide)
+  const F width(float(k.texture.width)), height(float(k.texture.height));
+  const auto put = [&](WalkQueue::Field field, F value) { value.store(q.column[field] + i); };
+  to_int(F::load(kWalkQueuePositions.values + i)).store(q.ray + i);
+  put(WalkQueue::x0, x0);
+  put(WalkQueue::y0, y0);
+  put(WalkQueue::dx, dx);
+  put(WalkQueue::dy, dy);
+  put(WalkQueue::eta, eta);
+  // A path parallel to an axis (dx = +0: the callers compute 0 - p, never -0) exits on the
+  // high side at infinity.
+  put(WalkQueue::inv_dx, F(1.0f) / dx);
+  put(WalkQueue::inv_dy, F(1.0f) / dy);
+  put(WalkQueue::cx, clamp_cell<ADDRESSING>(floor_to_cell(x0, dx), width));
+  put(WalkQueue::cy, clamp_cell<ADDRESSING>(floor_to_cell(y0, dy), height));
+  // Start where a block is about an eighth of the path's extent: the levels above it would
+  // almost always be descended again, those below it climbed.
+  const F extent = abs(dx) + abs(dy);
+  vint<W> level(0);
+  for (int l = 1; l <= top; ++l) level = select(extent >= F(float(1 << (l + 3))), vint<W>(l), level);
+  level.store(q.level + i);
+  // Each pass advances t or descends a level: the cells on the path times the levels bound it.
+  // The passes left after the first: the pass p > bound (an integer) is past it.
+  put(WalkQueue::left, floor(min(F(float(2 * (top + 2))) * (extent + F(2.0f)), F(kMaxLanePasses))));
+  put(WalkQueue::t, F(0.0f));
+  vint<W>(0).store(q.samples + i);
+}
+
+// The pyramid walk of maximum-mipmap tracing over a queue of rays. CONSERVATIVE (the exact
+// reference's float pass): every test is loosened by the margin eta, which bounds the walk's
+// rounding, so that a lane stops no later than the first cell the exact path touches
+// (docs/conventions.md, the exact intersection).
+template <bool CONSERVATIVE, int W, Addressing ADDRESSING>
+class PyramidWalker {
+ public:
+  using F = vfloat<W>;
+  using I = vint<W>;
+  using B = vbool<W>;
+  static constexpr bool kRepeat = ADDRESSING != Addressing::clamp;
+
+  explicit PyramidWalker(KernelContext<W, ADDRESSING>& k)
+      : k_(k), texture_(k.texture), width_(float(k.texture.width)), height_(float(k.texture.height)),
+        inv_width_(1.0f / float(k.texture.width)), inv_height_(1.0f / float(k.texture.height)),
+        top_(k.texture.min_depth_pyramid.levels - 1), top_level_(top_ < 0 ? 0 : top_) {
+    // Per level: where its entries start (MinDepthPyramid's layout) and its blocks a side
+    // (ceil(cells / 2^L)), looked up by each lane's level (register permutes where the ISA has
+    // them) rather than carried along in selects at every change of level.
+    static_assert(MinDepthPyramid::kMaxLevels <= 16, "the per-level tables are Table16s");
+    const int last_cell_x = kRepeat ? texture_.width - 1 : texture_.width - 2;
+    for (int l = 0; l <= std::max(top_, 0); ++l) {
+      level_offset_.values[l] = top_ < 0 ? 0 : texture_.min_depth_pyramid.level_offsets[l];
+      level_blocks_x_.values[l] = (last_cell_x >> l) + 1;
+    }
+  }
+
+  // Walks the queued rays [0, n) of `rays` to their ends in rounds of walks and solves, leaving
+  // their outcomes; `list` and `again` are scratch.
+  void run(WalkQueue& rays, WalkQueue& list, WalkQueue& again, int n, WalkOutcomes& out) {
+    out.count = 0;
+    // Each round takes a pass of every ray it walks: within a lane's bound of passes.
+    for (int round = 0; n > 0 && round <= int(kMaxLanePasses); ++round) {
+      n = walk(round == 0 ? rays : again, n, list, out);
+      n = solve(rays, list, n, again, out);
+    }
+  }
+
+ private:
+  // Rays in lanes: a queue's fields as packets.
+  struct Lanes {
+    I ray;
+    F x0, y0, dx, dy, inv_dx, inv_dy, eta, left, t, cx, cy;
+    I level, samples;
+  };
+
+  // The box a lane is in: its block at its level (blocks tile the period: REPEAT keeps a level
+  // only while 2^L divides both sides), or (CLAMP edge cells) the cell, infinite on its outer
+  // side; where the path leaves it (tx, ty, te) and where the lane's span ends (t_end).
+  struct Box {
+    B interior, high_x, high_y;
+    F size, inv_size, bx, by;  // bx, by: the block, unwrapped
+    F x_lo, x_hi, y_lo, y_hi, tx, ty, te, t_end;
+  };
+
+  Box box(const Lanes& l) const {
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    Box b;
+    b.high_x = !(l.dx < F(0.0f));
+    b.high_y = !(l.dy < F(0.0f));
+    b.interior = B::all_true();
+    if constexpr (!kRepeat)
+      b.interior = (l.cx >= F(0.0f)) & (l.cx < width_ - F(1.0f)) & (l.cy >= F(0.0f)) & (l.cy < height_ - F(1.0f));
+    b.size = pow2(l.level);
+    b.inv_size = pow2(I(0) - l.level);
+    b.bx = floor(l.cx * b.inv_size);
+    b.by = floor(l.cy * b.inv_size);
+    b.x_lo = b.bx * b.size;
+    b.y_lo = b.by * b.size;
+    b.x_hi = b.x_lo + b.size;
+    b.y_hi = b.y_lo + b.size;
+    if constexpr (!kRepeat) {
+      b.x_hi = min(b.x_hi, width_ - F(1.0f));
+      b.y_hi = min(b.y_hi, height_ - F(1.0f));
+      b.x_lo = select(b.interior, b.x_lo, select(l.cx < F(0.0f), F(-kInf), l.cx));
+      b.x_hi = select(b.interior, b.x_hi, select(l.cx >= width_ - F(1.0f), F(kInf), l.cx + F(1.0f)));
+      b.y_lo = select(b.interior, b.y_lo, select(l.cy < F(0.0f), F(-kInf), l.cy));
+      b.y_hi = select(b.interior, b.y_hi, select(l.cy >= height_ - F(1.0f), F(kInf), l.cy + F(1.0f)));
+    }
+    b.tx = (select(b.high_x, b.x_hi, b.x_lo) - l.x0) * l.inv_dx;
+    b.ty = (select(b.high_y, b.y_hi, b.y_lo) - l.y0) * l.inv_dy;
+    b.te = min(b.tx, b.ty);
+    b.t_end = min(b.te, F(1.0f));
+    return b;
+  }
+
+  // Leaving the box (leave: without a hit): no hit at all past depth 1 (the lanes returned),
+  // else into the next box. Descending: nothing in the block is met before the path reaches its
+  // shallowest depth, clear_above.
+  B advance(Lanes& l, const Box& b, B leave, B descend, F clear_above) const {
+    const B beyond = leave & !(b.te < F(1.0f));
+    const B move = leave & !beyond;
+    const B reach = descend & (clear_above > l.t);
+    const F t_next = select(move, b.te, min(clear_above, b.t_end));
+    const F at_x = min(max(floor_to_cell(l.x0 + l.dx * t_next, l.dx), b.x_lo), b.x_hi - F(1.0f));
+    const F at_y = min(max(floor_to_cell(l.y0 + l.dy * t_next, l.dy), b.y_lo), b.y_hi - F(1.0f));
+    const B exit_x = move & !(b.tx > b.ty), exit_y = move & !(b.ty > b.tx);
+    const B step = move | reach;
+    l.t = select(step, t_next, l.t);
+    l.cx = select(step,
+                  clamp_cell<ADDRESSING>(select(exit_x, select(b.high_x, b.x_hi, b.x_lo - F(1.0f)), at_x), width_),
+                  l.cx);
+    l.cy = select(step,
+                  clamp_cell<ADDRESSING>(select(exit_y, select(b.high_y, b.y_hi, b.y_lo - F(1.0f)), at_y), height_),
+                  l.cy);
+    // Up a level only out of the block's parent: inside it the parent would be descended again.
+    // The parent changes where the crossed side lies on a multiple of twice the block's side.
+    const F half_inv = b.inv_size * F(0.5f);
+    const F side_x = select(b.high_x, b.x_hi, b.x_lo) * half_inv;
+    const F side_y = select(b.high_y, b.y_hi, b.y_lo) * half_inv;
+    const B new_parent = (exit_x & !(floor(side_x) != side_x)) | (exit_y & !(floor(side_y) != side_y));
+    const B up = move & new_parent & (l.level < top_level_);
+    l.level = select(up, l.level + I(1), select(descend, l.level - I(1), l.level));
+    return beyond;
+  }
+
+  // The free lanes of `live` take the queue's rays from `next` on, in lane order.
+  void take(const WalkQueue& q, int n, int& next, Lanes& l, B& live) const {
+    const B free = !live;
+    const B taken = free & (expand_load(kWalkQueuePositions.values + next, free, F(0.0f)) < F(float(n)));
+    const auto field = [&](WalkQueue::Field f, F old) { return expand_load(q.column[f] + next, taken, old); };
+    l.ray = expand_load(q.ray + next, taken, l.ray);
+    l.x0 = field(WalkQueue::x0, l.x0);
+    l.y0 = field(WalkQueue::y0, l.y0);
+    l.dx = field(WalkQueue::dx, l.dx);
+    l.dy = field(WalkQueue::dy, l.dy);
+    l.inv_dx = field(WalkQueue::inv_dx, l.inv_dx);
+    l.inv_dy = field(WalkQueue::inv_dy, l.inv_dy);
+    if constexpr (CONSERVATIVE) l.eta = field(WalkQueue::eta, l.eta);
+    l.left = field(WalkQueue::left, l.left);
+    l.t = field(WalkQueue::t, l.t);
+    l.cx = field(WalkQueue::cx, l.cx);
+    l.cy = field(WalkQueue::cy, l.cy);
+    l.level = expand_load(q.level + next, taken, l.level);
+    l.samples = expand_load(q.samples + next, taken, l.samples);
+    live = live | taken;
+    next += std::popcount(mask_bits(taken));
+  }
+
+  // Appends the lanes `leaving` to q at `at`: where their walks are, and (WITH_PATH) their paths.
+  template <bool WITH_PATH>
+  static void hand_over(const Lanes& l, B leaving, WalkQueue& q, int& at) {
+    const auto field = [&](WalkQueue::Field f, F value) { compress_store(q.column[f] + at, leaving, value); };
+    compress_store(q.ray + at, leaving, l.ray);
+    if constexpr (WITH_PATH) {
+      field(WalkQueue::x0, l.x0);
+      field(WalkQueue::y0, l.y0);
+      field(WalkQueue::dx, l.dx);
+      field(WalkQueue::dy, l.dy);
+      field(WalkQueue::inv_dx, l.inv_dx);
+      field(WalkQueue::inv_dy, l.inv_dy);
+      if constexpr (CONSERVATIVE) field(WalkQueue::eta, l.eta);
+    }
+    field(WalkQueue::left, l.left);
+    field(WalkQueue::t, l.t);
+    field(WalkQueue::cx, l.cx);
+    field(WalkQueue::cy, l.cy);
+    compress_store(q.level + at, leaving, l.level);
+    compress_store(q.samples + at, leaving, l.samples);
+    at += std::popcount(mask_bits(leaving));
+  }
+
+  // The outcomes of the lanes `ending`, their walks ended as `end` says, in the cell `cell`.
+  static void leave_outcome(const Lanes& l, B ending, F end, const F (&cell)[4], WalkOutcomes& out) {
+    const auto field = [&](float* column, F value) { compress_store(column + out.count, ending, value); };
+    field(out.t, l.t);
+    field(out.cx, l.cx);
+    field(out.cy, l.cy);
+    field(out.end, end);
+    for (int c = 0; c < 4; ++c) field(out.cell[c], cell[c]);
+    compress_store(out.samples + out.count, ending, l.samples);
+    scatter(out.where, l.ray, ending, to_int(expand_load(kWalkQueuePositions.values + out.count, ending, F(0.0f))));
+    out.count += std::popcount(mask_bits(ending));
+  }
+
+  // Walks the n rays of q until each has ended or needs a solve, then handed to `list` (at its
+  // positions 0, 1, ...; returns how many). A lane takes the next ray as soon as its own leaves.
+  int walk(WalkQueue& q, int n, WalkQueue& list, WalkOutcomes& out) {
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    q.end_at(n);
+    Lanes l{};
+    l.level = l.samples = I(0);
+    B live = !B::all_true();
+    int next = 0, listed = 0;
+    take(q, n, next, l, live);
+    // Every ray ends its walk within its bound: the round within n times that.
+    const std::int64_t max_passes = std::int64_t(n) * (std::int64_t(kMaxLanePasses) + 2);
+    for (std::int64_t p = 0; p < max_passes && any(live); ++p) {
+      // Past its bound a lane stops where it is, its path clear down to t (cut off).
+      l.left = select(live, l.left - F(1.0f), l.left);
+      const B over = live & (l.left < F(0.0f));
+      const B active = live & !over;
+      const Box b = box(l);
+      const B in_pyramid = active & b.interior & (top_ >= 0 ? B::all_true() : !B::all_true());
+      F shallowest(-kInf);
+      if (top_ >= 0) {
+        // The block's entry; REPEAT wraps the block index into the level's nb blocks a side.
+        F bx = b.bx, by = b.by;
+        if constexpr (kRepeat) {
+          const F nbx = width_ * b.inv_size, nby = height_ * b.inv_size;
+          if constexpr (ADDRESSING == Addressing::repeat_pow2) {  // exact in float: no correction
+            bx = bx - nbx * floor(bx * inv_width_ * b.size);
+            by = by - nby * floor(by * inv_height_ * b.size);
+          } else {
+            bx = wrap_cell(bx, nbx, inv_width_ * b.size);
+            by = wrap_cell(by, nby, inv_height_ * b.size);
+          }
+        }
+        const I entry = lookup(level_offset_, l.level) + to_int(by) * lookup(level_blocks_x_, l.level) + to_int(bx);
+        if constexpr (!CONSERVATIVE) k_.count(in_pyramid, l.samples, 1);
+        shallowest = select(in_pyramid, gather(texture_.min_depth_pyramid.texels, select(in_pyramid, entry, I(0))), F(-kInf));
+      }
+      F clear_above = shallowest;  // the path is clear of the block above this depth
+      if constexpr (CONSERVATIVE) clear_above = clear_above - l.eta;
+      const B skip = in_pyramid & (b.t_end < clear_above);
+      const B descend = in_pyramid & (!skip) & (I(0) < l.level);
+      const B solve = active & (!skip) & (!descend);
+      const B beyond = advance(l, b, skip, descend, clear_above);
+
+      const B ended = over | beyond;
+      if (any(ended | solve)) {
+        if (any(ended)) {
+          const F no_cell[4] = {F(0.0f), F(0.0f), F(0.0f), F(0.0f)};
+          leave_outcome(l, ended, select(over, F(float(WalkEnd::cut_off)), F(float(WalkEnd::clear))), no_cell, out);
+        }
+        hand_over<false>(l, solve, list, listed);
+        live = live & !(ended | solve);
+        if (next < n) take(q, n, next, l, live);
+      }
+    }
+    return listed;
+  }
+
+  // Solves the cells of the n rays of `list`, a packet at a time (their paths read from `rays` at
+  // their indices): each ray whose walk ends there leaves its outcome, the others go on into
+  // `again` to walk on. Returns how many.
+  int solve(const WalkQueue& rays, WalkQueue& list, int n, WalkQueue& again, WalkOutcomes& out) {
+    list.end_at(n);
+    int kept = 0;
+    for (int i = 0; i < n; i += W) {
+      const auto field = [&](WalkQueue::Field f) { return F::load(list.column[f] + i); };
+      Lanes l;
+      l.ray = I::load(list.ray + i);
+      const auto path = [&](WalkQueue::Field f) { return gather(rays.column[f], l.ray); };
+      l.x0 = path(WalkQueue::x0);
+      l.y0 = path(WalkQueue::y0);
+      l.dx = path(WalkQueue::dx);
+      l.dy = path(WalkQueue::dy);
+      l.inv_dx = path(WalkQueue::inv_dx);
+      l.inv_dy = path(WalkQueue::inv_dy);
+      l.eta = CONSERVATIVE ? path(WalkQueue::eta) : F(0.0f);
+      l.left = field(WalkQueue::left);
+      l.t = field(WalkQueue::t);
+      l.cx = field(WalkQueue::cx);
+      l.cy = field(WalkQueue::cy);
+      l.level = I::load(list.level + i);
+      l.samples = I::load(list.samples + i);
+      const B solving = F::load(kWalkQueuePositions.values) < F(float(n - i));  // lane < n - i
+      const Box b = box(l);
+      F t00, t10, t01, t11;
+      cell_texels<ADDRESSING>(texture_, l.cx, l.cy, t00, t10, t01, t11);
+      k_.count(solving, l.samples, CONSERVATIVE ? 1 : 4);
+      const F fx = (l.x0 - l.cx) + l.dx * l.t, fy = (l.y0 - l.cy) + l.dy * l.t;
+      const F e = t10 - t00, f = t01 - t00, g = (t11 - t10) - (t01 - t00);
+      const F c0 = l.t - (t00 + e * fx + f * fy + g * fx * fy) + l.eta;
+      const F c1 = F(1.0f) - (e * l.dx + f * l.dy + g * (fx * l.dy + fy * l.dx));
+      const F c2 = F(0.0f) - g * l.dx * l.dy;
+      const F span = b.t_end - l.t;
+      const B hit = solving & reaches_patch(c0, c1, c2, span);
+      const B beyond = advance(l, b, solving & !hit, !B::all_true(), F(0.0f));
+      // The exact reference solves the cell again in double: it keeps the texels.
+      const F zero(0.0f);
+      const F cell[4] = {select(hit, CONSERVATIVE ? t00 : c0, zero), select(hit, CONSERVATIVE ? t10 : c1, zero),
+                         select(hit, CONSERVATIVE ? t01 : c2, zero), select(hit, CONSERVATIVE ? t11 : span, zero)};
+      leave_outcome(l, hit | beyond, select(hit, F(float(WalkEnd::reached)), F(float(WalkEnd::clear))), cell, out);
+      hand_over<true>(l, solving & !hit & !beyond, again, kept);
+    }
+    return kept;
+  }
+
+  KernelContext<W, ADDRESSING>& k_;
+  const KernelTexture& texture_;
+  const F width_, height_, inv_width_, inv_height_;
+  const int top_;  // -1: no interior cell (CLAMP, one texel wide)
+  const I top_level_;
+  Table16<std::int32_t> level_offset_, level_blocks_x_;
+};
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

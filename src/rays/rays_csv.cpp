@@ -8,6 +8,7 @@
 #include "heightmarch/error.hpp"
 #include "heightmarch/memory_budget.hpp"
 #include "heightmarch/rays.hpp"
+#include "rays/camera_poses.hpp"
 #include "util/input_file.hpp"
 
 namespace heightmarch {
@@ -81,6 +82,29 @@ class LineReader {
   std::uintmax_t consumed_ = 0;
 };
 
+// A field as a number within a float's range: read as a double, then rounded (1e-50 is a number,
+// 0 as a float; 1e50 is out of range). `what` is "FILE:LINE: COLUMN".
+double parse_number(const std::string& field, const std::string& what) {
+  double value = 0.0;
+  const char* end = field.data() + field.size();
+  const auto [ptr, ec] = std::from_chars(field.data(), end, value);
+  if (field.empty() || ptr != end || (ec != std::errc() && ec != std::errc::result_out_of_range))
+    throw InputError(what + " '" + field + "' is not a number");
+  if ((ec == std::errc::result_out_of_range && std::fabs(value) > 1.0) ||
+      (std::isfinite(value) && std::fabs(value) > double(std::numeric_limits<float>::max())))
+    throw InputError(what + " '" + field + "' is beyond a float's range");
+  return value;
+}
+
+// The first line of a CSV file (after a UTF-8 byte order mark, as spreadsheets export): the header.
+void read_header(LineReader& lines, const std::string& path, const std::string& what, const std::string& expected) {
+  std::string line;
+  if (!lines.next(line)) throw InputError(path + ": empty " + what + " (expected header " + expected + ")");
+  if (line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
+  if (split_fields(line) != split_fields(expected))
+    throw InputError(path + ":1: header must be " + expected + " (found '" + line.substr(0, 40) + "')");
+}
+
 // Lines whose mean length sets the first estimate of a file's rays.
 constexpr std::size_t kSampleLines = 1000;
 
@@ -108,12 +132,9 @@ RayBatch load_rays_csv(const std::string& path, int tile_size) {
     check_memory_budget(bytes_per_ray * rays, path + " (about " + std::to_string((long long)rays) + " rays)");
     asked = rays;
   };
-  std::string line;
-  if (!lines.next(line)) throw InputError(path + ": empty rays file (expected header tx,ty,vx,vy,vz)");
-  if (line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark (spreadsheet exports)
   const std::vector<std::string> expected = {"tx", "ty", "vx", "vy", "vz"};
-  if (split_fields(line) != expected)
-    throw InputError(path + ":1: header must be tx,ty,vx,vy,vz (found '" + line.substr(0, 40) + "')");
+  read_header(lines, path, "rays file", "tx,ty,vx,vy,vz");
+  std::string line;
   std::vector<float> columns[5];
   // One line per pass; the budget bounds the lines a pass may add before it is asked again.
   while (lines.next(line)) {
@@ -123,19 +144,7 @@ RayBatch load_rays_csv(const std::string& path, int tile_size) {
     const std::string where = path + ":" + std::to_string(lines.number()) + ": ";
     if (fields.size() != 5)
       throw InputError(where + "expected 5 columns, found " + std::to_string(fields.size()));
-    for (int c = 0; c < 5; ++c) {
-      // Read as a double, then rounded: 1e-50 is a number (0 as a float), 1e50 is out of range.
-      double value = 0.0;
-      const char* end = fields[c].data() + fields[c].size();
-      const auto [ptr, ec] = std::from_chars(fields[c].data(), end, value);
-      if (fields[c].empty() || ptr != end || (ec != std::errc() && ec != std::errc::result_out_of_range))
-        throw InputError(where + expected[c] + " '" + fields[c] + "' is not a number");
-      if (ec == std::errc::result_out_of_range && std::fabs(value) > 1.0)
-        throw InputError(where + expected[c] + " '" + fields[c] + "' is beyond a float's range");
-      if (std::isfinite(value) && std::fabs(value) > double(std::numeric_limits<float>::max()))
-        throw InputError(where + expected[c] + " '" + fields[c] + "' is beyond a float's range");
-      columns[c].push_back(float(value));
-    }
+    for (int c = 0; c < 5; ++c) columns[c].push_back(float(parse_number(fields[c], where + expected[c])));
   }
   if (asked == 0.0) ask_budget();  // a file of fewer than kSampleLines lines, now read whole
   if (columns[0].empty()) throw InputError(path + ": no rays after the header");
@@ -145,6 +154,53 @@ RayBatch load_rays_csv(const std::string& path, int tile_size) {
     // make_ray_list counts rays from 1: ray N is the file's line N + 1.
     throw InputError(path + ": " + e.what());
   }
+}
+
+std::vector<CameraPose> load_camera_poses(const std::string& path) {
+  constexpr std::uintmax_t kMaxBytes = std::uintmax_t(kMaxCameraPoses + 1) * LineReader::kMaxLineBytes;
+  InputFile file(path, "camera poses file", kMaxBytes);
+  LineReader lines(file, path);
+  const char* const columns[] = {"eye_x", "eye_y", "eye_z", "target_x", "target_y", "target_z",
+                                 "up_x",  "up_y",  "up_z",  "fov",      "width",    "height"};
+  std::string expected;
+  for (const char* c : columns) expected += (expected.empty() ? "" : ",") + std::string(c);
+  read_header(lines, path, "camera poses file", expected);
+  std::vector<CameraPose> poses;
+  for (std::string line; lines.next(line);) {
+    if (trim(line).empty()) continue;
+    const std::string where = path + ":" + std::to_string(lines.number()) + ": ";
+    if (poses.size() == std::size_t(kMaxCameraPoses))
+      throw InputError(where + "more than " + std::to_string(kMaxCameraPoses) + " poses");
+    const std::vector<std::string> fields = split_fields(line);
+    if (fields.size() != std::size(columns))
+      throw InputError(where + "expected " + std::to_string(std::size(columns)) + " columns, found " +
+                       std::to_string(fields.size()));
+    double v[std::size(columns)];
+    for (std::size_t c = 0; c < std::size(columns); ++c) {
+      v[c] = parse_number(fields[c], where + columns[c]);
+      if (!std::isfinite(v[c])) throw InputError(where + columns[c] + " '" + fields[c] + "' is not finite");
+    }
+    CameraPose p{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9], 0, 0};
+    const double f[3] = {p.target[0] - p.eye[0], p.target[1] - p.eye[1], p.target[2] - p.eye[2]};
+    const double cross[3] = {f[1] * p.up[2] - f[2] * p.up[1], f[2] * p.up[0] - f[0] * p.up[2],
+                             f[0] * p.up[1] - f[1] * p.up[0]};
+    const double f_len = std::hypot(f[0], f[1], f[2]), up_len = std::hypot(p.up[0], p.up[1], p.up[2]);
+    if (!(p.eye[2] > 0)) throw InputError(where + "the eye must be above the surface (eye_z > 0)");
+    if (!(f_len > 0)) throw InputError(where + "the target is at the eye");
+    if (!(std::hypot(cross[0], cross[1], cross[2]) > 1e-9 * f_len * up_len))
+      throw InputError(where + "up is zero or along the view direction");
+    if (!(p.fov_degrees > 0 && p.fov_degrees < 180)) throw InputError(where + "fov must be in (0, 180) degrees");
+    for (int c : {10, 11}) {
+      if (!(v[c] >= 1 && v[c] <= kMaxViewSide && v[c] == std::floor(v[c])))
+        throw InputError(where + columns[c] + " must be a whole number of pixels in [1, " +
+                         std::to_string(kMaxViewSide) + "]");
+    }
+    p.width = int(v[10]);
+    p.height = int(v[11]);
+    poses.push_back(p);
+  }
+  if (poses.empty()) throw InputError(path + ": no camera poses after the header");
+  return poses;
 }
 
 }  // namespace heightmarch

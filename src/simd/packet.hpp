@@ -27,6 +27,13 @@
 //   smallest lane; store_bytes stores lanes in 0..255. gather, gather_pairs and fetch_taps read
 //   exactly the texels they name, each index inside the array; lookup(table, index) is
 //   table.values[index] for an index in 0..15.
+// - mask_bits(m) has bit l set for each true lane l. expand_load(p, m, old) gives the true lanes
+//   p[0], p[1], ... in lane order and keeps old in the others; p[0 .. W - 1] must be readable.
+//   compress_store(p, m, value) stores the true lanes' values to p[0], p[1], ... in lane order
+//   and may write anything to the rest of p[0 .. W - 1]. Both move float and int32 lanes. scatter(base, index, m, value) stores
+//   each true lane's value to base[index] (the true lanes' indices distinct) and nothing else.
+//   These move rays in and out of a walk's lanes (src/kernels/pyramid_walk.hpp). pow2(n) is 2^n
+//   exactly for n in -126 .. 127.
 //
 // Every header of this folder opens namespace heightmarch::HEIGHTMARCH_ISA_NS, which the
 // including translation unit defines (isa_scalar, isa_sse42, ...), so that inline functions
@@ -35,6 +42,7 @@
 #error "define HEIGHTMARCH_ISA_NS before including a simd/ header"
 #endif
 
+#include <bit>
 #include <cstdint>
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
@@ -74,6 +82,27 @@ inline vint<W> lookup(const Table16<std::int32_t>& table, vint<W> index) {
 template <int W>
 inline vfloat<W> lookup(const Table16<float>& table, vint<W> index) {
   return gather(table.values, index);
+}
+
+// scatter() through memory, lane by lane; an ISA header may overload it with the ISA's scatter.
+template <int W, class T, class V>
+inline void scatter_lanes(T* base, vint<W> index, vbool<W> mask, V value) {
+  alignas(64) std::int32_t at[W];
+  alignas(64) T lanes[W];
+  index.store(at);
+  value.store(lanes);
+  for (std::uint32_t bits = mask_bits(mask); bits != 0; bits &= bits - 1) {
+    const int lane = std::countr_zero(bits);
+    base[at[lane]] = lanes[lane];
+  }
+}
+template <int W>
+inline void scatter(float* base, vint<W> index, vbool<W> mask, vfloat<W> value) {
+  scatter_lanes<W>(base, index, mask, value);
+}
+template <int W>
+inline void scatter(std::int32_t* base, vint<W> index, vbool<W> mask, vint<W> value) {
+  scatter_lanes<W>(base, index, mask, value);
 }
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

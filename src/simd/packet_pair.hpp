@@ -36,6 +36,9 @@ template <> struct vint<2 * HEIGHTMARCH_PAIR_OF> {
   friend vint min(vint a, vint c) { return {min(a.lo, c.lo), min(a.hi, c.hi)}; }
   friend vint max(vint a, vint c) { return {max(a.lo, c.lo), max(a.hi, c.hi)}; }
   friend vint select(vbool<2 * HEIGHTMARCH_PAIR_OF> m, vint a, vint c) { return {select(m.lo, a.lo, c.lo), select(m.hi, a.hi, c.hi)}; }
+  static vint load(const std::int32_t* p) {
+    return {vint<HEIGHTMARCH_PAIR_OF>::load(p), vint<HEIGHTMARCH_PAIR_OF>::load(p + HEIGHTMARCH_PAIR_OF)};
+  }
   void store(std::int32_t* p) const {
     lo.store(p);
     hi.store(p + HEIGHTMARCH_PAIR_OF);
@@ -110,6 +113,37 @@ inline std::int32_t reduce_min(vint<2 * HEIGHTMARCH_PAIR_OF> a) {
 inline void store_bytes(vint<2 * HEIGHTMARCH_PAIR_OF> a, std::uint8_t* p) {
   store_bytes(a.lo, p);
   store_bytes(a.hi, p + HEIGHTMARCH_PAIR_OF);
+}
+inline vfloat<2 * HEIGHTMARCH_PAIR_OF> pow2(vint<2 * HEIGHTMARCH_PAIR_OF> n) { return {pow2(n.lo), pow2(n.hi)}; }
+inline std::uint32_t mask_bits(vbool<2 * HEIGHTMARCH_PAIR_OF> m) {
+  return mask_bits(m.lo) | mask_bits(m.hi) << HEIGHTMARCH_PAIR_OF;
+}
+// The high half's lanes take the elements after the low half's.
+inline vfloat<2 * HEIGHTMARCH_PAIR_OF> expand_load(const float* p, vbool<2 * HEIGHTMARCH_PAIR_OF> m,
+                                                   vfloat<2 * HEIGHTMARCH_PAIR_OF> old) {
+  return {expand_load(p, m.lo, old.lo), expand_load(p + std::popcount(mask_bits(m.lo)), m.hi, old.hi)};
+}
+inline vint<2 * HEIGHTMARCH_PAIR_OF> expand_load(const std::int32_t* p, vbool<2 * HEIGHTMARCH_PAIR_OF> m,
+                                                 vint<2 * HEIGHTMARCH_PAIR_OF> old) {
+  return {expand_load(p, m.lo, old.lo), expand_load(p + std::popcount(mask_bits(m.lo)), m.hi, old.hi)};
+}
+inline void compress_store(float* p, vbool<2 * HEIGHTMARCH_PAIR_OF> m, vfloat<2 * HEIGHTMARCH_PAIR_OF> value) {
+  compress_store(p, m.lo, value.lo);
+  compress_store(p + std::popcount(mask_bits(m.lo)), m.hi, value.hi);
+}
+inline void compress_store(std::int32_t* p, vbool<2 * HEIGHTMARCH_PAIR_OF> m, vint<2 * HEIGHTMARCH_PAIR_OF> value) {
+  compress_store(p, m.lo, value.lo);
+  compress_store(p + std::popcount(mask_bits(m.lo)), m.hi, value.hi);
+}
+inline void scatter(float* base, vint<2 * HEIGHTMARCH_PAIR_OF> index, vbool<2 * HEIGHTMARCH_PAIR_OF> m,
+                    vfloat<2 * HEIGHTMARCH_PAIR_OF> value) {
+  scatter(base, index.lo, m.lo, value.lo);
+  scatter(base, index.hi, m.hi, value.hi);
+}
+inline void scatter(std::int32_t* base, vint<2 * HEIGHTMARCH_PAIR_OF> index, vbool<2 * HEIGHTMARCH_PAIR_OF> m,
+                    vint<2 * HEIGHTMARCH_PAIR_OF> value) {
+  scatter(base, index.lo, m.lo, value.lo);
+  scatter(base, index.hi, m.hi, value.hi);
 }
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

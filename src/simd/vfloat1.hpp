@@ -31,6 +31,7 @@ template <> struct vint<1> {
   friend vint min(vint a, vint c) { return {a.i < c.i ? a.i : c.i}; }
   friend vint max(vint a, vint c) { return {a.i > c.i ? a.i : c.i}; }
   friend vint select(vbool<1> m, vint a, vint c) { return m.b ? a : c; }
+  static vint load(const std::int32_t* p) { return {*p}; }
   void store(std::int32_t* p) const { *p = i; }
 };
 
@@ -125,5 +126,15 @@ inline std::uint32_t reduce_add(vint<1> a) { return std::uint32_t(a.i); }
 inline std::int32_t reduce_min(vint<1> a) { return a.i; }
 // Each lane's value (0 to 255) as one byte, to p[0] .. p[W - 1].
 inline void store_bytes(vint<1> a, std::uint8_t* p) { *p = std::uint8_t(a.i); }
+inline vfloat<1> pow2(vint<1> n) { return {std::ldexp(1.0f, n.i)}; }
+inline std::uint32_t mask_bits(vbool<1> m) { return m.b ? 1u : 0u; }
+inline vfloat<1> expand_load(const float* p, vbool<1> m, vfloat<1> old) { return m.b ? vfloat<1>(*p) : old; }
+inline void compress_store(float* p, vbool<1> m, vfloat<1> value) {
+  if (m.b) *p = value.f;
+}
+inline vint<1> expand_load(const std::int32_t* p, vbool<1> m, vint<1> old) { return m.b ? vint<1>(*p) : old; }
+inline void compress_store(std::int32_t* p, vbool<1> m, vint<1> value) {
+  if (m.b) *p = value.i;
+}
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

@@ -30,6 +30,7 @@ template <> struct vint<16> {
   friend vint min(vint a, vint c) { return _mm512_min_epi32(a.i, c.i); }
   friend vint max(vint a, vint c) { return _mm512_max_epi32(a.i, c.i); }
   friend vint select(vbool<16> m, vint a, vint c) { return _mm512_mask_blend_epi32(m.m, c.i, a.i); }
+  static vint load(const std::int32_t* p) { return _mm512_loadu_si512(p); }
   void store(std::int32_t* p) const { _mm512_storeu_si512(p, i); }
 };
 
@@ -176,6 +177,32 @@ inline std::int32_t reduce_min(vint<16> a) { return _mm512_reduce_min_epi32(a.i)
 // Each lane's value (0 to 255) as one byte, to p[0] .. p[W - 1].
 inline void store_bytes(vint<16> a, std::uint8_t* p) {
   _mm_storeu_si128(reinterpret_cast<__m128i*>(p), _mm512_cvtepi32_epi8(a.i));
+}
+
+// 2^n built from its exponent bits.
+inline vfloat<16> pow2(vint<16> n) {
+  return _mm512_castsi512_ps(_mm512_slli_epi32(_mm512_add_epi32(n.i, _mm512_set1_epi32(127)), 23));
+}
+inline std::uint32_t mask_bits(vbool<16> m) { return m.m; }
+// expand_load(), compress_store() and scatter() (packet.hpp) with the ISA's expand, compress
+// (in registers: their memory forms are microcoded on some cores) and scatter.
+inline vfloat<16> expand_load(const float* p, vbool<16> m, vfloat<16> old) {
+  return _mm512_mask_expand_ps(old.f, m.m, _mm512_loadu_ps(p));
+}
+inline vint<16> expand_load(const std::int32_t* p, vbool<16> m, vint<16> old) {
+  return _mm512_mask_expand_epi32(old.i, m.m, _mm512_loadu_si512(p));
+}
+inline void compress_store(float* p, vbool<16> m, vfloat<16> value) {
+  _mm512_storeu_ps(p, _mm512_maskz_compress_ps(m.m, value.f));
+}
+inline void compress_store(std::int32_t* p, vbool<16> m, vint<16> value) {
+  _mm512_storeu_si512(p, _mm512_maskz_compress_epi32(m.m, value.i));
+}
+inline void scatter(float* base, vint<16> index, vbool<16> m, vfloat<16> value) {
+  _mm512_mask_i32scatter_ps(base, m.m, index.i, value.f, 4);
+}
+inline void scatter(std::int32_t* base, vint<16> index, vbool<16> m, vint<16> value) {
+  _mm512_mask_i32scatter_epi32(base, m.m, index.i, value.i, 4);
 }
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

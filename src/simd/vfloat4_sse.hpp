@@ -34,6 +34,7 @@ template <> struct vint<4> {
   friend vint select(vbool<4> m, vint a, vint c) {
     return _mm_castps_si128(_mm_blendv_ps(_mm_castsi128_ps(c.i), _mm_castsi128_ps(a.i), m.m));
   }
+  static vint load(const std::int32_t* p) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p)); }
   void store(std::int32_t* p) const { _mm_storeu_si128(reinterpret_cast<__m128i*>(p), i); }
 };
 
@@ -160,5 +161,53 @@ inline void store_bytes(vint<4> a, std::uint8_t* p) {
   std::memcpy(p, &bytes, sizeof bytes);
 }
 inline vfloat<4> sqrt(vfloat<4> a) { return _mm_sqrt_ps(a.f); }
+
+// 2^n built from its exponent bits.
+inline vfloat<4> pow2(vint<4> n) { return _mm_castsi128_ps(_mm_slli_epi32(_mm_add_epi32(n.i, _mm_set1_epi32(127)), 23)); }
+inline std::uint32_t mask_bits(vbool<4> m) { return std::uint32_t(_mm_movemask_ps(m.m)); }
+
+// For each mask of 4 lanes, the pshufb controls that move element k of a load to the k-th true
+// lane (expand: the bytes of lane l are those of the number of true lanes below l) and the k-th
+// true lane to element k (compress).
+struct LaneShuffles4 {
+  alignas(16) std::uint8_t expand[16][16] = {};
+  alignas(16) std::uint8_t compress[16][16] = {};
+  constexpr LaneShuffles4() {
+    for (int mask = 0; mask < 16; ++mask)
+      for (int lane = 0, below = 0; lane < 4; ++lane) {
+        for (int byte = 0; byte < 4; ++byte) {
+          expand[mask][4 * lane + byte] = std::uint8_t(4 * below + byte);
+          if ((mask >> lane) & 1) compress[mask][4 * below + byte] = std::uint8_t(4 * lane + byte);
+        }
+        below += (mask >> lane) & 1;
+      }
+  }
+};
+inline constexpr LaneShuffles4 kLaneShuffles4{};
+
+// expand_load() and compress_store() (packet.hpp) with one shuffle.
+inline __m128i expand_lanes(__m128i loaded, vbool<4> m, __m128i old) {
+  const __m128i control =
+      _mm_load_si128(reinterpret_cast<const __m128i*>(kLaneShuffles4.expand[_mm_movemask_ps(m.m)]));
+  return _mm_castps_si128(
+      _mm_blendv_ps(_mm_castsi128_ps(old), _mm_castsi128_ps(_mm_shuffle_epi8(loaded, control)), m.m));
+}
+inline __m128i compress_lanes(__m128i value, vbool<4> m) {
+  const __m128i control =
+      _mm_load_si128(reinterpret_cast<const __m128i*>(kLaneShuffles4.compress[_mm_movemask_ps(m.m)]));
+  return _mm_shuffle_epi8(value, control);
+}
+inline vfloat<4> expand_load(const float* p, vbool<4> m, vfloat<4> old) {
+  return _mm_castsi128_ps(expand_lanes(_mm_castps_si128(_mm_loadu_ps(p)), m, _mm_castps_si128(old.f)));
+}
+inline vint<4> expand_load(const std::int32_t* p, vbool<4> m, vint<4> old) {
+  return expand_lanes(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)), m, old.i);
+}
+inline void compress_store(float* p, vbool<4> m, vfloat<4> value) {
+  _mm_storeu_ps(p, _mm_castsi128_ps(compress_lanes(_mm_castps_si128(value.f), m)));
+}
+inline void compress_store(std::int32_t* p, vbool<4> m, vint<4> value) {
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(p), compress_lanes(value.i, m));
+}
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

@@ -39,6 +39,7 @@ template <> struct vint<8> {
     return _mm256_castps_si256(
         _mm256_blendv_ps(_mm256_castsi256_ps(c.i), _mm256_castsi256_ps(a.i), m.m));
   }
+  static vint load(const std::int32_t* p) { return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p)); }
   void store(std::int32_t* p) const { _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), i); }
 };
 
@@ -199,5 +200,46 @@ inline void store_bytes(vint<8> a, std::uint8_t* p) {
   _mm_storel_epi64(reinterpret_cast<__m128i*>(p), _mm_packus_epi16(words, words));
 }
 inline vfloat<8> sqrt(vfloat<8> a) { return _mm256_sqrt_ps(a.f); }
+
+// 2^n built from its exponent bits.
+inline vfloat<8> pow2(vint<8> n) {
+  return _mm256_castsi256_ps(_mm256_slli_epi32(_mm256_add_epi32(n.i, _mm256_set1_epi32(127)), 23));
+}
+inline std::uint32_t mask_bits(vbool<8> m) { return std::uint32_t(_mm256_movemask_ps(m.m)); }
+
+// For each mask of 8 lanes, one byte per lane: the number of true lanes below it (expand), and
+// the k-th true lane at byte k (compress).
+struct LanePermutes8 {
+  std::uint64_t expand[256] = {};
+  std::uint64_t compress[256] = {};
+  constexpr LanePermutes8() {
+    for (int mask = 0; mask < 256; ++mask)
+      for (int lane = 0, below = 0; lane < 8; ++lane) {
+        expand[mask] |= std::uint64_t(below) << (8 * lane);
+        if ((mask >> lane) & 1) compress[mask] |= std::uint64_t(lane) << (8 * below++);
+      }
+  }
+};
+inline constexpr LanePermutes8 kLanePermutes8{};
+
+inline __m256i lane_permute(std::uint64_t bytes) { return _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(std::int64_t(bytes))); }
+
+// expand_load() and compress_store() (packet.hpp) with one permute.
+inline vfloat<8> expand_load(const float* p, vbool<8> m, vfloat<8> old) {
+  const __m256i rank = lane_permute(kLanePermutes8.expand[_mm256_movemask_ps(m.m)]);
+  return _mm256_blendv_ps(old.f, _mm256_permutevar8x32_ps(_mm256_loadu_ps(p), rank), m.m);
+}
+inline vint<8> expand_load(const std::int32_t* p, vbool<8> m, vint<8> old) {
+  const __m256i rank = lane_permute(kLanePermutes8.expand[_mm256_movemask_ps(m.m)]);
+  const __m256i spread = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(p)), rank);
+  return _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(old.i), _mm256_castsi256_ps(spread), m.m));
+}
+inline void compress_store(float* p, vbool<8> m, vfloat<8> value) {
+  _mm256_storeu_ps(p, _mm256_permutevar8x32_ps(value.f, lane_permute(kLanePermutes8.compress[_mm256_movemask_ps(m.m)])));
+}
+inline void compress_store(std::int32_t* p, vbool<8> m, vint<8> value) {
+  _mm256_storeu_si256(reinterpret_cast<__m256i*>(p),
+                      _mm256_permutevar8x32_epi32(value.i, lane_permute(kLanePermutes8.compress[_mm256_movemask_ps(m.m)])));
+}
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

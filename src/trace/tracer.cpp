@@ -21,7 +21,7 @@ TraceRangeFn pick(const TraceRangeFn (&rows)[kFilterCount][kAddressingCount], co
 
 Tracer::Tracer(const DepthMap& map, const TechniqueParams& params, Isa isa)
     : params_(params), isa_(isa), texture_(map, params.wrap, params.filter) {
-  if (!cpu_supports(isa)) throw InputError("ISA " + to_string(isa) + " is not supported by this CPU");
+  check_cpu_supports(isa, "tracing");
   precomputed_ = build_precomputed(map, params.wrap, info(params.technique).needs);
   // Trilinear cone stepping reads the ratios' mip chain too, as a mipmapped (depth, ratio) texture.
   if (const ConeMap* cone = precomputed_.cone_map.get(); cone && params.filter == Filter::trilinear)

@@ -63,7 +63,7 @@ def test_a_recorded_run_is_read_back(tmp_path):
 
 
 @pytest.mark.parametrize("bad, why", [
-    (lambda line: "<<<<<<< HEAD", "line 3: 1 cells, not 23 (a merge conflict's marker)"),
+    (lambda line: "<<<<<<< HEAD", "line 3: 1 cells, not 24 (a merge conflict's marker)"),
     (lambda line: line.replace(",2e+07,", ",fast,"), "line 3: rays_per_second_median: is \"fast\", not a number"),
     (lambda line: line.replace(",12.5,", ",nan,"), "line 3: samples_per_ray: is NaN, not a finite number"),
     (lambda line: line.replace(",1,bricks,", ",0.5,bricks,"), "line 3: threads: is 0.5, not in [1, inf]"),
@@ -105,6 +105,23 @@ def test_an_incomplete_run_is_not_recorded(tmp_path):
     assert "INCOMPLETE" in str(e.value) and not (tmp_path / "history.csv").exists()
 
 
+def test_a_file_from_before_simd_use_reads_with_it_empty(tmp_path):
+    recorded(tmp_path, "c01")
+    path = tmp_path / "history.csv"
+    lines = path.read_text().splitlines()
+    assert lines[0].endswith(",simd_utilization")
+    path.write_text("\n".join(line.rsplit(",", 1)[0] for line in lines) + "\n")  # as written before the column
+    rows = history.read(str(path))
+    assert len(rows) == 1 and rows[0]["simd_utilization"] == "" and rows[0]["samples_per_ray"] == "12.5"
+    recorded(tmp_path, "c02")  # recording rewrites it with the column
+    assert path.read_text().splitlines()[0].endswith(",simd_utilization")
+
+
+def test_simd_use_is_recorded_for_the_rows_that_measure_it():
+    assert history.measure({"simd_utilization": 0.5}, "simd_utilization") == "0.5"
+    assert history.measure({"simd_utilization": None}, "simd_utilization") == ""
+
+
 def glsl_row(gl):
     return {"kind": "glsl", "backend": "glsl", "threads": 2, "heightfield": {"label": "bricks", "width": 512, "height": 512},
             "technique": "pom", "layers": "32", "view": {"kind": "default", "width": 256, "height": 256}, "gl": gl}
@@ -139,12 +156,17 @@ def test_the_filter_is_part_of_a_series():
     assert history.series_fields(row(kind="exact", technique=None, filter=None))["filter"] == ""
 
 
-def test_a_history_written_before_filters_reads_as_bilinear(tmp_path):
+@pytest.mark.parametrize("earlier", [("filter",), ("filter", "simd_utilization")])
+def test_a_history_written_before_filters_reads_as_bilinear(tmp_path, earlier):
     recorded(tmp_path, "c01")
     path = tmp_path / "history.csv"
     with open(path, newline="") as f:
         lines = list(csv.reader(f))
-    at = lines[0].index("filter")
+    gone = {lines[0].index(c) for c in earlier}
     with open(path, "w", newline="") as f:
-        csv.writer(f, lineterminator="\n").writerows([c for i, c in enumerate(line) if i != at] for line in lines)
-    assert [r["filter"] for r in history.read(str(path))] == ["bilinear"]
+        csv.writer(f, lineterminator="\n").writerows([c for i, c in enumerate(line) if i not in gone] for line in lines)
+    rows = history.read(str(path))
+    assert [r["filter"] for r in rows] == ["bilinear"] and rows[0]["samples_per_ray"] == "12.5"
+    assert set(rows[0]) == set(history.COLUMNS)
+    if "simd_utilization" in earlier:
+        assert rows[0]["simd_utilization"] == ""

@@ -61,7 +61,8 @@ add("trace", ["matrix"], "parallax", "1", "avx2", 2, [100e6, 101e6, 99e6, 100e6,
 add("trace", ["matrix", "isa"], "pom", "32", "avx2", 2, [40e6, 41e6, 39e6, 40e6, 42e6])
 # p95 = 2 uv: pom 32 reaches p95 <= 1 exactly; pom 64 (more samples, p95 0.2) is the cheapest for 0.25
 add("trace", ["matrix"], "pom", "64", "avx2", 2, [30e6, 31e6, 29e6, 30e6, 32e6], 20.0, uv=0.1)
-add("trace", ["matrix"], "maxmip", "1", "avx2", 2, [25e6, 25e6, 24e6, 25e6, 26e6], 12.0, uv=0.0)
+add("trace", ["matrix", "isa"], "maxmip", "1", "avx2", 2, [25e6, 25e6, 24e6, 25e6, 26e6], 12.0, uv=0.0)
+rows[-1]["simd_utilization"] = 0.9714
 add("trace", ["isa"], "pom", "32", "avx2", 1, [20e6, 21e6, 20e6, 19e6, 20e6])
 add("trace", ["isa"], "pom", "32", "scalar", 1, [5e6, 5e6, 5e6, 5e6, 5e6])
 add("naive", ["naive"], "pom", "32", "naive", 1, [4e6, 4e6, 4e6, 4e6, 4e6])
@@ -85,7 +86,8 @@ json.dump({"format": "heightmarch-claims", "format_version": 2,
           open(os.path.join(run, "claims.json"), "w"))
 techniques = [{"name": "parallax", "layered": False, "color": "#7f7f7f", "marker": "o", "description": "one sample"},
               {"name": "pom", "layered": True, "color": "#d62728", "marker": "s", "description": "interpolated"},
-              {"name": "maxmip", "layered": False, "color": "#8c564b", "marker": "h", "description": "a pyramid walk"}]
+              {"name": "maxmip", "layered": False, "color": "#8c564b", "marker": "h", "description": "a pyramid walk",
+               "shape": "walk"}]
 pick = lambda row_id, label, ns, hf="bricks": {
     "technique": label.split()[0], "layers": label.split()[1] if " " in label else "1", "label": label,
     "ns_per_ray": {"median": ns, "min": ns * 0.9, "max": ns * 1.1},
@@ -239,6 +241,9 @@ grep -q 'plotly.js (basic - minified) v4.1.1' "$page" || fail "report.html does 
 ! grep -Eq '<script[^>]+src=|<link[^>]+href="http' "$page" || fail "report.html loads a script or style from elsewhere"
 grep -q '"technique":"maxmip"' "$page" || fail "report.html lacks the rows"
 echo "ok: report.html is one file: Plotly inlined, nothing loaded from elsewhere"
+grep -q "| bricks | maxmip | 2 | .* | 97% |" "$tables" || fail "the walks' table shows maxmip's samples/s with its SIMD use"
+grep -q "The walks' samples/s and SIMD use" "$page" || fail "report.html lacks the walks' table"
+echo "ok: the walks' samples/s beside their SIMD use, in tables.md and report.html"
 
 # report.html and report.md say the same things: the recommendation's table cell for cell (the
 # "(not distinguishable)" caveat with it), in words (no measure's code name as a column), and the
@@ -264,12 +269,12 @@ print("ok: report.html shows report.md's recommendation table cell for cell, its
       "the busy warning opens the page")
 PY
 
-columns='date,commit,machine,cpu,cores,best_isa,compiler,build_type,backend,threads,heightfield,technique,layers,view,depth_map,filter,rays_per_second_median,rays_per_second_min,rays_per_second_max,samples_per_ray,uv_error_mean,uv_error_p95,wrong_surface_rate'
+columns='date,commit,machine,cpu,cores,best_isa,compiler,build_type,backend,threads,heightfield,technique,layers,view,depth_map,filter,rays_per_second_median,rays_per_second_min,rays_per_second_max,samples_per_ray,uv_error_mean,uv_error_p95,wrong_surface_rate,simd_utilization'
 [ "$(head -1 "$tmp/history.csv")" = "$columns" ] || fail "history columns: $(head -1 "$tmp/history.csv")"
 [ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 13 ] || fail "history rows: expected one per timed row (13)"
 grep -q '^2026-01-01T00:00:00Z,abc123,unknown-test-cpu-2c-avx2-gnu-12-release,Test CPU,2,avx2,GNU 12,Release,avx2-autovec,1,bricks,pom,32,' "$tmp/history.csv" \
   || fail "the auto-vectorised port's history row is not told apart from avx2's"
-grep -q '^2026-01-01T00:00:00Z,abc123,unknown-test-cpu-2c-avx2-gnu-12-release,Test CPU,2,avx2,GNU 12,Release,avx2,2,bricks,pom,32,default 64x64,32x32,4e+07,3.9e+07,4.2e+07,10,0.5,1,0.1$' "$tmp/history.csv" \
+grep -q '^2026-01-01T00:00:00Z,abc123,unknown-test-cpu-2c-avx2-gnu-12-release,Test CPU,2,avx2,GNU 12,Release,avx2,2,bricks,pom,32,default 64x64,32x32,bilinear,4e+07,3.9e+07,4.2e+07,10,0.5,1,0.1,1$' "$tmp/history.csv" \
   || fail "history row of POM-32 at avx2"
 "$root/scripts/report" "$tmp/run" --history "$tmp/history.csv" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "rerun failed"; }
 [ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 13 ] || fail "a rerun of the same date and commit was appended, not replaced"

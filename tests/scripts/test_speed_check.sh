@@ -34,7 +34,7 @@ def rounds(slower=None, factor=1.0, slow_rounds=()):
 
 
 def flagged(rs):
-    return [v[0][0] for v in judge(rs, [(n, n) for n in NAMES], 0.01, 0.05) if v[-1]]
+    return [v.pair[0] for v in judge(rs, [(n, n) for n in NAMES], 0.01, 0.05) if v.regressed]
 
 
 def fail(what):

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The suite's plumbing on its quick plan: one typed row per configuration in measurements.json
-# (every technique on the CPU and as GLSL, the searches at every ISA, roofline, naive port,
-# the exact reference timed, sweeps, gallery, claims), every
+# (every technique on the CPU and as GLSL, the searches at every ISA this CPU runs, roofline, naive
+# port, the exact reference and the calibration loop timed, sweeps, gallery, claims), every
 # timed row with at least 5 repetitions and its spread, bench.json named as heightmarch-bench
 # names, the claims, the recommendation, the report with spreads, the result files against their
 # JSON Schemas, report.html in headless Chromium (check_report_page.py; its screenshot goes to
@@ -28,15 +28,28 @@ for f in measurements.json measurements.csv bench.json recommendation.json claim
 done
 [ ! -e "$run/INCOMPLETE" ] || fail "a completed run still says INCOMPLETE"
 [ "$(stat -c %a "$run/report.md")" = 644 ] || fail "report.md is not world-readable"
-echo "ok: a fresh run directory with every file; latest and history untouched by --quick"
+# The progress counts what its header announces: "... 415 runs) into DIR", then "n/415 runs done".
+runs_announced="$(sed -n 's/.*: \([0-9]*\) runs) into .*/\1/p' "$tmp/suite.out")"
+[ -n "$runs_announced" ] && grep -q "^  $runs_announced/$runs_announced runs done" "$tmp/suite.out" &&
+  ! grep -v "/$runs_announced runs done" "$tmp/suite.out" | grep -q "runs done" ||
+  { cat "$tmp/suite.out"; fail "the progress does not count the runs its header announces"; }
+echo "ok: a fresh run directory with every file; latest and history untouched by --quick; progress counts its header's runs"
 
 "$build/heightmarch" claims --list > "$tmp/claims.list" || fail "claims --list exited non-zero"
-/usr/bin/python3 - "$run" "$tmp/claims.list" <<'PY' || fail "measurements.json or bench.json lacks what the plan asked for"
+# The ISAs this CPU runs (under HEIGHTMARCH_MAX_ISA where set), as the tool says: the suite's
+# searches run at each of them, and at no other.
+runs="$("$build/heightmarch" --version | sed -n 's/^ISAs this CPU runs: \([^(]*\).*/\1/p')"
+[ -n "$runs" ] || fail "heightmarch --version does not name the ISAs this CPU runs"
+/usr/bin/python3 - "$run" "$tmp/claims.list" "$runs" <<'PY' || fail "measurements.json or bench.json lacks what the plan asked for"
 import json, os, sys
 run = sys.argv[1]
+cpu_isas = [name.strip() for name in sys.argv[3].split(",")]
 m = json.load(open(run + "/measurements.json"))
 rows = m["rows"]
 techniques = [t["name"] for t in m["techniques"]]
+assert [b for b in m["backends"] if b not in ("glsl", "naive", "exact", "calibration")] == cpu_isas, (m["backends"], cpu_isas)
+assert set(m["backends"]) == {r["backend"] for r in rows}, (m["backends"], sorted({r["backend"] for r in rows}))
+assert m["provenance"]["best_isa"] == cpu_isas[-1], (m["provenance"]["best_isa"], cpu_isas)
 def has(**want):
     return any(all(r.get(k) == v for k, v in want.items()) for r in rows)
 for hf in ("bricks", "terrain"):
@@ -47,14 +60,28 @@ for hf in ("bricks", "terrain"):
     for layers in ("8", "32", "8-32"):
         assert any(r["kind"] == "trace" and r["technique"] == "pom" and r["layers"] == layers for r in sel), (hf, layers)
     assert any(r["kind"] == "roofline" for r in sel) and any(r["kind"] == "naive" for r in sel), hf
-    isas = [b for b in m["backends"] if b not in ("glsl", "naive", "exact")]
+# (every technique on the CPU and as GLSL, the searches at every ISA this CPU runs, roofline, naive
+# port, the exact reference and the calibration loop timed, sweeps, gallery, claims), every
     for t in ("steep", "relief", "pom", "secant", "cone", "maxmip"):
-        for isa in isas:
+        for isa in cpu_isas:
             assert any(r["kind"] == "trace" and r["technique"] == t and r["layers"] in ("32", "1") and r["backend"] == isa
                        and "isa" in r["purposes"] and r["speed"] for r in sel), (hf, t, isa)
     assert any(r["kind"] == "exact" and "exact" in r["purposes"] and r["speed"] for r in sel), hf
+    # compare's control: the calibration loop at every thread count in each heightfield's rounds
+    assert {r["threads"] for r in sel if r["kind"] == "calibration" and r["speed"]} == {r["threads"] for r in sel}, hf
     assert len({r["view"]["theta"] for r in sel if r["view"]["kind"] == "sweep"}) == 18, hf
 assert any("gallery" in r["purposes"] and r["images"] for r in rows)
+# The window around the surface, its held-out twins, and what to ship seen on every map.
+assert all(r["view"]["around"] for r in rows if "matrix" in r["purposes"])
+held = [r for r in rows if r["purposes"] == ["held-out"]]
+assert held and all(r["view"]["seed"] == 2 and not r["speed"] and r["errors"]["confidence"] for r in held)
+for b in json.load(open(run + "/recommendation.json"))["backends"]:
+    for a in b["per_heightfield"]:
+        if a["choice"]:
+            assert all(x["held_out"] for x in a["choice"]["rows"]), (b["name"], a["heightfield"])
+            assert any("gallery" in r["purposes"] and r["images"] and r["heightfield"]["label"] == a["heightfield"]
+                       and (r["technique"], r["layers"]) == (a["choice"]["technique"], a["choice"]["layers"])
+                       for r in rows), (b["name"], a["heightfield"], a["choice"]["label"])
 for r in rows:
     for image in (r["images"] or {}).values():
         assert os.path.getsize(os.path.join(run, image)) > 0, (r["id"], image)
@@ -86,7 +113,7 @@ for r in rows:
 timed = {r["id"] for r in rows if r["speed"]}
 bench = json.load(open(run + "/bench.json"))
 names = {b["name"] for b in bench["benchmarks"]}
-assert all("min_time" not in n and "/view:256x256/depth_map:256x256/manual_time" in n for n in names), sorted(names)[:3]
+assert all("min_time" not in n and "/view:around:256x256/depth_map:256x256/manual_time" in n for n in names), sorted(names)[:3]
 assert any(n.startswith("BM_GLSL/heightfield:bricks/technique:pom/layers:32/isa:glsl/threads:1/gl:osmesa/") for n in names)
 assert bench["context"]["heightmarch_gl"].startswith("glsl (llvmpipe, "), bench["context"]
 iterations = [b for b in bench["benchmarks"] if b["run_type"] == "iteration"]
@@ -94,11 +121,13 @@ medians = [b for b in bench["benchmarks"] if b["run_type"] == "aggregate" and b[
 assert len(iterations) == sum(r["speed"]["repetitions"] for r in rows if r["speed"])
 assert len(medians) == len(timed) and len(bench["benchmarks"]) == len(iterations) + len(medians)
 assert all(b["time_unit"] == "ns" and b["real_time"] >= 1000 for b in bench["benchmarks"])  # compare.py prints no decimals
-assert bench["context"]["heightmarch_view"] == "256x256" and bench["context"]["heightmarch_build_type"]
+assert bench["context"]["heightmarch_view"] == "around:256x256" and bench["context"]["heightmarch_build_type"]
 claims = json.load(open(run + "/claims.json"))["claims"]
 declared = [line.split("\t")[0] for line in open(sys.argv[2]).read().splitlines()]
 assert len(declared) >= 13 and [c["id"] for c in claims] == declared, ([c["id"] for c in claims], declared)
-assert all(c["verdict"] in ("holds", "holds partly", "refuted", "not measured") for c in claims)
+assert all(c["verdict"] in ("holds", "mostly holds", "holds partly", "mostly refuted", "refuted", "not measured")
+           for c in claims)
+assert all(c["summary"] and c["passed"] <= c["checked"] == len(c["checks"]) for c in claims)
 print("ok: %d rows (%d timed, each with >= 5 repetitions and its spread), bench.json of %d repetitions and their "
       "medians in ns, claims %s" % (len(rows), len(timed), len(iterations), ", ".join(declared)))
 PY

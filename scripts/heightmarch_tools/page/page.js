@@ -77,7 +77,7 @@
       return;
     }
     body.append(el("p", {}, t.intro + " ", el("a", {href: DATA.docs.recommendation, text: "Why this target"}),
-                   ". Click a row to see it."));
+                   ". Click a row to see it, with its figures by azimuth of V and by view angle."));
     const table = el("table", {class: "recommendation"});
     table.append(el("tr", {}, ...t.columns.map(c => el("th", {text: c}))));
     const byId = Object.fromEntries(DATA.rows.map(row => [row.id, row]));
@@ -89,6 +89,12 @@
       table.append(tr);
     }
     body.append(table);
+    if ((t.varies || []).length) {
+      body.append(el("p", {text: "Where a choice's wrong-surface rate varies over the window beyond its 95% intervals:"}));
+      const list = el("ul", {});
+      for (const line of t.varies) list.append(el("li", {text: line}));
+      body.append(list);
+    }
   }
 
   // --- the frontier -----------------------------------------------------------------------------
@@ -270,6 +276,18 @@
     const measures = el("p", {class: "figures"});
     for (const line of describe(row)) measures.append(el("span", {text: line}), el("br"));
     box.append(measures);
+    // Over a view set: its figures by azimuth sector of V and by band of view angles.
+    for (const [key, what] of [["by_azimuth", "azimuth of V (degrees)"], ["by_view_angle", "view angle (degrees)"]]) {
+      const groups = row.breakdown && row.breakdown[key];
+      if (!groups || !groups.length) continue;
+      const t = el("table", {class: "breakdown"},
+                   el("tr", {}, ...[what, "rays", "p99 (texels)", "wrong surface (95% interval)"].map(x => el("th", {text: x}))));
+      for (const g of groups)
+        t.append(el("tr", {}, ...[`${g.from} to ${g.to}`, String(g.rays), errorText(g.uv_error_p99),
+                                  `${percent(g.wrong_surface_rate)} (${percent(g.wrong_surface_ci[0])}-${percent(g.wrong_surface_ci[1])})`]
+                                 .map(x => el("td", {text: x}))));
+      box.append(t);
+    }
     // Images exist for the gallery's rows: its configurations on its heightfield and view.
     const gallery = DATA.gallery.filter(g => g.label === row.label);
     const same = gallery.find(g => g.technique === row.technique && g.layers === row.layers);

@@ -3,33 +3,41 @@
 // bilinear patch in the cell it stopped in. Exact up to float rounding, at a cost that grows with
 // the depth features on the ray, not with the resolution.
 #include "kernels/pyramid_walk.hpp"
+#include "simd/isa_packets.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
+// The walk of each ray of the packet, queued.
 template <int W, Addressing ADDRESSING>
-HitPacket<W> maxmip(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
+void queue_maxmip(const KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray, WalkQueue& queue, int i) {
+  const TexelPath<W> path = texel_path(k, ray);
+  queue_walk(k, path.x0, path.y0, path.dx, path.dy, vfloat<W>(0.0f), queue, i);
+}
+
+// The packet's hits from its walks.
+template <int W, Addressing ADDRESSING>
+HitPacket<W> maxmip(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray, const PyramidWalk<W>& walk) {
   using F = vfloat<W>;
   const TexelPath<W> path = texel_path(k, ray);
-  const F &p_x = path.p_x, &p_y = path.p_y, &x0 = path.x0, &y0 = path.y0, &dx = path.dx, &dy = path.dy;
-  const PyramidWalk<W> walk = walk_pyramid<false>(k, x0, y0, dx, dy, F(0.0f));
   // Reached: the patch's first crossing; cut off by the bound: the deepest point known clear;
   // else no hit before depth 1.
   const F hit_t = select(walk.reached, walk.t + first_root(walk.c0, walk.c1, walk.c2, walk.span),
                          select(walk.cut_off, walk.t, F(1.0f)));
   HitPacket<W> out;
-  out.u = ray.tx - p_x * hit_t;
-  out.v = ray.ty - p_y * hit_t;
+  out.u = ray.tx - path.p_x * hit_t;
+  out.v = ray.ty - path.p_y * hit_t;
   out.depth = hit_t;
   out.samples = walk.samples;
   return out;
 }
 
+// Its walk's first step: maxmip walks the pyramid as it is (a crossing may end the walk).
 template <>
-struct TechniqueKernel<Technique::maxmip> {
-  static constexpr bool kReadsTexels = true;  // one kernel for both filters (kernel_table.hpp)
+struct WalkSteps<Technique::maxmip> {
+  static constexpr bool kConservative = false;
   template <class Context, class Ray>
-  auto operator()(Context& k, const Ray& ray) const {
-    return maxmip(k, ray);
+  void queue(const Context& k, const Ray& ray, WalkQueue& queue, int i) const {
+    queue_maxmip(k, ray, queue, i);
   }
 };
 

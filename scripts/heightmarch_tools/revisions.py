@@ -1,0 +1,259 @@
+"""A revision's heightmarch-bench, built once and kept: a detached worktree of the commit, a build
+of its benchmark binary and GLSL worker with the current build's settings, and a cache under the
+build directory keyed by the commit and those settings (ccache, where installed, speeds up the
+first build of a commit near one built before). scripts/regress and scripts/bisect use it.
+
+Every child runs through processes.run: a signal ends it with its whole process group, and the
+worktree is removed on the way out.
+"""
+import hashlib
+import json
+import os
+import shutil
+import subprocess
+import tempfile
+import time
+
+from . import processes
+from .errors import Unusable
+from .escape import terminal
+from .readers import is_number, read_json, read_text
+from .writers import atomic_write
+
+CACHE = "regress-cache"  # under the build directory
+BINARIES = ("heightmarch-bench", "heightmarch-glsl-worker")  # the bench finds its worker beside it (built with GLSL)
+MAX_ENTRIES = 10  # builds kept; the least recently used goes first
+INCOMING = ".incoming-"  # a build being stored: .incoming-PID-...
+# The current build's settings that a revision's build takes on, so both sides are built alike.
+SETTINGS = ("CMAKE_BUILD_TYPE", "CMAKE_CXX_COMPILER", "CMAKE_C_COMPILER", "CMAKE_CXX_FLAGS", "CMAKE_C_FLAGS",
+            "CMAKE_EXE_LINKER_FLAGS")
+DEFAULT_SETTINGS = {"CMAKE_BUILD_TYPE": "Release"}
+
+
+def git(root, *args):
+    result = processes.run(["git", "-C", root] + list(args), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if result.returncode != 0:
+        raise subprocess.CalledProcessError(result.returncode, result.args, result.stdout, result.stderr)
+    return result.stdout.strip()
+
+
+def repository(path):
+    """The top of the git repository holding path, or Unusable."""
+    try:
+        return git(path, "rev-parse", "--show-toplevel")
+    except subprocess.CalledProcessError:
+        raise Unusable("%s is not in a git repository" % path)
+
+
+def resolve(root, rev):
+    """The full commit id of rev, or Unusable."""
+    try:
+        return git(root, "rev-parse", "--verify", "--quiet", rev + "^{commit}")
+    except subprocess.CalledProcessError:
+        raise Unusable("unknown revision %s" % terminal(rev))
+
+
+def describe(root, commit):
+    """'1a2b3c4d5e6f subject' of a commit, for progress lines."""
+    return git(root, "log", "-1", "--format=%h %s", commit)[:100]
+
+
+def cmake_cache(build_dir):
+    """{KEY: VALUE} of build_dir/CMakeCache.txt ({} without one)."""
+    path = os.path.join(build_dir, "CMakeCache.txt")
+    if not os.path.lexists(path):
+        return {}
+    out = {}
+    for line in read_text(path).splitlines():
+        if line[:1] not in ("#", "/", "") and "=" in line and ":" in line.split("=", 1)[0]:
+            key, value = line.split("=", 1)
+            out[key.split(":", 1)[0]] = value
+    return out
+
+
+def compiler_version(path):
+    """The first line of `path --version` (a compiler updated in place is another setting)."""
+    try:
+        result = processes.run([path, "--version"], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    except OSError:
+        return "?"
+    return (result.stdout.splitlines() or ["?"])[0]
+
+
+def build_settings(build_dir):
+    """The settings a revision is built with: the current build's (build type, compilers and their
+    versions, flags) where it has them, else a Release build with the default compilers."""
+    cache = cmake_cache(build_dir)
+    settings = {k: cache[k] for k in SETTINGS if cache.get(k)} or dict(DEFAULT_SETTINGS)
+    settings.setdefault("CMAKE_BUILD_TYPE", "Release")
+    for key in ("CMAKE_CXX_COMPILER", "CMAKE_C_COMPILER"):
+        if key in settings:
+            settings[key + "_VERSION"] = compiler_version(settings[key])
+    return settings
+
+
+class Worktree:
+    """A detached worktree of commit under a temporary directory, removed on exit, whatever ends
+    the block (an error, Interrupted)."""
+
+    def __init__(self, root, commit):
+        self.root, self.commit = root, commit
+
+    def __enter__(self):
+        self.work = tempfile.mkdtemp(prefix="heightmarch-speed-")
+        self.tree = os.path.join(self.work, "tree")
+        try:
+            git(self.root, "worktree", "add", "--detach", self.tree, self.commit)
+        except BaseException:
+            self.__exit__()
+            raise
+        return self
+
+    def __exit__(self, *exc):
+        with processes.signals_held():
+            subprocess.run(["git", "-C", self.root, "worktree", "remove", "--force", self.tree], capture_output=True)
+            shutil.rmtree(self.work, ignore_errors=True)
+            subprocess.run(["git", "-C", self.root, "worktree", "prune"], capture_output=True)
+
+
+def build(source, build_dir, log, settings=None):
+    """Builds heightmarch-bench (and its GLSL worker) of the tree at source into build_dir, first
+    configured with settings unless settings is None (a build directory of the user's, brought up
+    to date as it is). Output goes to log; its path."""
+    commands, env = [], None
+    if settings is not None:
+        configure = ["cmake", "-S", source, "-B", build_dir, "-DHEIGHTMARCH_BUILD_TESTS=OFF"]
+        configure += ["-D%s=%s" % (k, v) for k, v in sorted(settings.items()) if not k.endswith("_VERSION")]
+        if shutil.which("ccache"):
+            configure += ["-DCMAKE_CXX_COMPILER_LAUNCHER=ccache", "-DCMAKE_C_COMPILER_LAUNCHER=ccache"]
+        commands.append(configure)
+        # ccache finds a compile of the same file in another worktree when the paths of the sources
+        # and of the build's generated files are taken relative to the directory holding both
+        env = dict(os.environ, CCACHE_BASEDIR=os.path.commonpath([os.path.realpath(source), os.path.realpath(build_dir)]))
+    commands.append(["cmake", "--build", build_dir, "-j", str(os.cpu_count() or 1), "--target", "heightmarch-bench"])
+    for command in commands:
+        if processes.run(command, stdout=log, stderr=subprocess.STDOUT, env=env).returncode != 0:
+            raise Unusable("building %s failed: its log is %s" % (source, log.name))
+    return os.path.join(build_dir, "heightmarch-bench")
+
+
+class BuildCache:
+    """Built revisions under BUILD/regress-cache/COMMIT12-KEY/ (the binaries and build.json with the
+    commit, the settings and the build's seconds), KEY a hash of the commit and the settings;
+    entries appear whole (renamed into place) and at most MAX_ENTRIES are kept. Beside them: the
+    last build log of each commit (build-COMMIT12.log) and timings.json, the last build's and
+    round's seconds for the next run's estimates."""
+
+    def __init__(self, build_dir, settings):
+        self.dir = os.path.join(os.path.abspath(build_dir), CACHE)
+        self.settings = settings
+
+    def entry(self, commit):
+        key = hashlib.sha256(json.dumps([commit, self.settings], sort_keys=True).encode()).hexdigest()[:12]
+        return os.path.join(self.dir, "%s-%s" % (commit[:12], key))
+
+    def lookup(self, commit):
+        """The cached heightmarch-bench of commit, or None."""
+        entry = self.entry(commit)
+        if not all(os.path.isfile(os.path.join(entry, f)) for f in (BINARIES[0], "build.json")):
+            return None
+        os.utime(os.path.join(entry, "build.json"))  # recently used
+        return os.path.join(entry, BINARIES[0])
+
+    def build(self, root, commit, progress):
+        """commit's heightmarch-bench from the cache, or built in a worktree of its own and stored;
+        its path."""
+        cached = self.lookup(commit)
+        if cached:
+            progress("cached build of %s in %s" % (describe(root, commit), os.path.dirname(cached)))
+            return cached
+        progress("building %s in a worktree (%s; log: %s)" % (describe(root, commit), self.estimate(), self.log(commit)))
+        with Worktree(root, commit) as tree:
+            return self.build_in(tree.tree, os.path.join(tree.work, "build"), commit, progress)
+
+    def build_in(self, tree, build_dir, commit, progress):
+        """Builds the checkout of commit at tree into build_dir (incrementally where it holds an
+        earlier build) and stores it; its cached heightmarch-bench. The build's log is
+        self.log(commit), kept; an interrupted build stores nothing."""
+        os.makedirs(self.dir, exist_ok=True)
+        start = time.monotonic()
+        with open(self.log(commit), "w") as log:
+            binary = build(tree, build_dir, log, self.settings)
+        seconds = time.monotonic() - start
+        self.record(build_seconds=seconds)
+        incoming = tempfile.mkdtemp(prefix="%s%d-" % (INCOMING, os.getpid()), dir=self.dir)
+        try:
+            for b in BINARIES:
+                if os.path.exists(os.path.join(os.path.dirname(binary), b)):
+                    shutil.copy2(os.path.join(os.path.dirname(binary), b), incoming)
+            atomic_write(os.path.join(incoming, "build.json"), json.dumps(
+                {"commit": commit, "settings": self.settings, "build_seconds": seconds}, sort_keys=True) + "\n")
+            try:
+                os.rename(incoming, self.entry(commit))
+            except OSError:  # another run stored the same build meanwhile
+                pass
+        finally:
+            shutil.rmtree(incoming, ignore_errors=True)
+        progress("built %s in %s" % (commit[:12], duration(seconds)))
+        self.evict()
+        return os.path.join(self.entry(commit), BINARIES[0])
+
+    def log(self, commit):
+        """Where the build of commit logs (kept: the last build of each commit)."""
+        return os.path.join(self.dir, "build-%s.log" % commit[:12])
+
+    def estimate(self):
+        seconds = self.timings().get("build_seconds")
+        return ("the last build took %s" % duration(seconds) if seconds else
+                "several minutes on 2 cores, less where ccache holds a build of a commit near it")
+
+    def evict(self):
+        """Keeps the MAX_ENTRIES most recently used builds; removes what a killed run left."""
+        entries = []
+        for name in os.listdir(self.dir):
+            path = os.path.join(self.dir, name)
+            stamp = os.path.join(path, "build.json")
+            if os.path.isfile(stamp):
+                entries.append((os.path.getmtime(stamp), path))
+            elif name.startswith(INCOMING) and not alive(name[len(INCOMING):].split("-")[0]):
+                shutil.rmtree(path, ignore_errors=True)
+        for _, path in sorted(entries, reverse=True)[MAX_ENTRIES:]:
+            shutil.rmtree(path, ignore_errors=True)
+        logs = [os.path.join(self.dir, n) for n in os.listdir(self.dir) if n.startswith("build-") and n.endswith(".log")]
+        for path in sorted(logs, key=os.path.getmtime, reverse=True)[2 * MAX_ENTRIES:]:
+            os.unlink(path)
+
+    def timings(self):
+        """The last figures record() kept ({} where there are none, or they are not readable: they
+        only make estimates)."""
+        path = os.path.join(self.dir, "timings.json")
+        try:
+            data = read_json(path) if os.path.lexists(path) else {}
+        except Unusable:
+            return {}
+        if not isinstance(data, dict):
+            return {}
+        return {k: v for k, v in data.items() if is_number(v) and 0 < v < 1e6}
+
+    def record(self, **seconds):
+        """Keeps figures (seconds) for the next run's estimates."""
+        os.makedirs(self.dir, exist_ok=True)
+        atomic_write(os.path.join(self.dir, "timings.json"), json.dumps(dict(self.timings(), **seconds)) + "\n")
+
+
+def alive(pid):
+    """Whether the process of pid (text) runs."""
+    if not pid.isdigit() or int(pid) <= 0:
+        return False
+    try:
+        os.kill(int(pid), 0)
+        return True
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+
+
+def duration(seconds):
+    """'45 s', '3.5 min'."""
+    return "%.0f s" % seconds if seconds < 90 else "%.1f min" % (seconds / 60)

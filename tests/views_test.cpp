@@ -1,0 +1,237 @@
+// The windows a run measures (docs/measures.md#view-sets): the single default view as before, the
+// set around the surface, LearnOpenGL's scene, a user's camera poses, their held-out sets and the
+// fresh rays of the outside check; and the 95% intervals of the measures over them.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <set>
+
+#include "heightmarch/error.hpp"
+#include "heightmarch/metrics.hpp"
+#include "test_support.hpp"
+
+namespace heightmarch {
+namespace {
+
+double degrees(double radians) { return radians * 180.0 / M_PI; }
+
+std::vector<double> view_angles(const RayBatch& rays) {
+  std::vector<double> angles;
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    if (!rays.is_padding(i)) angles.push_back(degrees(std::acos(double(rays.vz[i]))));
+  std::sort(angles.begin(), angles.end());
+  return angles;
+}
+
+double percentile(const std::vector<double>& sorted, double p) { return sorted[std::size_t(p / 100.0 * (sorted.size() - 1))]; }
+
+// The share of the rays whose V lies in each of 8 azimuth sectors.
+std::vector<double> sector_shares(const RayBatch& rays) {
+  std::vector<double> shares(8, 0.0);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    if (rays.is_padding(i)) continue;
+    const double azimuth = degrees(std::atan2(double(rays.vy[i]), double(rays.vx[i]))) + 360.0;
+    shares[int(azimuth / 45.0) % 8] += 1.0 / double(rays.ray_count);
+  }
+  return shares;
+}
+
+ViewSpec window(const std::string& views, int width, int height) {
+  ViewSpec view = parse_view("default", width, height);
+  apply_views(views, view);
+  return view;
+}
+
+// LearnOpenGL's parallax scene over one turn sees its quad at 9, 35 and 77 degrees from the normal
+// (5th, 50th, 95th percentile), not at the default view's 30 to 80.
+TEST(Views, TheTutorialsSceneSeesItsQuadAtItsOwnAngles) {
+  const ViewSpec tutorial = window("tutorial", 200, 150);
+  EXPECT_EQ(tutorial.kind, ViewSpec::Kind::tutorial);
+  EXPECT_EQ(tutorial.views, kTutorialFrames);
+  EXPECT_EQ(describe(tutorial), "tutorial:16 200x150");
+  const RayBatch rays = make_view_rays(tutorial);
+  const std::vector<double> angles = view_angles(rays);
+  EXPECT_NEAR(percentile(angles, 5), 9.0, 1.0);
+  EXPECT_NEAR(percentile(angles, 50), 35.0, 1.5);
+  EXPECT_NEAR(percentile(angles, 95), 77.0, 1.5);
+  // Back faces dropped: about half the turn shows the quad's back, and no ray comes from below.
+  EXPECT_GT(rays.ray_count, 0.15 * 200 * 150 * 16);
+  EXPECT_LT(rays.ray_count, 0.40 * 200 * 150 * 16);
+  for (float tx : rays.tx) EXPECT_TRUE(tx >= 0.0f && tx <= 1.0f);
+  EXPECT_EQ(rays.views, std::uint32_t(kTutorialFrames));
+}
+
+// Around: the default camera turned about the normal, each tile of its frame from its own azimuth
+// at its own offset. Every sector of azimuths gets its share in every band of view angles, the
+// frame's angles are the single view's, and the held-out set is another draw.
+TEST(Views, AroundTurnsTheDefaultViewToEveryAzimuth) {
+  ViewSpec single = window("single", 512, 512), around = window("around", 512, 512);
+  EXPECT_EQ(describe(single), "default 512x512");
+  EXPECT_EQ(describe(around), "around 512x512");
+  EXPECT_EQ(describe(held_out_view(around)), "around 512x512 seed 2");
+  single.tile_size = around.tile_size = 16;
+  EXPECT_FALSE(is_view_set(single));
+  EXPECT_TRUE(is_view_set(around));
+  const RayBatch one = make_view_rays(single), set = make_view_rays(around), held = make_view_rays(held_out_view(around));
+  EXPECT_EQ(set.ray_count, one.ray_count) << "the set traces the frame's pixels once";
+  EXPECT_EQ(set.views, std::uint32_t(512 / kViewCell * 512 / kViewCell)) << "a view per cell";
+  std::vector<double> a = view_angles(set), b = view_angles(one);
+  for (std::size_t i = 0; i < a.size(); i += 97) EXPECT_NEAR(a[i], b[i], 1e-3) << "turning keeps every view angle";
+  for (const RayBatch* rays : {&set, &held})
+    for (double share : sector_shares(*rays)) EXPECT_NEAR(share, 1.0 / 8.0, 0.02);
+  // In every band of view angles too: the near rows see every azimuth as the far rows do.
+  RayBatch near = set;
+  for (std::size_t i = 0; i < near.size(); ++i)
+    if (degrees(std::acos(double(near.vz[i]))) > 45.0) near.origin[i] = kPaddingRay;
+  near.ray_count = std::count_if(near.origin.begin(), near.origin.end(), [](std::uint32_t o) { return o != kPaddingRay; });
+  for (double share : sector_shares(near)) EXPECT_NEAR(share, 1.0 / 8.0, 0.03);
+  const std::vector<double> single_shares = sector_shares(one);
+  EXPECT_GT(single_shares[5] + single_shares[6], 0.95) << "the single view looks from 225-315 degrees";
+  // Positions cover the map evenly: each quarter of [0, 1)^2 holds its share.
+  double quarter[4] = {0, 0, 0, 0};
+  for (std::size_t i = 0; i < set.size(); ++i)
+    if (!set.is_padding(i)) quarter[(set.tx[i] >= 0.5f) + 2 * (set.ty[i] >= 0.5f)] += 1.0 / double(set.ray_count);
+  for (double q : quarter) EXPECT_NEAR(q, 0.25, 0.05);
+  // Another draw: no ray of the held-out set is one of the selection set's.
+  std::set<std::pair<float, float>> entries;
+  for (std::size_t i = 0; i < set.size(); ++i) entries.emplace(set.tx[i], set.vx[i]);
+  std::size_t shared = 0;
+  for (std::size_t i = 0; i < held.size(); ++i) shared += entries.count({held.tx[i], held.vx[i]});
+  EXPECT_LT(shared, held.size() / 1000);
+  // Every pixel once, each in its own place of the image.
+  std::set<std::uint32_t> pixels;
+  for (std::size_t i = 0; i < set.size(); ++i)
+    if (!set.is_padding(i)) pixels.insert(set.origin[i]);
+  EXPECT_EQ(pixels.size(), set.ray_count);
+}
+
+TEST(Views, TheSingleViewIsTodaysRayForRay) {
+  const RayBatch a = make_view_rays(parse_view("default", 96, 64)), b = make_view_rays(window("single", 96, 64));
+  EXPECT_EQ(a.tx, b.tx);
+  EXPECT_EQ(a.vz, b.vz);
+  ViewSpec sweep = parse_view("sweep:60,90", 64, 64);
+  const RayBatch s = make_view_rays(sweep);
+  for (std::size_t i = 0; i < s.size(); ++i) EXPECT_NEAR(degrees(std::acos(double(s.vz[i]))), 60.0, 1e-3);
+  apply_views("around", sweep);
+  sweep.tile_size = 4;
+  EXPECT_EQ(describe(sweep), "sweep:60,90 around 64x64");
+  const RayBatch turned = make_view_rays(sweep);
+  for (std::size_t i = 0; i < turned.size(); ++i) EXPECT_NEAR(degrees(std::acos(double(turned.vz[i]))), 60.0, 1e-3);
+  for (double share : sector_shares(turned)) EXPECT_NEAR(share, 1.0 / 8.0, 0.01);
+}
+
+TEST(Views, BadWindowsAreRefusedInOneLine) {
+  ViewSpec view = parse_view("default", 64, 64);
+  for (const char* bad : {"bogus", "around:8", "tutorial:0", "tutorial:x", "tutorial:99999", "poses"})
+    EXPECT_THROW(apply_views(bad, view), InputError) << bad;
+  ViewSpec sweep = parse_view("sweep:30", 64, 64);
+  EXPECT_THROW(apply_views("tutorial", sweep), InputError);
+}
+
+// A user's camera: the surface is the plane z = 0 with uv = (x, y), repeating.
+TEST(Views, CameraPosesFromACsv) {
+  const std::string dir = test::temp_dir("poses");
+  const std::string header = "eye_x,eye_y,eye_z,target_x,target_y,target_z,up_x,up_y,up_z,fov,width,height\n";
+  std::ofstream(dir + "/down.csv") << header << "0.5,0.5,2,0.5,0.5,0,0,1,0,20,64,48\n"
+                                   << "0,-3,1, 0,0,0, 0,0,1, 60, 80,60\n";
+  ViewSpec view = parse_view("default", 1, 1);
+  apply_views(dir + "/down.csv", view);
+  EXPECT_EQ(view.kind, ViewSpec::Kind::poses);
+  const RayBatch rays = make_view_rays(view);
+  EXPECT_EQ(rays.views, 2u);
+  // Straight down from 2 units with a 20 degree field of view (26 across at 4:3): every pixel sees
+  // the plane, the corners at about 16 degrees from the normal.
+  std::size_t first_pose = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    if (!rays.is_padding(i) && rays.view[i] == 0) {
+      ++first_pose;
+      EXPECT_LT(degrees(std::acos(double(rays.vz[i]))), 17.0);
+    }
+  EXPECT_EQ(first_pose, 64u * 48u);
+  // The second pose looks towards the horizon: the sky misses, the plane up to 89 degrees is kept.
+  const std::vector<double> angles = view_angles(rays);
+  EXPECT_LE(angles.back(), kMaxViewDegrees + 1e-3);
+  for (float t : rays.tx) EXPECT_TRUE(t >= 0.0f && t < 1.0f);
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"eye_x,eye_y\n1,2\n", "header must be"},
+      {header + "0.5,0.5,2,0.5,0.5,0,0,1,0,20,64\n", ":2: expected 12 columns, found 11"},
+      {header + "0.5,0.5,2,0.5,0.5,0,0,1,0,20,64,x\n", ":2: height 'x' is not a number"},
+      {header + "0.5,0.5,-1,0.5,0.5,0,0,1,0,20,64,48\n", ":2: the eye must be above the surface"},
+      {header + "0.5,0.5,2,0.5,0.5,0,0,0,1,20,64,48\n", ":2: up is zero or along the view direction"},
+      {header + "0.5,0.5,2,0.5,0.5,0,0,1,0,180,64,48\n", ":2: fov must be in (0, 180) degrees"},
+      {header + "0.5,0.5,2,0.5,0.5,0,0,1,0,20,0,48\n", ":2: width must be a whole number of pixels"},
+      {header, "no camera poses"},
+      {header + "0,0,1,0,1,2,0,0,1,20,8,8\n", "no pose sees the surface"}};
+  for (const auto& [text, message] : bad) {
+    std::ofstream(dir + "/bad.csv") << text;
+    ViewSpec v = parse_view("default", 1, 1);
+    apply_views(dir + "/bad.csv", v);
+    try {
+      make_view_rays(v);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    }
+  }
+}
+
+// The outside check's rays: every azimuth and position uniform, the view angles the window's.
+TEST(Views, FreshRaysHaveTheWindowsAnglesAndEveryAzimuth) {
+  ViewSpec fresh = window("single", 128, 128);
+  fresh.fresh_rays = 40000;
+  fresh.seed = 7;
+  EXPECT_EQ(describe(fresh), "fresh 40000 rays like default 128x128 seed 7");
+  const RayBatch rays = make_view_rays(fresh);
+  EXPECT_EQ(rays.ray_count, 40000u);
+  const std::vector<double> drawn = view_angles(rays), own = view_angles(make_view_rays(window("single", 128, 128)));
+  for (double p : {5.0, 50.0, 95.0}) EXPECT_NEAR(percentile(drawn, p), percentile(own, p), 1.0) << p;
+  for (double share : sector_shares(rays)) EXPECT_NEAR(share, 1.0 / 8.0, 0.01);
+}
+
+// Clopper-Pearson and the order statistics' interval against known values (R's binom.test and the
+// normal approximation far from the tails).
+TEST(Confidence, IntervalsOfARateAndAPercentile) {
+  const Interval a = clopper_pearson(5, 100);
+  EXPECT_NEAR(a.low, 0.01643, 1e-4);
+  EXPECT_NEAR(a.high, 0.11284, 1e-4);
+  const Interval none = clopper_pearson(0, 1000);
+  EXPECT_EQ(none.low, 0.0);
+  EXPECT_NEAR(none.high, 0.003682, 1e-5);
+  EXPECT_NEAR(incomplete_beta(2, 3, 0.4), 0.5248, 1e-4);
+  const double n = 1e6, p = 0.99;
+  const Interval ranks = quantile_rank_interval(p, n);
+  const double half = 1.96 * std::sqrt(p * (1 - p) / n);
+  EXPECT_NEAR(ranks.low, p - half, 2e-5);
+  EXPECT_NEAR(ranks.high, p + half, 2e-5);
+}
+
+// Over independent rays the intervals are the plain ones; over a view set, whose rays err in
+// clusters, they widen, and they always hold the figure.
+TEST(Confidence, SummariesCarryIntervalsThatHoldTheirFigures) {
+  const RayBatch rays = test::random_rays(20000, 80.0, 3);
+  HitBuffers hits, exact;
+  hits.resize(rays.size());
+  exact.resize(rays.size());
+  test::Random rng(5);
+  for (std::size_t i = 0; i < rays.size(); ++i) hits.u[i] = float(rng.uniform() < 0.01 ? 4.0 : 0.1 * rng.uniform()) / 64.0f;
+  const ErrorSummary e = summarize_errors(rays, hits, exact, 64, 64, Writes::hit);
+  EXPECT_NEAR(e.effective_rays, double(e.rays), 0.35 * e.rays) << "independent rays: about no design effect";
+  const Interval cp = clopper_pearson(e.wrong_surface_rate * e.effective_rays, e.effective_rays);
+  EXPECT_NEAR(e.wrong_surface_ci.low, cp.low, 1e-9);
+  for (const auto& [value, ci] : {std::pair{e.p50, e.p50_ci}, {e.p95, e.p95_ci}, {e.p99, e.p99_ci},
+                                  {e.wrong_surface_rate, e.wrong_surface_ci}}) {
+    EXPECT_LE(ci.low, value);
+    EXPECT_GE(ci.high, value);
+    EXPECT_LT(ci.low, ci.high);
+  }
+  EXPECT_FALSE(e.by_azimuth.empty());
+  std::size_t grouped = 0;
+  for (const ErrorGroup& g : e.by_azimuth) grouped += g.rays;
+  EXPECT_EQ(grouped, e.rays);
+}
+
+}  // namespace
+}  // namespace heightmarch
