@@ -239,7 +239,7 @@ class CalibrationBackend : public Backend {
 
   bool has_accuracy() const override { return false; }
 
-  std::function<double()> timer(const Configuration&, Scene& scene) override {
+  std::function<TraceTime()> timer(const Configuration&, Scene& scene) override {
     return wall_timed([this, rays = scene.rays.ray_count] { run(rays); });
   }
 
