@@ -390,9 +390,9 @@ def measurements_csv(rows):
     # an object null in some rows (errors, speed, images) is its fields' columns, left empty there
     columns = [c for c in columns if not any(other.startswith(c + ".") for other in columns)]
     out = io.StringIO()
-    writer = csv.DictWriter(out, columns, lineterminator="\n", extrasaction="ignore")  # the nulls of those objects
-    writer.writeheader()
-    writer.writerows(flat)
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow(csv_cell(c) for c in columns)  # a field's name is text from the file, as its values are
+    writer.writerows([f.get(c, "") for c in columns] for f in flat)
     return out.getvalue()
 
 
