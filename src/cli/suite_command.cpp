@@ -205,9 +205,9 @@ Command add_suite_command(CLI::App& app) {
         for (unsigned i = 0; i < kPurposeCount; ++i)
           if (c.purposes & (1u << i)) purposes += (purposes.empty() ? "" : ",") + purpose_name(1u << i);
         const std::string layers = c.kind == RunKind::exact ? "" : to_string(c.params.layers);
-        std::printf("%s\t%s\t%s\t%s\t%s\t%d\t%s\t%s\t%s\n", c.heightfield.label().c_str(),
-                    to_string(c.kind).c_str(), c.label().c_str(), layers.c_str(), c.backend().c_str(),
-                    c.threads, describe(c.view).c_str(), c.timed ? "timed" : "accuracy", purposes.c_str());
+        std::printf("%s\t%s\t%s\t%s\t%s\t%d\t%s\t%s\t%s\n", printable(c.heightfield.label()).c_str(),
+                    to_string(c.kind).c_str(), printable(c.label()).c_str(), layers.c_str(), c.backend().c_str(),
+                    c.threads, printable(describe(c.view)).c_str(), c.timed ? "timed" : "accuracy", purposes.c_str());
       }
       std::printf("%zu configurations\n", plan.size());
       return 0;
