@@ -215,14 +215,13 @@ Command add_suite_command(CLI::App& app) {
     check_depth_map_files(plan);  // before the run directory exists
     const bool default_out = o->out.out.empty();
     const std::string run_name = fresh_run_name(o->plan.quick);
-    RunDirectory dir(default_out ? "results/" + run_name : o->out.out, o->out.existing());
+    RunDirectory dir(default_out ? "results/" + run_name : o->out.out, o->out.existing(), {"gallery"});
     const bool record = default_out && (!o->plan.quick || o->record);
     Progress progress("suite");
     std::size_t timed = 0;
     for (const Configuration& c : plan) timed += c.timed;
     progress.stage("measuring " + std::to_string(plan.size()) + " configurations (" + std::to_string(timed) + " timed, " +
                    std::to_string(settings.repetitions) + " interleaved repetitions each) into " + dir.path());
-    fs::create_directories(dir.path() + "/gallery");
     ClaimsCollector claims;
     const GalleryNames names = gallery_names(plan);
     MeasuredPlan run = measure_with_progress(plan, settings, progress, [&](const TracedRow& traced) {
