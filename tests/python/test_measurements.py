@@ -124,3 +124,9 @@ def test_recommendation_and_claims_are_checked(tmp_path):
         measurements.read_optional(str(tmp_path / "recommendation.json"), "heightmarch-recommendation",
                                    measurements.validate_recommendation)
     assert "target: uv_error_texels: is -1" in str(e.value)
+
+
+def test_the_csv_header_is_neutralised_as_its_cells_are():
+    row = dict(run_data()["rows"][0], **{"=HYPERLINK(\"http://x\")": "y"})
+    header = measurements.measurements_csv([row]).splitlines()[0]
+    assert "'=HYPERLINK" in header and ",=" not in header and not header.startswith("=")
