@@ -1,13 +1,15 @@
-// build/heightmarch-bench: Google Benchmark over the registries (techniques x layer specs x ISA
-// x threads, the same as GLSL, POM-32's anchors: the sampler roofline, the compute ceiling, the
-// naive port, its auto-vectorised form and its Highway form per ISA, and the exact reference) on the default view
-// of each heightfield. Names come from benchmark_name(), as in a suite's bench.json; counters
-// carry speed and accuracy. A configuration is checked against the scalar reference before it is
-// timed: a wrong kernel never produces a number.
+// build/heightmarch-bench: Google Benchmark over the suite's typed plan (suite_plan.hpp), filtered
+// as the suite filters it, timed rows only: the technique x layers matrix and the same as GLSL,
+// the searches at every ISA and thread count, POM-32's anchors (the sampler roofline, the compute
+// ceiling, the naive port, its auto-vectorised and its Highway forms per ISA) and the exact
+// reference, on the default view of each heightfield. Names come from benchmark_name(), as in a
+// suite's bench.json; counters carry speed and accuracy. A configuration is checked against the
+// scalar reference before it is timed: a wrong kernel never produces a number.
 #include <benchmark/benchmark.h>
 #include <tbb/info.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -17,8 +19,8 @@
 #include <map>
 #include <optional>
 
-#include "baselines/naive_port.hpp"
 #include "experiment/measurement_session.hpp"
+#include "experiment/suite_plan.hpp"
 #include "heightmarch/error.hpp"
 #include "heightmarch/glsl_runner.hpp"
 #include "heightmarch/tracer.hpp"
@@ -33,13 +35,16 @@ struct BenchOptions {
   std::string size = "1024";  // the default view: N (N x N) or WxH pixels
   int res = 512;
   std::vector<std::string> heightfields = {"bricks", "terrain"};
-  std::vector<std::string> layers = {"4", "8", "16", "32", "64", "8-32"};
+  PlanFilters filters;       // empty lists: the suite's default
   std::vector<int> threads;  // empty: 1 and all cores
-  std::vector<std::string> isas;  // empty: every ISA the CPU runs
   std::vector<std::string> gl;    // GL paths of the GLSL benchmarks; empty: the worker's default
   std::string gl_device;          // EGL's device for them; empty: EGL's first
   double min_time = 0.2;
+  bool dry_run = false;
 };
+
+// The parts heightmarch-bench times unless told: the suite's timed parts but the claims' rows.
+const std::vector<std::string> kDefaultParts = {"matrix", "isa", "glsl", "roofline", "naive", "exact"};
 
 MeasurementSession& session() {
   static MeasurementSession s;
@@ -99,63 +104,41 @@ void view_size(const std::string& text, int& width, int& height) {
     throw InputError("--hm_size " + printable(text) + ": not N or WxH with sides in [1, " + std::to_string(kMaxViewSide) + "]");
 }
 
+// The suite's plan at the options' sizes, heightfields, threads and filters, with the Highway
+// port: its timed configurations.
 std::vector<Configuration> bench_plan(const BenchOptions& o) {
-  int width = 0, height = 0;
-  view_size(o.size, width, height);
   std::vector<int> threads = o.threads;
   if (threads.empty()) {
     threads = {1};
     if (tbb::info::default_concurrency() > 1) threads.push_back(tbb::info::default_concurrency());
   }
-  std::vector<Isa> isas;
-  for (const std::string& name : o.isas) isas.push_back(parse_isa(name));
-  if (isas.empty()) isas = supported_isas();
-  std::vector<LayerSpec> layer_specs;
-  for (const std::string& text : o.layers) layer_specs.push_back(parse_layer_spec(text));
-  // Each GL path asked for is a GLSL benchmark of its own (gl:PATH in its name), side by side.
-  std::vector<GlTarget> gl_targets;
-  for (const std::string& path : o.gl.empty() ? std::vector<std::string>{""} : o.gl) {
-    GlTarget target = parse_gl_target(path, o.gl_device);
-    target.path = resolved(target).path;
-    gl_targets.push_back(target);
-  }
+  std::sort(threads.begin(), threads.end());
+  threads.erase(std::unique(threads.begin(), threads.end()), threads.end());
+  PlanSettings settings = suite_settings(false, threads.back());
+  settings.thread_counts = threads;
+  view_size(o.size, settings.view_width, settings.view_height);
+  settings.heightfields.clear();
+  for (const std::string& name : o.heightfields) settings.heightfields.push_back(parse_heightfield(name, o.res));
+  give_unique_labels(settings.heightfields);
+  settings.large_maps = false;
+  settings.highway = true;
+  settings.matrix_everywhere = true;
+  PlanFilters filters = o.filters;
+  if (filters.parts.empty()) filters.parts = kDefaultParts;
+  apply(filters, settings);
+  // Each GL path asked for is a GLSL benchmark of its own (gl:PATH in its name), side by side: the
+  // first path's plan whole, the others' GLSL rows.
+  const std::vector<std::string> paths = o.gl.empty() ? std::vector<std::string>{""} : o.gl;
   std::vector<Configuration> plan;
-  for (const std::string& name : o.heightfields) {
-    Configuration base;
-    base.heightfield = parse_heightfield(name, o.res);
-    base.view = parse_view("default", width, height);
-    auto add = [&](RunKind kind, Technique technique, const LayerSpec& layers, Isa isa, int t,
-                   const GlTarget& gl = {}) {
-      Configuration c = base;
-      c.kind = kind;
-      c.params.technique = technique;
-      c.params.layers = layers_for(technique, layers);
-      c.isa = isa;
-      c.threads = t;
-      c.gl = gl;
-      add_to_plan(plan, c);
-    };
-    for (const TechniqueInfo& t : techniques())
-      for (const LayerSpec& layers : layer_specs)
-        for (int n : threads) {
-          for (Isa isa : isas) add(RunKind::trace, t.id, layers, isa, n);
-          for (const GlTarget& gl : gl_targets) add(RunKind::glsl, t.id, layers, Isa::scalar, n, gl);
-        }
-    for (int n : threads) {
-      for (Isa isa : isas) {
-        for (RunKind anchor : {RunKind::roofline, RunKind::ceiling, RunKind::autovec})
-          add(anchor, Technique::pom, parse_layer_spec("32"), isa, n);
-        if (highway_port_runs(isa)) add(RunKind::highway, Technique::pom, parse_layer_spec("32"), isa, n);
-      }
-      for (const char* layers : {"32", "8-32"}) add(RunKind::naive, Technique::pom, parse_layer_spec(layers), Isa::scalar, n);
-      // The exact reference beside the techniques it measures (its float pass at the widest ISA asked for).
-      add(RunKind::exact, Technique::pom, parse_layer_spec("1"), isas.back(), n);
-    }
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    settings.gl = parse_gl_target(paths[i], o.gl_device);
+    settings.gl.path = resolved(settings.gl).path;
+    for (const Configuration& c : benchmark_plan(settings))
+      if (i == 0 || c.kind == RunKind::glsl) add_to_plan(plan, c);
   }
   return plan;
 }
 
-int depth_map_side(const HeightfieldSource& source) { return source.builtin.empty() ? -1 : source.resolution; }
 
 // Google Benchmark's file reporter, told apart from its stream's failure (a full disk): the file
 // goes to a temporary that is renamed into place only when every byte was written.
@@ -185,15 +168,25 @@ int main(int argc, char** argv) {
   app.add_option("--hm_size", o.size, "the view: N (N x N) or WxH pixels")->capture_default_str();
   app.add_option("--hm_res", o.res, "builtin depth map side")->check(CLI::Range(1, kMaxDepthMapSide))->capture_default_str();
   app.add_option("--hm_heightfields", o.heightfields, "builtin names or depth map files")->delimiter(',')->capture_default_str();
-  app.add_option("--hm_layers", o.layers, "layer specs (N or A-B)")->delimiter(',')->capture_default_str();
+  app.add_option("--hm_techniques", o.filters.techniques, technique_names() + " (default: all)")->delimiter(',');
+  app.add_option("--hm_layers", o.filters.layers,
+                 "layer specs, N or A-B (default: the suite's, 4, 8, 10, 16, 32, 64, 8-32)")->delimiter(',');
   app.add_option("--hm_threads", o.threads, "thread counts (default: 1 and all cores)")->delimiter(',')->check(CLI::Range(1, 1024));
-  app.add_option("--hm_isas", o.isas, isa_names() + " (default: every ISA the CPU runs)")->delimiter(',');
+  app.add_option("--hm_isas", o.filters.isas, isa_names() + " (default: every ISA the CPU runs)")->delimiter(',');
   app.add_option("--hm_gl", o.gl, "GL paths of the GLSL benchmarks, " + gl_path_names() +
                  ", comma-separated: each its own benchmarks, side by side (default: osmesa where built, else egl)")
       ->delimiter(',');
   app.add_option("--hm_gl_device", o.gl_device,
                  "EGL device of the GLSL benchmarks: software, or an index or name from `heightmarch glsl "
                  "--list-devices` (default: EGL's first)");
+  std::string parts;
+  for (const std::string& name : part_names()) parts += (parts.empty() ? "" : ", ") + name;
+  app.add_option("--hm_parts", o.filters.parts, "the parts of the suite's plan to time: " + parts + " (default: " + [] {
+    std::string names;
+    for (const std::string& name : kDefaultParts) names += (names.empty() ? "" : ",") + name;
+    return names;
+  }() + ")")->delimiter(',');
+  app.add_flag("--hm_dry_run", o.dry_run, "list the configurations it would time, as suite --dry-run does, and time nothing");
   app.add_option("--hm_min_time", o.min_time, "seconds per benchmark (Google Benchmark's --benchmark_min_time)")
       ->check(CLI::Range(0.0, 60.0))->capture_default_str();
   try {
@@ -254,19 +247,23 @@ int main(int argc, char** argv) {
   int gbench_argc = int(gbench_argv.size());
   gbench_argv.push_back(nullptr);
   std::vector<Configuration>* plan = nullptr;
-  // Every depth map file named is read before any benchmark runs: a bad one is one line, exit 2.
+  // Every depth map file named is read (once, into the session) before any benchmark runs: a bad
+  // one is one line, exit 2. A file's size names its benchmarks.
   std::map<const Configuration*, std::pair<int, int>> sizes;
   try {
     static std::vector<Configuration> configurations = bench_plan(o);
     plan = &configurations;
+    if (o.dry_run) {
+      for (const Configuration& c : *plan) std::printf("%s\n", plan_line(c).c_str());
+      std::printf("%zu configurations\n", plan->size());
+      return 0;
+    }
+    session().load_depth_maps(*plan);
     for (const Configuration& c : *plan) {
-      int side = depth_map_side(c.heightfield);
-      std::pair<int, int> size{side, side};
-      if (side < 0) {  // a file: its size names the benchmark
-        const DepthMap map = load_heightfield(c.heightfield);
-        size = {map.width, map.height};
-      }
-      sizes[&c] = size;
+      const HeightfieldSource& source = c.heightfield;
+      sizes[&c] = source.builtin.empty()
+                      ? std::pair<int, int>{session().depth_map(source).width, session().depth_map(source).height}
+                      : std::pair<int, int>{source.resolution, source.resolution};
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "heightmarch-bench: %s\n", e.what());

@@ -1,9 +1,9 @@
 # The ISAs the packet kernels are compiled for: one list per architecture, narrowest first, and
 # the only one. Everything else derives from it (see heightmarch_generate_isas below): the C++ list
-# (the generated heightmarch/isa_list.hpp: the Isa enum, names, CPU checks, packet widths), one
+# (the generated heightmarch/isa_list.hpp: the Isa enum, names, CPU features, packet widths), one
 # kernel and one auto-vectorised translation unit per ISA compiled with its flags, and the tests.
 #
-# heightmarch_isa(ID NAME HEADER WIDTH MARCH_PACKETS WALK_PACKETS HIGHWAY_TARGET CPU_CHECK FLAGS
+# heightmarch_isa(ID NAME HEADER WIDTH MARCH_PACKETS WALK_PACKETS HIGHWAY_TARGET CPU_FEATURES FLAGS
 #                 [AUTOVEC_FLAGS])
 #   ID: a C++ identifier (its namespace is isa_ID); NAME: on the command line and in results.
 #   HEADER: its packet header in src/simd/, which defines vfloat<WIDTH> and friends.
@@ -12,13 +12,14 @@
 #   HIGHWAY_TARGET: the Google Highway target of the same instructions (HWY_AVX2, ...; for scalar
 #     code Highway's portable one, which it compiles as HWY_EMU128 or HWY_SCALAR): where the
 #     Highway port of the tutorial's POM runs at this ISA (src/baselines/highway_port.cpp).
-#   CPU_CHECK: a C++ expression, true when the running CPU executes code built with FLAGS.
+#   CPU_FEATURES: a ;-list of the CPU features code built with FLAGS needs, named as GCC's
+#     __builtin_cpu_supports names them ("" for none); src/registry/isa.cpp checks them in C++.
 #   FLAGS, AUTOVEC_FLAGS: ;-lists for the kernels, and added for the auto-vectorised naive port.
 set(HEIGHTMARCH_ISA_IDS "")
 
-function(heightmarch_isa id name header width march_packets walk_packets highway_target cpu_check flags)
+function(heightmarch_isa id name header width march_packets walk_packets highway_target cpu_features flags)
   set(HEIGHTMARCH_ISA_IDS ${HEIGHTMARCH_ISA_IDS} ${id} PARENT_SCOPE)
-  foreach(field name header width march_packets walk_packets highway_target cpu_check flags)
+  foreach(field name header width march_packets walk_packets highway_target cpu_features flags)
     set(HEIGHTMARCH_ISA_${id}_${field} "${${field}}" PARENT_SCOPE)
   endforeach()
   set(HEIGHTMARCH_ISA_${id}_autovec_flags "${ARGN}" PARENT_SCOPE)
@@ -28,18 +29,16 @@ if(CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$")
   # GCC's generic tuning emulates gathers with scalar loads (2.5x slower measured on an AMD EPYC)
   # unless told to use the ISA's (-mtune-ctrl); it changes no result.
   set(gathers "$<$<CXX_COMPILER_ID:GNU>:-mtune-ctrl=use_gather_2parts,use_gather_4parts,use_gather>")
-  heightmarch_isa(scalar "scalar" vfloat1.hpp 1 1 1 "HWY_EMU128|HWY_SCALAR" "true" "")
-  heightmarch_isa(sse42 "sse4.2" vfloat4_sse.hpp 4 2 2 HWY_SSE4 [[__builtin_cpu_supports("sse4.2")]] "-msse4.2")
-  heightmarch_isa(avx2 "avx2" vfloat8_avx2.hpp 8 2 2 HWY_AVX2
-    [[__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi2")]]
-    "-mavx2;-mfma;-mbmi2" ${gathers})
+  heightmarch_isa(scalar "scalar" vfloat1.hpp 1 1 1 "HWY_EMU128|HWY_SCALAR" "" "")
+  heightmarch_isa(sse42 "sse4.2" vfloat4_sse.hpp 4 2 2 HWY_SSE4 "sse4.2" "-msse4.2")
+  heightmarch_isa(avx2 "avx2" vfloat8_avx2.hpp 8 2 2 HWY_AVX2 "avx2;fma;bmi2" "-mavx2;-mfma;-mbmi2" ${gathers})
   # GCC 12's AVX-512 headers warn about their own _mm512_undefined_* values.
   heightmarch_isa(avx512 "avx512" vfloat16_avx512.hpp 16 2 2 HWY_AVX3
-    [[__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl")]]
+    "avx2;fma;bmi2;avx512f;avx512bw;avx512dq;avx512vl"
     "-mavx512f;-mavx512bw;-mavx512dq;-mavx512vl;-mfma;-mbmi2;-Wno-maybe-uninitialized;-Wno-uninitialized" ${gathers})
 else()
   # Elsewhere (arm64, ...) the packet kernels run at width 1: the scalar reference.
-  heightmarch_isa(scalar "scalar" vfloat1.hpp 1 1 1 "HWY_EMU128|HWY_SCALAR" "true" "")
+  heightmarch_isa(scalar "scalar" vfloat1.hpp 1 1 1 "HWY_EMU128|HWY_SCALAR" "" "")
 endif()
 
 # Sets what a per-ISA template (src/isa/*.cpp.in, tests/*.cpp.in) is configured with for the ISA
@@ -79,8 +78,8 @@ function(heightmarch_generate_isas source_dir out_dir)
   set(sources "")
   foreach(id ${HEIGHTMARCH_ISA_IDS})
     heightmarch_isa_fields(${id})
-    string(APPEND rows "  X(${id}, \"${HEIGHTMARCH_ISA_${id}_name}\", ${ISA_WIDTH}, ${ISA_MARCH_WIDTH}, ${ISA_WALK_WIDTH}, \\\n")
-    string(APPEND rows "    ${HEIGHTMARCH_ISA_${id}_cpu_check}) \\\n")
+    string(REPLACE ";" " " features "${HEIGHTMARCH_ISA_${id}_cpu_features}")
+    string(APPEND rows "  X(${id}, \"${HEIGHTMARCH_ISA_${id}_name}\", ${ISA_WIDTH}, ${ISA_MARCH_WIDTH}, ${ISA_WALK_WIDTH}, \"${features}\") \\\n")
     string(APPEND highway_rows "  X(${id}, (${HEIGHTMARCH_ISA_${id}_highway_target})) \\\n")
     foreach(kind kernels autovec)
       set(unit ${out_dir}/isa/${kind}_${id}.cpp)

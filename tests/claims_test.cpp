@@ -324,7 +324,7 @@ TEST(Claims, SecantAgainstBinaryRefinementAtEqualSamples) {
 TEST(Claims, ConsecutiveComputationsGiveIdenticalVerdicts) {
   PlanSettings s = suite_settings(true, 1);
   s.heightfields = {parse_heightfield("builtin:bricks", 64), parse_heightfield("builtin:waves", 64)};
-  s.view_size = 64;
+  s.view_width = s.view_height = 64;
   s.sweep_size = 16;
   s.repetitions = 1;
   s.min_seconds = 0.0;

@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <set>
+#include <sstream>
 
 #include "test_support.hpp"
 
@@ -288,6 +290,46 @@ TEST(Cli, ReportRefusalIsOneLine) {
   const auto r = test::run_cli("report " + dir);
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+}
+
+// heightmarch-bench times the suite's plan: for the same filters it lists the suite's timed
+// configurations (both print plan_line(); compared without the purposes, which a configuration
+// the bench also times for another part joins); beside them only the Highway port and the
+// technique x layers matrix at the ISAs other than the widest asked for.
+TEST(Cli, BenchTimesTheSuitesPlan) {
+  const std::string bench = std::filesystem::path(HEIGHTMARCH_CLI).parent_path().string() + "/heightmarch-bench";
+  if (!std::filesystem::exists(bench)) GTEST_SKIP() << "heightmarch-bench is not built here (HEIGHTMARCH_BUILD_BENCHMARKS=OFF)";
+  const auto lines = [](const std::string& output, bool timed_only) {
+    std::set<std::string> out;
+    std::istringstream in(output);
+    for (std::string line; std::getline(in, line);)
+      if (line.find('\t') != std::string::npos && (!timed_only || line.find("\ttimed\t") != std::string::npos))
+        out.insert(line.substr(0, line.rfind('\t')));
+    return out;
+  };
+  const std::string widest = to_string(best_isa());
+  for (const std::string& parts : {std::string("matrix,isa,glsl,roofline,exact"), std::string("matrix,isa,naive")}) {
+    for (const std::string& isas : {widest, "scalar," + widest}) {
+      SCOPED_TRACE(parts + " at " + isas);
+      const auto suite = test::run_cli("suite --dry-run --no-builtins --heightmap builtin:bricks --techniques pom,maxmip "
+                                       "--layers 8,8-32 --threads 1 --isas " + isas + " --parts " + parts);
+      const auto benched = test::run_command(bench + " --hm_dry_run --hm_heightfields=builtin:bricks "
+                                             "--hm_techniques=pom,maxmip --hm_layers=8,8-32 --hm_threads=1 --hm_isas=" +
+                                             isas + " --hm_parts=" + parts);
+      ASSERT_EQ(suite.status, 0) << suite.output;
+      ASSERT_EQ(benched.status, 0) << benched.output;
+      const std::set<std::string> in_suite = lines(suite.output, true), in_bench = lines(benched.output, false);
+      ASSERT_FALSE(in_suite.empty());
+      for (const std::string& line : in_suite) EXPECT_EQ(in_bench.count(line), 1u) << "not in the bench: " << line;
+      for (const std::string& line : in_bench) {
+        if (in_suite.count(line)) continue;
+        const bool highway = line.find("\thighway\t") != std::string::npos;
+        const bool matrix_elsewhere =
+            line.find("\ttrace\t") != std::string::npos && line.find("\t" + widest + "\t") == std::string::npos;
+        EXPECT_TRUE(highway || matrix_elsewhere) << "only in the bench: " << line;
+      }
+    }
+  }
 }
 
 // heightmarch-bench's own flags are checked like the CLI's: one line, exit 2.

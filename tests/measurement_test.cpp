@@ -7,6 +7,7 @@
 #include "baselines/naive_port.hpp"
 #include "experiment/plan_runner.hpp"
 #include "experiment/run_outputs.hpp"
+#include "heightmarch/error.hpp"
 #include "kernels/kernel_abi.hpp"
 #include "test_support.hpp"
 
@@ -130,6 +131,14 @@ TEST(Registry, MeasuresFollowTheHitList) {
     ASSERT_NE(at, std::string::npos) << m.name;
     EXPECT_EQ(json.find("\"label\": ", at), json.find("\"label\": \"" + m.label + "\"", at)) << m.name;
   }
+}
+
+// The ISA list names its CPU features, and src/registry/isa.cpp checks every one of them in C++.
+TEST(Registry, EveryIsasCpuFeaturesAreChecked) {
+  for (Isa isa : all_isas()) EXPECT_NO_THROW(cpu_supports(isa)) << to_string(isa);
+  EXPECT_TRUE(cpu_supports(Isa::scalar));
+  EXPECT_EQ(isa_named("scalar"), Isa::scalar);
+  EXPECT_THROW(isa_named("auto"), InputError);  // a name of the list, whichever CPU: never "the best here"
 }
 
 TEST(Plan, SpreadOfEvenAndOddCounts) {

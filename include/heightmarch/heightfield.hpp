@@ -64,6 +64,10 @@ struct HeightfieldSource {
   // The label results carry, when give_unique_labels() chose one; else label() derives it.
   std::string name;
 
+  // A builtin of the list at a resolution (typed: no name looked up). Throws InputError for a
+  // resolution outside [1, kMaxDepthMapSide].
+  static HeightfieldSource of(const BuiltinHeightfield& builtin, int resolution, std::uint64_t seed = 1);
+
   std::string label() const;     // "bricks", the file name without directories, or `name`
   std::string describe() const;  // "builtin:bricks", or the path
   friend bool operator==(const HeightfieldSource&, const HeightfieldSource&) = default;

@@ -29,7 +29,11 @@ Isa best_isa();                           // the widest the CPU runs
 std::vector<Isa> supported_isas();        // narrowest first
 std::string isa_names();                  // "scalar, sse4.2, avx2, avx512", for help texts
 
-// "auto" (or empty) = best_isa(); otherwise the named ISA, which the CPU must run.
+// The one name -> ISA: the ISA to_string() names so, whichever CPU runs it (a recorded run's
+// backend); throws InputError for an unknown name.
+Isa isa_named(const std::string& name);
+
+// "auto" (or empty) = best_isa(); otherwise isa_named(name), which the CPU must run.
 // Throws InputError for unknown names and ISAs the CPU lacks.
 Isa parse_isa(const std::string& name);
 

@@ -70,6 +70,8 @@ std::string technique_names();
 struct LayerSpec {
   float min_layers = 32.0f;
   float max_layers = 32.0f;
+  static constexpr LayerSpec fixed(int n) { return {float(n), float(n)}; }
+  static constexpr LayerSpec range(int a, int b) { return {float(a), float(b)}; }
   bool dynamic() const { return min_layers != max_layers; }
   friend bool operator==(const LayerSpec&, const LayerSpec&) = default;
 };

@@ -65,24 +65,35 @@ namespace {
 
 using T = Technique;
 
-// The rows as the rules name them: a technique at a layer spec on the default view, a sweep view
-// at theta, or the large map.
-ClaimRow at(Technique t, const char* layers) { return {t, layers_for(t, parse_layer_spec(layers)), ClaimView::default_view, 0}; }
-ClaimRow swept(Technique t, const char* layers, double theta) {
-  return {t, layers_for(t, parse_layer_spec(layers)), ClaimView::sweep, theta};
+// The layer specs the rules name: fixed counts (N: one sample for the one-sample techniques) and
+// the tutorial's dynamic range.
+constexpr LayerSpec kDynamic = LayerSpec::range(8, 32);
+std::vector<LayerSpec> fixed(std::initializer_list<int> counts) {
+  std::vector<LayerSpec> out;
+  for (int n : counts) out.push_back(LayerSpec::fixed(n));
+  return out;
 }
-ClaimRow on_large_map(Technique t, const char* layers) {
-  return {t, layers_for(t, parse_layer_spec(layers)), ClaimView::large_map, 0};
+
+// The rows as the rules name them: a technique at a layer spec (or a fixed count) on the default
+// view, a sweep view at theta, or the large map.
+ClaimRow at(Technique t, LayerSpec layers) { return {t, layers_for(t, layers), ClaimView::default_view, 0}; }
+ClaimRow at(Technique t, int layers) { return at(t, LayerSpec::fixed(layers)); }
+ClaimRow swept(Technique t, LayerSpec layers, double theta) {
+  return {t, layers_for(t, layers), ClaimView::sweep, theta};
+}
+ClaimRow swept(Technique t, int layers, double theta) { return swept(t, LayerSpec::fixed(layers), theta); }
+ClaimRow on_large_map(Technique t, int layers) {
+  return {t, layers_for(t, LayerSpec::fixed(layers)), ClaimView::large_map, 0};
 }
 
 // Every technique at every layer spec (at every angle, on sweeps): a claim's declared rows.
-std::vector<ClaimRow> rows(std::initializer_list<Technique> techniques, std::initializer_list<const char*> layers,
+std::vector<ClaimRow> rows(std::initializer_list<Technique> techniques, const std::vector<LayerSpec>& layers,
                            ClaimView view = ClaimView::default_view, std::initializer_list<double> thetas = {0.0}) {
   std::vector<ClaimRow> out;
   for (Technique t : techniques)
-    for (const char* l : layers)
+    for (const LayerSpec& l : layers)
       for (double theta : thetas)
-        out.push_back(view == ClaimView::sweep ? swept(t, l, theta) : ClaimRow{t, layers_for(t, parse_layer_spec(l)), view, 0});
+        out.push_back(view == ClaimView::sweep ? swept(t, l, theta) : ClaimRow{t, layers_for(t, l), view, 0});
   return out;
 }
 std::vector<ClaimRow> operator+(std::vector<ClaimRow> a, const std::vector<ClaimRow>& b) {
@@ -91,9 +102,9 @@ std::vector<ClaimRow> operator+(std::vector<ClaimRow> a, const std::vector<Claim
 }
 
 // The lists the rules walk, declared once for rows and rules alike.
-constexpr const char* kCurveLayers[] = {"4", "8", "10", "16", "32", "64"};  // a fixed-count curve
+constexpr int kCurveLayers[] = {4, 8, 10, 16, 32, 64};  // a fixed-count curve
 constexpr double kNearNormal[] = {0.0, 10.0, 20.0, 30.0};  // where the tutorial places 8-32's saving (C5)
-constexpr const char* kLargeMapLayers[] = {"64", "256", "1024"};  // P2: up to about one layer per texel crossed
+constexpr int kLargeMapLayers[] = {64, 256, 1024};  // P2: up to about one layer per texel crossed
 
 class ClaimBuilder {
  public:
@@ -143,8 +154,8 @@ double relative_error(const ClaimFigure& f) { return f.per_ray.offset_mean > 0 ?
 ClaimResult claim_c1(const Claim& claim, const ClaimsData& d) {
   ClaimBuilder c(claim, d);
   for (const std::string& hf : c.heightfields()) {
-    const ClaimFigure *a20 = c.get(hf, swept(T::parallax, "1", 20)), *a30 = c.get(hf, swept(T::parallax, "1", 30));
-    const ClaimFigure *a70 = c.get(hf, swept(T::parallax, "1", 70)), *a80 = c.get(hf, swept(T::parallax, "1", 80));
+    const ClaimFigure *a20 = c.get(hf, swept(T::parallax, 1, 20)), *a30 = c.get(hf, swept(T::parallax, 1, 30));
+    const ClaimFigure *a70 = c.get(hf, swept(T::parallax, 1, 70)), *a80 = c.get(hf, swept(T::parallax, 1, 80));
     if (a20 && a30 && a70 && a80 && a20->per_ray.offset_mean > 0 && a30->per_ray.offset_mean > 0) {
       const double low = std::max(relative_error(*a20), relative_error(*a30));
       const double high = std::min(relative_error(*a70), relative_error(*a80));
@@ -155,7 +166,7 @@ ClaimResult claim_c1(const Claim& claim, const ClaimsData& d) {
                   std::max(a20->uv_error_mean, a30->uv_error_mean)),
               high >= 2 * low);
     }
-    if (const ClaimFigure* f = c.get(hf, at(T::parallax, "1")); f && f->per_ray.sharp_error_mean >= 0)
+    if (const ClaimFigure* f = c.get(hf, at(T::parallax, 1)); f && f->per_ray.sharp_error_mean >= 0)
       c.check(
           hf + ", sharp depth changes",
           string_format("error %.3f texels where |grad D| is in the top decile vs %.3f in the bottom half",
@@ -169,8 +180,8 @@ ClaimResult claim_c2(const Claim& claim, const ClaimsData& d) {
   ClaimBuilder c(claim, d);
   for (const std::string& hf : c.heightfields())
     for (double theta : {70.0, 80.0}) {
-      const ClaimFigure *plain = c.get(hf, swept(T::parallax, "1", theta)),
-                        *limited = c.get(hf, swept(T::parallax_limited, "1", theta));
+      const ClaimFigure *plain = c.get(hf, swept(T::parallax, 1, theta)),
+                        *limited = c.get(hf, swept(T::parallax_limited, 1, theta));
       if (plain && limited)
         c.check(
             hf + string_format(", %.0f deg", theta),
@@ -182,12 +193,12 @@ ClaimResult claim_c2(const Claim& claim, const ClaimsData& d) {
 
 ClaimResult claim_c3(const Claim& claim, const ClaimsData& d) {
   ClaimBuilder c(claim, d);
-  const std::vector<const char*> counts = {"4", "8", "16", "32", "64"};
+  const std::vector<int> counts = {4, 8, 16, 32, 64};
   for (const std::string& hf : c.heightfields())
     for (std::size_t i = 0; i + 1 < counts.size(); ++i) {
       const ClaimFigure *fewer = c.get(hf, at(T::steep, counts[i])), *more = c.get(hf, at(T::steep, counts[i + 1]));
       if (fewer && more)
-        c.check(hf + ", " + counts[i] + " -> " + counts[i + 1] + " layers",
+        c.check(hf + ", " + std::to_string(counts[i]) + " -> " + std::to_string(counts[i + 1]) + " layers",
                 string_format("%.3f -> %.3f texels", fewer->uv_error_mean, more->uv_error_mean),
                 more->uv_error_mean < fewer->uv_error_mean);
     }
@@ -197,7 +208,7 @@ ClaimResult claim_c3(const Claim& claim, const ClaimsData& d) {
 ClaimResult claim_c4(const Claim& claim, const ClaimsData& d) {
   ClaimBuilder c(claim, d);
   for (const std::string& hf : c.heightfields()) {
-    const ClaimFigure *plain = c.get(hf, at(T::parallax, "1")), *steep = c.get(hf, at(T::steep, "10"));
+    const ClaimFigure *plain = c.get(hf, at(T::parallax, 1)), *steep = c.get(hf, at(T::steep, 10));
     if (plain && steep)
       c.check(hf,
               string_format("mean %.3f vs %.3f texels, p95 %.3f vs %.3f texels", steep->uv_error_mean,
@@ -214,7 +225,7 @@ ClaimResult claim_c4(const Claim& claim, const ClaimsData& d) {
 double fixed_curve_error(const ClaimBuilder& c, const std::string& hf, Technique technique, double samples,
                          std::string& between) {
   std::vector<const ClaimFigure*> fixed;
-  for (const char* layers : kCurveLayers)
+  for (int layers : kCurveLayers)
     if (const ClaimFigure* f = c.get(hf, at(technique, layers))) fixed.push_back(f);
   std::sort(fixed.begin(), fixed.end(), [](auto* a, auto* b) { return a->samples_per_ray < b->samples_per_ray; });
   for (std::size_t i = 0; i + 1 < fixed.size(); ++i) {
@@ -234,7 +245,7 @@ ClaimResult claim_c5(const Claim& claim, const ClaimsData& d) {
   for (const std::string& hf : c.heightfields())
     for (Technique technique : {T::steep, T::relief, T::pom}) {
       const std::string name = to_string(technique);
-      if (const ClaimFigure* dynamic = c.get(hf, at(technique, "8-32"))) {
+      if (const ClaimFigure* dynamic = c.get(hf, at(technique, kDynamic))) {
         std::string between;
         const double curve = fixed_curve_error(c, hf, technique, dynamic->samples_per_ray, between);
         if (curve >= 0)
@@ -246,8 +257,8 @@ ClaimResult claim_c5(const Claim& claim, const ClaimsData& d) {
                   dynamic->uv_error_mean <= curve);
       }
       for (double theta : kNearNormal) {
-        const ClaimFigure *dynamic = c.get(hf, swept(technique, "8-32", theta)),
-                          *fixed = c.get(hf, swept(technique, "32", theta));
+        const ClaimFigure *dynamic = c.get(hf, swept(technique, kDynamic, theta)),
+                          *fixed = c.get(hf, swept(technique, 32, theta));
         if (dynamic && fixed)
           c.check(
               hf + ", " + name + string_format(", %.0f deg", theta),
@@ -263,9 +274,9 @@ ClaimResult claim_c5(const Claim& claim, const ClaimsData& d) {
 ClaimResult claim_c6(const Claim& claim, const ClaimsData& d) {
   ClaimBuilder c(claim, d);
   for (const std::string& hf : c.heightfields())
-    for (const char* layers : {"8", "16", "32"})
+    for (int layers : {8, 16, 32})
       if (const ClaimFigure* f = c.get(hf, at(T::steep, layers)))
-        c.check(hf + ", " + layers + " layers",
+        c.check(hf + ", " + std::to_string(layers) + " layers",
                 string_format("%.2f%% of rays within one layer", 100 * f->within_one_layer),
                 f->within_one_layer >= 0.99);
   return c.finish();
@@ -274,10 +285,10 @@ ClaimResult claim_c6(const Claim& claim, const ClaimsData& d) {
 ClaimResult claim_c7(const Claim& claim, const ClaimsData& d) {
   ClaimBuilder c(claim, d);
   for (const std::string& hf : c.heightfields())
-    for (const char* layers : {"8", "16", "32"}) {
+    for (int layers : {8, 16, 32}) {
       const ClaimFigure *pom = c.get(hf, at(T::pom, layers)), *steep = c.get(hf, at(T::steep, layers));
       if (pom && steep)
-        c.check(hf + ", " + layers + " layers",
+        c.check(hf + ", " + std::to_string(layers) + " layers",
                 string_format("POM %.3f vs steep %.3f texels", pom->uv_error_mean, steep->uv_error_mean),
                 pom->uv_error_mean <= 0.5 * steep->uv_error_mean);
     }
@@ -287,15 +298,15 @@ ClaimResult claim_c7(const Claim& claim, const ClaimsData& d) {
 ClaimResult claim_c8(const Claim& claim, const ClaimsData& d) {
   ClaimBuilder c(claim, d);
   for (const std::string& hf : c.heightfields())
-    for (const char* layers : {"8", "16", "32"}) {
+    for (int layers : {8, 16, 32}) {
       const ClaimFigure *relief = c.get(hf, at(T::relief, layers)), *pom = c.get(hf, at(T::pom, layers)),
                         *steep = c.get(hf, at(T::steep, layers));
       if (!relief || !pom || !steep) continue;
-      c.check(hf + ", " + layers + " layers, accuracy",
+      c.check(hf + ", " + std::to_string(layers) + " layers, accuracy",
               string_format("relief %.3f, POM %.3f, steep %.3f texels", relief->uv_error_mean,
                             pom->uv_error_mean, steep->uv_error_mean),
               relief->uv_error_mean <= std::min(pom->uv_error_mean, steep->uv_error_mean));
-      c.check(hf + ", " + layers + " layers, cost",
+      c.check(hf + ", " + std::to_string(layers) + " layers, cost",
               string_format("relief %.2f vs POM %.2f samples/ray; ", relief->samples_per_ray,
                             pom->samples_per_ray) +
                   "relief " + speed(*relief) + " vs POM " + speed(*pom) + ": relief " +
@@ -309,11 +320,11 @@ ClaimResult claim_c8(const Claim& claim, const ClaimsData& d) {
 ClaimResult claim_c9(const Claim& claim, const ClaimsData& d) {
   ClaimBuilder c(claim, d);
   for (const std::string& hf : c.heightfields())
-    for (const char* layers : {"8", "16", "32"}) {
+    for (int layers : {8, 16, 32}) {
       const ClaimFigure *relief = c.get(hf, at(T::relief, layers)), *pom = c.get(hf, at(T::pom, layers));
       if (relief && pom)
         c.check(
-            hf + ", " + layers + " layers",
+            hf + ", " + std::to_string(layers) + " layers",
             string_format("error POM %.3f vs relief %.3f texels, ", pom->uv_error_mean,
                           relief->uv_error_mean) +
                 string_format("%.2f vs %.2f samples/ray; ", pom->samples_per_ray, relief->samples_per_ray) +
@@ -329,12 +340,12 @@ ClaimResult claim_c10(const Claim& claim, const ClaimsData& d) {
   ClaimBuilder c(claim, d);
   for (const std::string& hf : c.heightfields())
     for (Technique technique : {T::steep, T::pom})
-      for (const char* layers : {"4", "8"}) {
-        const ClaimFigure *few = c.get(hf, at(technique, layers)), *many = c.get(hf, at(technique, "64"));
+      for (int layers : {4, 8}) {
+        const ClaimFigure *few = c.get(hf, at(technique, layers)), *many = c.get(hf, at(technique, 64));
         if (!few || !many) continue;
         auto tunnelling = [&](const std::string& what, double a, double b) {
           if (a < 0 || b < 0) return;
-          c.check(hf + ", " + to_string(technique) + " " + layers + " vs 64 layers, " + what,
+          c.check(hf + ", " + to_string(technique) + " " + std::to_string(layers) + " vs 64 layers, " + what,
                   string_format("%.2f%% vs %.2f%% beyond one layer step (all rays: %.2f%% vs %.2f%%)",
                                 100 * a, 100 * b, 100 * few->per_ray.beyond_one_layer,
                                 100 * many->per_ray.beyond_one_layer),
@@ -347,15 +358,19 @@ ClaimResult claim_c10(const Claim& claim, const ClaimsData& d) {
   return c.finish();
 }
 
-constexpr const char* kConeLayers[] = {"4", "8", "10", "16", "32", "64", "8-32"};
+const std::vector<LayerSpec> kConeLayers = [] {
+  std::vector<LayerSpec> layers = fixed({4, 8, 10, 16, 32, 64});
+  layers.push_back(kDynamic);
+  return layers;
+}();
 
 ClaimResult claim_p1(const Claim& claim, const ClaimsData& d) {
   ClaimBuilder c(claim, d);
   for (const std::string& hf : c.heightfields()) {
-    const ClaimFigure* relief = c.get(hf, at(T::relief, "32"));
+    const ClaimFigure* relief = c.get(hf, at(T::relief, 32));
     if (!relief) continue;
     const ClaimFigure* cheapest = nullptr;
-    for (const char* layers : kConeLayers)
+    for (const LayerSpec& layers : kConeLayers)
       if (const ClaimFigure* cone = c.get(hf, at(T::cone, layers));
           cone && cone->uv_error_mean <= relief->uv_error_mean + 0.05 &&
           (!cheapest || cone->samples_per_ray < cheapest->samples_per_ray))
@@ -367,7 +382,7 @@ ClaimResult claim_p1(const Claim& claim, const ClaimsData& d) {
                   to_string(cheapest->row.layers).c_str(), cheapest->uv_error_mean, cheapest->samples_per_ray,
                   relief->uv_error_mean, relief->samples_per_ray),
               cheapest->samples_per_ray <= 0.5 * relief->samples_per_ray);
-    else if (c.get(hf, at(T::cone, "32")))
+    else if (c.get(hf, at(T::cone, 32)))
       c.check(hf,
               string_format("no cone configuration within 0.05 texel of relief 32's %.3f texels",
                             relief->uv_error_mean),
@@ -385,13 +400,13 @@ ClaimResult claim_p2(const Claim& claim, const ClaimsData& d) {
                             f->uv_error_mean, 100 * f->wrong_surface_rate),
               f->uv_error_p99 <= kExactUvErrorP99);
   };
-  for (const std::string& hf : c.heightfields()) exact(hf, c.get(hf, at(T::maxmip, "1")));
+  for (const std::string& hf : c.heightfields()) exact(hf, c.get(hf, at(T::maxmip, 1)));
   for (const std::string& hf : c.heightfields(true)) {
-    const ClaimFigure* maxmip = c.get(hf, on_large_map(T::maxmip, "1"));
+    const ClaimFigure* maxmip = c.get(hf, on_large_map(T::maxmip, 1));
     const std::string where = hf + string_format(" at %d", kLargeMapSide);
     exact(where, maxmip);
     const ClaimFigure *equal = nullptr, *closest = nullptr;
-    for (const char* layers : kLargeMapLayers)
+    for (int layers : kLargeMapLayers)
       for (Technique technique : {T::relief, T::secant}) {
         const ClaimFigure* f = c.get(hf, on_large_map(technique, layers));
         if (!f) continue;
@@ -417,14 +432,14 @@ ClaimResult claim_p2(const Claim& claim, const ClaimsData& d) {
 ClaimResult claim_p3(const Claim& claim, const ClaimsData& d) {
   ClaimBuilder c(claim, d);
   for (const std::string& hf : c.heightfields())
-    for (const char* layers : {"4", "8", "16", "32"}) {
+    for (int layers : {4, 8, 16, 32}) {
       const ClaimFigure* secant = c.get(hf, at(T::secant, layers));
       if (!secant) continue;
       std::string between;
       const double relief = fixed_curve_error(c, hf, T::relief, secant->samples_per_ray, between);
       if (relief >= 0)
         c.check(
-            hf + ", secant " + layers + " layers",
+            hf + ", secant " + std::to_string(layers) + " layers",
             string_format(
                 "secant %.4f texels at %.2f samples/ray; relief at the same samples: %.4f texels (between ",
                 secant->uv_error_mean, secant->samples_per_ray, relief) +
@@ -437,7 +452,7 @@ ClaimResult claim_p3(const Claim& claim, const ClaimsData& d) {
 // The rows a fixed-count curve of fixed_curve_error() reads.
 std::vector<ClaimRow> curve_rows(Technique technique) {
   std::vector<ClaimRow> out;
-  for (const char* layers : kCurveLayers) out.push_back(at(technique, layers));
+  for (int layers : kCurveLayers) out.push_back(at(technique, layers));
   return out;
 }
 
@@ -451,24 +466,24 @@ std::vector<Claim> make_claims() {
        "texels, on sweep views) at 70 and 80 degrees is at least 2x that at 20 and 30 degrees. Sharp depth "
        "changes: at the default view, its mean uv error on the rays whose |grad D| at the exact hit is in the "
        "field's top decile is at least 2x that on the rays in the field's bottom half.",
-       rows({T::parallax}, {"1"}, sweep, {20, 30, 70, 80}) + rows({T::parallax}, {"1"}), claim_c1});
+       rows({T::parallax}, fixed({1}), sweep, {20, 30, 70, 80}) + rows({T::parallax}, fixed({1})), claim_c1});
   list.push_back({"C2", "offset limiting gives better results than plain parallax at grazing angles",
                   "LearnOpenGL; POM in GLSL",
                   "Per heightfield and grazing angle (70, 80 degrees): parallax-limited's mean uv error is below plain "
                   "parallax's.",
-                  rows({T::parallax, T::parallax_limited}, {"1"}, sweep, {70, 80}), claim_c2});
+                  rows({T::parallax, T::parallax_limited}, fixed({1}), sweep, {70, 80}), claim_c2});
   list.push_back({"C3", "steep parallax's accuracy grows with the number of layers", "LearnOpenGL; Steep PM notes",
                   "Per heightfield and each doubling 4 -> 8 -> 16 -> 32 -> 64: steep's mean uv error decreases.",
-                  rows({T::steep}, {"4", "8", "16", "32", "64"}), claim_c3});
+                  rows({T::steep}, fixed({4, 8, 16, 32, 64})), claim_c3});
   list.push_back({"C4", "about 10 layers already make steep parallax look far more correct than plain parallax",
                   "LearnOpenGL",
                   "Per heightfield at the default view: steep with 10 layers has at most half of plain parallax's mean uv "
                   "error and at most half of its p95 uv error (the typical ray and the visible outliers; not the share "
                   "over one texel, which steep's expected stair-stepping of several texels per layer at 10 layers "
                   "would decide).",
-                  rows({T::parallax}, {"1"}) + rows({T::steep}, {"10"}), claim_c4});
-  std::vector<ClaimRow> c5 = rows({T::steep, T::relief, T::pom}, {"8-32"}) +
-                             rows({T::steep, T::relief, T::pom}, {"8-32", "32"}, sweep, {0, 10, 20, 30});
+                  rows({T::parallax}, fixed({1})) + rows({T::steep}, fixed({10})), claim_c4});
+  std::vector<ClaimRow> c5 = rows({T::steep, T::relief, T::pom}, {kDynamic}) +
+                             rows({T::steep, T::relief, T::pom}, {kDynamic, LayerSpec::fixed(32)}, sweep, {0, 10, 20, 30});
   for (Technique t : {T::steep, T::relief, T::pom}) c5 = c5 + curve_rows(t);
   list.push_back({"C5", "view-dependent layer counts (8-32) save samples where few are needed, at little cost in accuracy",
                   "LearnOpenGL; Steep PM notes",
@@ -482,23 +497,23 @@ std::vector<Claim> make_claims() {
                   "LearnOpenGL; Steep PM notes",
                   "Per heightfield and layer count (8, 16, 32): at least 99% of steep's rays have a uv error no larger "
                   "than the texture step of one layer along their own ray.",
-                  rows({T::steep}, {"8", "16", "32"}), claim_c6});
+                  rows({T::steep}, fixed({8, 16, 32})), claim_c6});
   list.push_back({"C7", "POM is much more accurate than steep parallax at the same layer count", "LearnOpenGL; POM in GLSL",
                   "Per heightfield and layer count (8, 16, 32): POM's mean uv error is at most half of steep's.",
-                  rows({T::pom, T::steep}, {"8", "16", "32"}), claim_c7});
+                  rows({T::pom, T::steep}, fixed({8, 16, 32})), claim_c7});
   list.push_back(
       {"C8", "relief mapping gives the most accurate results of the layered methods, at a somewhat higher cost than POM",
        "LearnOpenGL; POM in GLSL; Steep PM notes",
        "Per heightfield and layer count (8, 16, 32): relief's mean uv error is the lowest of steep, POM and "
        "relief, and relief's cost, in height samples per ray (deterministic; the speeds are shown as median "
        "(min-max) beside it, and decide nothing), is above POM's but at most twice it.",
-       rows({T::relief, T::pom, T::steep}, {"8", "16", "32"}), claim_c8});
+       rows({T::relief, T::pom, T::steep}, fixed({8, 16, 32})), claim_c8});
   list.push_back({"C9", "POM is close to relief mapping in quality and faster, hence the more common choice",
                   "LearnOpenGL; Steep PM notes",
                   "Per heightfield and layer count (8, 16, 32): POM's mean uv error is close to relief's (at most 1.5x, "
                   "or at most a quarter texel more) and POM takes fewer height samples per ray than relief "
                   "(deterministic; the speeds are shown as median (min-max) beside it, and decide nothing).",
-                  rows({T::relief, T::pom}, {"8", "16", "32"}), claim_c9});
+                  rows({T::relief, T::pom}, fixed({8, 16, 32})), claim_c9});
   list.push_back({"C10", "too few layers miss thin features and steep height changes", "LearnOpenGL; POM in GLSL",
                   "Per heightfield, for steep and POM with 4 and 8 layers against 64: among the rays whose exact hit lies "
                   "on a thin feature (the ray leaves the solid again within 1/8 of the depth range) and, separately, "
@@ -506,9 +521,9 @@ std::vector<Claim> make_claims() {
                   "more than one layer step (tunnelling: the layer search stepped over the first surface) is at least 2x "
                   "that with 64 layers and at least 1 percentage point above it. A field without at least 100 such "
                   "rays does not take part in that check.",
-                  rows({T::steep, T::pom}, {"4", "8", "64"}), claim_c10});
-  std::vector<ClaimRow> p1 = rows({T::relief}, {"32"});
-  for (const char* layers : kConeLayers) p1.push_back(at(T::cone, layers));
+                  rows({T::steep, T::pom}, fixed({4, 8, 64})), claim_c10});
+  std::vector<ClaimRow> p1 = rows({T::relief}, fixed({32}));
+  for (const LayerSpec& layers : kConeLayers) p1.push_back(at(T::cone, layers));
   list.push_back({"P1", "relaxed cone stepping matches relief mapping's accuracy with far fewer samples per ray",
                   "Policarpo and Oliveira, GPU Gems 3 ch. 18 (2007)",
                   "Per heightfield at the default view, against relief with 32 layers: the cheapest cone configuration "
@@ -516,8 +531,8 @@ std::vector<Claim> make_claims() {
                   "(at most relief-32's, or at most 0.05 texel more: no visible difference) takes at most half of "
                   "relief-32's samples per ray. Fails where no cone configuration matches.",
                   p1, claim_p1});
-  std::vector<ClaimRow> p2 = rows({T::maxmip}, {"1"}) + rows({T::maxmip}, {"1"}, ClaimView::large_map);
-  for (const char* layers : kLargeMapLayers)
+  std::vector<ClaimRow> p2 = rows({T::maxmip}, fixed({1})) + rows({T::maxmip}, fixed({1}), ClaimView::large_map);
+  for (int layers : kLargeMapLayers)
     for (Technique t : {T::relief, T::secant}) p2.push_back(on_large_map(t, layers));
   list.push_back(
       {"P2",
@@ -544,7 +559,7 @@ std::vector<Claim> make_claims() {
                   "secant's mean uv error is below relief's (binary refinement, 5 halvings) at the same samples per "
                   "ray, relief's error there interpolated in 1 / samples between its two measured layer counts around "
                   "it; no check where secant's samples fall outside relief's measured range.",
-                  rows({T::secant}, {"4", "8", "16", "32"}) + curve_rows(T::relief), claim_p3});
+                  rows({T::secant}, fixed({4, 8, 16, 32})) + curve_rows(T::relief), claim_p3});
   return list;
 }
 

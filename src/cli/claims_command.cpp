@@ -62,7 +62,7 @@ void write_claims(const std::string& dir, const ClaimsData& data, const PlanSett
       std::to_string(settings.heightfields.front().resolution) + " x " +
       std::to_string(settings.heightfields.front().resolution) + "), scale " +
       string_format("%g", settings.scale) + ", REPEAT; on the default view at " +
-      std::to_string(settings.view_size) + " x " + std::to_string(settings.view_size) +
+      std::to_string(settings.view_width) + " x " + std::to_string(settings.view_height) +
       " pixels, view angles " +
       string_format("%g to %g degrees", settings.near_degrees, settings.far_degrees) +
       " (the same rows as the report's tables): " + claim_rows_text(ClaimView::default_view) +

@@ -2,7 +2,6 @@
 
 #include <tbb/info.h>
 
-#include <algorithm>
 #include <sstream>
 
 #include "heightmarch/error.hpp"
@@ -77,17 +76,6 @@ void add_out_options(CLI::App& command, OutOptions& options, const std::string& 
                    "directory is refused)");
 }
 
-void check_depth_map_files(const std::vector<Configuration>& plan) {
-  std::vector<HeightfieldSource> checked;
-  for (const Configuration& c : plan) {
-    if (!c.heightfield.builtin.empty() ||
-        std::find(checked.begin(), checked.end(), c.heightfield) != checked.end())
-      continue;
-    load_heightfield(c.heightfield);
-    checked.push_back(c.heightfield);
-  }
-}
-
 int resolve_threads(int threads) { return threads > 0 ? threads : tbb::info::default_concurrency(); }
 
 void add_gl_options(CLI::App& command, GlOptions& o) {
@@ -101,7 +89,7 @@ void add_gl_options(CLI::App& command, GlOptions& o) {
 
 GlTarget gl_target(const GlOptions& o) { return resolved(parse_gl_target(o.path, o.device)); }
 
-Configuration trace_configuration(const TraceOptions& o, RunKind kind) {
+Configuration trace_configuration(const TraceOptions& o, RunKind kind, LayerSpec* layers_asked) {
   Configuration c;
   c.kind = kind;
   c.purposes = kPurposeCommand;
@@ -118,10 +106,12 @@ Configuration trace_configuration(const TraceOptions& o, RunKind kind) {
   c.view.tile_size = o.tile;
   TechniqueParams& p = c.params;
   if (kind == RunKind::exact) {
-    p.layers = LayerSpec{1.0f, 1.0f};
+    p.layers = LayerSpec::fixed(1);
   } else {
     p.technique = parse_technique(o.technique, kind == RunKind::trace ? "exact" : "");
-    p.layers = layers_for(p.technique, parse_layer_spec(o.layers));
+    const LayerSpec asked = parse_layer_spec(o.layers);
+    p.layers = layers_for(p.technique, asked);
+    if (layers_asked) *layers_asked = asked;
   }
   p.refine = o.refine;
   if (!std::isfinite(o.scale)) throw InputError("--scale " + std::to_string(o.scale) + " is not a finite number");

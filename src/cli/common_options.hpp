@@ -50,12 +50,10 @@ struct TraceOptions {
 // Declares the options on a command; `exact_allowed`: --technique also takes "exact".
 void add_trace_options(CLI::App& command, TraceOptions& options, bool exact_allowed);
 
-// The configuration the options describe (kind exact for --technique exact when allowed).
+// The configuration the options describe (kind exact for --technique exact when allowed), and in
+// `layers_asked`, if given, --layers as asked (the configuration's technique may take one sample).
 // Throws InputError naming the option for values CLI11 cannot check on its own.
-Configuration trace_configuration(const TraceOptions& options, RunKind kind);
-
-// Reads every depth map file the plan names (each once), before the run: a bad one is one line.
-void check_depth_map_files(const std::vector<Configuration>& plan);
+Configuration trace_configuration(const TraceOptions& options, RunKind kind, LayerSpec* layers_asked = nullptr);
 
 // --threads 0 (the default) means all cores.
 int resolve_threads(int threads);

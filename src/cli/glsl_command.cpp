@@ -158,7 +158,8 @@ Command add_glsl_command(CLI::App& app) {
           ->type_name("[TECHNIQUE]");
   return [o, compare] {
     if (o->list_devices) return print_devices();
-    Configuration glsl = trace_configuration(o->trace, RunKind::glsl);
+    LayerSpec layers_asked;
+    Configuration glsl = trace_configuration(o->trace, RunKind::glsl, &layers_asked);
     glsl.gl = gl_target(o->gl);
     if (!o->shader.empty()) glsl.shader = BroughtInShader{o->shader};
     if (!o->shader.empty()) user_source(read_input_file(o->shader, "shader file", kMaxShaderBytes), o->shader);  // before the run
@@ -172,7 +173,7 @@ Command add_glsl_command(CLI::App& app) {
         cpu.shader.reset();
         cpu.isa = select_isa("");
         cpu.params.technique = technique;
-        cpu.params.layers = layers_for(technique, parse_layer_spec(o->trace.layers));  // the layers asked for
+        cpu.params.layers = layers_for(technique, layers_asked);
         cpu.params.refine = o->trace.refine;
         plan.push_back(cpu);
       }

@@ -62,15 +62,22 @@ PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
 }
 
 MeasuredPlan measure_with_progress(const std::vector<Configuration>& plan, const PlanSettings& settings,
-                                   Progress& progress, const std::function<void(const TracedRow&)>& on_traced) {
+                                   Progress& progress, const std::function<void(const TracedRow&)>& on_traced,
+                                   MeasurementSession& session) {
   MeasureOptions measure;
   measure.repetitions = settings.repetitions;
   measure.min_seconds = settings.min_seconds;
   measure.on_traced = on_traced;
   measure.progress = [&](const std::string& what, std::size_t done, std::size_t total) { progress.step(what, done, total); };
-  MeasuredPlan run = measure_plan(plan, measure);
+  MeasuredPlan run = measure_plan(plan, measure, session);
   progress.finish_line();
   return run;
+}
+
+MeasuredPlan measure_with_progress(const std::vector<Configuration>& plan, const PlanSettings& settings,
+                                   Progress& progress, const std::function<void(const TracedRow&)>& on_traced) {
+  MeasurementSession session;
+  return measure_with_progress(plan, settings, progress, on_traced, session);
 }
 
 }  // namespace heightmarch::cli

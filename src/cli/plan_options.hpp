@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cli/progress.hpp"
+#include "experiment/measurement_session.hpp"
 #include "experiment/plan_runner.hpp"
 #include "experiment/suite_plan.hpp"
 
@@ -32,6 +33,10 @@ void add_plan_options(CLI::App& command, PlanOptions& options, const std::string
 // repetitions. Throws InputError for values CLI11 cannot check on its own.
 PlanSettings plan_settings(const PlanOptions& options, bool glsl);
 
+// In `session` (whose depth maps the caller may have loaded), or a session of its own.
+MeasuredPlan measure_with_progress(const std::vector<Configuration>& plan, const PlanSettings& settings,
+                                   Progress& progress, const std::function<void(const TracedRow&)>& on_traced,
+                                   MeasurementSession& session);
 MeasuredPlan measure_with_progress(const std::vector<Configuration>& plan, const PlanSettings& settings,
                                    Progress& progress, const std::function<void(const TracedRow&)>& on_traced);
 

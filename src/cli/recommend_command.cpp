@@ -131,13 +131,6 @@ class RowFields {
   std::string where_;
 };
 
-// The ISA named in a row, whichever machine measured it (no check that this CPU runs it).
-Isa isa_named(const std::string& name) {
-  for (Isa isa : all_isas())
-    if (to_string(isa) == name) return isa;
-  throw InputError("backend '" + name + "' is no ISA of " + isa_names());
-}
-
 // A row of measurements.json as a candidate, or none for a row the recommendation does not read
 // (the same rows candidates() takes from a run's Measurements). Format 1 named the percentiles uv_p99.
 std::optional<Candidate> candidate_of(const RowFields& f, int format_version) {

@@ -21,6 +21,7 @@
 #include "cli/report_command.hpp"
 #include "cli/run_directory.hpp"
 #include "experiment/claims_collector.hpp"
+#include "experiment/measurement_session.hpp"
 #include "experiment/run_outputs.hpp"
 #include "heightmarch/error.hpp"
 #include "io/atomic_file.hpp"
@@ -31,14 +32,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The candidates a user measures: names checked against the registries, turned into typed values.
-struct CandidateOptions {
-  std::vector<std::string> techniques, layers, isas, parts;
-};
-
 struct SuiteOptions {
   PlanOptions plan;
-  CandidateOptions candidates;
+  PlanFilters candidates;  // names, checked against the lists by CLI11, turned into typed values by apply()
   RecommendationTarget target;
   OutOptions out;
   GlOptions gl;
@@ -59,21 +55,13 @@ std::vector<std::string> isa_name_list() {
   return names;
 }
 
-// The purposes a user may leave out or keep (every one but `command`, which trace and glsl use).
-std::vector<std::string> part_names() {
-  std::vector<std::string> names;
-  for (unsigned i = 0; i < kPurposeCount; ++i)
-    if ((1u << i) != kPurposeCommand) names.push_back(purpose_name(1u << i));
-  return names;
-}
-
 std::string joined(const std::vector<std::string>& names) {
   std::string text;
   for (const std::string& n : names) text += (text.empty() ? "" : ", ") + n;
   return text;
 }
 
-void add_candidate_options(CLI::App& command, CandidateOptions& o) {
+void add_candidate_options(CLI::App& command, PlanFilters& o) {
   command
       .add_option(
           "--techniques", o.techniques,
@@ -97,35 +85,6 @@ void add_candidate_options(CLI::App& command, CandidateOptions& o) {
                   "the parts of the plan to measure, comma-separated (default: all): " + joined(part_names()))
       ->delimiter(',')
       ->check(CLI::IsMember(part_names()));
-}
-
-void apply(const CandidateOptions& o, PlanSettings& s) {
-  if (!o.techniques.empty()) {
-    s.techniques.clear();
-    for (const std::string& name : o.techniques) {
-      const Technique t = parse_technique(name);
-      if (std::find(s.techniques.begin(), s.techniques.end(), t) == s.techniques.end())
-        s.techniques.push_back(t);
-    }
-  }
-  if (!o.layers.empty()) {
-    s.layer_specs.clear();
-    for (const std::string& text : o.layers) s.layer_specs.push_back(parse_layer_spec(text));
-    s.few_layer_specs = s.layer_specs;
-  }
-  if (!o.isas.empty()) {
-    s.isas.clear();
-    for (Isa isa : all_isas())  // narrowest first, as the plan lists them
-      if (std::find(o.isas.begin(), o.isas.end(), to_string(isa)) != o.isas.end())
-        s.isas.push_back(parse_isa(to_string(isa)));
-    s.best_isa = s.isas.back();
-  }
-  if (!o.parts.empty()) {
-    s.parts = 0;
-    for (unsigned i = 0; i < kPurposeCount; ++i)
-      if (std::find(o.parts.begin(), o.parts.end(), purpose_name(1u << i)) != o.parts.end())
-        s.parts |= 1u << i;
-  }
 }
 
 // The name of each heightfield in its gallery images' file names: its label as a plain file name
@@ -200,19 +159,12 @@ Command add_suite_command(CLI::App& app) {
     validate(o->target);
     const std::vector<Configuration> plan = suite_plan(settings);
     if (o->dry_run) {
-      for (const Configuration& c : plan) {
-        std::string purposes;
-        for (unsigned i = 0; i < kPurposeCount; ++i)
-          if (c.purposes & (1u << i)) purposes += (purposes.empty() ? "" : ",") + purpose_name(1u << i);
-        const std::string layers = c.kind == RunKind::exact ? "" : to_string(c.params.layers);
-        std::printf("%s\t%s\t%s\t%s\t%s\t%d\t%s\t%s\t%s\n", printable(c.heightfield.label()).c_str(),
-                    to_string(c.kind).c_str(), printable(c.label()).c_str(), layers.c_str(), c.backend().c_str(),
-                    c.threads, printable(describe(c.view)).c_str(), c.timed ? "timed" : "accuracy", purposes.c_str());
-      }
+      for (const Configuration& c : plan) std::printf("%s\n", plan_line(c).c_str());
       std::printf("%zu configurations\n", plan.size());
       return 0;
     }
-    check_depth_map_files(plan);  // before the run directory exists
+    MeasurementSession session;
+    session.load_depth_maps(plan);  // every file decoded once, before the run directory exists
     const bool default_out = o->out.out.empty();
     const std::string run_name = fresh_run_name(o->plan.quick);
     RunDirectory dir(default_out ? "results/" + run_name : o->out.out, o->out.existing(), {"gallery"});
@@ -227,7 +179,7 @@ Command add_suite_command(CLI::App& app) {
     MeasuredPlan run = measure_with_progress(plan, settings, progress, [&](const TracedRow& traced) {
       if (traced.row.config.purposes & kPurposeGallery) write_gallery_images(dir.path(), traced, names);
       claims.observe(traced);
-    });
+    }, session);
     for (Measurement& m : run.rows)
       if ((m.config.purposes & kPurposeGallery) && m.failure.empty()) {
         m.render_image = gallery_stem(m.config, names) + "-render.png";

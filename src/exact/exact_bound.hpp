@@ -7,6 +7,7 @@
 
 #include "exact/cell_quadratic.hpp"
 #include "kernels/pyramid_walk.hpp"
+#include "simd/isa_packets.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 

@@ -3,6 +3,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "heightmarch/error.hpp"
 #include "heightmarch/glsl_runner.hpp"
 
 namespace heightmarch {
@@ -48,6 +49,17 @@ bool Configuration::same_measurement(const Configuration& o) const {
   const bool same_gl = kind != RunKind::glsl || gl == o.gl;
   return kind == o.kind && heightfield == o.heightfield && view == o.view && same_params && same_isa &&
          threads == o.threads && shader == o.shader && same_gl;
+}
+
+std::string plan_line(const Configuration& c) {
+  std::string purposes;
+  for (unsigned i = 0; i < kPurposeCount; ++i)
+    if (c.purposes & (1u << i)) purposes += (purposes.empty() ? "" : ",") + purpose_name(1u << i);
+  const std::string layers = c.kind == RunKind::exact ? "" : to_string(c.params.layers);
+  // a line for a terminal: names from the user's files (map, shader, rays) through printable()
+  return printable(c.heightfield.label()) + "\t" + to_string(c.kind) + "\t" + printable(c.label()) + "\t" + layers + "\t" +
+         c.backend() + "\t" + std::to_string(c.threads) + "\t" + printable(describe(c.view)) + "\t" +
+         (c.timed ? "timed" : "accuracy") + "\t" + purposes;
 }
 
 void add_to_plan(std::vector<Configuration>& plan, const Configuration& config) {

@@ -106,6 +106,11 @@ struct Configuration {
   bool same_measurement(const Configuration& other) const;
 };
 
+// The configuration as one tab-separated line, as `suite --dry-run` and `heightmarch-bench
+// --hm_dry_run` list a plan: heightfield, kind, what traces, layers (none for exact), backend,
+// threads, view, "timed" or "accuracy", purposes (comma-separated).
+std::string plan_line(const Configuration& config);
+
 // Adds a configuration to a plan, or merges it into the same measurement already there
 // (purposes join; timed if either is).
 void add_to_plan(std::vector<Configuration>& plan, const Configuration& config);

@@ -65,6 +65,15 @@ Measurement MeasurementSession::measure(const Configuration& c, int id,
   return row;
 }
 
+const DepthMap& MeasurementSession::depth_map(const HeightfieldSource& source) {
+  return state_->scenes.depth_map(source);
+}
+
+void MeasurementSession::load_depth_maps(const std::vector<Configuration>& plan) {
+  for (const Configuration& c : plan)
+    if (c.heightfield.builtin.empty()) depth_map(c.heightfield);
+}
+
 std::function<TraceTime()> MeasurementSession::trace_once(const Configuration& c) {
   return state_->backend(c.kind).timer(c, state_->scenes.scene(c));
 }

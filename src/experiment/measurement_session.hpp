@@ -2,6 +2,7 @@
 // MeasurementSession: the measurement pass one configuration at a time.
 #include <functional>
 #include <memory>
+#include <vector>
 
 #include "experiment/measurement.hpp"
 
@@ -24,6 +25,11 @@ class MeasurementSession {
   // returns the time of that trace: wall time around a CPU trace, the GLSL worker's own times of
   // a draw (without the round trip to it).
   std::function<TraceTime()> trace_once(const Configuration& config);
+
+  // The depth map of a source, decoded (or made) on first use and kept.
+  const DepthMap& depth_map(const HeightfieldSource& source);
+  // Decodes every depth map file the plan names, each once: a bad one is one line before any work.
+  void load_depth_maps(const std::vector<Configuration>& plan);
 
   void forget_scenes();  // frees every scene but the depth maps
 

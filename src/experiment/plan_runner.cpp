@@ -16,8 +16,8 @@ using Clock = std::chrono::steady_clock;
 
 class PlanRunner {
  public:
-  PlanRunner(const std::vector<Configuration>& plan, const MeasureOptions& options)
-      : plan_(plan), options_(options) {
+  PlanRunner(const std::vector<Configuration>& plan, const MeasureOptions& options, MeasurementSession& session)
+      : plan_(plan), options_(options), session_(session) {
     for (const Configuration& c : plan) total_steps_ += 1 + (c.timed ? std::size_t(options.repetitions) : 0);
   }
 
@@ -107,19 +107,25 @@ class PlanRunner {
 
   const std::vector<Configuration>& plan_;
   const MeasureOptions& options_;
-  MeasurementSession session_;
+  MeasurementSession& session_;
   std::size_t total_steps_ = 0, done_steps_ = 0;
   double other_ticks_ = 0, timed_seconds_ = 0;
 };
 
 }  // namespace
 
-MeasuredPlan measure_plan(const std::vector<Configuration>& plan, const MeasureOptions& options) {
+MeasuredPlan measure_plan(const std::vector<Configuration>& plan, const MeasureOptions& options,
+                          MeasurementSession& session) {
   if (options.repetitions < 1 || options.repetitions > 1000)
     throw InputError("repetitions " + std::to_string(options.repetitions) + " outside [1, 1000]");
   if (!(options.min_seconds >= 0.0 && options.min_seconds <= 60.0))
     throw InputError("time per repetition outside [0, 60] s");
-  return PlanRunner(plan, options).run();
+  return PlanRunner(plan, options, session).run();
+}
+
+MeasuredPlan measure_plan(const std::vector<Configuration>& plan, const MeasureOptions& options) {
+  MeasurementSession session;
+  return measure_plan(plan, options, session);
 }
 
 }  // namespace heightmarch

@@ -8,6 +8,7 @@
 
 #include "experiment/machine_load.hpp"
 #include "experiment/measurement.hpp"
+#include "experiment/measurement_session.hpp"
 
 namespace heightmarch {
 
@@ -31,5 +32,9 @@ struct MeasuredPlan {
 // Throws InputError for bad input (files, shaders); a kernel that differs from its scalar
 // reference is recorded as the row's failure and not timed.
 MeasuredPlan measure_plan(const std::vector<Configuration>& plan, const MeasureOptions& options);
+// The same in a session of the caller's, whose depth maps it may have loaded first (a bad file is
+// then its error before any work, and no file is decoded twice).
+MeasuredPlan measure_plan(const std::vector<Configuration>& plan, const MeasureOptions& options,
+                          MeasurementSession& session);
 
 }  // namespace heightmarch

@@ -2,12 +2,19 @@
 
 #include <algorithm>
 
+#include "baselines/naive_port.hpp"
+#include "heightmarch/error.hpp"
+
 namespace heightmarch {
 namespace {
 
-std::vector<LayerSpec> specs(std::initializer_list<const char*> texts) {
+constexpr LayerSpec kThirtyTwo = LayerSpec::fixed(32), kEightToThirtyTwo = LayerSpec::range(8, 32);
+
+// Fixed counts, then 8-32.
+std::vector<LayerSpec> specs(std::initializer_list<int> counts) {
   std::vector<LayerSpec> out;
-  for (const char* t : texts) out.push_back(parse_layer_spec(t));
+  for (int n : counts) out.push_back(LayerSpec::fixed(n));
+  out.push_back(kEightToThirtyTwo);
   return out;
 }
 
@@ -16,7 +23,7 @@ Configuration on_view(const PlanSettings& s, const HeightfieldSource& hf, RunKin
   Configuration c;
   c.kind = kind;
   c.heightfield = hf;
-  c.view = parse_view("default", s.view_size, s.view_size);
+  c.view = parse_view("default", s.view_width, s.view_height);
   c.view.near_degrees = s.near_degrees;
   c.view.far_degrees = s.far_degrees;
   c.params.scale = s.scale;
@@ -45,11 +52,11 @@ PlanSettings suite_settings(bool quick, int threads) {
   const int resolution = quick ? 256 : 512;
   for (const BuiltinHeightfield& b : builtin_heightfields())
     if (b.use == BuiltinHeightfield::in_quick_suite || (!quick && b.use == BuiltinHeightfield::in_suite))
-      s.heightfields.push_back(parse_heightfield(std::string("builtin:") + b.name, resolution));
+      s.heightfields.push_back(HeightfieldSource::of(b, resolution));
   for (const TechniqueInfo& t : techniques()) s.techniques.push_back(t.id);
-  s.layer_specs = quick ? specs({"8", "32", "8-32"}) : specs({"4", "8", "10", "16", "32", "64", "8-32"});
-  s.few_layer_specs = specs({"8", "32", "8-32"});
-  s.view_size = quick ? 256 : 1024;
+  s.layer_specs = quick ? specs({8, 32}) : specs({4, 8, 10, 16, 32, 64});
+  s.few_layer_specs = specs({8, 32});
+  s.view_width = s.view_height = quick ? 256 : 1024;
   s.sweep_size = quick ? 48 : 128;
   // 0 to 85 degrees: from the normal to nearly grazing, beyond the default view's 30-80
   s.sweep_angles = sweep_angles(0.0f, 85.0f);
@@ -71,6 +78,53 @@ std::vector<double> sweep_angles(float near_degrees, float far_degrees) {
   if (angles.empty() || angles.front() != near_degrees) angles.insert(angles.begin(), near_degrees);
   if (angles.back() != far_degrees) angles.push_back(far_degrees);
   return angles;
+}
+
+void apply(const PlanFilters& f, PlanSettings& s) {
+  if (!f.techniques.empty()) {
+    s.techniques.clear();
+    for (const std::string& name : f.techniques) {
+      const Technique t = parse_technique(name);
+      if (!wanted(s, t)) s.techniques.push_back(t);
+    }
+  }
+  if (!f.layers.empty()) {
+    s.layer_specs.clear();
+    for (const std::string& text : f.layers) s.layer_specs.push_back(parse_layer_spec(text));
+    s.few_layer_specs = s.layer_specs;
+  }
+  if (!f.isas.empty()) {
+    std::vector<Isa> isas;
+    for (const std::string& name : f.isas) isas.push_back(parse_isa(name));
+    s.isas.clear();
+    for (Isa isa : all_isas())  // narrowest first, as the plan lists them
+      if (std::find(isas.begin(), isas.end(), isa) != isas.end()) s.isas.push_back(isa);
+    s.best_isa = s.isas.back();
+  }
+  if (!f.parts.empty()) {
+    s.parts = 0;
+    for (const std::string& name : f.parts) {
+      unsigned bit = 0;
+      for (unsigned i = 0; i < kPurposeCount; ++i)
+        if (purpose_name(1u << i) == name && (1u << i) != kPurposeCommand) bit = 1u << i;
+      if (!bit) throw InputError("unknown part '" + name + "' of the plan");
+      s.parts |= bit;
+    }
+  }
+}
+
+std::vector<std::string> part_names() {
+  std::vector<std::string> names;
+  for (unsigned i = 0; i < kPurposeCount; ++i)
+    if ((1u << i) != kPurposeCommand) names.push_back(purpose_name(1u << i));
+  return names;
+}
+
+std::vector<Configuration> benchmark_plan(const PlanSettings& settings) {
+  std::vector<Configuration> timed;
+  for (const Configuration& c : suite_plan(settings))
+    if (c.timed) timed.push_back(c);
+  return timed;
 }
 
 std::vector<Configuration> claims_plan(const PlanSettings& s) {
@@ -106,26 +160,33 @@ std::vector<Configuration> claims_plan(const PlanSettings& s) {
 
 std::vector<Configuration> suite_plan(const PlanSettings& s) {
   std::vector<Configuration> plan;
-  const LayerSpec pom32 = parse_layer_spec("32");
   for (const HeightfieldSource& hf : s.heightfields) {
     // Technique x layers at the best ISA and all threads, and the same as GLSL; adjacent, so the
-    // CPU/GLSL pairs of a round are timed close together.
+    // CPU/GLSL pairs of a round are timed close together. Asked for, the matrix at every other
+    // ISA and thread count too.
     for (Technique technique : s.techniques)
       for (const LayerSpec& layers :
-           info(technique).layered ? s.layer_specs : std::vector<LayerSpec>{LayerSpec{}}) {
+           info(technique).layered ? s.layer_specs : std::vector<LayerSpec>{LayerSpec::fixed(1)}) {
         const TechniqueInfo& t = info(technique);
         add_to_plan(plan, with_technique(on_view(s, hf, RunKind::trace, kPurposeMatrix), t.id, layers));
         if (s.glsl) add_to_plan(plan, with_technique(on_view(s, hf, RunKind::glsl, kPurposeGlsl), t.id, layers));
+        if (s.matrix_everywhere)
+          for (int threads : s.thread_counts)
+            for (Isa isa : s.isas) {
+              Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeMatrix), t.id, layers);
+              c.isa = isa;
+              c.threads = threads;
+              add_to_plan(plan, c);
+            }
       }
     // The registry's searches at 32 layers at every ISA and thread count (each against
-    // llvmpipe); POM-32 with its anchors: the roofline and the
-    // compute ceiling, the naive port and its auto-vectorised form; and the exact reference at
-    // the best ISA.
+    // llvmpipe); POM-32 with its anchors: the roofline and the compute ceiling, the naive port,
+    // its auto-vectorised and its Highway forms; and the exact reference at the best ISA.
     for (int threads : s.thread_counts) {
       for (Isa isa : s.isas) {
         for (const TechniqueInfo& t : techniques()) {
           if (!t.search || !wanted(s, t.id)) continue;
-          Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeIsa), t.id, pom32);
+          Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeIsa), t.id, kThirtyTwo);
           c.isa = isa;
           c.threads = threads;
           add_to_plan(plan, c);
@@ -134,20 +195,24 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
           Configuration roofline = on_view(s, hf, ceiling, kPurposeRoofline);
           roofline.isa = isa;
           roofline.threads = threads;
-          roofline.params.layers = pom32;
+          roofline.params.layers = kThirtyTwo;
           add_to_plan(plan, roofline);
         }
-        Configuration autovec = with_technique(on_view(s, hf, RunKind::autovec, kPurposeNaive), Technique::pom, pom32);
-        autovec.isa = isa;
-        autovec.threads = threads;
-        add_to_plan(plan, autovec);
+        // The ports at the ISA: vectorised by the compiler, and written with Google Highway where
+        // this build has it for the ISA.
+        for (RunKind port : {RunKind::autovec, RunKind::highway}) {
+          if (port == RunKind::highway && !(s.highway && highway_port_runs(isa))) continue;
+          Configuration c = with_technique(on_view(s, hf, port, kPurposeNaive), Technique::pom, kThirtyTwo);
+          c.isa = isa;
+          c.threads = threads;
+          add_to_plan(plan, c);
+        }
       }
-      Configuration exact = with_technique(on_view(s, hf, RunKind::exact, kPurposeExact), Technique::pom, pom32);
+      Configuration exact = with_technique(on_view(s, hf, RunKind::exact, kPurposeExact), Technique::pom, kThirtyTwo);
       exact.threads = threads;
       add_to_plan(plan, exact);
-      for (const char* layers : {"32", "8-32"}) {
-        Configuration naive = with_technique(on_view(s, hf, RunKind::naive, kPurposeNaive), Technique::pom,
-                                             parse_layer_spec(layers));
+      for (const LayerSpec& layers : {kThirtyTwo, kEightToThirtyTwo}) {
+        Configuration naive = with_technique(on_view(s, hf, RunKind::naive, kPurposeNaive), Technique::pom, layers);
         naive.threads = threads;
         add_to_plan(plan, naive);
       }
@@ -177,17 +242,17 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
   }
   // The gallery: the tutorial's comparison collage, with numbers, on the first heightfield.
   const HeightfieldSource& first = s.heightfields.front();
-  auto gallery = [&](RunKind kind, Technique technique, const char* layers) {
-    Configuration c = with_technique(on_view(s, first, kind, kPurposeGallery), technique, parse_layer_spec(layers));
+  auto gallery = [&](RunKind kind, Technique technique, const LayerSpec& layers) {
+    Configuration c = with_technique(on_view(s, first, kind, kPurposeGallery), technique, layers);
     c.view.width = s.gallery_width;
     c.view.height = s.gallery_height;
     c.timed = false;
     add_to_plan(plan, c);
   };
-  gallery(RunKind::exact, Technique::pom, "32");
-  for (Technique t : s.techniques)
-    gallery(RunKind::trace, t, writes_visibility(info(t)) ? "32" : "10");  // a shadow from a close hit
-  if (wanted(s, Technique::pom)) gallery(RunKind::trace, Technique::pom, "32");
+  gallery(RunKind::exact, Technique::pom, kThirtyTwo);
+  for (Technique t : s.techniques)  // a shadow from a close hit
+    gallery(RunKind::trace, t, writes_visibility(info(t)) ? kThirtyTwo : LayerSpec::fixed(10));
+  if (wanted(s, Technique::pom)) gallery(RunKind::trace, Technique::pom, kThirtyTwo);
   for (const Configuration& c : claims_plan(s)) add_to_plan(plan, c);
   // The parts asked for: a configuration stays for the purposes it serves among them.
   std::vector<Configuration> kept;

@@ -20,7 +20,7 @@ struct PlanSettings {
   float scale = 0.1f;                        // height scale of every configuration
   float near_degrees = kDefaultNearDegrees;  // the default view's span of view angles
   float far_degrees = kDefaultFarDegrees;
-  int view_size = 1024;                        // default view side, pixels
+  int view_width = 1024, view_height = 1024;   // the default view, pixels
   int sweep_size = 128;                        // sweep views: side, pixels
   std::vector<double> sweep_angles;            // degrees
   int gallery_width = 512, gallery_height = 384;
@@ -34,7 +34,27 @@ struct PlanSettings {
   int repetitions = 5;
   double min_seconds = 0.04;                   // per repetition
   bool large_maps = true;                      // P2's rows on the builtins at kLargeMapSide
+  // heightmarch-bench's: POM-32's port written with Google Highway beside its auto-vectorised
+  // form, at every ISA it runs at (naive_port.hpp; the suite's report and history do not tell
+  // its rows from the trace rows of the same backend yet), and the matrix at every ISA and thread
+  // count (the regression tools time layer counts at several ISAs).
+  bool highway = false;
+  bool matrix_everywhere = false;
 };
+
+// The candidates a user names (suite's --techniques, --layers, --isas, --parts and
+// heightmarch-bench's --hm_ twins), each checked against its list and turned into typed values
+// once, here: the techniques in the order given (repeats dropped), the layer specs as the matrix's
+// and the sweeps' and GLSL's at fewer threads, the ISAs narrowest first (the widest is the
+// matrix's; each one the CPU must run), the parts. An empty list leaves its setting as it was.
+// Throws InputError.
+struct PlanFilters {
+  std::vector<std::string> techniques, layers, isas, parts;
+};
+void apply(const PlanFilters& filters, PlanSettings& settings);
+
+// The purposes a user may leave out or keep: every one but `command` (trace and glsl's).
+std::vector<std::string> part_names();
 
 // The default or quick settings: that plan's builtins, every technique, every ISA the CPU runs,
 // one thread and `threads` (all cores).
@@ -46,6 +66,9 @@ std::vector<double> sweep_angles(float near_degrees, float far_degrees);
 // Everything a suite run measures: the matrix, POM-32 at every ISA and thread count, GLSL, the
 // roofline, the naive port, sweeps, the gallery and the claims' rows.
 std::vector<Configuration> suite_plan(const PlanSettings& settings);
+
+// What heightmarch-bench times: the timed configurations of suite_plan(settings), in its order.
+std::vector<Configuration> benchmark_plan(const PlanSettings& settings);
 
 // The claims' rows alone (what `heightmarch claims` runs): every row each claim declares
 // (claims.hpp) on every heightfield, sweeps untimed, and with large_maps the large-map rows on

@@ -93,6 +93,7 @@ struct GlRunner::State {
   int width = 0, height = 0;
   std::size_t rays = 0;
   bool has_map = false, has_rays = false;
+  bool prepared = false;  // a whole prepare succeeded since the last compile: draws and reads need it
   bool discard = false;  // the tutorial's discard of a uv outside [0,1]^2, applied on read-back
   std::string shader_path;  // of the program prepared: a brought-in one when not empty
   // Linked programs by fragment source, oldest first: the suite's interleaved rounds switch back
@@ -163,6 +164,7 @@ GLuint link_program(const std::string& fragment, const std::string& shader_path)
 
 void GlRunner::set_depth_map(const DepthMap& map) {
   State& s = *state_;
+  s.prepared = false;
   check_side(std::max(map.width, map.height));
   check_memory_budget(kWorkerBytesPerTexel * double(map.texels.size()),
                       "the GLSL textures of a " + std::to_string(map.width) + "x" + std::to_string(map.height) +
@@ -178,6 +180,7 @@ void GlRunner::set_depth_map(const DepthMap& map) {
 
 void GlRunner::set_rays(const RayBatch& rays) {
   State& s = *state_;
+  s.prepared = false;
   const int height = int((rays.size() + kRowWidth - 1) / kRowWidth);
   check_side(height);
   check_memory_budget(kWorkerBytesPerRay * double(rays.size()), "the GLSL textures of " + std::to_string(rays.size()) + " rays");
@@ -214,6 +217,7 @@ void GlRunner::set_rays(const RayBatch& rays) {
 void GlRunner::compile(const TechniqueParams& params, const std::string& shader_path) {
   State& s = *state_;
   s.program = 0;
+  s.prepared = false;
   s.shader_path = shader_path;
   // The program: the harness, then the technique and main; a brought-in file comes last, so its
   // conflicts with the harness's names are reported at its own lines.
@@ -307,6 +311,7 @@ void GlRunner::prepare(const TechniqueParams& params) {
   HEIGHTMARCH_PRECOMPUTED_TEXTURES(HEIGHTMARCH_BIND_PRECOMPUTED)
 #undef HEIGHTMARCH_BIND_PRECOMPUTED
   if (glGetError() != GL_NO_ERROR) throw std::runtime_error("GL: an error while preparing the draw");
+  s.prepared = true;
 }
 
 void GlRunner::clear_hits() {
@@ -318,6 +323,7 @@ void GlRunner::clear_hits() {
 }
 
 DrawTimes GlRunner::draw() {
+  if (!state_->prepared) throw std::runtime_error("a draw before a prepare succeeded");
   const auto start = std::chrono::steady_clock::now();
   glBeginQuery(GL_TIME_ELAPSED, state_->timer_query);
   glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -334,6 +340,7 @@ DrawTimes GlRunner::draw() {
 
 void GlRunner::read(HitBuffers& hits, bool& samples_known) const {
   const State& s = *state_;
+  if (!s.prepared) throw std::runtime_error("a read before a prepare succeeded");
   std::vector<std::vector<float>> attachments(s.output_textures.size());
   for (std::size_t a = 0; a < attachments.size(); ++a) {
     attachments[a].resize(std::size_t(s.width) * s.height * 4);

@@ -203,11 +203,28 @@ int parse_channel(const std::string& text) {
   return channel;
 }
 
-HeightfieldSource parse_heightfield(const std::string& text, int resolution, std::uint64_t seed, Convention convention,
-                                    int channel) {
+namespace {
+
+void check_resolution(int resolution) {
   if (resolution < 1 || resolution > kMaxDepthMapSide)
     throw InputError("heightfield resolution " + std::to_string(resolution) + " outside [1, " +
                      std::to_string(kMaxDepthMapSide) + "]");
+}
+
+}  // namespace
+
+HeightfieldSource HeightfieldSource::of(const BuiltinHeightfield& builtin, int resolution, std::uint64_t seed) {
+  check_resolution(resolution);
+  HeightfieldSource source;
+  source.builtin = builtin.name;
+  source.resolution = resolution;
+  source.seed = seed;
+  return source;
+}
+
+HeightfieldSource parse_heightfield(const std::string& text, int resolution, std::uint64_t seed, Convention convention,
+                                    int channel) {
+  check_resolution(resolution);
   HeightfieldSource source;
   source.resolution = resolution;
   source.seed = seed;

@@ -1,14 +1,30 @@
 #pragma once
 // One ISA's kernel table: every technique of the registry (technique_list.hpp) x every addressing
-// mode, each the packet loop below around the technique's kernel, beside the exact reference's
-// float pass and the benchmarks' anchors. Included once per ISA by its generated translation unit
-// (src/isa/kernels.cpp.in) inside the ISA's own namespace.
+// mode, each the packet loop below around the technique's kernel (its row's), beside the exact
+// reference's float pass and the benchmarks' anchors. Included once per ISA by its generated
+// translation unit (src/isa/kernels.cpp.in).
 #include "all_techniques.hpp"  // generated: every header of src/kernels/techniques/
 #include "exact/exact_bound.hpp"
 #include "heightmarch/technique_list.hpp"
 #include "kernels/roofline.hpp"
+#include "simd/isa_packets.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
+
+// A technique's kernel as a callable type (its registry row's kernel): k (the KernelContext) and a
+// RayPacket in, a HitPacket out.
+template <Technique T>
+struct TechniqueKernel;
+#define HEIGHTMARCH_TECHNIQUE_KERNEL(id, name, layered, refine, needs, writes, search, shape, kernel, ...) \
+  template <>                                                                                               \
+  struct TechniqueKernel<Technique::id> {                                                                   \
+    template <class Context, class Ray>                                                                     \
+    auto operator()(Context& k, const Ray& ray) const {                                                     \
+      return kernel(k, ray);                                                                                \
+    }                                                                                                       \
+  };
+HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_KERNEL)
+#undef HEIGHTMARCH_TECHNIQUE_KERNEL
 
 // The loop over packets: loads W rays, runs the technique, stores the hits. Flattened: every
 // call inside is inlined, since a call in a kernel spills every vector register (all are

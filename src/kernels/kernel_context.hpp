@@ -2,6 +2,7 @@
 // What every technique kernel works with: one packet of rays, the sampler that counts the
 // samples it takes, and the layer count of docs/techniques.md.
 #include "kernels/packet_sampler.hpp"
+#include "simd/isa_packets.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
@@ -29,11 +30,6 @@ struct HitPacket {
   HEIGHTMARCH_HIT_CHANNELS(HEIGHTMARCH_HIT_PACKET)
 #undef HEIGHTMARCH_HIT_PACKET
 };
-
-// A technique's kernel as a callable type: k (the KernelContext) and a RayPacket in, a HitPacket
-// out. Each header of src/kernels/techniques/ specialises it for its registry rows.
-template <Technique T>
-struct TechniqueKernel;
 
 template <int W, Addressing ADDRESSING, Taps TAPS = Taps::memory>
 class KernelContext {

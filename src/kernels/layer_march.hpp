@@ -2,6 +2,7 @@
 // The layer march of steep parallax (LearnOpenGL's loop): layers of depth 1/N along the ray until
 // the first layer below the surface. Steep, relief, POM, secant and the shadow start from its state.
 #include "kernels/kernel_context.hpp"
+#include "simd/isa_packets.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 

@@ -4,6 +4,7 @@
 // integer conversion or with a mask, so coordinates of any size stay finite and every index
 // stays inside the texture, masked lane or not.
 #include "kernels/kernel_abi.hpp"
+#include "simd/isa_packets.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 

@@ -16,6 +16,7 @@
 
 #include "heightmarch/min_depth_pyramid.hpp"
 #include "kernels/kernel_context.hpp"
+#include "simd/isa_packets.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 

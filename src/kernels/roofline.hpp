@@ -2,6 +2,7 @@
 // The sampler alone, at the positions a layered march visits (T - k delta, k = 0..N), with every
 // lane active and no control flow: the practical ceiling of samples/s for a packet kernel.
 #include "kernels/kernel_context.hpp"
+#include "simd/isa_packets.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 

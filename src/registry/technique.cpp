@@ -8,9 +8,9 @@
 namespace heightmarch {
 
 const std::array<TechniqueInfo, kTechniqueCount>& techniques() {
-#define HEIGHTMARCH_TECHNIQUE_INFO(id, name, layered, refine, needs, writes, search, shape, glsl_call, color, \
-                                   marker, description)                                                    \
-  TechniqueInfo{Technique::id, name,  layered,   refine, needs, writes, search, shape, glsl_call, color, marker, \
+#define HEIGHTMARCH_TECHNIQUE_INFO(id, name, layered, refine, needs, writes, search, shape, kernel, glsl_call, \
+                                   color, marker, description)                                                 \
+  TechniqueInfo{Technique::id, name, layered, refine, needs, writes, search, shape, glsl_call, color, marker, \
                 description},
   static const std::array<TechniqueInfo, kTechniqueCount> rows = {
       HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_INFO)};
@@ -73,14 +73,11 @@ int parse_layer_count(const std::string& text, const std::string& spec) {
 
 LayerSpec parse_layer_spec(const std::string& text) {
   const auto dash = text.find('-');
-  if (dash == std::string::npos || dash == 0) {
-    const float n = float(parse_layer_count(text, text));
-    return {n, n};
-  }
+  if (dash == std::string::npos || dash == 0) return LayerSpec::fixed(parse_layer_count(text, text));
   const int a = parse_layer_count(text.substr(0, dash), text);
   const int b = parse_layer_count(text.substr(dash + 1), text);
   if (a > b) throw InputError("layer spec '" + text + "': minimum " + std::to_string(a) + " exceeds maximum " + std::to_string(b));
-  return {float(a), float(b)};
+  return LayerSpec::range(a, b);
 }
 
 std::string to_string(const LayerSpec& layers) {
@@ -89,7 +86,7 @@ std::string to_string(const LayerSpec& layers) {
 }
 
 LayerSpec layers_for(Technique technique, const LayerSpec& spec) {
-  return info(technique).layered ? spec : LayerSpec{1.0f, 1.0f};
+  return info(technique).layered ? spec : LayerSpec::fixed(1);
 }
 
 void check(const TechniqueParams& params) {

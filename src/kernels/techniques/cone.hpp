@@ -11,6 +11,7 @@
 // One read of the (depth, cone) map is one sample: the depth and the ratio of the same bilinear
 // read. At most ceil(N) + refine samples.
 #include "kernels/kernel_context.hpp"
+#include "simd/isa_packets.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
@@ -74,13 +75,5 @@ HitPacket<W> cone(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   out.samples = samples;
   return out;
 }
-
-template <>
-struct TechniqueKernel<Technique::cone> {
-  template <class Context, class Ray>
-  auto operator()(Context& k, const Ray& ray) const {
-    return cone(k, ray);
-  }
-};
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

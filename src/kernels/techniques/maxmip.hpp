@@ -3,6 +3,7 @@
 // bilinear patch in the cell it stopped in. Exact up to float rounding, at a cost that grows with
 // the depth features on the ray, not with the resolution.
 #include "kernels/pyramid_walk.hpp"
+#include "simd/isa_packets.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
@@ -23,13 +24,5 @@ HitPacket<W> maxmip(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   out.samples = walk.samples;
   return out;
 }
-
-template <>
-struct TechniqueKernel<Technique::maxmip> {
-  template <class Context, class Ray>
-  auto operator()(Context& k, const Ray& ray) const {
-    return maxmip(k, ray);
-  }
-};
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

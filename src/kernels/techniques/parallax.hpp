@@ -1,6 +1,7 @@
 #pragma once
 // Plain parallax and parallax with offset limiting: one sample at T (LearnOpenGL, the "Parallax Occlusion Mapping in GLSL" tutorial).
 #include "kernels/kernel_context.hpp"
+#include "simd/isa_packets.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
@@ -18,21 +19,5 @@ HitPacket<W> parallax(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) 
   hit.depth = depth;
   return hit;
 }
-
-template <>
-struct TechniqueKernel<Technique::parallax> {
-  template <class Context, class Ray>
-  auto operator()(Context& k, const Ray& ray) const {
-    return parallax<false>(k, ray);
-  }
-};
-
-template <>
-struct TechniqueKernel<Technique::parallax_limited> {
-  template <class Context, class Ray>
-  auto operator()(Context& k, const Ray& ray) const {
-    return parallax<true>(k, ray);
-  }
-};
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

@@ -2,6 +2,7 @@
 // Parallax occlusion mapping: steep parallax, then the tutorial's linear interpolation between
 // the last two layers, re-reading the previous layer's depth as LearnOpenGL does.
 #include "kernels/layer_march.hpp"
+#include "simd/isa_packets.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
@@ -26,13 +27,5 @@ HitPacket<W> pom(KernelContext<W, ADDRESSING, TAPS>& k, const RayPacket<W>& ray)
   hit.samples = m.samples;
   return hit;
 }
-
-template <>
-struct TechniqueKernel<Technique::pom> {
-  template <class Context, class Ray>
-  auto operator()(Context& k, const Ray& ray) const {
-    return pom(k, ray);
-  }
-};
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

@@ -2,6 +2,7 @@
 // Relief mapping: steep parallax, then a binary search between the last two layers
 // (the "Parallax Occlusion Mapping in GLSL" tutorial's loop: the step halves before each sample, the last sample only moves the point).
 #include "kernels/layer_march.hpp"
+#include "simd/isa_packets.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
@@ -32,13 +33,5 @@ HitPacket<W> relief(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   hit.samples = m.samples;
   return hit;
 }
-
-template <>
-struct TechniqueKernel<Technique::relief> {
-  template <class Context, class Ray>
-  auto operator()(Context& k, const Ray& ray) const {
-    return relief(k, ray);
-  }
-};
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

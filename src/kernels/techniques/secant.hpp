@@ -4,6 +4,7 @@
 // (POM's weight) and keeps the side where the ray's depth minus the surface's changes sign; the
 // result is one more interpolation without a sample. With no iterations it is POM.
 #include "kernels/layer_march.hpp"
+#include "simd/isa_packets.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
@@ -49,13 +50,5 @@ HitPacket<W> secant(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   hit.samples = m.samples;
   return hit;
 }
-
-template <>
-struct TechniqueKernel<Technique::secant> {
-  template <class Context, class Ray>
-  auto operator()(Context& k, const Ray& ray) const {
-    return secant(k, ray);
-  }
-};
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

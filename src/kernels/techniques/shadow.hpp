@@ -4,6 +4,7 @@
 // s L.xy / L.z / N while the layer height is the hit depth / N: the samples run ahead of the
 // light ray by a factor 1 / depth. The exact reference shows what that costs.
 #include "kernels/techniques/pom.hpp"
+#include "simd/isa_packets.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
@@ -49,13 +50,5 @@ HitPacket<W> shadow(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   soft_shadow(k, hit);
   return hit;
 }
-
-template <>
-struct TechniqueKernel<Technique::shadow> {
-  template <class Context, class Ray>
-  auto operator()(Context& k, const Ray& ray) const {
-    return shadow(k, ray);
-  }
-};
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

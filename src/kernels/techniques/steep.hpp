@@ -1,6 +1,7 @@
 #pragma once
 // Steep parallax: the layer march alone; its hit is the first layer below the surface.
 #include "kernels/layer_march.hpp"
+#include "simd/isa_packets.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
@@ -14,21 +15,5 @@ HitPacket<W> steep(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   hit.samples = m.samples;
   return hit;
 }
-
-template <>
-struct TechniqueKernel<Technique::steep> {
-  template <class Context, class Ray>
-  auto operator()(Context& k, const Ray& ray) const {
-    return steep<false>(k, ray);
-  }
-};
-
-template <>
-struct TechniqueKernel<Technique::steep_limited> {
-  template <class Context, class Ray>
-  auto operator()(Context& k, const Ray& ray) const {
-    return steep<true>(k, ray);
-  }
-};
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS
