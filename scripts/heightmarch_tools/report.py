@@ -25,7 +25,7 @@ from .report_content import (alerts_summary, fmt, fmt_change, fmt_error, fmt_num
                              breakdown_lines, WALKS_INTRO)
 from .report_plots import plot_error_vs_angle, plot_error_vs_layers, plot_error_vs_speed, plot_isa_speedup
 from .spreads import per_round, spread
-from .writers import atomic_write
+from .writers import atomic_write, subdirectory
 
 NOT_MEASURED = "Not measured in this run."
 
@@ -363,8 +363,7 @@ def section_gallery(run, recommendation):
 # Output
 
 def section_plots(run, recommendation, history_drawn):
-    plots = os.path.join(run.dir, "plots")
-    os.makedirs(plots, exist_ok=True)
+    plots = subdirectory(run.dir, "plots")
     body = []
 
     def add(drawn, name, alt, missing):
