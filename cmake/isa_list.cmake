@@ -33,8 +33,8 @@ if(CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$")
   # unless told to use the ISA's (-mtune-ctrl); it changes no result.
   set(gathers "$<$<CXX_COMPILER_ID:GNU>:-mtune-ctrl=use_gather_2parts,use_gather_4parts,use_gather>")
   heightmarch_isa(scalar "scalar" vfloat1.hpp 1 1 1 "HWY_EMU128|HWY_SCALAR" "" "")
-  heightmarch_isa(sse42 "sse4.2" vfloat4_sse.hpp 4 2 2 HWY_SSE4 "sse4.2" "-msse4.2")
-  heightmarch_isa(avx2 "avx2" vfloat8_avx2.hpp 8 2 2 HWY_AVX2 "avx2;fma;bmi2" "-mavx2;-mfma;-mbmi2" ${gathers})
+  heightmarch_isa(sse42 "sse4.2" vfloat4_sse.hpp 4 2 1 HWY_SSE4 "sse4.2" "-msse4.2")
+  heightmarch_isa(avx2 "avx2" vfloat8_avx2.hpp 8 2 1 HWY_AVX2 "avx2;fma;bmi2" "-mavx2;-mfma;-mbmi2" ${gathers})
   # GCC 12's AVX-512 headers warn about their own _mm512_undefined_* values.
   heightmarch_isa(avx512 "avx512" vfloat16_avx512.hpp 16 2 2 HWY_AVX3
     "avx2;fma;bmi2;avx512f;avx512bw;avx512dq;avx512vl"

@@ -369,6 +369,29 @@ TEST(Cli, SuiteRefusesAnOccupiedRunDirectory) {
   EXPECT_NE(r.output.find("another run is writing into this directory"), std::string::npos) << r.output;
 }
 
+// A gallery/ planted as a link in --out would take the gallery's images wherever it points:
+// refused before any work, and the directory is not marked as a run.
+TEST(Cli, SuiteRefusesAGalleryThatIsALink) {
+  const std::string dir = test::temp_dir("gallery-link");
+  fs::create_directories(dir + "/elsewhere");
+  fs::create_directories(dir + "/out");
+  fs::create_directory_symlink(dir + "/elsewhere", dir + "/out/gallery");
+  const auto r = test::run_cli("suite --quick --no-glsl --techniques pom --parts gallery --out " + dir + "/out");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_EQ(r.output, "heightmarch: " + dir + "/out/gallery: is a link, not a directory of the run's own to write into\n");
+  EXPECT_TRUE(fs::is_empty(dir + "/elsewhere"));
+  EXPECT_FALSE(fs::exists(dir + "/out/INCOMPLETE"));
+}
+
+// The report (Python) says why it refuses a run in its one line; the tool adds none of its own.
+TEST(Cli, ReportRefusalIsOneLine) {
+  const std::string dir = test::temp_dir("report-refused");
+  write_text(dir, "measurements.json", "{\"format\": \"heightmarch-measurements\", \"format_version\": 2}");
+  const auto r = test::run_cli("report " + dir);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+}
+
 // heightmarch-bench times the suite's plan: for the same filters, window (the bench's is single)
 // and filter of the depth map, it lists the suite's timed configurations (both print plan_line();
 // compared without the purposes, which a configuration the bench also times for another part

@@ -400,6 +400,12 @@ TEST(GlslShaderFile, MissingAndEmptyFiles) {
   r = test::run_cli("glsl --res 16 --size 8x8 --shader " + dir + "/empty.glsl");
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("empty shader file"), std::string::npos) << r.output;
+  // what follows a NUL byte was dropped unread, and the rest ran as if it were the whole file
+  std::ofstream(dir + "/nul.glsl", std::ios::binary)
+      << std::string("vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) { return texCoords; }\n\0 garbage\n", 83);
+  r = test::run_cli("glsl --res 16 --size 8x8 --shader " + dir + "/nul.glsl");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("nul.glsl: holds a NUL byte (line 2)"), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -1,10 +1,12 @@
 // Error lines quote untrusted text escaped: printable() on its own, and the CLI's error lines for a
-// file name, an option's value and a field of a rays file that carry terminal escapes and raw bytes.
+// file name, an option's value and a field of a rays file that carry terminal escapes and raw bytes;
+// the JSON writer's strings, and the summaries that name the user's files, by the same rule.
 #include <gtest/gtest.h>
 
 #include <fstream>
 
 #include "heightmarch/error.hpp"
+#include "io/json_writer.hpp"
 #include "test_support.hpp"
 
 namespace heightmarch {
@@ -41,6 +43,35 @@ TEST(Printable, CliErrorLinesQuoteInputEscaped) {
     EXPECT_EQ(r.output.find('\x07'), std::string::npos) << args << ": " << r.output;
     EXPECT_NE(r.output.find("\\x1b"), std::string::npos) << args << ": " << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": " << r.output;
+  }
+}
+
+// A JSON string carries the text back exactly, and none of what a terminal acts on raw: controls,
+// C1 controls and bidirectional overrides as \u escapes; a byte of no UTF-8 character as \xNN text.
+TEST(Printable, JsonStringsEscapeWhatPrintableEscapes) {
+  EXPECT_EQ(JsonWriter::quote("a\"b\\ ümlaut"), "\"a\\\"b\\\\ ümlaut\"");
+  EXPECT_EQ(JsonWriter::quote("\x1b]0;\x07"), "\"\\u001b]0;\\u0007\"");
+  EXPECT_EQ(JsonWriter::quote("\xc2\x9b" "2J \xe2\x80\xae" "x"), "\"\\u009b2J \\u202ex\"");
+  EXPECT_EQ(JsonWriter::quote("\xff"), "\"\\\\xff\"");  // valid UTF-8, as JSON must be
+}
+
+// What the tool prints on success names the user's files too: a map or shader named with escapes
+// is shown as text in trace's and glsl's summaries and in suite's plan.
+TEST(Printable, SummariesShowFileNamesAsText) {
+  const std::string dir = test::temp_dir("printable-names");
+  const std::string escape = "$'\\x1b[2J\\x1b]0;pwned\\x07'";
+  std::ofstream(dir + "/depth.pfm", std::ios::binary) << std::string("Pf\n1 1\n-1.0\n\0\0\0?", 16);  // 0.5
+  std::ofstream(dir + "/mine.glsl") << "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) { return texCoords; }\n";
+  const std::string map = dir + "/map" + escape + ".pfm";
+  const std::string shader = dir + "/shader" + escape + ".glsl";
+  ASSERT_EQ(test::run_command("bash -c \"cp " + dir + "/depth.pfm " + map + " && cp " + dir + "/mine.glsl " + shader + "\"").status, 0);
+  for (const std::string& args : {"trace --size 8x8 --repetitions 1 --heightmap " + map,
+                                  "suite --dry-run --quick --no-glsl --techniques pom --heightmap " + map,
+                                  "glsl --size 8x8 --repetitions 1 --layers 8 --heightmap " + map + " --shader " + shader}) {
+    const auto r = test::run_command("bash -c \"" + std::string(HEIGHTMARCH_CLI) + " " + args + "\"");
+    EXPECT_EQ(r.status, 0) << args << ": " << r.output;
+    EXPECT_EQ(r.output.find('\x1b'), std::string::npos) << args << ": " << r.output;
+    EXPECT_NE(r.output.find("map\\x1b[2J\\x1b]0;pwned\\x07.pfm"), std::string::npos) << args << ": " << r.output;
   }
 }
 

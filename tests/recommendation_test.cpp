@@ -271,7 +271,11 @@ TEST(Recommendation, RecommendRefusesBadValuesInOneLine) {
            {with("\"uv_error_p99\": 0.3", "\"uv_error_p99\": -5"), "rows[0]: errors.uv_error_p99: is -5, not in [0,"},
            {with("\"threads\": 2", "\"threads\": \"2\""), "rows[0]: threads: is \"2\", not an integer"},
            {with("0.0011", "NaN"), "not JSON"},
-           {with("0.0011", "1e400"), "not JSON"}}) {
+           {with("0.0011", "1e400"), "not JSON"},
+           // read as an int, 2^32 + 2 was format 2
+           {with("\"format_version\": 2", "\"format_version\": 4294967298"), "not a heightmarch measurements.json of format"},
+           // quoted in its error line, it was dumped one recursion a level deep (a crash)
+           {with("\"id\": 0", "\"id\": " + std::string(100000, '[') + std::string(100000, ']')), "nested deeper than 64"}}) {
     const auto r = write(text);
     EXPECT_EQ(r.status, 2) << message << ": " << r.output;
     EXPECT_NE(r.output.find(message), std::string::npos) << r.output;

@@ -12,6 +12,16 @@ namespace heightmarch {
 // \xNN; printable UTF-8 stays as it is. Applying it twice changes nothing.
 std::string printable(std::string_view text);
 
+// One character of text at byte `at`, as printable() reads it: its length in bytes (1 for a byte
+// of no valid UTF-8 character), its code point (-1 for such a byte), and whether printable() keeps
+// it as it is. A writer of another format (JSON) escapes the others in its own way.
+struct TextCharacter {
+  std::size_t length;
+  long code;
+  bool printable;
+};
+TextCharacter character_at(std::string_view text, std::size_t at);
+
 // Its message goes through printable(): an error quoting input is one safe line wherever it is printed.
 struct InputError : std::runtime_error {
   explicit InputError(const std::string& what) : std::runtime_error(printable(what)) {}

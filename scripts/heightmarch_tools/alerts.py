@@ -112,12 +112,11 @@ def write_json(run_dir, found):
     atomic_write(os.path.join(run_dir, "alerts.json"), json.dumps(found, indent=1) + "\n")
 
 
-def keep(csv_path, new, found):
-    """alerts.csv with the run's alerts (replacing an earlier record of the same run); the caller
-    holds the history's lock."""
+def keep(csv_path, rows, new, found):
+    """alerts.csv: its rows (as read, checked) with the run's alerts, replacing an earlier record of
+    the same run; the caller holds the history's lock."""
     date, commit = (new[0]["date"], new[0]["commit"]) if new else ("", "")
-    kept = [r for r in history.read(csv_path, ALERTS)
-            if (r["date"], r["commit"], r["machine"]) != (date, commit, found["machine"])]
+    kept = [r for r in rows if (r["date"], r["commit"], r["machine"]) != (date, commit, found["machine"])]
     kept += [{"date": date, "commit": commit, "machine": found["machine"],
               **{k: ("%.6g" % a[k] if isinstance(a[k], float) else a[k]) for k in CSV_COLUMNS[3:]}} for a in found["alerts"]]
     history.write(csv_path, kept, ALERTS)

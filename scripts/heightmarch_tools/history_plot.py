@@ -11,7 +11,7 @@ from matplotlib.ticker import FuncFormatter  # noqa: E402
 from . import history  # noqa: E402
 from .escape import terminal  # noqa: E402
 from .measurements import HEADLINE_LAYERS, HEADLINE_TECHNIQUE, backend_colours  # noqa: E402
-from .report_plots import MAX_PLOT_PIXELS  # noqa: E402  (and its text.parse_math off)
+from .report_plots import save  # noqa: E402  (and its text.parse_math off)
 
 MARKERS = "osD^vP*Xh<>"
 MAX_WIDTH_INCHES = 16.0
@@ -81,6 +81,5 @@ def draw(data, rows, path):
                                                        terminal(want["heightfield"]), want["depth_map"]), fontsize=9)
     legend_rows = (len(handles) + 5) // 6
     fig.tight_layout(rect=(0, 0.04 + 0.05 * legend_rows, 1, 0.94))
-    fig.savefig(path, dpi=min(130, MAX_PLOT_PIXELS / fig.get_figwidth()))
-    plt.close(fig)
+    save(fig, path)
     return True

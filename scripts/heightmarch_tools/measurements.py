@@ -64,6 +64,7 @@ def upgrade(data):
 
 MARKERS = set("osDd^v<>P+XxphH8*")  # matplotlib's marker codes the plots and the page draw
 COLOUR = re.compile(r"#[0-9a-fA-F]{6}")
+LAYERS = re.compile(r"[1-9][0-9]{0,3}(-[1-9][0-9]{0,3})?")  # a layer spec as the tool writes it: N or A-B
 IMAGE = re.compile(r"gallery/[A-Za-z0-9_+][A-Za-z0-9._+-]*\.png")  # a file in the run's gallery/, nothing else
 MAX_ID = 2 ** 31 - 1
 MAX_SIZE = 2 ** 30
@@ -128,9 +129,12 @@ def validate_row(row, where, techniques, backends):
     where["backend"].one_of(row["backend"], backends)
     if row.get("technique") is not None and row["technique"] != "shader":
         where["technique"].one_of(row["technique"], sorted(techniques))
-    for key in ("layers", "failure", "wrap", "shader"):
+    for key in ("failure", "wrap", "shader"):
         if not isinstance(row.get(key), dict):
             where[key].text(row.get(key), none=True)
+    if row.get("layers") is not None:  # shown as it is in every table: its form checked as recommend's reader does
+        where["layers"].check(isinstance(row["layers"], str) and LAYERS.fullmatch(row["layers"]),
+                              "is %s, not a layer count N or range A-B" % quoted(row["layers"]))
     for i, p in enumerate(where["purposes"].list(row.get("purposes", []))):
         where["purposes"][i].text(p)
     row["threads"] = where["threads"].integer(row["threads"], 1, MAX_THREADS)
@@ -458,9 +462,9 @@ def measurements_csv(rows):
     # an object null in some rows (errors, speed, images) is its fields' columns, left empty there
     columns = [c for c in columns if not any(other.startswith(c + ".") for other in columns)]
     out = io.StringIO()
-    writer = csv.DictWriter(out, columns, lineterminator="\n", extrasaction="ignore")  # the nulls of those objects
-    writer.writeheader()
-    writer.writerows(flat)
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow(csv_cell(c) for c in columns)  # a field's name is text from the file, as its values are
+    writer.writerows([f.get(c, "") for c in columns] for f in flat)
     return out.getvalue()
 
 

@@ -163,7 +163,10 @@ def read_csv(path, columns):
     if not os.path.lexists(path):
         return []
     shown = terminal(path)
-    reader = csv.reader(io.StringIO(read_text(path), newline=""))
+    text = read_text(path)
+    if "\0" in text:  # no file the tool writes holds one (Python's csv module reads it as a character)
+        raise Unusable("%s: line %d: a NUL byte" % (shown, text.count("\n", 0, text.index("\0")) + 1))
+    reader = csv.reader(io.StringIO(text, newline=""))
     try:
         header = next(reader, None)
         if header is None:

@@ -1,7 +1,8 @@
 """Records a complete run into the history: under the history's lock, its machine's change-point
 alerts are computed against the history, RUN/alerts.json and RUN/plots/history.png are written,
-then whatever the caller writes from them (report.py: the report), and last the history and
-alerts.csv beside it, so a recording interrupted at any point adds no row. A run still INCOMPLETE
+then whatever the caller writes from them (report.py: the report), then alerts.csv beside the
+history and last the history, each read and checked before anything is written: a recording
+interrupted or refused at any point adds no row. A run still INCOMPLETE
 (its suite did not finish, or is still writing it) is refused: only the process that owns a run
 records it, after it completed (the suite runs the report with --history once it has).
 """
@@ -10,7 +11,7 @@ import os
 from . import alerts, history, history_plot
 from .errors import Unusable
 from .escape import terminal
-from .writers import locked
+from .writers import locked, subdirectory
 
 
 def record(data, run_dir, history_path, write=None):
@@ -22,15 +23,17 @@ def record(data, run_dir, history_path, write=None):
                        "recorded; without --history its report can still be written" % terminal(run_dir))
     if os.path.isdir(history_path):
         raise Unusable("--history %s: is a directory, not a history CSV file" % terminal(history_path))
+    plots = subdirectory(run_dir, "plots")
+    alerts_path = os.path.join(os.path.dirname(os.path.abspath(history_path)), "alerts.csv")
     with locked(history_path):
         new = history.rows_of_run(data)
         rows = history.merged(history.read(history_path), new)
+        kept = history.read(alerts_path, alerts.ALERTS)  # both files read, and checked, before any is written
         found = alerts.check(data, rows, new)
         alerts.write_json(run_dir, found)
-        os.makedirs(os.path.join(run_dir, "plots"), exist_ok=True)
-        drawn = history_plot.draw(data, rows, os.path.join(run_dir, "plots", "history.png"))
+        drawn = history_plot.draw(data, rows, os.path.join(plots, "history.png"))
         if write:
             write(rows, drawn, found)
-        history.write(history_path, rows)
-        alerts.keep(os.path.join(os.path.dirname(os.path.abspath(history_path)), "alerts.csv"), new, found)
+        alerts.keep(alerts_path, kept, new, found)
+        history.write(history_path, rows)  # last: the run is recorded once its rows are in the history
     return drawn, found

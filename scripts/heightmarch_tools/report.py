@@ -26,7 +26,7 @@ from .report_content import (FILTER_DOCS, alerts_summary, breakdown_lines, filte
                              recommendation_intro, recommendation_rows, walks_table, warnings, WALKS_INTRO)
 from .report_plots import plot_error_vs_angle, plot_error_vs_layers, plot_error_vs_speed, plot_isa_speedup
 from .spreads import per_round, spread
-from .writers import atomic_write
+from .writers import atomic_write, subdirectory
 
 NOT_MEASURED = "Not measured in this run."
 
@@ -375,8 +375,7 @@ def section_gallery(run, recommendation):
 # Output
 
 def section_plots(run, recommendation, history_drawn):
-    plots = os.path.join(run.dir, "plots")
-    os.makedirs(plots, exist_ok=True)
+    plots = subdirectory(run.dir, "plots")
     body = []
 
     def add(drawn, name, alt, missing):

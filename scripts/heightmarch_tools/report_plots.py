@@ -3,6 +3,7 @@ time per ray at the recommendation's backend, error against layers, error agains
 the speed-up per ISA. Errors are drawn on a symlog axis, so an exact 0 is drawn at 0. The history
 plot is history_plot.py's. report.py calls them.
 """
+import io
 import math
 import statistics
 
@@ -19,6 +20,7 @@ from .measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, backend_colours,
                           groups, ns_per_ray_rounds, speedup)
 from .escape import terminal  # noqa: E402
 from .spreads import spread  # noqa: E402
+from .writers import atomic_write  # noqa: E402
 
 MAX_PLOT_PIXELS = 1600  # widest plot, so a page shows it whole
 # Errors below this many texels are drawn on the linear part of a symlog axis: zero shows as 0.
@@ -49,8 +51,16 @@ def finish(fig, path, title, axes):
     bottom = 0.02 + 0.035 * legend_rows * 4.0 / fig.get_figheight()
     fig.legend(handles.values(), handles.keys(), loc="lower center", ncol=ncol, fontsize=7, frameon=False)
     fig.tight_layout(rect=(0, bottom, 1, 0.95))
-    fig.savefig(path, dpi=min(130, MAX_PLOT_PIXELS / fig.get_figwidth()))
+    save(fig, path)
+
+
+def save(fig, path):
+    """The figure as a PNG at most MAX_PLOT_PIXELS wide, written whole (writers.atomic_write: never
+    through a link planted at path, never half a file on a full disk), and closed."""
+    png = io.BytesIO()
+    fig.savefig(png, format="png", dpi=min(130, MAX_PLOT_PIXELS / fig.get_figwidth()))
     plt.close(fig)
+    atomic_write(path, png.getvalue())
 
 
 def plain(v, _=None):

@@ -5,11 +5,14 @@
 - locked: an exclusive flock on PATH.lock (never a link) for a read-modify-write of PATH that two
   processes may do at once (two suites recording into one history): the second waits for the
   first, at most LOCK_WAIT seconds.
+- subdirectory: a directory of the run's own (plots/) to write into, never a link that would send
+  its files elsewhere.
 """
 import contextlib
 import errno
 import fcntl
 import os
+import stat
 import tempfile
 import time
 
@@ -39,6 +42,23 @@ def atomic_write(path, text):
         if isinstance(e, OSError):
             raise CannotWrite("%s: cannot write: %s" % (terminal(path), e.strerror or e)) from None
         raise
+
+
+def subdirectory(run_dir, name):
+    """RUN_DIR/name, made where missing; Unusable where it is a link or not a directory (a run
+    directory from elsewhere with plots/ linked to another directory: its files would land there)."""
+    path = os.path.join(run_dir, name)
+    try:
+        os.mkdir(path)
+    except FileExistsError:
+        pass
+    except OSError as e:
+        raise CannotWrite("%s: cannot make it: %s" % (terminal(path), e.strerror))
+    mode = os.lstat(path).st_mode
+    if not stat.S_ISDIR(mode):
+        raise Unusable("%s: is %s, not a directory of the run's own to write into" % (
+            terminal(path), "a link" if stat.S_ISLNK(mode) else "not a directory"))
+    return path
 
 
 @contextlib.contextmanager

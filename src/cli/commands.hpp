@@ -3,10 +3,18 @@
 // returns what runs it (after parsing), which returns the process exit status.
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <stdexcept>
 
 namespace heightmarch::cli {
 
 using Command = std::function<int()>;
+
+// A failure a child process (the report) has told the user in its own one line: the command ends
+// with the child's exit status and prints nothing more.
+struct ChildFailed : std::runtime_error {
+  explicit ChildFailed(int status) : std::runtime_error("a child process failed"), status(status) {}
+  int status;
+};
 
 Command add_trace_command(CLI::App& app);
 Command add_glsl_command(CLI::App& app);

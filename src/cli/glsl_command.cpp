@@ -124,7 +124,7 @@ void print_comparison(const Measurement& glsl, const Measurement& cpu, const Com
   if (!c.conformance) return;  // the summary says why
   std::printf(
       "conformance of %s with %s (%s): identical sample counts %s, uv difference p99 %.3g max %.3g texels\n",
-      glsl.config.label().c_str(), cpu.config.label().c_str(), cpu.config.backend().c_str(),
+      printable(glsl.config.label()).c_str(), cpu.config.label().c_str(), cpu.config.backend().c_str(),
       glsl.samples_known ? percent(c.conformance->same_samples).c_str() : "unknown", c.conformance->p99,
       c.conformance->max);
   std::printf("speed at %d thread%s: CPU/GLSL %.2fx (%.2f-%.2f over %zu paired rounds)\n",
@@ -232,7 +232,7 @@ Command add_glsl_command(CLI::App& app) {
     std::fputs(summary_text(g).c_str(), stdout);
     for (std::size_t k = 0; k < comparisons.size(); ++k) print_comparison(g, run.rows[k + 1], comparisons[k]);
     if (comparisons.size() > 1 && closest)
-      std::printf("closest technique to %s: %s (uv difference p99 %.3g texels)\n", g.config.label().c_str(),
+      std::printf("closest technique to %s: %s (uv difference p99 %.3g texels)\n", printable(g.config.label()).c_str(),
                   run.rows[*closest + 1].config.label().c_str(), comparisons[*closest].conformance->p99);
     return 0;
   };

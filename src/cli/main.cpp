@@ -66,6 +66,8 @@ int main(int argc, char** argv) {
     if (!memory_limit.empty()) set_memory_budget(parse_memory_limit(memory_limit, "--memory-limit"));
     check_memory_budget_covers_footprint("heightmarch");
     return commands.at(app.get_subcommands().front())();
+  } catch (const cli::ChildFailed& e) {
+    return e.status;
   } catch (const InputError& e) {
     std::fprintf(stderr, "heightmarch: %s\n", e.what());
     return 2;

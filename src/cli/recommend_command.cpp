@@ -72,6 +72,7 @@ using Json = nlohmann::json;
 constexpr double kJsonParseFactor = 8.0;
 constexpr std::uintmax_t kMaxMeasurementsBytes = std::uintmax_t(1) << 36;
 constexpr std::int64_t kMaxRays = std::int64_t(1) << 53;  // exact in a double
+constexpr int kMaxJsonDepth = 64;  // a measurements.json nests 5 levels
 // Bounds no measurement reaches, so that no figure made of them overflows: a repetition of a
 // week; errors and samples per ray far beyond any map.
 constexpr double kMaxSeconds = 7 * 24 * 3600.0;
@@ -237,20 +238,31 @@ Measurements read_measurements(const std::string& path) {
   check_memory_budget(double(size) * kJsonParseFactor, path + ": reading measurements.json");
   Measurements m;
   Json& data = m.data;
+  // Nesting beyond any measurements.json is refused as it is read: what reads a value (dump() in
+  // an error line among them) recurses once per level.
+  const auto shallow = [&path](int depth, Json::parse_event_t, Json&) {
+    if (depth > kMaxJsonDepth) throw InputError(path + ": nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+    return true;
+  };
   try {
-    data = Json::parse(read_input_file(path, "measurements.json", kMaxMeasurementsBytes));
+    data = Json::parse(read_input_file(path, "measurements.json", kMaxMeasurementsBytes), shallow);
   } catch (const Json::exception& e) {  // nlohmann refuses NaN, Infinity and 1e400 as not JSON
     throw InputError(path + ": not JSON (" + e.what() + ")");
   }
-  if (data.is_object() && data.value("format", "") == "heightmarch-measurements" &&
-      data.contains("format_version"))
-    m.version = data["format_version"].is_number_integer() ? data["format_version"].get<int>() : 0;
-  else if (data.is_object() && data.value("schema", "") == "heightmarch-measurements/1")
+  static const Json null;
+  const auto field = [&data](const char* key) -> const Json& {
+    return data.is_object() && data.contains(key) ? data[key] : null;
+  };
+  if (field("format") == "heightmarch-measurements") {
+    const Json& v = field("format_version");  // compared as JSON: 2^32 + 2 is no 2
+    m.version = v.is_number_integer() && v >= 1 && v <= kMeasurementsFormatVersion ? v.get<int>() : 0;
+  } else if (field("schema") == "heightmarch-measurements/1") {
     m.version = 1;
+  }
   if (m.version < 1 || m.version > kMeasurementsFormatVersion)
     throw InputError(path + ": not a heightmarch measurements.json of format 1 to " +
                      std::to_string(kMeasurementsFormatVersion));
-  if (!data.contains("rows") || !data["rows"].is_array()) throw InputError(path + ": rows is not a list");
+  if (!field("rows").is_array()) throw InputError(path + ": rows is not a list");
   return m;
 }
 

@@ -105,8 +105,8 @@ void write_report(const std::string& run_dir, const std::string& history) {
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
   if (WIFEXITED(status) && WEXITSTATUS(status) == 127)
     throw std::runtime_error(std::string("cannot run ") + kPython + " for the report (Debian: python3-matplotlib)");
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 2)
-    throw InputError("the report of " + run_dir + " refused its input (above)");
+  if (WIFEXITED(status) && (WEXITSTATUS(status) == 1 || WEXITSTATUS(status) == 2))
+    throw ChildFailed(WEXITSTATUS(status));  // it said why in one line (heightmarch_tools.cli)
   throw std::runtime_error("the report of " + run_dir + " failed (" +
                            (WIFEXITED(status) ? "exit " + std::to_string(WEXITSTATUS(status))
                                               : std::string("signal ") + strsignal(WTERMSIG(status))) +

@@ -11,7 +11,8 @@ namespace heightmarch::cli {
 // report refuses to record a run still INCOMPLETE). The report runs under /usr/bin/python3 in a
 // process group of its own: a SIGINT, SIGTERM or SIGHUP to this process is passed to it, and once
 // it has ended this process ends by the same signal (an interrupted run stays INCOMPLETE). Throws
-// InputError when the report finds its input unusable, std::runtime_error when it fails.
+// ChildFailed with the report's status 2 (its input unusable) or 1 (it could not write) once the
+// report has said why, std::runtime_error when it could not run or ended otherwise.
 void write_report(const std::string& run_dir, const std::string& history);
 
 }  // namespace heightmarch::cli

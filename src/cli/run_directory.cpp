@@ -32,7 +32,8 @@ const char* const kRunFiles[] = {"INCOMPLETE", "measurements.json", "metrics.jso
 
 }  // namespace
 
-RunDirectory::RunDirectory(std::string path, Existing existing) : path_(std::move(path)) {
+RunDirectory::RunDirectory(std::string path, Existing existing, const std::vector<std::string>& subdirectories)
+    : path_(std::move(path)) {
   std::error_code ec;
   fs::create_directories(path_, ec);
   struct stat st {};
@@ -63,6 +64,17 @@ RunDirectory::RunDirectory(std::string path, Existing existing) : path_(std::mov
     lock_fd_ = -1;
     throw InputError(path_ + ": already holds a run's results (" + file +
                      "); choose another --out, or --replace to replace them");
+  }
+  for (const std::string& name : subdirectories) {
+    const std::string at = path_ + "/" + name;
+    struct stat sub {};
+    const bool there = (::mkdir(at.c_str(), 0755) == 0 || errno == EEXIST) && ::lstat(at.c_str(), &sub) == 0;
+    if (!there || !S_ISDIR(sub.st_mode)) {
+      const std::string why = there ? "is " + file_kind(sub.st_mode) : std::string("cannot create it (") + std::strerror(errno) + ")";
+      ::close(lock_fd_);
+      lock_fd_ = -1;
+      throw InputError(at + ": " + why + ", not a directory of the run's own to write into");
+    }
   }
   finished("");
 }

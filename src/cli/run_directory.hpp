@@ -5,6 +5,7 @@
 // INCOMPLETE (listing the finished stages) until the run completes; and a directory that holds
 // another run's results is refused unless --replace asks to replace them.
 #include <string>
+#include <vector>
 
 namespace heightmarch::cli {
 
@@ -19,7 +20,9 @@ class RunDirectory {
   // is no directory this process can write into, when another run holds its lock, or when it
   // holds a run's results (any of the files a command writes at its top) and `existing` is
   // refuse; with replace, those files are removed first; with beside, they stay.
-  RunDirectory(std::string path, Existing existing);
+  // Each of `subdirectories` (suite: gallery/) is made there too, and refused where it is a link
+  // (planted, its files would land wherever it points) or not a directory, before INCOMPLETE.
+  RunDirectory(std::string path, Existing existing, const std::vector<std::string>& subdirectories = {});
   ~RunDirectory();
   RunDirectory(const RunDirectory&) = delete;
   RunDirectory& operator=(const RunDirectory&) = delete;

@@ -168,7 +168,7 @@ Command add_suite_command(CLI::App& app) {
     session.load_depth_maps(plan);  // every file decoded once, before the run directory exists
     const bool default_out = o->out.out.empty();
     const std::string run_name = fresh_run_name(o->plan.quick);
-    RunDirectory dir(default_out ? "results/" + run_name : o->out.out, o->out.existing());
+    RunDirectory dir(default_out ? "results/" + run_name : o->out.out, o->out.existing(), {"gallery"});
     const bool record = default_out && (!o->plan.quick || o->record);
     Progress progress("suite");
     std::size_t timed = 0;
@@ -176,7 +176,6 @@ Command add_suite_command(CLI::App& app) {
     progress.stage("measuring " + std::to_string(plan.size()) + " configurations (" + std::to_string(timed) + " timed, " +
                    std::to_string(settings.repetitions) + " interleaved repetitions each: " +
                    std::to_string(plan_runs(plan, settings.repetitions)) + " runs) into " + dir.path());
-    fs::create_directories(dir.path() + "/gallery");
     ClaimsCollector claims;
     const GalleryNames names = gallery_names(plan);
     const auto on_traced = [&](const TracedRow& traced) {

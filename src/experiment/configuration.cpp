@@ -3,6 +3,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "heightmarch/error.hpp"
 #include "heightmarch/glsl_runner.hpp"
 
 namespace heightmarch {
@@ -55,8 +56,9 @@ std::string plan_line(const Configuration& c) {
   for (unsigned i = 0; i < kPurposeCount; ++i)
     if (c.purposes & (1u << i)) purposes += (purposes.empty() ? "" : ",") + purpose_name(1u << i);
   const std::string layers = c.has_layers() ? to_string(c.params.layers) : "";
-  return c.heightfield.label() + "\t" + to_string(c.kind) + "\t" + c.label() + "\t" + layers + "\t" + c.backend() + "\t" +
-         std::to_string(c.threads) + "\t" + describe(c.view) + "\t" +
+  // a line for a terminal: names from the user's files (map, shader, rays) through printable()
+  return printable(c.heightfield.label()) + "\t" + to_string(c.kind) + "\t" + printable(c.label()) + "\t" + layers + "\t" +
+         c.backend() + "\t" + std::to_string(c.threads) + "\t" + printable(describe(c.view)) + "\t" +
          (c.has_filter() ? to_string(c.params.filter) : "-") + "\t" + (c.timed ? "timed" : "accuracy") + "\t" + purposes;
 }
 

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <type_traits>
 
+#include "heightmarch/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/images.hpp"
 #include "io/json_writer.hpp"
@@ -263,9 +264,11 @@ std::string summary_text(const Measurement& m) {
   char buf[512];
   const std::string what =
       c.kind == RunKind::exact ? c.label() : c.label() + " layers " + to_string(c.params.layers);
-  std::snprintf(buf, sizeof buf, "%s on %s (%dx%d depth map), %s: %zu rays\n", what.c_str(),
-                c.heightfield.describe().c_str(), m.depth_map_width, m.depth_map_height,
-                describe(c.view).c_str(), m.rays);
+  // Names from the user's files (map, shader, rays) through printable(): this text goes to a terminal.
+  text += printable(what) + " on " + printable(c.heightfield.describe());
+  std::snprintf(buf, sizeof buf, " (%dx%d depth map), ", m.depth_map_width, m.depth_map_height);
+  text += buf + printable(describe(c.view));
+  std::snprintf(buf, sizeof buf, ": %zu rays\n", m.rays);
   text += buf;
   // Figures not measured for a row (a brought-in shader's samples, SIMD use outside the CPU
   // kernels) read "unknown", never as a made-up 0 or 100%.
@@ -291,7 +294,7 @@ std::string summary_text(const Measurement& m) {
                                ? ", SIMD use " + std::to_string(int(100.0 * m.simd_utilization + 0.5)) + "%"
                            : c.kind == RunKind::glsl || c.kind == RunKind::naive || c.kind == RunKind::autovec ? ", SIMD use unknown"
                                                                                  : "";
-  std::snprintf(buf, sizeof buf, "  %s, %d thread%s: %s, %s%s\n", m.gl ? m.gl->label().c_str() : c.backend().c_str(),
+  std::snprintf(buf, sizeof buf, "  %s, %d thread%s: %s, %s%s\n", printable(m.gl ? m.gl->label() : c.backend()).c_str(),
                 c.threads, c.threads == 1 ? "" : "s", speed.c_str(), per_ray.c_str(), simd.c_str());
   text += buf;
   if (!m.gl_wall_seconds.empty()) {

@@ -96,6 +96,10 @@ std::size_t main_definition_line(const std::string& text) {
 
 std::string user_source(const std::string& text, const std::string& path) {
   if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw InputError(path + ": empty shader file");
+  // The source reaches GL as a C string: the compiler would stop at a NUL byte and run the rest unread.
+  if (const std::size_t nul = text.find('\0'); nul != std::string::npos)
+    throw InputError(path + ": holds a NUL byte (line " + std::to_string(1 + std::count(text.begin(), text.begin() + nul, '\n')) +
+                     "): not a GLSL text file");
   if (const std::size_t line = main_definition_line(text))
     throw InputError(path + ":" + std::to_string(line) +
                      ": defines main(): a function vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) is expected, not a "

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <string>
 
+#include "heightmarch/error.hpp"
+
 namespace heightmarch {
 
 // The shortest text that reads back as the same number: 0.1f as "0.1", not "0.100000001". A
@@ -70,19 +72,28 @@ class JsonWriter {
 
   const std::string& str() const { return out_; }
 
+  // A JSON string, valid UTF-8 whatever bytes text holds (a map's file name may hold any): what a
+  // terminal acts on (controls, C1 controls, bidirectional overrides: printable()'s rule) as \u
+  // escapes, which read back as the same text; a byte of no UTF-8 character as the text \xNN, as
+  // printable() shows it (JSON has no way to carry the byte).
   static std::string quote(const std::string& text) {
     std::string q = "\"";
-    for (char c : text) {
-      if (c == '"' || c == '\\') {
+    for (std::size_t at = 0; at < text.size();) {
+      const TextCharacter c = character_at(text, at);
+      char buf[8];
+      if (c.code == '"' || c.code == '\\') {
         q += '\\';
-        q += c;
-      } else if ((unsigned char)c < 0x20) {
-        char buf[8];
-        std::snprintf(buf, sizeof buf, "\\u%04x", c);
+        q += char(c.code);
+      } else if (c.printable) {
+        q.append(text, at, c.length);
+      } else if (c.code >= 0) {  // all of them in the Basic Multilingual Plane: one \u escape each
+        std::snprintf(buf, sizeof buf, "\\u%04lx", c.code);
         q += buf;
       } else {
-        q += c;
+        std::snprintf(buf, sizeof buf, "\\\\x%02x", static_cast<unsigned char>(text[at]));
+        q += buf;
       }
+      at += c.length;
     }
     return q + "\"";
   }

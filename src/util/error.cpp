@@ -40,36 +40,30 @@ bool acts_on_terminal(std::uint32_t code) {
 
 }  // namespace
 
+TextCharacter character_at(std::string_view text, std::size_t at) {
+  const unsigned char c = static_cast<unsigned char>(text[at]);
+  if (c < 0x80) return {1, long(c), c >= 0x20 && c != 0x7f};
+  std::uint32_t code = 0;
+  const std::size_t length = utf8_character(text, at, code);
+  if (length == 0) return {1, -1, false};
+  return {length, long(code), !acts_on_terminal(code)};
+}
+
 std::string printable(std::string_view text) {
   std::string out;
   out.reserve(text.size());
-  const auto escape = [&](unsigned char c) {
-    char hex[5];
-    std::snprintf(hex, sizeof hex, "\\x%02x", c);
-    out += hex;
-  };
-  std::size_t at = 0;
-  // Each pass takes one byte, or one whole UTF-8 character.
-  while (at < text.size()) {
-    const unsigned char c = static_cast<unsigned char>(text[at]);
-    if (c < 0x80) {
-      if (c < 0x20 || c == 0x7f)
-        escape(c);
-      else
-        out += char(c);
-      ++at;
-      continue;
+  for (std::size_t at = 0; at < text.size();) {
+    const TextCharacter c = character_at(text, at);
+    if (c.printable) {
+      out.append(text.substr(at, c.length));
+    } else {
+      for (std::size_t i = 0; i < c.length; ++i) {
+        char hex[5];
+        std::snprintf(hex, sizeof hex, "\\x%02x", static_cast<unsigned char>(text[at + i]));
+        out += hex;
+      }
     }
-    std::uint32_t code = 0;
-    const std::size_t length = utf8_character(text, at, code);
-    if (length == 0 || acts_on_terminal(code)) {
-      for (std::size_t i = 0; i < (length ? length : 1); ++i)
-        escape(static_cast<unsigned char>(text[at + i]));
-      at += length ? length : 1;
-      continue;
-    }
-    out.append(text.substr(at, length));
-    at += length;
+    at += c.length;
   }
   return out;
 }

@@ -37,6 +37,7 @@ std::string file_kind(unsigned mode) {
   if (S_ISCHR(mode)) return "a character device";
   if (S_ISBLK(mode)) return "a block device";
   if (S_ISSOCK(mode)) return "a socket";
+  if (S_ISLNK(mode)) return "a link";  // lstat's
   return "a file of another kind";
 }
 

@@ -122,6 +122,15 @@ def test_simd_use_is_recorded_for_the_rows_that_measure_it():
     assert history.measure({"simd_utilization": None}, "simd_utilization") == ""
 
 
+def test_a_malformed_alerts_csv_stops_the_recording_before_the_history_changes(tmp_path):
+    recorded(tmp_path, "c01")
+    before = (tmp_path / "history.csv").read_text()
+    (tmp_path / "alerts.csv").write_text("<<<<<<< HEAD\n")
+    with pytest.raises(Unusable) as e:
+        recorded(tmp_path, "c02")
+    assert "alerts.csv: line 1" in str(e.value) and (tmp_path / "history.csv").read_text() == before
+
+
 def glsl_row(gl):
     return {"kind": "glsl", "backend": "glsl", "threads": 2, "heightfield": {"label": "bricks", "width": 512, "height": 512},
             "technique": "pom", "layers": "32", "view": {"kind": "default", "width": 256, "height": 256}, "gl": gl}

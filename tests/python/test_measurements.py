@@ -75,6 +75,9 @@ BAD = [
     (mutate(("rows",), [run_data()["rows"][0]] * 2), "rows[1]: id: is 0, the id of an earlier row"),
     (mutate(ROW + ("kind",), "\x1b[2J"), "rows[0]: kind: is \"\\u001b[2J\", none of"),
     (mutate(("measures",), [{"name": "<b>", "label": "x"}]), "measures[0]: name: is not a measure's name"),
+    (mutate(ROW + ("layers",), "99999999999999999999"), "rows[0]: layers: is \"99999999999999999999\", not a layer"),
+    (mutate(ROW + ("layers",), "8\x1b[2J"), "rows[0]: layers: is \"8\\u001b[2J\", not a layer count"),
+    (mutate(ROW + ("layers",), 8), "rows[0]: layers: is 8, not a layer count"),
 ]
 
 
@@ -121,3 +124,9 @@ def test_recommendation_and_claims_are_checked(tmp_path):
         measurements.read_optional(str(tmp_path / "recommendation.json"), "heightmarch-recommendation",
                                    measurements.validate_recommendation)
     assert "target: uv_error_texels: is -1" in str(e.value)
+
+
+def test_the_csv_header_is_neutralised_as_its_cells_are():
+    row = dict(run_data()["rows"][0], **{"=HYPERLINK(\"http://x\")": "y"})
+    header = measurements.measurements_csv([row]).splitlines()[0]
+    assert "'=HYPERLINK" in header and ",=" not in header and not header.startswith("=")

@@ -67,6 +67,8 @@ def test_csv_rows_have_their_line_numbers(tmp_path):
     path.write_text("a,c\n1,2\n")
     assert "line 1: the columns are not a,b" in refused(readers.read_csv, str(path), ["a", "b"])
     assert readers.read_csv(str(tmp_path / "none.csv"), ["a"]) == []
+    path.write_text("a,b\n1,2\n3,\x004\n")
+    assert "line 3: a NUL byte" in refused(readers.read_csv, str(path), ["a", "b"])
 
 
 def test_values_are_checked_where_they_are():

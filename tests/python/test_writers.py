@@ -6,7 +6,7 @@ import time
 import pytest
 
 from heightmarch_tools import writers
-from heightmarch_tools.errors import CannotWrite
+from heightmarch_tools.errors import CannotWrite, Unusable
 
 
 def test_atomic_write_replaces_whole_and_leaves_no_temporary(tmp_path):
@@ -45,3 +45,21 @@ def test_lock_refuses_a_planted_link(tmp_path):
     with pytest.raises(CannotWrite):
         with writers.locked(str(tmp_path / "h.csv")):
             pass
+
+
+def test_a_subdirectory_of_the_run_is_never_a_link(tmp_path):
+    (tmp_path / "elsewhere").mkdir()
+    assert writers.subdirectory(str(tmp_path), "plots") == str(tmp_path / "plots") and (tmp_path / "plots").is_dir()
+    os.symlink(tmp_path / "elsewhere", tmp_path / "linked")
+    with pytest.raises(Unusable) as e:
+        writers.subdirectory(str(tmp_path), "linked")
+    assert str(e.value).endswith("linked: is a link, not a directory of the run's own to write into")
+
+
+def test_a_plot_replaces_a_planted_link_instead_of_writing_through_it(tmp_path):
+    from heightmarch_tools import report_plots
+    victim = tmp_path / "victim.txt"
+    victim.write_text("keep me\n")
+    os.symlink(victim, tmp_path / "plot.png")
+    report_plots.save(report_plots.plt.figure(figsize=(2, 2)), str(tmp_path / "plot.png"))
+    assert victim.read_text() == "keep me\n" and not os.path.islink(tmp_path / "plot.png")

@@ -1,0 +1,2 @@
+vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) { return texCoords; }
+#error ]0;PWN[2J

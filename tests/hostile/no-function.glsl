@@ -1,0 +1,1 @@
+vec2 other(vec2 t) { return t; }
