@@ -132,6 +132,7 @@ std::vector<Configuration> bench_plan(const BenchOptions& o) {
   settings.highway = true;
   settings.matrix_everywhere = true;
   PlanFilters filters = o.filters;
+  filters.isas_option = "--hm_isas";
   if (filters.parts.empty()) filters.parts = kDefaultParts;
   apply(filters, settings);
   // Each GL path asked for is a GLSL benchmark of its own (gl:PATH in its name), side by side: the

@@ -412,7 +412,7 @@ TEST(Cli, BenchTimesTheSuitesPlan) {
       SCOPED_TRACE(parts + " at " + isas);
       const auto suite = test::run_cli("suite --dry-run --no-builtins --heightmap builtin:bricks --techniques pom,maxmip "
                                        "--layers 8,8-32 --threads 1 --isas " + isas + " --parts " + parts);
-      const auto benched = test::run_command(bench + " --hm_dry_run --hm_heightfields=builtin:bricks "
+      const auto benched = test::run_command(bench + " --hm_dry_run --hm_views=around --hm_heightfields=builtin:bricks "
                                              "--hm_techniques=pom,maxmip --hm_layers=8,8-32 --hm_threads=1 --hm_isas=" +
                                              isas + " --hm_parts=" + parts);
       ASSERT_EQ(suite.status, 0) << suite.output;
@@ -422,7 +422,7 @@ TEST(Cli, BenchTimesTheSuitesPlan) {
       for (const std::string& line : in_suite) EXPECT_EQ(in_bench.count(line), 1u) << "not in the bench: " << line;
       for (const std::string& line : in_bench) {
         if (in_suite.count(line)) continue;
-        const bool highway = line.find("\thighway\t") != std::string::npos;
+        const bool highway = line.find("\thighway") != std::string::npos;  // the port, and the structured POM
         const bool matrix_elsewhere =
             line.find("\ttrace\t") != std::string::npos && line.find("\t" + widest + "\t") == std::string::npos;
         EXPECT_TRUE(highway || matrix_elsewhere) << "only in the bench: " << line;
@@ -607,7 +607,7 @@ std::vector<BadInput> bad_inputs() {
       {"ShaderWithoutFunction", "glsl --size 8x8 --shader " + d + "/nofunction.glsl", "does not define vec2 ParallaxMapping"},
       {"BadExtraHeightmapInSuite", "suite --quick --no-glsl --heightmap " + d + "/truncated.jpg --out " + d + "/suite",
        "truncated.jpg: cannot read pixels"},
-      {"DiscardingShader", "glsl --size 16x16 --repetitions 1 --shader " + d + "/discard.glsl",
+      {"DiscardingShader", "glsl --size 16x16 --views single --repetitions 1 --shader " + d + "/discard.glsl",
        "discard.glsl: left 128 of 256 rays without a hit (does it call discard?)"},
       {"NoSuchGlPath", "glsl --size 8x8 --gl vulkan", "--gl vulkan: not a GL path (osmesa|egl)"},
       {"DeviceWithOsmesa", "glsl --size 8x8 --gl osmesa --gl-device software", "OSMesa has no devices"},
