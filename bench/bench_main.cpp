@@ -136,6 +136,7 @@ std::vector<Configuration> bench_plan(const BenchOptions& o) {
   for (const std::string& name : o.map_filters) map_filters.push_back(parse_filter(name));
   settings.filter = map_filters.front();
   PlanFilters filters = o.filters;
+  filters.isas_option = "--hm_isas";
   if (filters.parts.empty()) filters.parts = kDefaultParts;
   apply(filters, settings);
   // Each GL path asked for is a GLSL benchmark of its own (gl:PATH in its name), side by side: the

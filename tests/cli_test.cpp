@@ -392,8 +392,8 @@ TEST(Cli, ReportRefusalIsOneLine) {
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
 }
 
-// heightmarch-bench times the suite's plan: for the same filters, window (the bench's is single)
-// and filter of the depth map, it lists the suite's timed configurations (both print plan_line();
+// heightmarch-bench times the suite's plan: for the same filters, window (the suite's, around) and
+// filter of the depth map, it lists the suite's timed configurations (both print plan_line();
 // compared without the purposes, which a configuration the bench also times for another part
 // joins); beside them only the Highway forms (the port, POM's structure) and the technique x
 // layers matrix at the ISAs other than the widest asked for.
@@ -413,10 +413,10 @@ TEST(Cli, BenchTimesTheSuitesPlan) {
                                        {"matrix,isa,naive", "trilinear"}}) {
     for (const std::string& isas : {widest, "scalar," + widest}) {
       SCOPED_TRACE(parts + " at " + isas + ", " + filter);
-      const auto suite = test::run_cli("suite --dry-run --views single --no-builtins --heightmap builtin:bricks "
-                                       "--techniques pom,maxmip --layers 8,8-32 --threads 1 --isas " + isas +
-                                       " --parts " + parts + " --filter " + filter);
-      const auto benched = test::run_command(bench + " --hm_dry_run --hm_heightfields=builtin:bricks "
+      const auto suite = test::run_cli("suite --dry-run --no-builtins --heightmap builtin:bricks --techniques pom,maxmip "
+                                       "--layers 8,8-32 --threads 1 --isas " + isas + " --parts " + parts +
+                                       " --filter " + filter);
+      const auto benched = test::run_command(bench + " --hm_dry_run --hm_views=around --hm_heightfields=builtin:bricks "
                                              "--hm_techniques=pom,maxmip --hm_layers=8,8-32 --hm_threads=1 --hm_isas=" +
                                              isas + " --hm_parts=" + parts + " --hm_filters=" + filter);
       ASSERT_EQ(suite.status, 0) << suite.output;
@@ -426,7 +426,7 @@ TEST(Cli, BenchTimesTheSuitesPlan) {
       for (const std::string& line : in_suite) EXPECT_EQ(in_bench.count(line), 1u) << "not in the bench: " << line;
       for (const std::string& line : in_bench) {
         if (in_suite.count(line)) continue;
-        const bool highway = line.find("\thighway") != std::string::npos;  // the port and the structured POM
+        const bool highway = line.find("\thighway") != std::string::npos;  // the port, and the structured POM
         const bool matrix_elsewhere =
             line.find("\ttrace\t") != std::string::npos && line.find("\t" + widest + "\t") == std::string::npos;
         EXPECT_TRUE(highway || matrix_elsewhere) << "only in the bench: " << line;

@@ -113,7 +113,7 @@ void apply(const PlanFilters& f, PlanSettings& s) {
   }
   if (!f.isas.empty()) {
     std::vector<Isa> isas;
-    for (const std::string& name : f.isas) isas.push_back(parse_isa(name, "--isas"));
+    for (const std::string& name : f.isas) isas.push_back(parse_isa(name, f.isas_option));
     s.isas.clear();
     for (Isa isa : all_isas())  // narrowest first, as the plan lists them
       if (std::find(isas.begin(), isas.end(), isa) != isas.end()) s.isas.push_back(isa);

@@ -61,6 +61,7 @@ struct PlanSettings {
 // Throws InputError.
 struct PlanFilters {
   std::vector<std::string> techniques, layers, isas, parts;
+  std::string isas_option = "--isas";  // what an error about an ISA names
 };
 void apply(const PlanFilters& filters, PlanSettings& settings);
 

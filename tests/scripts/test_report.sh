@@ -152,7 +152,7 @@ JSON
 sections="$(grep '^## ' "$report" | head -5 | tr '\n' '/')"
 [ "$sections" = "## Alerts/## What to ship/## The claims: the tutorials' (C1-C10) and the papers' (P1-P3)/## Headline speed ratios/## Warnings/" ] \
   || fail "report.md's first sections: $sections"
-grep -q '| avx2, 2 threads | \*\*every heightfield\*\* | \*\*maxmip\*\* | 40.00 (36.00-44.00) | 0 | 0.00% | 12.0 | 0.5 s once (0.139 ms a frame) | pom 64: 0.83x (0.80-1.20) the time (not distinguishable) |' \
+grep -qF '| avx2, 2 threads | **every heightfield** | **maxmip** | 40.00 (36.00-44.00) | not measured | not measured | 0; 0% | 12.0 | 0.5 s once (0.139 ms a frame) | pom 64: 0.83x (0.80-1.20) the time (not distinguishable) | - |' \
   "$report" || fail "the recommendation for every heightfield"
 grep -q '| avx2, 2 threads | bricks | \*\*maxmip\*\* |' "$report" || fail "the recommendation per heightfield"
 grep -qF 'p99 \<= 0.5 texel, wrong surface \<= 0.5%' "$report" || fail "the recommendation's target"
@@ -261,7 +261,7 @@ rows = [line for line in section.splitlines() if line.startswith("| ")]
 header, cells = rows[0], [[unescape(c) for c in re.split(r"(?<!\\)\|", line)[1:-1]] for line in rows[1:]]
 assert [unescape(c) for c in re.split(r"(?<!\\)\|", header)[1:-1]] == table["columns"], (header, table["columns"])
 assert cells == [r["cells"] for r in table["rows"]], (cells, table["rows"])
-assert any("(not distinguishable)" in r["cells"][-1] for r in table["rows"])
+assert any("(not distinguishable)" in cell for r in table["rows"] for cell in r["cells"])
 assert not any("_" in c for c in table["columns"]), table["columns"]
 first = page.index('<section id="warnings">')
 assert first < page.index('<section id="alerts">') and "the machine was busy during this run" in page[first:page.index("</section>", first)]
