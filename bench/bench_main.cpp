@@ -42,6 +42,7 @@ struct BenchOptions {
   std::vector<std::string> heightfields = {"bricks", "terrain"};
   PlanFilters filters;       // empty lists: the suite's default
   std::vector<int> threads;  // empty: 1 and all cores
+  std::vector<std::string> map_filters = {"bilinear"};  // how the depth map is read: the plan under each
   std::vector<std::string> gl;    // GL paths of the GLSL benchmarks; empty: the worker's default
   std::string gl_device;          // EGL's device for them; empty: EGL's first
   double min_time = 0.2;
@@ -131,6 +132,9 @@ std::vector<Configuration> bench_plan(const BenchOptions& o) {
   settings.large_maps = false;
   settings.highway = true;
   settings.matrix_everywhere = true;
+  std::vector<Filter> map_filters;
+  for (const std::string& name : o.map_filters) map_filters.push_back(parse_filter(name));
+  settings.filter = map_filters.front();
   PlanFilters filters = o.filters;
   filters.isas_option = "--hm_isas";
   if (filters.parts.empty()) filters.parts = kDefaultParts;
@@ -142,8 +146,16 @@ std::vector<Configuration> bench_plan(const BenchOptions& o) {
   for (std::size_t i = 0; i < paths.size(); ++i) {
     settings.gl = parse_gl_target(paths[i], o.gl_device);
     settings.gl.path = resolved(settings.gl).path;
-    for (const Configuration& c : benchmark_plan(settings))
-      if (i == 0 || c.kind == RunKind::glsl) add_to_plan(plan, c);
+    for (const Configuration& c : benchmark_plan(settings)) {
+      if (i != 0 && c.kind != RunKind::glsl) continue;
+      add_to_plan(plan, c);
+      // Under each other filter asked for, the kinds that take one, side by side (adjacent in the plan).
+      for (std::size_t j = 1; takes_filter(c.kind) && j < map_filters.size(); ++j) {
+        Configuration twin = c;
+        twin.params.filter = map_filters[j];
+        add_to_plan(plan, twin);
+      }
+    }
   }
   return plan;
 }
@@ -186,6 +198,10 @@ int main(int argc, char** argv) {
                  "layer specs, N or A-B (default: the suite's, 4, 8, 10, 16, 32, 64, 8-32)")->delimiter(',');
   app.add_option("--hm_threads", o.threads, "thread counts (default: 1 and all cores)")->delimiter(',')->check(CLI::Range(1, 1024));
   app.add_option("--hm_isas", o.filters.isas, isa_names() + " (default: every ISA the CPU runs)")->delimiter(',');
+  app.add_option("--hm_filters", o.map_filters,
+                 "bilinear, trilinear or both: the kernels, their anchors and GLSL under each (names of trilinear "
+                 "ones end in /filter:trilinear)")
+      ->delimiter(',')->check(CLI::IsMember(filter_names()))->capture_default_str();
   app.add_option("--hm_gl", o.gl, "GL paths of the GLSL benchmarks, " + gl_path_names() +
                  ", comma-separated: each its own benchmarks, side by side (default: osmesa where built, else egl)")
       ->delimiter(',');

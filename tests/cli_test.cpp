@@ -263,13 +263,14 @@ TEST(Cli, MemoryLimitIsParsedStrictly) {
 TEST(Cli, MemoryBudgetCountsTilePadding) {
   const auto r = test::run_command("HEIGHTMARCH_MEMORY_LIMIT=200M " + std::string(HEIGHTMARCH_CLI) + " trace --tile 1 --json");
   EXPECT_EQ(r.status, 2) << r.output.substr(0, 300);
-  EXPECT_NE(r.output.find("a 1024x1024 view needs 5.0 GiB, more than the "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("a 1024x1024 view needs 5.5 GiB, more than the "), std::string::npos) << r.output;
   EXPECT_NE(r.output.find(" left of the 200.0 MiB budget"), std::string::npos) << r.output;
 }
 
 TEST(Cli, JsonHasTheSpecKeys) {
-  const auto r = test::run_cli("trace --res 64 --size 32x32 --technique relief --layers 8-32 --json --threads 1");
+  const auto r = test::run_cli("trace --res 64 --size 32x32 --technique relief --layers 8-32 --json --threads 1 --filter trilinear");
   ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("\"filter\": \"trilinear\""), std::string::npos) << r.output;
   for (const char* key : {"technique",
                           "layers",
                           "backend",
@@ -391,10 +392,11 @@ TEST(Cli, ReportRefusalIsOneLine) {
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
 }
 
-// heightmarch-bench times the suite's plan: for the same filters it lists the suite's timed
-// configurations (both print plan_line(); compared without the purposes, which a configuration
-// the bench also times for another part joins); beside them only the Highway port and the
-// technique x layers matrix at the ISAs other than the widest asked for.
+// heightmarch-bench times the suite's plan: for the same filters, window (the suite's, around) and
+// filter of the depth map, it lists the suite's timed configurations (both print plan_line();
+// compared without the purposes, which a configuration the bench also times for another part
+// joins); beside them only the Highway forms (the port, POM's structure) and the technique x
+// layers matrix at the ISAs other than the widest asked for.
 TEST(Cli, BenchTimesTheSuitesPlan) {
   const std::string bench = std::filesystem::path(HEIGHTMARCH_CLI).parent_path().string() + "/heightmarch-bench";
   if (!std::filesystem::exists(bench)) GTEST_SKIP() << "heightmarch-bench is not built here (HEIGHTMARCH_BUILD_BENCHMARKS=OFF)";
@@ -407,14 +409,16 @@ TEST(Cli, BenchTimesTheSuitesPlan) {
     return out;
   };
   const std::string widest = to_string(best_isa());
-  for (const std::string& parts : {std::string("matrix,isa,glsl,roofline,exact"), std::string("matrix,isa,naive")}) {
+  for (const auto& [parts, filter] : {std::pair<std::string, std::string>{"matrix,isa,glsl,roofline,exact", "bilinear"},
+                                       {"matrix,isa,naive", "trilinear"}}) {
     for (const std::string& isas : {widest, "scalar," + widest}) {
-      SCOPED_TRACE(parts + " at " + isas);
+      SCOPED_TRACE(parts + " at " + isas + ", " + filter);
       const auto suite = test::run_cli("suite --dry-run --no-builtins --heightmap builtin:bricks --techniques pom,maxmip "
-                                       "--layers 8,8-32 --threads 1 --isas " + isas + " --parts " + parts);
+                                       "--layers 8,8-32 --threads 1 --isas " + isas + " --parts " + parts +
+                                       " --filter " + filter);
       const auto benched = test::run_command(bench + " --hm_dry_run --hm_views=around --hm_heightfields=builtin:bricks "
                                              "--hm_techniques=pom,maxmip --hm_layers=8,8-32 --hm_threads=1 --hm_isas=" +
-                                             isas + " --hm_parts=" + parts);
+                                             isas + " --hm_parts=" + parts + " --hm_filters=" + filter);
       ASSERT_EQ(suite.status, 0) << suite.output;
       ASSERT_EQ(benched.status, 0) << benched.output;
       const std::set<std::string> in_suite = lines(suite.output, true), in_bench = lines(benched.output, false);
@@ -542,6 +546,7 @@ std::vector<BadInput> bad_inputs() {
       {"TruncatedImage", "trace --heightmap " + d + "/truncated.png", "truncated.png"},
       {"UnknownBuiltin", "trace --heightmap builtin:nope", "nope"},
       {"UnknownTechnique", "trace --technique nope", "unknown technique 'nope'"},
+      {"UnknownFilter", "trace --filter nearest", "--filter: nearest not in"},
       {"ZeroLayers", "trace --layers 0", "layer spec '0'"},
       {"ConeZeroLayers", "trace --technique cone --layers 0", "layer spec '0'"},
       {"ConeNegativeRefine", "trace --technique cone --refine -1", "--refine"},

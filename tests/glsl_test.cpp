@@ -10,6 +10,7 @@
 #include "heightmarch/error.hpp"
 #include "heightmarch/glsl_runner.hpp"
 #include "heightmarch/metrics.hpp"
+#include "heightmarch/mip_chain.hpp"
 #include "heightmarch/tracer.hpp"
 #include "test_support.hpp"
 
@@ -68,7 +69,14 @@ TEST_P(GlslConformance, MatchesTheScalarReference) {
   const Technique technique = GetParam();
   const DepthMap map = make_builtin_heightfield("bricks", 128, 3);
   const RayBatch rays = make_view_rays(parse_view("default", 128, 96));
-  for (const auto& [label, params] : test::layer_specs_and_wraps(technique)) {
+  // Every layer spec and wrap bilinear, two of them trilinear too (the view reads levels 0 to 2).
+  std::vector<std::pair<std::string, TechniqueParams>> cases = test::layer_specs_and_wraps(technique);
+  for (auto [label, params] : test::layer_specs_and_wraps(technique))
+    if (label.rfind("layers 10,", 0) == 0 || label.rfind("layers 8-32,", 0) == 0) {
+      params.filter = Filter::trilinear;
+      cases.emplace_back(label + ", trilinear", params);
+    }
+  for (const auto& [label, params] : cases) {
     SCOPED_TRACE(label);
     HitBuffers reference;
     Tracer(map, params, Isa::scalar).run(rays, reference);
@@ -105,6 +113,31 @@ TEST(GlslShadow, FactorAgreesOnANoiseFieldAtFourLayers) {
   EXPECT_GE(c.same_factor, 0.999) << "share of rays whose shadow factors agree within 1e-4";
   EXPECT_GE(c.samples_within_one, 0.999) << "share of rays whose sample counts are within one";
   EXPECT_LE(c.uv_p99, 1e-3) << "p99 uv difference in texels";
+}
+
+// A straight-down view of 64 x 64 pixels over a 128 x 128 map reads level 1 (GL's lambda = 1):
+// GLSL's trilinear depth at T is level 1's bilinear one, within llvmpipe's fused lerps.
+TEST(GlslTrilinear, ViewMinifiedByTwoReadsLevelOne) {
+  const DepthMap map = make_builtin_heightfield("terrain", 128, 3);
+  const std::vector<DepthMap> chain = build_mip_chain(map);
+  RayBatch rays = make_view_rays(sweep_view(0.0, 64, 64));
+  // Off the pixel centres, where level 0's bilinear blend is level 1's texel (the 2 x 2 box).
+  for (float& t : rays.tx) t += 0.3f / 128.0f;
+  for (float& t : rays.ty) t += 0.2f / 128.0f;
+  TechniqueParams params;
+  params.technique = Technique::parallax;
+  params.filter = Filter::trilinear;
+  bool samples_known = false;
+  const HitBuffers glsl = glsl_hits(map, params, rays, samples_known);
+  float worst = 0.0f;
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    worst = std::max(worst, std::fabs(glsl.depth[i] - sample_depth(chain[1], Wrap::repeat, rays.tx[i], rays.ty[i])));
+  EXPECT_LE(worst, 1e-6f);
+  // and not level 0's
+  float apart = 0.0f;
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    apart = std::max(apart, std::fabs(glsl.depth[i] - sample_depth(map, Wrap::repeat, rays.tx[i], rays.ty[i])));
+  EXPECT_GT(apart, 1e-2f);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllTechniques, GlslConformance, ::testing::ValuesIn(test::all_technique_ids()),
@@ -182,14 +215,18 @@ TEST(GlslRunner, RepeatedPreparesOnOneSceneGiveTheHitsOfFreshOnes) {
     fresh_runner.prepare(m, p, r);
     return draw_and_read(fresh_runner);
   };
-  // Two techniques, each in both wrap modes; the shadow march also reads the light.
-  std::vector<TechniqueParams> cases(4);
-  cases[0].technique = cases[2].technique = Technique::pom;
+  // Two techniques, each in both wrap modes; the shadow march also reads the light; and POM and
+  // cone stepping trilinear (the mip chains uploaded, then left out by the bilinear ones).
+  std::vector<TechniqueParams> cases(6);
+  cases[0].technique = cases[2].technique = cases[4].technique = Technique::pom;
   cases[1].technique = cases[3].technique = Technique::shadow;
-  cases[1].wrap = cases[2].wrap = Wrap::clamp;
+  cases[5].technique = Technique::cone;
+  cases[1].wrap = cases[2].wrap = cases[5].wrap = Wrap::clamp;
+  cases[4].filter = cases[5].filter = Filter::trilinear;
   std::vector<HitBuffers> references;
   for (const TechniqueParams& p : cases) references.push_back(fresh(map, p, rays));
   ASSERT_NE(references[0].u, references[2].u) << "the scene must tell the wrap modes apart";
+  ASSERT_NE(references[0].u, references[4].u) << "the scene must tell the filters apart";
 
   GlslRunner& runner = GlslRunner::instance(1);
   for (int round = 0; round < 3; ++round)

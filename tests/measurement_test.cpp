@@ -230,16 +230,18 @@ TEST(Plan, AnchorsAreCheckedAtEveryIsa) {
   }
 }
 
-// Every ISA exports a kernel for every registry row and addressing mode.
+// Every ISA exports a kernel for every registry row, filter and addressing mode.
 TEST(Registry, EveryIsaHasEveryKernel) {
   for (Isa isa : all_isas()) {
     if (!cpu_supports(isa)) continue;  // the table of an ISA the CPU lacks is never touched
     const KernelTable& table = kernel_table(isa);
-    for (const TechniqueInfo& t : techniques())
-      for (int a = 0; a < kAddressingCount; ++a) EXPECT_NE(table.technique[int(t.id)][a], nullptr) << t.name;
-    for (int a = 0; a < kAddressingCount; ++a) {
-      EXPECT_NE(table.sampler_roofline[a], nullptr);
-      EXPECT_NE(table.compute_ceiling[a], nullptr);
+    for (int f = 0; f < kFilterCount; ++f) {
+      for (const TechniqueInfo& t : techniques())
+        for (int a = 0; a < kAddressingCount; ++a) EXPECT_NE(table.technique[int(t.id)][f][a], nullptr) << t.name;
+      for (int a = 0; a < kAddressingCount; ++a) {
+        EXPECT_NE(table.sampler_roofline[f][a], nullptr);
+        EXPECT_NE(table.compute_ceiling[f][a], nullptr);
+      }
     }
     EXPECT_NE(table.autovec_pom, nullptr);
   }

@@ -324,7 +324,7 @@ TEST(SuiteFilters, TheUsersMapsTechniquesLayersIsasThreadsAndParts) {
       "--threads 1 --parts matrix --view-angles 45-85 --scale 0.05 --dry-run");
   ASSERT_EQ(dry.status, 0) << dry.output;
   EXPECT_NE(dry.output.find("waves\ttrace\tpom\t8\t"), std::string::npos) << dry.output;
-  EXPECT_NE(dry.output.find("around:45-85 256x256\ttimed\tmatrix\n1 configurations\n"), std::string::npos)
+  EXPECT_NE(dry.output.find("around:45-85 256x256\tbilinear\ttimed\tmatrix\n1 configurations\n"), std::string::npos)
       << dry.output;
   for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
            {"--techniques pom,bogus", "--techniques: bogus not in"},
@@ -333,12 +333,51 @@ TEST(SuiteFilters, TheUsersMapsTechniquesLayersIsasThreadsAndParts) {
            {"--layers 0", "layer"},
            {"--view-angles 80-30", "view angles '80-30' must satisfy 0 <= NEAR < FAR <= 89"},
            {"--scale 2", "--scale: must be in (0, 1], not 2"},
-           {"--no-builtins", "--no-builtins requires --heightmap"}}) {
+           {"--no-builtins", "--no-builtins requires --heightmap"},
+           {"--filter nearest", "--filter: nearest not in"}}) {
     const auto r = test::run_cli("suite --quick --dry-run " + args);
     EXPECT_EQ(r.status, 2) << args << ": " << r.output;
     EXPECT_NE(r.output.find(message), std::string::npos) << args << ": " << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": " << r.output;
   }
+}
+
+// --filter: the run's filter on every configuration that takes one (the kernels, their anchors,
+// GLSL), the ports at level 0, the exact reference filterless; a second filter adds the matrix
+// under it, accuracy only, for the report's comparison; claims read one filter.
+TEST(SuiteFilters, FilterReadsTheRunAndComparesTheMatrix) {
+  PlanSettings s = suite_settings(true, 2);
+  s.filter = Filter::trilinear;
+  s.compared_filters = {Filter::bilinear};
+  std::size_t compared = 0, matrix = 0;
+  const std::vector<Configuration> plan = suite_plan(s);
+  for (const Configuration& c : plan) {
+    if (c.purposes & kPurposeFilters) {
+      ++compared;
+      EXPECT_EQ(c.purposes, unsigned(kPurposeFilters));
+      EXPECT_EQ(c.params.filter, Filter::bilinear);
+      EXPECT_FALSE(c.timed);
+      // its twin of the matrix, read with the run's filter
+      Configuration twin = c;
+      twin.params.filter = Filter::trilinear;
+      EXPECT_TRUE(std::any_of(plan.begin(), plan.end(), [&](const Configuration& o) {
+        return (o.purposes & kPurposeMatrix) && o.same_measurement(twin);
+      }));
+    } else {
+      matrix += (c.purposes & kPurposeMatrix) != 0;
+      EXPECT_EQ(c.params.filter, takes_filter(c.kind) ? Filter::trilinear : Filter::bilinear) << to_string(c.kind);
+    }
+  }
+  EXPECT_EQ(compared, matrix);
+  const auto dry = test::run_cli(
+      "suite --quick --no-builtins --heightmap builtin:waves --techniques pom --layers 8 --threads 1 "
+      "--parts matrix,filters --filter trilinear,bilinear --dry-run");
+  ASSERT_EQ(dry.status, 0) << dry.output;
+  EXPECT_NE(dry.output.find("around 256x256\ttrilinear\ttimed\tmatrix\n"), std::string::npos) << dry.output;
+  EXPECT_NE(dry.output.find("around 256x256\tbilinear\taccuracy\tfilters\n"), std::string::npos) << dry.output;
+  const auto claims = test::run_cli("claims --quick --filter bilinear,trilinear --out " + test::temp_dir("claims-filters"));
+  EXPECT_EQ(claims.status, 2) << claims.output;
+  EXPECT_NE(claims.output.find("claims --filter takes one filter"), std::string::npos) << claims.output;
 }
 
 // The default view seen at the user's span of angles: the near edge's centre at NEAR degrees from

@@ -2,6 +2,9 @@
 // ISA against the sampling formula (docs/conventions.md), bit for bit, on scattered and on clustered packets.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
+#include "heightmarch/mip_chain.hpp"
 #include "heightmarch/sampler.hpp"
 #include "heightmarch/tracer.hpp"
 #include "test_support.hpp"
@@ -98,6 +101,55 @@ TEST_P(PacketSamplerTest, BitIdenticalOnClusteredPackets) {
     }
     const RayBatch rays = make_ray_list(tx, ty, zero, zero, one);
     expect_parallax_reads_the_formula(map, rays, isa);
+  }
+}
+
+// Trilinear: parallax's depth is one read of the mip chain at T, at the level of detail of the ray's
+// gradients: the same bits as the formula (sample_depth over build_mip_chain) at every ISA, on
+// packets whose lanes share a level (the coherent fetch) and packets whose lanes read different
+// levels (gathered), on power-of-two and other sides (odd levels), in both wraps.
+TEST_P(PacketSamplerTest, TrilinearBitIdenticalToSpecFormula) {
+  const Isa isa = GetParam();
+  if (!cpu_supports(isa)) GTEST_SKIP() << "this CPU lacks " << to_string(isa) << ": not tested here";
+  for (const auto& [w, h] : {std::pair{64, 64}, {37, 9}, {1, 1}, {256, 7}}) {
+    DepthMap map{w, h, {}};
+    test::Random rng(w * 31 + h);
+    for (int k = 0; k < w * h; ++k) map.texels.push_back(float(rng.uniform()));
+    const std::vector<DepthMap> chain = build_mip_chain(map);
+    const int last = int(chain.size()) - 1;
+    std::vector<float> tx, ty, zero(32 * 200, 0.0f), one(32 * 200, 1.0f);
+    std::vector<float> gradients[4];
+    for (int packet = 0; packet < 200; ++packet) {
+      const double cu = rng.uniform(-1.1, 2.1), cv = rng.uniform(-1.1, 2.1);
+      const bool shared = packet % 2 == 0;  // one footprint for the packet's lanes, or one each
+      double g[4] = {};
+      for (int lane = 0; lane < 32; ++lane) {
+        tx.push_back(float(cu + 3.0 * rng.uniform(-0.5, 0.5) / w));
+        ty.push_back(float(cv + 3.0 * rng.uniform(-0.5, 0.5) / h));
+        if (lane == 0 || !shared)
+          for (double& x : g) x = rng.uniform(-1.0, 1.0) * std::exp2(rng.uniform(-10.0, 1.0));
+        for (int k = 0; k < 4; ++k) gradients[k].push_back(float(g[k]));
+      }
+    }
+    RayBatch rays = make_ray_list(tx, ty, zero, zero, one);
+    rays.du_dx = gradients[0];
+    rays.dv_dx = gradients[1];
+    rays.du_dy = gradients[2];
+    rays.dv_dy = gradients[3];  // 6400 rays: whole tiles, no padding
+    for (Wrap wrap : {Wrap::repeat, Wrap::clamp}) {
+      TechniqueParams params;
+      params.technique = Technique::parallax;
+      params.wrap = wrap;
+      params.filter = Filter::trilinear;
+      HitBuffers hits;
+      Tracer(map, params, isa).run(rays, hits);
+      for (std::size_t i = 0; i < gradients[0].size(); ++i) {
+        const float lod = level_of_detail(rays.du_dx[i], rays.dv_dx[i], rays.du_dy[i], rays.dv_dy[i], float(w),
+                                          float(h), last);
+        ASSERT_EQ(hits.depth[i], sample_depth(chain, wrap, rays.tx[i], rays.ty[i], lod))
+            << to_string(isa) << " " << w << "x" << h << " ray " << i << " at lod " << lod;
+      }
+    }
   }
 }
 

@@ -10,7 +10,7 @@
 // - builder: std::shared_ptr<const type> builder(const DepthMap&, Wrap), which sets the texture's
 //   build_seconds (a cached one: those of its first build).
 // - GL texture unit and GLSL sampler: where the GLSL worker binds type::gl_image() (its int
-//   uniforms beside it); units 0 to 2 are the depth map's and the rays'.
+//   uniforms beside it); units 0 to 3 are the depth map's and the rays' (T, V and their gradients).
 //
 // Adding a kind: its row here, its type (with slot(), gl_image() and build_seconds) and builder,
 // and the sampler uniform in the GLSL of the techniques that read it.
@@ -21,8 +21,8 @@
 #include "heightmarch/min_depth_pyramid.hpp"
 
 #define HEIGHTMARCH_PRECOMPUTED_TEXTURES(X)                                                         \
-  X(min_depth_pyramid, MinDepthPyramid, build_min_depth_pyramid, 3, "minDepthPyramid")             \
-  X(cone_map, ConeMap, cached_cone_map, 4, "coneMap")
+  X(min_depth_pyramid, MinDepthPyramid, build_min_depth_pyramid, 4, "minDepthPyramid")             \
+  X(cone_map, ConeMap, cached_cone_map, 5, "coneMap")
 
 namespace heightmarch {
 

@@ -31,6 +31,10 @@ inline constexpr int kViewCell = 8;
 struct RayBatch {
   // T (entry point on the top plane) and V (unit, towards the eye, vz > 0).
   std::vector<float> tx, ty, vx, vy, vz;
+  // The pixel footprint: how T changes to the next pixel in x and in y (trilinear filtering's
+  // gradients, textureGrad's dPdx and dPdy), from the view's pixel grid (pixel_gradients()); 0
+  // for rays without a grid (a rays file), which then read level 0.
+  std::vector<float> du_dx, dv_dx, du_dy, dv_dy;
   // For each ray, its pixel (y * image_width + x) or input row; kPaddingRay for padding.
   std::vector<std::uint32_t> origin;
   // Tile t holds rays [tile_offsets[t], tile_offsets[t + 1]).
@@ -87,10 +91,10 @@ struct ViewSpec {
 
 inline constexpr int kMaxViewSide = 16384;
 
-// What a run holds per ray of its batch, for the memory budget: the ray (T, V, origin, view), its hits,
-// the exact and reference hits, the error and, with --out, the images' pixels (measured: a
-// 4096 x 4096 --out trace peaks at about 139 bytes a ray).
-inline constexpr double kBytesPerRay = 160.0;
+// What a run holds per ray of its batch, for the memory budget: the ray (T, V, origin, view, gradients),
+// its hits, the exact and reference hits, the error and, with --out, the images' pixels
+// (measured: a 4096 x 4096 --out trace peaks at about 139 bytes a ray before the gradients' 16).
+inline constexpr double kBytesPerRay = 176.0;
 // And per row of a rays file: its columns as read (its row of rays.csv is written back through a
 // 1 MiB buffer: a 2,000,000-ray file with --out peaks at 331 MB, against 746 MB estimated).
 inline constexpr double kBytesPerRayCsvRow = 180.0;
@@ -144,12 +148,22 @@ std::string describe(const ViewSpec& view);
 // (load_rays_csv).
 RayBatch make_view_rays(const ViewSpec& view);
 
+// Sets the batch's gradients from its pixel grid (origin = y * image_width + x), as a GPU's quad
+// derivatives (dFdxFine, dFdyFine) take them: the difference of T to the pixel's partner in its
+// 2 x 2 quad (x ^ 1, y ^ 1), or where no ray of the batch is there (the partner misses the plane),
+// to its neighbour on the other side; 0 along an axis with neither. Padding copies its tile's
+// last ray. For views; a batch without a grid keeps zero gradients. The image holds frames of
+// frame_width x frame_height side by side (a view set's: views.cpp), and no gradient crosses
+// from one frame into another.
+void set_pixel_gradients(RayBatch& rays, int frame_width, int frame_height);
+
 // A CSV file with header tx,ty,vx,vy,vz; rays keep their input order, cut into tiles of
 // tile_size^2 rays. V is normalised; vz <= 0, NaN and malformed rows are InputErrors.
 RayBatch load_rays_csv(const std::string& path, int tile_size = kDefaultTileSize);
 
-// The one check of a batch handed over whole (a GLSL worker's message): the five arrays of one
-// length, T finite within 1e6, V finite with V.z > 0. Throws InputError naming the first bad ray.
+// The one check of a batch handed over whole (a GLSL worker's message): the nine arrays of one
+// length, T finite within 1e6, V finite with V.z > 0, gradients finite within 1e6. Throws
+// InputError naming the first bad ray.
 void check_rays(const RayBatch& rays);
 
 // Builds a batch from explicit rays (used by the CSV loader and tests).

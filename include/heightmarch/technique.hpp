@@ -102,6 +102,7 @@ struct TechniqueParams {
   std::optional<int> refine;
   float scale = 0.1f;            // height scale s
   Wrap wrap = Wrap::repeat;
+  Filter filter = Filter::bilinear;  // how samples read the depth map (sampler.hpp)
   bool discard = false;          // the tutorial's discard of a final uv outside [0,1]^2
   float light[3] = {0.5773503f, 0.5773503f, 0.5773503f};  // unit vector towards the light
 
@@ -112,7 +113,7 @@ struct TechniqueParams {
 
 // The one check of a run's parameters, for the command line and every message the GLSL worker
 // takes alike: a technique of the registry, layers within [1, kMaxLayers] (min <= max), a scale
-// in [0, 1], refine steps in [0, kMaxRefineSteps], a known wrap mode, a finite light above the
+// in [0, 1], refine steps in [0, kMaxRefineSteps], a known wrap mode and filter, a finite light above the
 // plane and not grazing it (NaN fails every test). Throws InputError.
 void check(const TechniqueParams& params);
 

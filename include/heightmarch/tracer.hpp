@@ -61,8 +61,9 @@ class Tracer {
 
   TechniqueParams params_;
   Isa isa_;
-  SamplerTexture texture_;
+  SamplerTexture texture_;  // with its mip chain for a trilinear technique
   PrecomputedTextures precomputed_;
+  SamplerTexture cone_ratios_;  // trilinear cone: the ratios with their mip chain
   KernelFn technique_kernel_;
   KernelFn roofline_kernel_;
   KernelFn ceiling_kernel_;

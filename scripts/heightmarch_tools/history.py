@@ -17,7 +17,7 @@ from .spreads import spread
 from .writers import atomic_write, locked
 
 MACHINE_PARTS = ["cpu", "cores", "best_isa", "compiler", "build_type"]
-SERIES_FIELDS = ["backend", "threads", "heightfield", "technique", "layers", "view", "depth_map"]
+SERIES_FIELDS = ["backend", "threads", "heightfield", "technique", "layers", "view", "depth_map", "filter"]
 # Deterministic measures: any change at the same configuration is a behaviour change. SIMD use
 # (the packet kernels' share of busy lanes) came last: older files lack its column.
 MEASURES = ["samples_per_ray", "uv_error_mean", "uv_error_p95", "wrong_surface_rate", "simd_utilization"]
@@ -72,7 +72,9 @@ def series_fields(row):
     return as_written({"backend": backend(row), "threads": str(row["threads"]), "heightfield": row["heightfield"]["label"],
                        # rows without a technique (roofline, exact) are named by their kind
                        "technique": row.get("technique") or row["kind"], "layers": row.get("layers") or "",
-                       "view": view_name(row["view"]), "depth_map": depth_map(row)})
+                       "view": view_name(row["view"]), "depth_map": depth_map(row),
+                       # the exact reference is every filter's: its one series; runs before filters read level 0
+                       "filter": row.get("filter", "bilinear") or ""})
 
 
 def series(row):
@@ -82,9 +84,10 @@ def series(row):
 
 def series_name(key):
     f = dict(zip(SERIES_FIELDS, key))
-    return "%s%s, %s, %s thread%s, %s %s, %s view" % (
+    return "%s%s, %s, %s thread%s, %s %s, %s view%s" % (
         f["technique"], " " + f["layers"] if f["layers"] not in ("", "1") else "", f["backend"],
-        f["threads"], "" if f["threads"] == "1" else "s", f["heightfield"], f["depth_map"], f["view"])
+        f["threads"], "" if f["threads"] == "1" else "s", f["heightfield"], f["depth_map"], f["view"],
+        ", " + f["filter"] if f["filter"] not in ("", "bilinear") else "")
 
 
 def measure(row, name):
@@ -147,9 +150,19 @@ class Table:
 HISTORY = Table(COLUMNS, dict({"threads": 1, "rays_per_second_median": 0.0, "rays_per_second_min": 0.0,
                                "rays_per_second_max": 0.0}, **{m: 0.0 for m in MEASURES}),
                 may_be_empty=MEASURES, integers=("threads",))
-# A history from before SIMD use was recorded: its rows read with that column empty.
-HISTORY_BEFORE_SIMD_USE = Table(COLUMNS[:-1], {k: v for k, v in HISTORY.numbers.items() if k != "simd_utilization"},
-                                may_be_empty=MEASURES[:-1], integers=("threads",))
+
+
+def without(*names):
+    """HISTORY without some of its columns: a history written before they existed."""
+    return Table([c for c in COLUMNS if c not in names], {k: v for k, v in HISTORY.numbers.items() if k not in names},
+                 may_be_empty=[m for m in MEASURES if m not in names], integers=("threads",))
+
+
+# Histories written before a column existed, and what their rows were: before SIMD use was
+# recorded, its cell is empty; before filters, every row read level 0.
+EARLIER = [(without("simd_utilization"), {"simd_utilization": ""}),
+           (without("filter"), {"filter": "bilinear"}),
+           (without("filter", "simd_utilization"), {"filter": "bilinear", "simd_utilization": ""})]
 REPAIR = "scripts/repair-history drops the rows it cannot read, naming each"
 
 
@@ -165,15 +178,25 @@ def header(path):
     return next(csv.reader(io.StringIO(read_text(path), newline="")), None)
 
 
+def layout(path, table=HISTORY):
+    """The table a file was written with and what its rows lack: a history's of today, or of before
+    a column (EARLIER) by its header."""
+    if table is HISTORY:
+        found = header(path)
+        for earlier, implied in EARLIER:
+            if found == earlier.columns:
+                return earlier, implied
+    return table, {}
+
+
 def read(path, table=HISTORY):
     """The rows of a history file (or of alerts.csv, alerts.ALERTS), every cell checked; []
     where it does not exist yet. A malformed row is refused with its line number."""
-    if table is HISTORY and header(path) == HISTORY_BEFORE_SIMD_USE.columns:
-        return [dict(row, simd_utilization="") for row in read(path, HISTORY_BEFORE_SIMD_USE)]
+    written, implied = layout(path, table)
     rows = []
-    for line, cells in read_csv(path, table.columns):
+    for line, cells in read_csv(path, written.columns):
         try:
-            rows.append(table.check(Where("%s: line %d" % (terminal(path), line)), cells))
+            rows.append(dict(written.check(Where("%s: line %d" % (terminal(path), line)), cells), **implied))
         except Unusable as e:
             raise Unusable("%s (%s)" % (e, REPAIR) if table is HISTORY else str(e))
     return rows
@@ -204,9 +227,10 @@ def repair(argv=None):
     args = parser.parse_args(argv)
     with locked(args.history):
         kept, dropped = [], 0
-        for line, cells in read_csv(args.history, HISTORY.columns):
+        written, implied = layout(args.history)
+        for line, cells in read_csv(args.history, written.columns):
             try:
-                kept.append(HISTORY.check(Where("line %d" % line), cells))
+                kept.append(dict(written.check(Where("line %d" % line), cells), **implied))
             except Unusable as e:
                 dropped += 1
                 print("drops %s: %s" % (e, terminal(",".join(cells))[:200]))

@@ -41,7 +41,7 @@ def draw(data, rows, path):
         return False
     want = history.series_fields(headline[0])
     picked = [r for r in rows if r["technique"] == HEADLINE_TECHNIQUE and r["layers"] == HEADLINE_LAYERS
-              and r["threads"] == "1" and all(r[k] == want[k] for k in ("heightfield", "view", "depth_map"))]
+              and r["threads"] == "1" and all(r[k] == want[k] for k in ("heightfield", "view", "depth_map", "filter"))]
     machines = list(dict.fromkeys(r["machine"] for r in sorted(picked, key=lambda r: r["date"])))
     if not machines:
         return False

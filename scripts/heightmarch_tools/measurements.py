@@ -418,7 +418,9 @@ def config(row):
             "view": (view["kind"], view["width"], view["height"], view.get("theta"), view.get("phi"),
                      view.get("near_angle"), view.get("far_angle"), view.get("around"), view.get("seed"),
                      view.get("views")),
-            "scene": (row.get("scale"), row.get("wrap"), row.get("discard"))}
+            "scene": (row.get("scale"), row.get("wrap"), row.get("discard")),
+            # null for the exact reference (every filter's); absent before filters: bilinear
+            "filter": row.get("filter", "bilinear")}
 
 
 def csv_value(value):
@@ -484,6 +486,10 @@ class Run:
         self.configs = [(config(r), r) for r in self.timed]
         # the technique x layers matrix: technique rows only (an exact row may serve the matrix too)
         self.matrix = sorted((r for r in self.with_purpose("matrix") if r.get("technique")), key=self.order)
+        # the filter the run's figures are read with (docs/conventions.md#filters): its rows' but the
+        # comparison's; runs before filters read level 0
+        self.filter = next((r["filter"] for r in self.rows if r.get("filter") and r.get("technique")
+                            and "filters" not in r.get("purposes", [])), "bilinear")
         # The window the answer was measured over (its timed candidates' view) and its held-out set.
         window = next((r for p in ("matrix", "claims", "glsl") for r in self.with_purpose(p) if r.get("speed")), None)
         held_out = next(iter(self.with_purpose("held-out")), None)
@@ -497,7 +503,7 @@ class Run:
         """The timed row measured like `row` except for `changes` (ANY: not compared)."""
         want = dict(config(row), **changes)
         for c, r in self.configs:
-            if all(v is ANY or c[k] == v for k, v in want.items()):
+            if all(v is ANY or c[k] == v or (k == "filter" and None in (v, c[k])) for k, v in want.items()):
                 return r
         return None
 
@@ -595,6 +601,13 @@ def glsl_pairs(run):
     """(CPU row at the best ISA, GLSL row) at the same configuration and threads, for every GLSL row."""
     return [(run.partner(g, kind="trace", backend=run.best_isa), g) for g in sorted(
         (r for r in run.timed if r["kind"] == "glsl"), key=run.order)]
+
+
+def filter_pairs(run):
+    """(the run's row, the same configuration under another filter) for every row of the matrix the
+    run also measured under a compared filter (purpose "filters", accuracy only)."""
+    pairs = [(run.partner(r, filter=ANY), r) for r in sorted(run.with_purpose("filters"), key=run.order)]
+    return [(own, other) for own, other in pairs if own is not None]
 
 
 def walks_per_isa(run):

@@ -16,13 +16,14 @@ import os
 from . import cli, record_run, report_page
 from .measurements import (ANY, HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label,  # noqa: E402
                            gl_label, gl_renderers,
-                          config, counted, depth_map, machine_rows, docs_link, glsl_pairs, groups, load_run, measurements_csv,
+                          config, counted, depth_map, machine_rows, docs_link, filter_pairs, glsl_pairs, groups, load_run,
+                          measurements_csv,
                           rays_rounds, read_claims, read_optional, samples_rounds, searches_per_isa,
                           speedup, validate_alerts, validate_recommendation, view_name, backend_colours)
 from .escape import markdown as md, markdown_target
-from .report_content import (alerts_summary, fmt, fmt_change, fmt_error, fmt_number, fmt_ratio, fmt_spread,
-                             recommendation_columns, recommendation_intro, recommendation_rows, walks_table, warnings,
-                             breakdown_lines, WALKS_INTRO)
+from .report_content import (FILTER_DOCS, alerts_summary, breakdown_lines, filter_table, filters_intro, filters_title,
+                             fmt, fmt_change, fmt_error, fmt_number, fmt_ratio, fmt_spread, recommendation_columns,
+                             recommendation_intro, recommendation_rows, walks_table, warnings, WALKS_INTRO)
 from .report_plots import plot_error_vs_angle, plot_error_vs_layers, plot_error_vs_speed, plot_isa_speedup
 from .spreads import per_round, spread
 from .writers import atomic_write, subdirectory
@@ -144,6 +145,17 @@ def section_claims(run, claims):
                 docs_link(run, *MAXMIP_PEAK))
         body.append(line)
     return section("The claims: the tutorials' (C1-C10) and the papers' (P1-P3)", body)
+
+
+def section_filters(run):
+    pairs = filter_pairs(run)
+    if not pairs:
+        return []
+    columns, rows = filter_table(run, pairs)
+    return section(filters_title(run, pairs), [
+        "%s What each error means: [docs/measures.md](%s); the filters: [docs/conventions.md](%s)." % (
+            md(filters_intro(run, pairs)), markdown_target(docs_link(run, "measures.md")),
+            markdown_target(docs_link(run, *FILTER_DOCS))), ""] + md_table(columns, rows))
 
 
 def section_machine(run):
@@ -426,12 +438,14 @@ def write_report(run, claims, recommendation, alerts, recorded, history_drawn):
     p = run.provenance
     title = "%s run of %s, commit %s" % (run.plan.get("name", "?"), p.get("date", "?"), p.get("commit", "?"))
     lines = ["# heightmarch report: " + md(title), "",
-          "Parallax-mapping techniques on the CPU (packet kernels per ISA) and as GLSL (its rows: %s), measured "
+          "Parallax-mapping techniques on the CPU (packet kernels per ISA) and as GLSL (its rows: %s), reading the "
+          "depth map with %s filtering ([docs/conventions.md](%s)), measured "
           "against the exact ray/heightfield intersection on %s (%s cores, %s). Explore it: [report.html](report.html) "
           "(every configuration on its error-against-cost frontier, with filters and images); the long tables: "
           "[tables.md](tables.md); the rows: [measurements.csv](measurements.csv), "
           "[measurements.json](measurements.json). What every measure means: [docs/measures.md](%s); the files: "
           "[docs/measurements.md](%s)." % (md(" and ".join(gl_renderers(run.rows)) or "none in this run"),
+                                           md(run.filter), markdown_target(docs_link(run, *FILTER_DOCS)),
                                            md(p.get("cpu", "?")), md(p.get("cores", "?")), md(run.best_isa),
                                            markdown_target(docs_link(run, "measures.md")),
                                            markdown_target(docs_link(run, "measurements.md")))]
@@ -439,7 +453,7 @@ def write_report(run, claims, recommendation, alerts, recorded, history_drawn):
         lines += ["", "*The machine was busy during this run: speeds and ratios may be disturbed (see the warnings below). "
                    "Errors and samples per ray are deterministic and unaffected.*"]
     lines += section_alerts(alerts) + section_recommendation(run, recommendation)
-    lines += section_claims(run, claims) + section_ratios(run) + section_warnings(run, faults)
+    lines += section_claims(run, claims) + section_filters(run) + section_ratios(run) + section_warnings(run, faults)
     lines += section("The tables", ["In [tables.md](tables.md): " + "; ".join(
         "[%s](tables.md#%s)" % (t, anchor) for t, anchor in TABLES) + "."])
     lines += plots + section_machine(run)

@@ -268,3 +268,36 @@ def alerts_summary(alerts):
     if not found:
         return "No change beyond noise in %d series. %s" % (tested, rule)
     return "%s in %d series of this machine's history. %s" % (counted(len(found), "alert"), tested, rule)
+
+
+# ---------------------------------------------------------------------------------------------
+# The filters compared (docs/conventions.md#filters)
+
+FILTER_DOCS = ("conventions.md", "filters")
+
+
+def filters_title(run, pairs):
+    return "%s against %s filtering" % (run.filter.capitalize(), pairs[0][1]["filter"])
+
+
+def filters_intro(run, pairs):
+    return ("The technique x layers matrix at %s read both ways: %s (this run's figures) and %s (accuracy only), each "
+            "against the same exact level-0 surface. Bilinear is the search's own error; trilinear is what a player sees "
+            "from a mipmapped depth map (the mip chain at each ray's level of detail). p99 in texels."
+            % (run.best_isa, run.filter, pairs[0][1]["filter"]))
+
+
+def filter_table(run, pairs):
+    """Per configuration of the matrix measured under the other filter too (there are two): its errors
+    and cost under both, as text cells ([(title, numeric)], rows)."""
+    other = pairs[0][1]["filter"]
+    columns = [("heightfield", False), ("technique", False), ("layers", False)] + [
+        ("%s %s" % (title, f), True) for title in ("p99", "wrong surface", "samples/ray") for f in (run.filter, other)]
+    rows = []
+    for own, theirs in pairs:
+        e, o = own.get("errors") or {}, theirs.get("errors") or {}
+        rows.append([own["heightfield"]["label"], own["technique"], own["layers"],
+                     fmt_error(e.get("uv_error_p99")), fmt_error(o.get("uv_error_p99")),
+                     fmt(e.get("wrong_surface_rate"), 2, 100, "%"), fmt(o.get("wrong_surface_rate"), 2, 100, "%"),
+                     fmt(own.get("samples_per_ray"), 2), fmt(theirs.get("samples_per_ray"), 2)])
+    return columns, rows

@@ -9,10 +9,12 @@ fetched from the network when it opens. report.py calls write_page().
 import os
 
 from .measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label, depth_map,
-                          docs_link, gl_label, glsl_pairs, machine_rows, ns_per_ray_rounds, rays_rounds, searches_per_isa, speedup, view_name)
+                          docs_link, filter_pairs, gl_label, glsl_pairs, machine_rows, ns_per_ray_rounds, rays_rounds,
+                          searches_per_isa, speedup, view_name)
 from .escape import csv_cell, html as esc, script_json
-from .report_content import (alerts_summary, breakdown_lines, fmt_ratio, fmt_spread, recommendation_columns,
-                             recommendation_intro, recommendation_rows, walks_table, WALKS_INTRO)
+from .report_content import (FILTER_DOCS, alerts_summary, breakdown_lines, filter_table, filters_intro, filters_title,
+                             fmt_ratio, fmt_spread, recommendation_columns, recommendation_intro, recommendation_rows,
+                             walks_table, WALKS_INTRO)
 from .spreads import spread
 from .writers import atomic_write
 
@@ -49,6 +51,8 @@ def page_rows(run):
     out = []
     for r in run.rows:
         if r.get("technique") not in run.style or not r.get("errors") or r.get("failure"):
+            continue
+        if r.get("filter") not in (None, run.filter):  # the other filter's rows: their own table
             continue
         if r.get("purposes") == ["held-out"]:  # read through the recommendation, not a point of its own
             continue
@@ -117,6 +121,20 @@ def isa_bars(found):
     return out
 
 
+def filters_html(run):
+    """The matrix under both filters (report_content's table, as report.md shows it), or a line
+    saying it was not measured."""
+    pairs = filter_pairs(run)
+    if not pairs:
+        return ("<p>Not measured in this run: every row is read with %s filtering (suite --filter bilinear,trilinear "
+                "measures both).</p>" % esc(run.filter))
+    columns, rows = filter_table(run, pairs)
+    return ("<h3>%s</h3><p>%s What each error means: %s; the filters: %s.</p>" % (
+        esc(filters_title(run, pairs)), esc(filters_intro(run, pairs)),
+        link(docs_link(run, "measures.md"), "docs/measures.md"), link(docs_link(run, *FILTER_DOCS), "docs/conventions.md"))
+            + table(columns, [[esc(c) for c in cells] for cells in rows]))
+
+
 def claims_html(claims, maxmip_link):
     if not claims:
         return "<p>No claims in this run.</p>"
@@ -153,16 +171,16 @@ def warnings_html(warnings):
 
 
 def history_series(run, recorded):
-    """The headline configuration (POM-32, 1 thread, default view, the first heightfield) over the
-    recorded runs, per machine (the history's machine column; the CPU where it has none) and backend.
+    """The headline configuration (POM-32, 1 thread, default view, the first heightfield, the run's
+    filter) over the recorded runs, per machine (the history's machine column; the CPU where it has none) and backend.
     The history holds names as CSV cells (escape.csv_cell): the heightfield is matched so."""
     if recorded is None:
         return None
     hf = run.heightfields[0] if run.heightfields else ""
     series = {}
     for r in recorded:
-        if (r.get("technique"), r.get("layers"), r.get("threads"), r.get("heightfield")) != (
-                HEADLINE_TECHNIQUE, HEADLINE_LAYERS, "1", csv_cell(hf)) or not r.get("view", "").startswith("default"):
+        if (r.get("technique"), r.get("layers"), r.get("threads"), r.get("heightfield"), r.get("filter")) != (
+                HEADLINE_TECHNIQUE, HEADLINE_LAYERS, "1", csv_cell(hf), run.filter) or not r.get("view", "").startswith("default"):
             continue
         machine = r.get("machine") or r.get("cpu") or "?"
         series.setdefault(machine, {}).setdefault(r["backend"], []).append(
@@ -211,6 +229,8 @@ def write_page(run, claims, recommendation, alerts, recorded, warnings, faults, 
                        + glsl_table(run, glsl_pairs(run))) if glsl_pairs(run) else "<p>Not measured in this run.</p>",
         "machine": machine_html(run),
         "warnings": warnings_html(warnings),
+        "filters": filters_html(run),
+        "filter": esc(run.filter),
     }
     text = TEMPLATE % {
         "title": esc(data["title"]),
@@ -237,7 +257,8 @@ TEMPLATE = """<!DOCTYPE html>
 <header>
 <h1>heightmarch: %(title)s</h1>
 <nav><a href="#alerts">alerts</a> <a href="#recommendation">what to ship</a> <a href="#frontier">frontier</a>
-<a href="#claims">claims</a> <a href="#speed">speed per ISA and GLSL</a> <a href="#history">history</a>
+<a href="#claims">claims</a> <a href="#filters-compared">filters</a> <a href="#speed">speed per ISA and GLSL</a>
+<a href="#history">history</a>
 <a href="#provenance">provenance</a> <a href="report.md">report.md</a> <a href="tables.md">tables.md</a>
 <a href="measurements.csv">measurements.csv</a></nav>
 </header>
@@ -256,6 +277,8 @@ in the grey band at the bottom.</p>
 <div id="detail"><p>Click a point to see its configuration, its render, its error map and the exact render.</p></div>
 </section>
 <section id="claims"><h2>The claims</h2>%(claims)s</section>
+<section id="filters-compared"><h2>Bilinear against trilinear filtering</h2>
+<p>This run's figures are read with %(filter)s filtering.</p>%(filters)s</section>
 <section id="speed"><h2>Speed per ISA, and CPU against GLSL</h2>
 <div id="isa-filters"></div><div id="isa-chart"></div>
 <details><summary>The searches at every ISA, against GLSL (table)</summary>%(isa_table)s</details>

@@ -63,8 +63,8 @@ void write_claims(const std::string& dir, const ClaimsData& data, const PlanSett
       "Configurations: heightfields " + heightfields + " (builtins at " +
       std::to_string(settings.heightfields.front().resolution) + " x " +
       std::to_string(settings.heightfields.front().resolution) + "), scale " +
-      string_format("%g", settings.scale) + ", REPEAT" + (clamped.empty() ? "" : " (" + clamped + ": CLAMP_TO_EDGE)") +
-      "; on the window " + describe(settings.window) +
+      string_format("%g", settings.scale) + ", REPEAT" + (clamped.empty() ? "" : " (" + clamped + ": CLAMP_TO_EDGE)") + ", " +
+      to_string(settings.filter) + " filtering (docs/conventions.md#filters); on the window " + describe(settings.window) +
       " (docs/measures.md#view-sets; the same rows as the report's tables): " +
       claim_rows_text(ClaimView::default_view) +
       "; on sweep views of " + std::to_string(settings.sweep_size) + " x " +
@@ -124,6 +124,8 @@ Command add_claims_command(CLI::App& app) {
       return 0;
     }
     PlanSettings settings = plan_settings(o->plan, false);
+    if (!settings.compared_filters.empty())
+      throw InputError("claims --filter takes one filter: the claims are read under one (suite compares filters)");
     settings.best_isa = select_isa(o->isa);
     validate(o->target);
     const std::vector<Configuration> plan = with_held_out(claims_plan(settings), settings);

@@ -2,6 +2,7 @@
 
 #include <tbb/info.h>
 
+#include <cstdio>
 #include <sstream>
 
 #include "heightmarch/error.hpp"
@@ -80,6 +81,12 @@ void add_trace_options(CLI::App& app, TraceOptions& o, bool exact_allowed) {
                  "(default: the technique's, 5; cone 4)")
       ->check(in_range(0, kMaxRefineSteps));
   app.add_option("--scale", o.scale, "height scale s")->check(in_range(0, 1))->capture_default_str();
+  app.add_option("--filter", o.filter,
+                 "bilinear (level 0, the surface the exact reference intersects) or trilinear (the depth map's mip "
+                 "chain at the level of each ray's pixel footprint, as a shipped shader reads it; a rays file has no "
+                 "pixel grid and reads level 0); default: bilinear, trilinear for --views tutorial (as the tutorial "
+                 "reads it)")
+      ->check(CLI::IsMember(filter_names()));
   app.add_flag("--discard", o.discard, "discard rays whose final uv leaves [0,1]^2");
   app.add_option("--light", o.light, "x,y,z direction towards the light (shadow)")->capture_default_str();
   app.add_option("--threads", o.threads, "worker threads (0: all cores)")->check(in_range(0, 1024))->capture_default_str();
@@ -175,6 +182,13 @@ Configuration trace_configuration(const TraceOptions& o, RunKind kind, LayerSpec
   p.refine = o.refine;
   p.scale = float(o.scale);
   p.wrap = c.heightfield.reading.wrap;
+  // The tutorial's scene is read as the tutorial reads its depth map, unless asked otherwise.
+  p.filter = !o.filter.empty()                          ? parse_filter(o.filter)
+             : c.view.kind == ViewSpec::Kind::tutorial ? Filter::trilinear
+                                                       : Filter::bilinear;
+  if (p.filter == Filter::trilinear && !o.rays.empty())
+    std::fprintf(stderr, "heightmarch: note: a rays file has no pixel grid: its rays read level 0 under --filter trilinear "
+                         "(docs/conventions.md#filters)\n");
   p.discard = o.discard;
   std::stringstream in(o.light);
   char c1 = 0, c2 = 0;

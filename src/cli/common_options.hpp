@@ -59,6 +59,7 @@ struct TraceOptions {
   std::string layers = "32";
   std::optional<int> refine;  // none: the technique's default (the registry's)
   double scale = 0.1;
+  std::string filter;  // empty: bilinear, or trilinear for the tutorial's scene
   bool discard = false;
   std::string light = "1,1,1";
   // The run

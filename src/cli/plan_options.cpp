@@ -34,6 +34,14 @@ void add_plan_options(CLI::App& command, PlanOptions& o, const std::string& quic
       "--view-angles", o.view_angles,
       "NEAR-FAR: the view angles from the normal, in degrees, that the default view spans from its near "
       "edge to its far edge (default 30-80); the sweeps cover the same span");
+  command
+      .add_option("--filter", o.filters,
+                  "the filter the run's figures are read with: bilinear (level 0; the default) or trilinear (the "
+                  "mip chain, as shipped shaders read it; the default of --views tutorial, as the tutorial reads "
+                  "it); suite: a second, comma-separated, adds the technique x layers "
+                  "matrix's accuracy under it, which the report sets beside the first's")
+      ->delimiter(',')
+      ->check(CLI::IsMember(filter_names()));
   add_views_option(command, o.views, "around");
 }
 
@@ -59,6 +67,16 @@ PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
   const double rays = double(settings.window.width) * settings.window.height;
   apply_views(o.views, settings.window);
   size_views_for_rays(settings.window, rays);
+  // The tutorial's scene is read as the tutorial reads its depth map, unless asked otherwise.
+  if (!o.filters.empty()) settings.filter = parse_filter(o.filters.front());
+  else if (settings.window.kind == ViewSpec::Kind::tutorial) settings.filter = Filter::trilinear;
+  for (const std::string& name : o.filters) {
+    const Filter filter = parse_filter(name);
+    if (filter != settings.filter &&
+        std::find(settings.compared_filters.begin(), settings.compared_filters.end(), filter) ==
+            settings.compared_filters.end())
+      settings.compared_filters.push_back(filter);
+  }
   settings.glsl = glsl;
   settings.repetitions = o.repetitions;
   return settings;

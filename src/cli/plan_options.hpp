@@ -28,12 +28,14 @@ struct PlanOptions {
   std::optional<double> scale;
   std::string view_angles;  // NEAR-FAR degrees; empty: the default view's
   std::string views = "around";  // the window (common_options.hpp's --views)
+  std::vector<std::string> filters;  // the run's filter, then the compared ones; none: bilinear
 };
 
 void add_plan_options(CLI::App& command, PlanOptions& options, const std::string& quick_help);
 
 // The default or quick settings with the options' heightfields, scale, window and its view angles,
-// threads and repetitions. Throws InputError for values CLI11 cannot check on its own.
+// filters (the tutorial's scene: trilinear unless asked), threads and repetitions. Throws
+// InputError for values CLI11 cannot check on its own.
 PlanSettings plan_settings(const PlanOptions& options, bool glsl);
 
 // In `session` (whose depth maps the caller may have loaded), or a session of its own.

@@ -166,7 +166,7 @@ Accuracy accuracy_of(const RowFields& f, int format_version) {
 // candidate's key at its seed + 1 is its twin's at its own.
 std::string twin_key(const RowFields& f, std::int64_t seed) {
   Json key = Json::array();
-  for (const char* field : {"kind", "backend", "threads", "technique", "layers", "refine", "scale", "wrap", "discard"})
+  for (const char* field : {"kind", "backend", "threads", "technique", "layers", "refine", "scale", "wrap", "filter", "discard"})
     key.push_back(f.optional(field));
   key.push_back(f.at(f.at("heightfield"), "label", "heightfield.label"));
   Json view = f.at("view");
@@ -213,6 +213,8 @@ std::optional<Candidate> candidate_of(const RowFields& f, int format_version) {
   c.grid = !glsl && (f.has_purpose("matrix") || f.has_purpose("claims"));
   c.technique = parse_technique(f.text(f.at("technique"), "technique"));
   c.layers = parse_layer_spec(f.text(f.at("layers"), "layers"));
+  // Runs before filters read level 0.
+  if (const Json& filter = f.optional("filter"); !filter.is_null()) c.filter = parse_filter(f.text(filter, "filter"));
   c.selection = accuracy_of(f, format_version);
   const Json& samples = f.at("samples_per_ray");
   c.samples_per_ray = samples.is_null() ? 0.0 : f.number(samples, "samples_per_ray", 0.0, kLargest);

@@ -151,7 +151,8 @@ Command add_suite_command(CLI::App& app) {
   command->add_flag(
       "--dry-run", o->dry_run,
       "list the configurations the run would measure (heightfield, kind, technique, layers, backend, "
-      "threads, view, timed or accuracy only, purposes; tab-separated) and measure nothing");
+      "threads, view, filter (- for the exact reference and the calibration loop), timed or accuracy only, purposes; tab-separated) and "
+      "measure nothing");
   return [o] {
     PlanSettings settings = plan_settings(o->plan, !o->no_glsl);
     if (settings.glsl) settings.gl = gl_target(o->gl);

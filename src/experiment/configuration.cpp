@@ -20,7 +20,7 @@ std::string to_string(RunKind kind) { return std::string(info(kind).name); }
 std::string purpose_name(unsigned bit) {
   static const char* const names[kPurposeCount] = {"matrix", "isa",     "glsl",   "roofline", "naive",
                                                    "sweep",  "gallery", "claims", "command", "large-maps",
-                                                   "exact",  "held-out", "calibration"};
+                                                   "exact",  "held-out", "calibration", "filters"};
   for (unsigned i = 0; i < kPurposeCount; ++i)
     if (bit == (1u << i)) return names[i];
   return "?";
@@ -44,7 +44,7 @@ bool Configuration::same_measurement(const Configuration& o) const {
   const TechniqueParams &a = params, &b = o.params;
   const bool same_params = (!has_technique() || a.technique == b.technique) && a.layers == b.layers &&
                            a.refine_steps() == b.refine_steps() && a.scale == b.scale && a.wrap == b.wrap &&
-                           a.discard == b.discard && std::memcmp(a.light, b.light, sizeof a.light) == 0;
+                           (!takes_filter(kind) || a.filter == b.filter) && a.discard == b.discard && std::memcmp(a.light, b.light, sizeof a.light) == 0;
   const bool same_isa = !on_isa() || isa == o.isa;
   const bool same_gl = kind != RunKind::glsl || gl == o.gl;
   return kind == o.kind && heightfield == o.heightfield && view == o.view && same_params && same_isa &&
@@ -59,7 +59,7 @@ std::string plan_line(const Configuration& c) {
   // a line for a terminal: names from the user's files (map, shader, rays) through printable()
   return printable(c.heightfield.label()) + "\t" + to_string(c.kind) + "\t" + printable(c.label()) + "\t" + layers + "\t" +
          c.backend() + "\t" + std::to_string(c.threads) + "\t" + printable(describe(c.view)) + "\t" +
-         (c.timed ? "timed" : "accuracy") + "\t" + purposes;
+         (c.has_filter() ? to_string(c.params.filter) : "-") + "\t" + (c.timed ? "timed" : "accuracy") + "\t" + purposes;
 }
 
 void add_to_plan(std::vector<Configuration>& plan, const Configuration& config) {
@@ -87,8 +87,11 @@ std::string benchmark_name(const Configuration& c, int map_width, int map_height
     const GlTarget gl = c.gl.path ? c.gl : resolved(c.gl);
     name += "/gl:" + to_string(*gl.path) + (gl.device.empty() ? "" : "@" + gl.device);
   }
-  return name + "/view:" + benchmark_view(c.view) + "/depth_map:" + std::to_string(map_width) + "x" +
-         std::to_string(map_height);
+  name += "/view:" + benchmark_view(c.view) + "/depth_map:" + std::to_string(map_width) + "x" +
+          std::to_string(map_height);
+  // Bilinear by no segment, as names have always read.
+  if (takes_filter(c.kind) && c.params.filter != Filter::bilinear) name += "/filter:" + to_string(c.params.filter);
+  return name;
 }
 
 std::string benchmark_view(const ViewSpec& view) {

@@ -52,6 +52,14 @@ struct RunKindInfo {
 const RunKindInfo& info(RunKind kind);
 std::string to_string(RunKind kind);
 
+// Whether a run kind samples with its configuration's filter (TechniqueParams::filter): the
+// kernels, their anchors and GLSL do; the ports (and POM's structure on Highway's ops) are their
+// code as written (level 0), and the exact reference intersects the level-0 surface whatever the
+// filter.
+constexpr bool takes_filter(RunKind kind) {
+  return kind == RunKind::trace || kind == RunKind::glsl || kind == RunKind::roofline || kind == RunKind::ceiling;
+}
+
 // Which consumers of a run asked for a configuration; one configuration serves all of them.
 enum Purpose : unsigned {
   kPurposeMatrix = 1u << 0,    // technique x layers per heightfield
@@ -67,8 +75,9 @@ enum Purpose : unsigned {
   kPurposeExact = 1u << 10,    // the exact reference's own speed
   kPurposeHeldOut = 1u << 11,  // a candidate's accuracy on the held-out view set (recommendation.hpp)
   kPurposeCalibration = 1u << 12,  // the machine's own speed: the control of scripts/compare
+  kPurposeFilters = 1u << 13,  // the matrix's accuracy under the other filters asked for
 };
-inline constexpr unsigned kPurposeCount = 13;
+inline constexpr unsigned kPurposeCount = 14;
 inline constexpr unsigned kAllPurposes = (1u << kPurposeCount) - 1;
 std::string purpose_name(unsigned single_purpose_bit);
 
@@ -86,7 +95,8 @@ struct Configuration {
   RunKind kind = RunKind::trace;
   HeightfieldSource heightfield;
   ViewSpec view;
-  TechniqueParams params;    // the technique is ignored by roofline, ceiling, exact and brought-in shader runs
+  TechniqueParams params;    // the technique is ignored by roofline, ceiling, exact and brought-in shader runs, the
+                             // filter by the kinds that do not take one (takes_filter)
   Isa isa = Isa::scalar;     // trace, roofline, ceiling, autovec and highway runs; exact runs: the ISA of its float pass
   int threads = 1;           // worker threads (never 0: resolved by the plan)
   std::optional<BroughtInShader> shader;  // glsl runs: a brought-in shader instead of the technique
@@ -102,6 +112,9 @@ struct Configuration {
   // Whether a layer spec is part of the configuration (the exact reference and the calibration
   // loop take none).
   bool has_layers() const { return kind != RunKind::exact && kind != RunKind::calibration; }
+  // Whether a filter is part of its row (params.filter; the ports' is bilinear, level 0): the
+  // exact reference is every filter's, and the calibration loop reads no map.
+  bool has_filter() const { return has_layers(); }
   // Whether the configuration runs code built for its ISA.
   bool on_isa() const { return info(kind).runs_at_isa; }
   // What traces, for people and result files: the technique ("pom"), the brought-in shader
@@ -115,7 +128,8 @@ struct Configuration {
 
 // The configuration as one tab-separated line, as `suite --dry-run` and `heightmarch-bench
 // --hm_dry_run` list a plan: heightfield, kind, what traces, layers (none for exact), backend,
-// threads, view, "timed" or "accuracy", purposes (comma-separated).
+// threads, view, filter ("-" where the row has none: Configuration::has_filter), "timed" or
+// "accuracy", purposes (comma-separated).
 std::string plan_line(const Configuration& config);
 
 // Adds a configuration to a plan, or merges it into the same measurement already there
@@ -127,7 +141,8 @@ void add_to_plan(std::vector<Configuration>& plan, const Configuration& config);
 // view:1024x1024/depth_map:512x512 (Google Benchmark appends /manual_time: each trace times itself).
 // A brought-in shader's segment is shader:FILE_NAME instead of technique:NAME. A GLSL run's names
 // its GL path after its threads, and the device asked for: gl:osmesa, gl:egl, gl:egl@renderD128
-// (a path not given is resolved, by asking the worker).
+// (a path not given is resolved, by asking the worker). A trilinear configuration's name ends in
+// /filter:trilinear (bilinear has no segment, as before filters).
 std::string benchmark_name(const Configuration& config, int depth_map_width, int depth_map_height);
 // Its view: the single default view by its size ("1024x1024"), any other (a view set, a sweep) as
 // described in one field ("around:1024x1024", "around:1024x1024:seed:2"): another series.

@@ -83,6 +83,7 @@ std::vector<Candidate> candidates(const std::vector<Measurement>& rows) {
     k.grid = c.purposes & (kPurposeMatrix | kPurposeClaims);
     k.technique = c.params.technique;
     k.layers = c.params.layers;
+    k.filter = c.params.filter;
     k.selection = accuracy_of(*m.errors);
     Configuration twin = c;
     twin.view = held_out_view(c.view);
@@ -225,6 +226,11 @@ Recommendation recommend(const std::vector<Candidate>& all, const Recommendation
   validate(target);
   Recommendation out;
   out.target = target;
+  if (!all.empty()) out.filter = all.front().filter;
+  for (const Candidate& c : all)
+    if (c.filter != out.filter)
+      throw InputError("candidates read with both filters: a recommendation is made under one (rows " +
+                       std::to_string(all.front().id) + " and " + std::to_string(c.id) + ")");
   for (const RecommendationBackend& backend : declared_backends(all)) {
     std::vector<Candidate> rows;
     for (const Candidate& c : all)
@@ -429,6 +435,7 @@ std::string recommendation_json(const Recommendation& r) {
       .value("frames", r.target.frames)
       .value("description", describe(r.target))
       .end_object();
+  json.value("filter", to_string(r.filter));
   json.begin_array("backends");
   for (const BackendRecommendation& b : r.backends) {
     json.begin_object()
@@ -445,8 +452,8 @@ std::string recommendation_json(const Recommendation& r) {
 }
 
 std::string recommendation_markdown(const Recommendation& r) {
-  std::string md = "At " + describe(r.target) +
-                   ", the fastest configuration by time per ray (median (min-max) over "
+  std::string md = "At " + describe(r.target) + ", " + to_string(r.filter) +
+                   " filtering, the fastest configuration by time per ray (median (min-max) over "
                    "the repetitions) on each heightfield, and one setting for all of them:\n\n"
                    "| backend | heightfield | recommendation |\n|---|---|---|\n";
   for (const BackendRecommendation& b : r.backends) {
@@ -460,7 +467,8 @@ std::string recommendation_markdown(const Recommendation& r) {
 }
 
 std::string recommendation_text(const Recommendation& r) {
-  std::string text = "Recommendation at " + describe(r.target) + ", fastest by time per ray:\n";
+  std::string text =
+      "Recommendation at " + describe(r.target) + ", " + to_string(r.filter) + " filtering, fastest by time per ray:\n";
   for (const BackendRecommendation& b : r.backends) {
     text +=
         "  " + b.backend.name() + ", every heightfield: " + answer_line(b.all_heightfields, r.target) + "\n";

@@ -69,6 +69,7 @@ struct Candidate {
   bool grid = false;  // of the technique x layers grid or the claims: its CPU backend is a declared one
   Technique technique = Technique::pom;
   LayerSpec layers;
+  Filter filter = Filter::bilinear;  // the run's: one filter per recommendation
   Accuracy selection;               // on the window, where the choice is made
   std::optional<Accuracy> held_out;  // on the held-out set, where it is checked
   int held_out_id = -1;
@@ -134,11 +135,12 @@ struct BackendRecommendation {
 
 struct Recommendation {
   RecommendationTarget target;
+  Filter filter = Filter::bilinear;  // the one its candidates were measured with
   std::vector<BackendRecommendation> backends;
 };
 
 // The declared backends are those of the grid's CPU rows, and GLSL at their thread counts. Throws
-// InputError for a target validate() refuses.
+// InputError for a target validate() refuses, or candidates of more than one filter.
 Recommendation recommend(const std::vector<Candidate>& candidates, const RecommendationTarget& target);
 
 // recommendation.json (docs/measurements.md; format 2 added the held-out figures, their intervals

@@ -148,8 +148,10 @@ void write_row(JsonWriter& json, const Measurement& m) {
     json.null("near_angle").null("far_angle");
   json.value("description", describe(view)).end_object();
   json.value("scale", double(c.params.scale))
-      .value("wrap", to_string(c.params.wrap))
-      .value("discard", c.params.discard)
+      .value("wrap", to_string(c.params.wrap));
+  // The ports read level 0 (bilinear); the exact reference is every filter's.
+  c.has_filter() ? json.value("filter", to_string(c.params.filter)) : json.null("filter");
+  json.value("discard", c.params.discard)
       .value("rays", m.rays);
   if (m.samples_known)
     json.value("samples", (long long)m.samples)

@@ -5,12 +5,13 @@
 namespace heightmarch {
 namespace {
 
-// A key of what changes a run's output among the configurations of one scene.
-std::string params_key(const TechniqueParams& p, bool with_technique) {
+// A key of what changes a run's output among the configurations of one scene; the exact reference
+// is a technique's and a filter's alike (the level-0 surface).
+std::string params_key(const TechniqueParams& p, bool with_technique, bool with_filter) {
   char buf[256];
-  std::snprintf(buf, sizeof buf, "%d/%g/%g/%d/%a/%d/%d/%a/%a/%a", with_technique ? int(p.technique) : -1,
-                p.layers.min_layers, p.layers.max_layers, p.refine_steps(), p.scale, int(p.wrap), int(p.discard),
-                p.light[0], p.light[1], p.light[2]);
+  std::snprintf(buf, sizeof buf, "%d/%g/%g/%d/%a/%d/%d/%d/%a/%a/%a", with_technique ? int(p.technique) : -1,
+                p.layers.min_layers, p.layers.max_layers, p.refine_steps(), p.scale, int(p.wrap),
+                with_filter ? int(p.filter) : -1, int(p.discard), p.light[0], p.light[1], p.light[2]);
   return buf;
 }
 
@@ -20,13 +21,13 @@ Scene::Scene(const DepthMap& map, const ViewSpec& view) : map(map), rays(make_vi
 
 const HitBuffers& Scene::exact(const TechniqueParams& params) {
   const LightVisibility visibility = visibility_for(params.technique);
-  auto& slot = exact_[params_key(params, false) + (visibility == LightVisibility::compute ? "/visibility" : "")];
+  auto& slot = exact_[params_key(params, false, false) + (visibility == LightVisibility::compute ? "/visibility" : "")];
   if (!slot) slot = std::make_unique<HitBuffers>(exact_hits(map, rays, params, visibility));
   return *slot;
 }
 
 const HitBuffers& Scene::reference(RunKind kind, const TechniqueParams& params, TracerRun run) {
-  auto& slot = references_[to_string(kind) + "/" + params_key(params, info(kind).traces_technique)];
+  auto& slot = references_[to_string(kind) + "/" + params_key(params, info(kind).traces_technique, true)];
   if (!slot) {
     slot = std::make_unique<HitBuffers>();
     (Tracer(map, params, Isa::scalar).*run)(rays, *slot);

@@ -28,6 +28,7 @@ Configuration on_view(const PlanSettings& s, const HeightfieldSource& hf, RunKin
   c.view = s.window;
   c.params.scale = s.scale;
   c.params.wrap = hf.reading.wrap;  // as the map's user means it sampled
+  c.params.filter = takes_filter(kind) ? s.filter : Filter::bilinear;
   c.isa = s.best_isa;
   c.threads = s.threads;
   if (kind == RunKind::glsl) c.gl = s.gl;
@@ -232,6 +233,12 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
         const TechniqueInfo& t = info(technique);
         add_to_plan(plan, with_technique(on_view(s, hf, RunKind::trace, kPurposeMatrix), t.id, layers));
         if (s.glsl) add_to_plan(plan, with_technique(on_view(s, hf, RunKind::glsl, kPurposeGlsl), t.id, layers));
+        for (Filter filter : s.compared_filters) {
+          Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeFilters), t.id, layers);
+          c.params.filter = filter;
+          c.timed = false;
+          add_to_plan(plan, c);
+        }
         if (s.matrix_everywhere)
           for (int threads : s.thread_counts)
             for (Isa isa : s.isas) {

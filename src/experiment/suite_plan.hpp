@@ -22,6 +22,10 @@ struct PlanSettings {
   std::vector<LayerSpec> layer_specs;
   std::vector<LayerSpec> few_layer_specs;    // the sweeps' and GLSL's at fewer threads: 8, 32, 8-32
   float scale = 0.1f;                        // height scale of every configuration
+  // The filter every configuration that takes one reads with (takes_filter); and others whose
+  // effect the run shows: the technique x layers matrix under each, accuracy only (kPurposeFilters).
+  Filter filter = Filter::bilinear;
+  std::vector<Filter> compared_filters;
   // The window of the rows on the default view (the matrix, the searches at every ISA, GLSL, the
   // anchors, the claims): the default view turned around the surface unless asked otherwise
   // (--views), at its span of view angles; its held-out set checks the recommendation's candidates
@@ -72,7 +76,8 @@ PlanSettings suite_settings(bool quick, int threads);
 std::vector<double> sweep_angles(float near_degrees, float far_degrees);
 
 // Everything a suite run measures: the matrix, POM-32 at every ISA and thread count, GLSL, the
-// roofline, the naive port, the calibration loop, sweeps, the gallery and the claims' rows.
+// roofline, the naive port, the calibration loop, sweeps, the gallery, the claims' rows and the
+// matrix's accuracy under the compared filters.
 std::vector<Configuration> suite_plan(const PlanSettings& settings);
 
 // What heightmarch-bench times: the timed configurations of suite_plan(settings), in its order.

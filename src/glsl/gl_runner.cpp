@@ -15,6 +15,7 @@
 #include "glsl_sources.hpp"
 #include "heightmarch/error.hpp"
 #include "heightmarch/memory_budget.hpp"
+#include "heightmarch/mip_chain.hpp"
 #include "heightmarch/precomputed.hpp"
 #include "util/input_file.hpp"
 
@@ -24,13 +25,16 @@ namespace {
 
 constexpr int kRowWidth = 1024;  // rays per framebuffer row
 // What the worker holds per ray of a batch beside the request it came in, asked of its budget
-// before the textures are made: their staging (32 bytes), the origin and direction textures and
-// the two attachments of the hits' outputs (64), the read-back (32), the hits and their answer
-// (42); measured, about 170 bytes a ray at 1024 x 1024 rays.
-constexpr double kWorkerBytesPerRay = 176.0;
+// before the textures are made: their staging (48 bytes), the origin, direction and footprint
+// textures and the two attachments of the hits' outputs (80), the read-back (32), the hits and their
+// answer (42); measured, about 170 bytes a ray at 1024 x 1024 rays before the footprints' 32.
+constexpr double kWorkerBytesPerRay = 208.0;
 // And per texel of a depth map: its texture and the copy kept for the precomputed textures (8),
 // the min-depth pyramid and its atlas when a technique reads them (11); a cone map asks itself.
 constexpr double kWorkerBytesPerTexel = 20.0;
+// And per texel of a mip chain's levels 1 and up (a third of level 0's texels at most), uploaded on
+// the first trilinear prepare: their staging and texture (8; build_mip_chain asks for the chain).
+constexpr double kWorkerBytesPerMipTexel = 8.0;
 constexpr std::size_t kMaxPrograms = 64;  // far more than techniques, a bound for brought-in shaders
 const float kUndrawn = std::numeric_limits<float>::quiet_NaN();  // the hits' clear value
 
@@ -76,15 +80,21 @@ GLuint compile(GLenum type, const std::string& source, const std::string& user_p
 struct GlRunner::State {
   GLuint vao = 0, framebuffer = 0, program = 0;
   GLuint timer_query = 0;
-  GLuint depth_texture = 0, origin_texture = 0, direction_texture = 0;
+  GLuint depth_texture = 0, origin_texture = 0, direction_texture = 0, footprint_texture = 0;
   std::vector<GLuint> output_textures;  // the hits' outputs' attachments (hit_outputs.hpp)
-  // Per kind of precomputed texture (precomputed.hpp): its texture and its int uniforms.
+  // Per kind of precomputed texture (precomputed.hpp): its texture and its int uniforms; a linearly
+  // filtered one holds its mip chain's levels up to last_level too (trilinear reads them).
   struct Precomputed {
     GLuint texture = 0;
     std::vector<std::pair<std::string, std::vector<std::int32_t>>> uniforms;
+    bool linear = false;
+    int last_level = 0;
   };
   Precomputed uploaded[kPrecomputedKindCount];
   DepthMap map;              // kept for the textures derived from it
+  // The last level of the depth map's mip chain uploaded to its texture (on the first trilinear
+  // prepare of the map); 0: level 0 alone.
+  int depth_last_level = 0;
   // The precomputed textures last built (precomputed_needs) and their wrap mode; -1: none since
   // the depth map was set.
   PrecomputedTextures precomputed;
@@ -134,6 +144,39 @@ GLuint float_texture(GLuint texture, GLenum internal, GLenum format, int width, 
   return texture;
 }
 
+// Levels 1 and up of the mip chain of a float image of `channels` interleaved channels into the
+// bound texture (level 0 is there), each channel's chain built alike; returns the last level. The
+// chain is heightmarch's (build_mip_chain), so GL samples the same floats as the CPU, whatever
+// its own glGenerateMipmap would make.
+int upload_mip_levels(int width, int height, int channels, const std::vector<float>& texels) {
+  std::vector<std::vector<DepthMap>> chains;
+  for (int c = 0; c < channels; ++c) {
+    DepthMap channel{width, height, std::vector<float>(texels.size() / std::size_t(channels))};
+    for (std::size_t i = 0; i < channel.texels.size(); ++i) channel.texels[i] = texels[i * std::size_t(channels) + std::size_t(c)];
+    chains.push_back(build_mip_chain(channel));
+  }
+  const std::vector<DepthMap>& first = chains.front();
+  std::vector<float> level_texels;
+  for (std::size_t level = 1; level < first.size(); ++level) {
+    const std::size_t count = first[level].texels.size();
+    level_texels.resize(count * std::size_t(channels));
+    for (std::size_t c = 0; c < chains.size(); ++c)
+      for (std::size_t i = 0; i < count; ++i) level_texels[i * chains.size() + c] = chains[c][level].texels[i];
+    glTexImage2D(GL_TEXTURE_2D, GLint(level), channels == 2 ? GL_RG32F : GL_R32F, first[level].width,
+                 first[level].height, 0, channels == 2 ? GL_RG : GL_RED, GL_FLOAT, level_texels.data());
+  }
+  return int(first.size()) - 1;
+}
+
+// The run's filter on a texture holding levels up to last_level: GL_LINEAR on level 0, or
+// GL_LINEAR_MIPMAP_LINEAR over the chain.
+void set_filter(GLuint texture, Filter filter, int last_level) {
+  glBindTexture(GL_TEXTURE_2D, texture);
+  const bool trilinear = filter == Filter::trilinear;
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, trilinear ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, trilinear ? last_level : 0);
+}
+
 void check_side(int side) {
   GLint max_size = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
@@ -171,6 +214,7 @@ void GlRunner::set_depth_map(const DepthMap& map) {
                           " depth map");
   // R32F, GL_LINEAR on level 0; prepare() sets the run's wrap mode.
   s.depth_texture = float_texture(s.depth_texture, GL_R32F, GL_RED, map.width, map.height, map.texels.data(), GL_LINEAR, GL_REPEAT);
+  s.depth_last_level = 0;
   s.map = map;
   s.precomputed = {};
   s.precomputed_needs = Needs::nothing;
@@ -188,7 +232,8 @@ void GlRunner::set_rays(const RayBatch& rays) {
   s.width = kRowWidth;
   s.height = height;
   // One texel each in batch order; the last row's tail repeats a harmless straight-down ray.
-  std::vector<float> origins(std::size_t(s.width) * s.height * 4, 0.5f), directions(origins.size(), 0.0f);
+  std::vector<float> origins(std::size_t(s.width) * s.height * 4, 0.5f), directions(origins.size(), 0.0f),
+      footprints(origins.size(), 0.0f);
   for (std::size_t i = 0; i < origins.size() / 4; ++i) directions[4 * i + 2] = 1.0f;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     origins[4 * i] = rays.tx[i];
@@ -196,9 +241,14 @@ void GlRunner::set_rays(const RayBatch& rays) {
     directions[4 * i] = rays.vx[i];
     directions[4 * i + 1] = rays.vy[i];
     directions[4 * i + 2] = rays.vz[i];
+    footprints[4 * i] = rays.du_dx[i];
+    footprints[4 * i + 1] = rays.dv_dx[i];
+    footprints[4 * i + 2] = rays.du_dy[i];
+    footprints[4 * i + 3] = rays.dv_dy[i];
   }
   s.origin_texture = float_texture(s.origin_texture, GL_RGBA32F, GL_RGBA, s.width, s.height, origins.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
   s.direction_texture = float_texture(s.direction_texture, GL_RGBA32F, GL_RGBA, s.width, s.height, directions.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
+  s.footprint_texture = float_texture(s.footprint_texture, GL_RGBA32F, GL_RGBA, s.width, s.height, footprints.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
   s.output_textures.resize(std::size_t(hit_output_attachments()));
   glBindFramebuffer(GL_FRAMEBUFFER, s.framebuffer);
   std::vector<GLenum> buffers;
@@ -222,6 +272,7 @@ void GlRunner::compile(const TechniqueParams& params, const std::string& shader_
   // The program: the harness, then the technique and main; a brought-in file comes last, so its
   // conflicts with the harness's names are reported at its own lines.
   std::string fragment = "#version 330 core\n";
+  if (params.filter == Filter::trilinear) fragment += "#define TRILINEAR\n";
   if (shader_path.empty()) {
     fragment += glsl("prelude.glsl") + hit_outputs_glsl() + glsl("steep.glsl") + glsl("techniques.glsl") + "#define TECHNIQUE(T, V) " +
                 std::string(info(params.technique).glsl_call) + "\n" + glsl("main.glsl");
@@ -252,9 +303,19 @@ void GlRunner::prepare(const TechniqueParams& params) {
     throw std::logic_error("prepare before a depth map and rays were set and a program compiled");
   s.discard = params.discard;
   const std::string& shader_path = s.shader_path;
-  // The run's wrap mode on the kept depth texture.
+  // The run's wrap mode and filter on the kept depth texture; its mip chain on the first
+  // trilinear prepare of the map (a brought-in shader's texture() reads it too).
   const GLint wrap = params.wrap == Wrap::repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE;
+  const bool trilinear = params.filter == Filter::trilinear;
+  glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, s.depth_texture);
+  if (trilinear && s.depth_last_level == 0 && mip_level_count(s.map.width, s.map.height) > 1) {
+    check_memory_budget(kWorkerBytesPerMipTexel * double(s.map.texels.size()) / 3.0,
+                        "the mip chain of a " + std::to_string(s.map.width) + "x" + std::to_string(s.map.height) +
+                            " depth map");
+    s.depth_last_level = upload_mip_levels(s.map.width, s.map.height, 1, s.map.texels);
+  }
+  set_filter(s.depth_texture, params.filter, s.depth_last_level);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap);
   // Uniforms.
@@ -266,9 +327,15 @@ void GlRunner::prepare(const TechniqueParams& params) {
   glBindTexture(GL_TEXTURE_2D, s.origin_texture);
   glActiveTexture(GL_TEXTURE2);
   glBindTexture(GL_TEXTURE_2D, s.direction_texture);
+  glActiveTexture(GL_TEXTURE3);
+  glBindTexture(GL_TEXTURE_2D, s.footprint_texture);
   glUniform1i(uniform("depthMap"), 0);
   glUniform1i(uniform("rayOrigins"), 1);
   glUniform1i(uniform("rayDirections"), 2);
+  if (trilinear) {
+    glUniform1i(uniform("rayFootprints"), 3);
+    glUniform1f(uniform("depthMaxRho2"), std::ldexp(1.0f, 2 * s.depth_last_level));
+  }
   glUniform1f(uniform("heightScale"), params.scale);
   glUniform1f(uniform("minLayers"), params.layers.min_layers);
   glUniform1f(uniform("maxLayers"), params.layers.max_layers);
@@ -293,6 +360,8 @@ void GlRunner::prepare(const TechniqueParams& params) {
                                  image.channels == 2 ? GL_RG : GL_RED, image.width, image.height,                   \
                                  image.texels.data(), image.linear ? GL_LINEAR : GL_NEAREST,                        \
                                  image.run_wrap ? wrap : GL_CLAMP_TO_EDGE);                                         \
+    slot.linear = image.linear;                                                                                    \
+    slot.last_level = image.linear ? upload_mip_levels(image.width, image.height, image.channels, image.texels) : 0; \
     slot.uniforms = std::move(image.uniforms);                                                                     \
   }
     HEIGHTMARCH_PRECOMPUTED_TEXTURES(HEIGHTMARCH_UPLOAD_PRECOMPUTED)
@@ -304,6 +373,7 @@ void GlRunner::prepare(const TechniqueParams& params) {
     const State::Precomputed& slot = s.uploaded[int(PrecomputedKind::id)];                      \
     glActiveTexture(GL_TEXTURE0 + unit);                                                         \
     glBindTexture(GL_TEXTURE_2D, slot.texture);                                                  \
+    if (slot.linear) set_filter(slot.texture, params.filter, slot.last_level);                   \
     glUniform1i(uniform(sampler), unit);                                                         \
     for (const auto& [name, values] : slot.uniforms)                                             \
       glUniform1iv(uniform(name.c_str()), GLsizei(values.size()), values.data());                \

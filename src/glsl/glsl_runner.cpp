@@ -100,11 +100,6 @@ bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
   return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0);
 }
 
-// The arrays of a batch the worker reads (protocol::write(RayBatch) sends these).
-std::array<const std::vector<float>*, 5> ray_arrays(const RayBatch& rays) {
-  return {&rays.tx, &rays.ty, &rays.vx, &rays.vy, &rays.vz};
-}
-
 std::string describe_status(int status) {
   if (WIFEXITED(status)) return "exited with status " + std::to_string(WEXITSTATUS(status));
   if (WIFSIGNALED(status))
@@ -134,7 +129,7 @@ struct WorkerProcess {
   // the suite prepares every configuration on the same scene, and these are 20+ MB at 1024x1024.
   // Contents, not pointers, decide: a caller's buffer may be refilled in place or reused.
   std::optional<DepthMap> sent_map;
-  std::optional<std::array<std::vector<float>, 5>> sent_rays;
+  std::optional<std::array<std::vector<float>, protocol::kRayArrays>> sent_rays;
   // The last prepare that succeeded: what a draw is bounded by and whose fault a draw past it is.
   bool prepared = false;
   std::string shader_path;
@@ -147,7 +142,7 @@ struct WorkerProcess {
   }
   bool holds(const RayBatch& rays) const {
     if (!sent_rays) return false;
-    const auto arrays = ray_arrays(rays);
+    const auto arrays = protocol::ray_arrays(rays);
     for (std::size_t i = 0; i < arrays.size(); ++i)
       if (!same_bits((*sent_rays)[i], *arrays[i])) return false;
     return true;
@@ -523,7 +518,11 @@ void GlslRunner::prepare(const DepthMap& map, const TechniqueParams& params, con
     throw;
   }
   if (send_map) w.sent_map = map;
-  if (send_rays) w.sent_rays = {rays.tx, rays.ty, rays.vx, rays.vy, rays.vz};
+  if (send_rays) {
+    w.sent_rays.emplace();
+    const auto arrays = protocol::ray_arrays(rays);
+    for (std::size_t i = 0; i < arrays.size(); ++i) (*w.sent_rays)[i] = *arrays[i];
+  }
   w.prepared = true;
   w.shader_path = shader_path;
   w.rays = rays.size();

@@ -22,6 +22,7 @@ struct WireParams {
   std::int32_t technique = 0;
   float min_layers = 0, max_layers = 0, scale = 0;
   std::int32_t wrap = 0;
+  std::int32_t filter = 0;
   std::uint8_t discard = 0;
   float light[3] = {};
   std::int32_t refine = 0;  // resolved: the registry's default where none was given
@@ -35,6 +36,7 @@ void wire_fields(Io& io, Wire& p) {
   io.value(p.max_layers);
   io.value(p.scale);
   io.value(p.wrap);
+  io.value(p.filter);
   io.value(p.discard);
   for (auto& l : p.light) io.value(l);
   io.value(p.refine);
@@ -49,6 +51,7 @@ TechniqueParams read_params(Reader& r) {
   params.layers = {wire.min_layers, wire.max_layers};
   params.scale = wire.scale;
   params.wrap = Wrap(wire.wrap);
+  params.filter = Filter(wire.filter);
   params.discard = wire.discard != 0;
   std::copy(std::begin(wire.light), std::end(wire.light), params.light);
   params.refine = wire.refine;
@@ -67,7 +70,7 @@ DepthMap read_map(Reader& r) {
 
 RayBatch read_rays(Reader& r) {
   RayBatch rays;
-  for (auto* a : {&rays.tx, &rays.ty, &rays.vx, &rays.vy, &rays.vz}) r.array(*a);
+  for (auto* a : ray_arrays(rays)) r.array(*a);
   check_rays(rays);
   return rays;
 }
@@ -76,6 +79,14 @@ constexpr std::size_t kMaxPathBytes = 4096;  // PATH_MAX
 
 }  // namespace
 
+std::array<const std::vector<float>*, kRayArrays> ray_arrays(const RayBatch& rays) {
+  return {&rays.tx, &rays.ty, &rays.vx, &rays.vy, &rays.vz, &rays.du_dx, &rays.dv_dx, &rays.du_dy, &rays.dv_dy};
+}
+
+std::array<std::vector<float>*, kRayArrays> ray_arrays(RayBatch& rays) {
+  return {&rays.tx, &rays.ty, &rays.vx, &rays.vy, &rays.vz, &rays.du_dx, &rays.dv_dx, &rays.du_dy, &rays.dv_dy};
+}
+
 void write(Writer& w, const TechniqueParams& params) {
   WireParams wire;
   wire.technique = std::int32_t(params.technique);
@@ -83,6 +94,7 @@ void write(Writer& w, const TechniqueParams& params) {
   wire.max_layers = params.layers.max_layers;
   wire.scale = params.scale;
   wire.wrap = std::int32_t(params.wrap);
+  wire.filter = std::int32_t(params.filter);
   wire.discard = params.discard ? 1 : 0;
   std::copy(std::begin(params.light), std::end(params.light), wire.light);
   wire.refine = params.refine_steps();
@@ -96,7 +108,7 @@ void write(Writer& w, const DepthMap& map) {
 }
 
 void write(Writer& w, const RayBatch& rays) {
-  for (const auto* a : {&rays.tx, &rays.ty, &rays.vx, &rays.vy, &rays.vz}) w.array(*a);
+  for (const auto* a : ray_arrays(rays)) w.array(*a);
 }
 
 void write(Writer& w, const HitBuffers& hits) {

@@ -23,6 +23,7 @@
 // allocates anything; a payload is then read piece by piece, so a header that lies about its size
 // costs only the bytes that came) or fields that do not fit it; the worker checks every field of
 // a request with the checks the command line uses (read_request) before it acts on any.
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <cstring>
@@ -41,7 +42,7 @@
 
 namespace heightmarch::glsl_protocol {
 
-inline constexpr std::uint32_t kVersion = 5;
+inline constexpr std::uint32_t kVersion = 6;
 inline constexpr std::uint32_t kMagic = 0x4c474d48;  // "HMGL": a stray write to stdout is caught at once
 // The worker's exit status when an allocation failed outside a request (reading one, starting).
 inline constexpr int kOutOfMemoryStatus = 3;
@@ -149,10 +150,15 @@ class Reader {
   std::size_t at_ = 0;
 };
 
+// The arrays of a batch the GL run reads, in wire order: T, V and the gradients.
+inline constexpr std::size_t kRayArrays = 9;
+std::array<const std::vector<float>*, kRayArrays> ray_arrays(const RayBatch& rays);
+std::array<std::vector<float>*, kRayArrays> ray_arrays(RayBatch& rays);
+
 // The one place that knows TechniqueParams' fields (params_fields in protocol.cpp, for both directions).
 void write(Writer& w, const TechniqueParams& params);
 void write(Writer& w, const DepthMap& map);
-// Only T and V (tx, ty, vx, vy, vz): all the GL run reads of a batch.
+// Only T, V and the gradients: all the GL run reads of a batch.
 void write(Writer& w, const RayBatch& rays);
 void write(Writer& w, const HitBuffers& hits);
 // Hits as the worker answers them, for `rays` rays: arrays of that length, or BadMessage.
@@ -168,7 +174,7 @@ void read(Reader& r, std::vector<GlDevice>& devices);
 struct PrepareRequest {
   TechniqueParams params;
   std::optional<DepthMap> map;   // none: the worker's last one
-  std::optional<RayBatch> rays;  // only T and V; none: the worker's last ones
+  std::optional<RayBatch> rays;  // only T, V and the gradients; none: the worker's last ones
   std::string shader_path;       // a brought-in shader's file, or empty
 };
 struct DrawRequest {};

@@ -110,8 +110,8 @@ Hit secant(vec2 T, vec3 V) {
   return hitAt(aUv * w + bUv * oneMinusW, aDepth * w + bDepth * oneMinusW);
 }
 
-// cone.hpp: the relaxed cone map, RG32F (depth, cone ratio), GL_LINEAR, the depth map's wrap; a
-// read this close above the surface ends the stepping (2^-16).
+// cone.hpp: the relaxed cone map, RG32F (depth, cone ratio), GL_LINEAR (trilinear: over the mip
+// chains of both), the depth map's wrap; a read this close above the surface ends the stepping (2^-16).
 uniform sampler2D coneMap;
 const float kConeReached = 1.52587890625e-5;
 
@@ -129,7 +129,7 @@ Hit cone(vec2 T, vec3 V) {
   for (int stepIndex = 0; stepIndex < maxStepBound() && marching; ++stepIndex) {
     vec2 uv = vec2(T.x - pX * t, T.y - pY * t);
     samples += 1.0;
-    vec2 depthAndCone = textureLod(coneMap, uv, 0.0).rg;
+    vec2 depthAndCone = textureLod(coneMap, uv, depthLod).rg;
     float depth = depthAndCone.r, c = depthAndCone.g;
     bool stepping = depth - t > kConeReached;
     bool crossed = depth < t;

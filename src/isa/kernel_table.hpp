@@ -1,6 +1,6 @@
 #pragma once
-// One ISA's kernel table: every technique of the registry (technique_list.hpp) x every addressing
-// mode, each the packet loop below around the technique's kernel (its row's), beside the exact
+// One ISA's kernel table: every technique of the registry (technique_list.hpp) x every filter x
+// every addressing mode, each the packet loop below around the technique's kernel (its row's), beside the exact
 // reference's float pass and the benchmarks' anchors. Included once per ISA by its generated
 // translation unit (src/isa/kernels.cpp.in).
 #include "all_techniques.hpp"  // generated: every header of src/kernels/techniques/
@@ -77,7 +77,7 @@ void store_hits(HitPacket<W> hit, const KernelHits& out, std::size_t i, vint<W> 
 #undef HEIGHTMARCH_STORE_CHANNEL
 }
 
-template <int W, Addressing ADDRESSING, class Kernel, Taps TAPS = Taps::memory>
+template <int W, Addressing ADDRESSING, class Kernel, Taps TAPS = Taps::memory, Filter FILTER = Filter::bilinear>
 HEIGHTMARCH_FLATTEN void trace_packets(const KernelTexture& texture, const KernelParams& params, const KernelRays& rays,
                    const KernelHits& hits, std::size_t begin, std::size_t end,
                    KernelCounters& counters) {
@@ -86,11 +86,17 @@ HEIGHTMARCH_FLATTEN void trace_packets(const KernelTexture& texture, const Kerne
   // would then be reloaded after every store.
   const KernelRays in = rays;
   const KernelHits out = hits;
-  KernelContext<W, ADDRESSING, TAPS> context(texture, params, local);
+  KernelContext<W, ADDRESSING, TAPS, FILTER> context(texture, params, local);
   const Kernel kernel;
   const vint<W> discard(params.discard ? 1 : 0);
-  for (std::size_t i = begin; i < end; i += W)
+  for (std::size_t i = begin; i < end; i += W) {
+    if constexpr (FILTER == Filter::trilinear) {
+      using F = vfloat<W>;
+      context.set_footprint(F::load(in.du_dx + i), F::load(in.dv_dx + i), F::load(in.du_dy + i),
+                            F::load(in.dv_dy + i));
+    }
     store_hits<Kernel>(kernel(context, load_rays<W>(in, i)), out, i, discard, local);
+  }
   counters.lane_samples += local.lane_samples;
   counters.packet_samples += local.packet_samples;
 }
@@ -146,17 +152,27 @@ template <>
 inline constexpr bool kStoresExactPass<ExactBoundKernel> = true;
 
 // The addressing modes in Addressing's order, each the packet loop of its kernel's shape.
-template <int W, class Kernel, Taps TAPS = Taps::memory, KernelShape SHAPE = KernelShape::march>
+template <int W, class Kernel, Taps TAPS = Taps::memory, KernelShape SHAPE = KernelShape::march,
+          Filter FILTER = Filter::bilinear>
 constexpr void fill_addressing(TraceRangeFn (&row)[kAddressingCount]) {
   if constexpr (SHAPE == KernelShape::walk) {
     row[int(Addressing::repeat_pow2)] = &trace_walks<W, Addressing::repeat_pow2, Kernel>;
     row[int(Addressing::repeat)] = &trace_walks<W, Addressing::repeat, Kernel>;
     row[int(Addressing::clamp)] = &trace_walks<W, Addressing::clamp, Kernel>;
   } else {
-    row[int(Addressing::repeat_pow2)] = &trace_packets<W, Addressing::repeat_pow2, Kernel, TAPS>;
-    row[int(Addressing::repeat)] = &trace_packets<W, Addressing::repeat, Kernel, TAPS>;
-    row[int(Addressing::clamp)] = &trace_packets<W, Addressing::clamp, Kernel, TAPS>;
+    row[int(Addressing::repeat_pow2)] = &trace_packets<W, Addressing::repeat_pow2, Kernel, TAPS, FILTER>;
+    row[int(Addressing::repeat)] = &trace_packets<W, Addressing::repeat, Kernel, TAPS, FILTER>;
+    row[int(Addressing::clamp)] = &trace_packets<W, Addressing::clamp, Kernel, TAPS, FILTER>;
   }
+}
+
+// Both filters' rows. A walk reads texels, never a filtered sample (maxmip's walk and the patch
+// it solves, texelFetch in GLSL): its one instantiation serves both.
+template <int W, class Kernel, Taps TAPS = Taps::memory, KernelShape SHAPE = KernelShape::march>
+constexpr void fill_filters(TraceRangeFn (&rows)[kFilterCount][kAddressingCount]) {
+  fill_addressing<W, Kernel, TAPS, SHAPE, Filter::bilinear>(rows[int(Filter::bilinear)]);
+  fill_addressing<W, Kernel, TAPS, SHAPE, SHAPE == KernelShape::walk ? Filter::bilinear : Filter::trilinear>(
+      rows[int(Filter::trilinear)]);
 }
 
 // MARCH_W and WALK_W: the packet widths of the ISA's list (cmake/isa_list.cmake) for each
@@ -168,13 +184,13 @@ constexpr KernelTable make_kernel_table() {
   KernelTable table{};
   table.packet_width = W;
 #define HEIGHTMARCH_TECHNIQUE_ROW(id, name, layered, refine, needs, writes, search, shape, ...)       \
-  fill_addressing<shape == KernelShape::walk ? WALK_W : MARCH_W, TechniqueKernel<Technique::id>, Taps::memory, \
+  fill_filters<shape == KernelShape::walk ? WALK_W : MARCH_W, TechniqueKernel<Technique::id>, Taps::memory, \
                   shape>(table.technique[int(Technique::id)]);
   HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_ROW)
 #undef HEIGHTMARCH_TECHNIQUE_ROW
-  fill_addressing<MARCH_W, SamplerRooflineKernel>(table.sampler_roofline);
-  fill_addressing<WALK_W, ExactBoundKernel, Taps::memory, KernelShape::walk>(table.exact_bound);
-  fill_addressing<MARCH_W, TechniqueKernel<Technique::pom>, Taps::registers>(table.compute_ceiling);
+  fill_filters<MARCH_W, SamplerRooflineKernel>(table.sampler_roofline);
+  fill_addressing<WALK_W, ExactBoundKernel, Taps::memory, KernelShape::walk>(table.exact_bound);  // the level-0 surface
+  fill_filters<MARCH_W, TechniqueKernel<Technique::pom>, Taps::registers>(table.compute_ceiling);
   table.autovec_pom = &autovec_pom;
   return table;
 }

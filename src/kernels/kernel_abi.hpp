@@ -22,6 +22,10 @@ struct KernelTexture {
 #define HEIGHTMARCH_KERNEL_TEXTURE_SLOT(id, ...) TextureSlot id{};
   HEIGHTMARCH_PRECOMPUTED_TEXTURES(HEIGHTMARCH_KERNEL_TEXTURE_SLOT)
 #undef HEIGHTMARCH_KERNEL_TEXTURE_SLOT
+  // Trilinear: the mip chain's levels (SamplerTexture's), level 0 first; the texels hold them all
+  // (and the cone map's ratios theirs, alike). Bilinear samplers read level 0 alone.
+  const SamplerLevel* levels = nullptr;
+  int level_count = 1;
 };
 
 struct KernelParams {
@@ -34,6 +38,7 @@ struct KernelParams {
 
 struct KernelRays {
   const float *tx, *ty, *vx, *vy, *vz;
+  const float *du_dx = nullptr, *dv_dx = nullptr, *du_dy = nullptr, *dv_dy = nullptr;  // trilinear only
 };
 
 // One pointer per output of the list (hits.hpp); null where the caller holds no array for it.
@@ -77,14 +82,14 @@ inline Addressing addressing_of(int width, int height, Wrap wrap) {
 // What each ISA exports: its kernels, chosen once by a Tracer, never per tile.
 struct KernelTable {
   int packet_width;  // rays per loop iteration
-  TraceRangeFn technique[kTechniqueCount][kAddressingCount];
-  TraceRangeFn sampler_roofline[kAddressingCount];  // the sampler alone (benchmarks)
+  TraceRangeFn technique[kTechniqueCount][kFilterCount][kAddressingCount];
+  TraceRangeFn sampler_roofline[kFilterCount][kAddressingCount];  // the sampler alone (benchmarks)
   // The exact reference's float pass (src/exact/exact_hits.cpp): per ray, where it settled the ray
   // (`settled`) the exact hit (uv, depth), found in double in the cell the pass stopped in; in
   // `clear_depth`, how far the path is certainly clear of the surface. In samples, the cells it
   // tested in float.
   TraceRangeFn exact_bound[kAddressingCount];
-  TraceRangeFn compute_ceiling[kAddressingCount];   // POM on register taps (benchmarks)
+  TraceRangeFn compute_ceiling[kFilterCount][kAddressingCount];  // POM on register taps (benchmarks)
   // The naive port vectorised by the compiler (benchmarks), on a plain REPEAT DepthMap
   // (stride = width) instead of the sampler's layout.
   TraceRangeFn autovec_pom;

@@ -31,7 +31,7 @@ struct HitPacket {
 #undef HEIGHTMARCH_HIT_PACKET
 };
 
-template <int W, Addressing ADDRESSING, Taps TAPS = Taps::memory>
+template <int W, Addressing ADDRESSING, Taps TAPS = Taps::memory, Filter FILTER = Filter::bilinear>
 class KernelContext {
  public:
   using F = vfloat<W>;
@@ -48,8 +48,13 @@ class KernelContext {
     return sampler_(u, v);
   }
 
-  // One bilinear read, not counted: its caller counts it (count_lanes, count_packet_reads).
+  // One read, not counted: its caller counts it (count_lanes, count_packet_reads).
   F read(F u, F v) const { return sampler_(u, v); }
+  // The same read of another texture of the depth map's layout (the cone map's ratios).
+  F read(const float* texels, F u, F v) const { return sampler_(texels, u, v); }
+
+  // Trilinear: the levels of the packet's rays, from their gradients, before its first sample.
+  void set_footprint(F du_dx, F dv_dx, F du_dy, F dv_dy) { sampler_.set_footprint(du_dx, dv_dx, du_dy, dv_dy); }
 
   // Counts n texel reads for the active lanes, for kernels that read texels themselves.
   // `samples` must be the lane counts the kernel returns in HitPacket::samples: the packet loop
@@ -76,7 +81,7 @@ class KernelContext {
   const KernelTexture& texture;
 
  private:
-  PacketSampler<W, ADDRESSING, TAPS> sampler_;
+  PacketSampler<W, ADDRESSING, TAPS, FILTER> sampler_;
   KernelCounters& counters_;
 };
 

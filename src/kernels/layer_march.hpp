@@ -17,8 +17,8 @@ struct LayerMarch {
 };
 
 // LIMITED: the step is s V.xy / N (the "Steep Parallax Mapping" tutorial), else s V.xy / V.z / N.
-template <bool LIMITED, int W, Addressing ADDRESSING, Taps TAPS>
-LayerMarch<W> march_layers(KernelContext<W, ADDRESSING, TAPS>& k, const RayPacket<W>& ray) {
+template <bool LIMITED, int W, Addressing ADDRESSING, Taps TAPS, Filter FILTER>
+LayerMarch<W> march_layers(KernelContext<W, ADDRESSING, TAPS, FILTER>& k, const RayPacket<W>& ray) {
   using F = vfloat<W>;
   using I = vint<W>;
   using B = vbool<W>;

@@ -6,8 +6,8 @@
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
-template <int W, Addressing ADDRESSING>
-HitPacket<W> sampler_roofline(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
+template <int W, Addressing ADDRESSING, Filter FILTER>
+HitPacket<W> sampler_roofline(KernelContext<W, ADDRESSING, Taps::memory, FILTER>& k, const RayPacket<W>& ray) {
   using F = vfloat<W>;
   HitPacket<W> hit;
   const F num_layers(k.params.max_layers);

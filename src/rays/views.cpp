@@ -3,7 +3,9 @@
 #include <numeric>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <string>
+#include <vector>
 #include <utility>
 
 #include "heightmarch/error.hpp"
@@ -151,19 +153,45 @@ Camera pose_camera(const CameraPose& p) {
 
 // Where a view of a set lies on the repeating map: turned by `turn` radians about the normal
 // through the map's centre, then moved by an offset, its entry points taken modulo 1. The
-// identity (a single view at seed 0) leaves every ray exactly as its camera made it.
+// identity (a single view at seed 0) leaves every ray exactly as its camera made it. It places a
+// batch's ray after the batch's gradients were taken on the camera's own rays (set_pixel_gradients):
+// they turn with the ray, and neither the offset nor the wrap (a jump of 1 between neighbours,
+// where the camera's continuous T has none) reaches them.
 struct Placement {
   double turn = 0, du = 0, dv = 0;
   bool wrap = false;
-  Ray operator()(Ray r) const {
-    if (!r.hit || !wrap) return r;
+  void operator()(RayBatch& b, std::size_t i) const {
+    if (!wrap) return;
     const double c = std::cos(turn), s = std::sin(turn);
-    const double x = double(r.tx) - 0.5, y = double(r.ty) - 0.5;
+    const auto turned = [&](float& x, float& y) {
+      const double tx = c * x - s * y, ty = s * x + c * y;
+      x = float(tx);
+      y = float(ty);
+    };
+    const double x = double(b.tx[i]) - 0.5, y = double(b.ty[i]) - 0.5;
     const double u = 0.5 + c * x - s * y + du, v = 0.5 + s * x + c * y + dv;
-    const double vx = c * r.vx - s * r.vy, vy = s * r.vx + c * r.vy;
-    return {true, float(u - std::floor(u)), float(v - std::floor(v)), float(vx), float(vy), r.vz, r.view};
+    b.tx[i] = float(u - std::floor(u));
+    b.ty[i] = float(v - std::floor(v));
+    turned(b.vx[i], b.vy[i]);
+    turned(b.du_dx[i], b.dv_dx[i]);
+    turned(b.du_dy[i], b.dv_dy[i]);
   }
 };
+
+// Places every ray of a batch made on its cameras' own rays, placement_of(i) for ray i; padding
+// copies its tile's last ray again.
+template <class PlacementOf>
+void place_rays(RayBatch& batch, const PlacementOf& placement_of) {
+  for (std::size_t i = 0; i < batch.size(); ++i) {
+    if (!batch.is_padding(i)) {
+      placement_of(i)(batch, i);
+      continue;
+    }
+    for (auto* a : {&batch.tx, &batch.ty, &batch.vx, &batch.vy, &batch.vz, &batch.du_dx, &batch.dv_dx, &batch.du_dy,
+                    &batch.dv_dy})
+      (*a)[i] = (*a)[i - 1];
+  }
+}
 
 
 // Appends one tile's rays, padded with copies of its last ray to a multiple of kRayAlignment.
@@ -176,6 +204,7 @@ class BatchBuilder {
     batch_.vx.push_back(r.vx);
     batch_.vy.push_back(r.vy);
     batch_.vz.push_back(r.vz);
+    for (auto* g : {&batch_.du_dx, &batch_.dv_dx, &batch_.du_dy, &batch_.dv_dy}) g->push_back(0.0f);
     batch_.origin.push_back(origin);
     batch_.view.push_back(r.view);
     batch_.views = std::max(batch_.views, r.view + 1);
@@ -399,9 +428,11 @@ void check_set(int views, double pixels, int tile_size, const std::string& what)
 }
 
 // A batch of `views` views of width x height each, side by side in its image (8 views in 4 x 2
-// cells: wider than tall), tile by tile in row-major order; ray_of(k, px, py).
+// cells: wider than tall), tile by tile in row-major order; ray_of(k, px, py), each view's rays
+// then placed by placements[k].
 template <class RayOf>
-RayBatch make_set(int views, int width, int height, int tile_size, const RayOf& ray_of) {
+RayBatch make_set(int views, int width, int height, int tile_size, const std::vector<Placement>& placements,
+                  const RayOf& ray_of) {
   const int cols = std::min(views, int(std::ceil(std::sqrt(2.0 * views)))), rows = (views + cols - 1) / cols;
   check_set(views, double(cols) * width * rows * height, tile_size,
             (views > 1 ? std::to_string(views) + " views of " : std::string("a ")) + std::to_string(width) + "x" +
@@ -420,6 +451,8 @@ RayBatch make_set(int views, int width, int height, int tile_size, const RayOf& 
                    return r;
                  });
   }
+  set_pixel_gradients(batch, width, height);
+  place_rays(batch, [&](std::size_t i) { return placements[batch.view[i]]; });
   return batch;
 }
 
@@ -479,6 +512,9 @@ RayBatch frame_rays(const ViewSpec& view) {
       cell_view[std::size_t(cy) * cells_x + cx] = std::uint32_t(cy * cells_x + j);
     }
   }
+  const auto cell_of = [&](int px, int py) {
+    return view.around ? std::size_t(py / kViewCell) * cells_x + std::size_t(px / kViewCell) : 0;
+  };
   RayBatch batch;
   batch.image_width = view.width;
   batch.image_height = view.height;
@@ -487,11 +523,14 @@ RayBatch frame_rays(const ViewSpec& view) {
     for (int x = 0; x < view.width; x += tile)
       add_tile(builder, batch, x, y, std::min(x + tile, view.width), std::min(y + tile, view.height), 0, 0,
                [&](int px, int py) {
-                 const std::size_t cell = view.around ? std::size_t(py / kViewCell) * cells_x + px / kViewCell : 0;
-                 Ray r = cells[cell](ray_of(px, py));
-                 r.view = view.around ? cell_view[cell] : std::uint32_t((y / tile) * tiles_x + x / tile);
+                 Ray r = ray_of(px, py);
+                 r.view = view.around ? cell_view[cell_of(px, py)] : std::uint32_t((y / tile) * tiles_x + x / tile);
                  return r;
                });
+  set_pixel_gradients(batch, view.width, view.height);
+  place_rays(batch, [&](std::size_t i) {
+    return cells[cell_of(int(batch.origin[i] % std::uint32_t(view.width)), int(batch.origin[i] / std::uint32_t(view.width)))];
+  });
   return batch;
 }
 
@@ -500,18 +539,18 @@ RayBatch tutorial_rays(const ViewSpec& view) {
   // and each frame at its own offset on the repeating map otherwise.
   const double turn_seconds = 360.0 / std::fabs(kTutorialDegreesPerSecond);
   const double phase = view.seed != 0 ? Draws(view.seed, std::uint64_t(view.views)).next() : 0.0;
-  std::vector<std::pair<Camera, Placement>> frames;
+  std::vector<Camera> frames;
+  std::vector<Placement> offsets(std::size_t(view.views));
   for (int k = 0; k < view.views; ++k) {
-    Placement offset;
     if (view.seed != 0) {
       Draws draws(view.seed, std::uint64_t(k));
-      offset = {0.0, draws.next(), draws.next(), true};
+      offsets[std::size_t(k)] = {0.0, draws.next(), draws.next(), true};
     }
-    frames.emplace_back(tutorial_camera(turn_seconds * (k + phase) / view.views), offset);
+    frames.push_back(tutorial_camera(turn_seconds * (k + phase) / view.views));
   }
   const PlaneMap quad{0.5, 0.5, 0.5, -1, 1, -1, 1, 0};
-  return make_set(view.views, view.width, view.height, view.tile_size, [&](int k, int px, int py) {
-    return frames[k].second(camera_ray(frames[k].first, quad, px, py, view.width, view.height));
+  return make_set(view.views, view.width, view.height, view.tile_size, offsets, [&](int k, int px, int py) {
+    return camera_ray(frames[k], quad, px, py, view.width, view.height);
   });
 }
 
@@ -521,21 +560,21 @@ RayBatch poses_rays(const ViewSpec& view) {
   const std::vector<CameraPose> poses = load_camera_poses(view.path);
   int width = 1, height = 1;
   for (const CameraPose& p : poses) width = std::max(width, p.width), height = std::max(height, p.height);
-  std::vector<std::pair<Camera, Placement>> cameras;
+  std::vector<Camera> cameras;
+  std::vector<Placement> offsets(poses.size(), Placement{0.0, 0.0, 0.0, true});
   for (std::size_t k = 0; k < poses.size(); ++k) {
-    Placement offset{0.0, 0.0, 0.0, true};
     if (view.seed != 0) {
       Draws draws(view.seed, k);
-      offset.du = draws.next();
-      offset.dv = draws.next();
+      offsets[k].du = draws.next();
+      offsets[k].dv = draws.next();
     }
-    cameras.emplace_back(pose_camera(poses[k]), offset);
+    cameras.push_back(pose_camera(poses[k]));
   }
   const double inf = HUGE_VAL;
   const PlaneMap plane{0, 0, 1, -inf, inf, -inf, inf, std::cos(kMaxViewDegrees * kPi / 180.0)};
-  RayBatch batch = make_set(int(poses.size()), width, height, view.tile_size, [&](int k, int px, int py) {
+  RayBatch batch = make_set(int(poses.size()), width, height, view.tile_size, offsets, [&](int k, int px, int py) {
     if (px >= poses[k].width || py >= poses[k].height) return Ray{false, 0, 0, 0, 0, 0};
-    return cameras[k].second(camera_ray(cameras[k].first, plane, px, py, poses[k].width, poses[k].height));
+    return camera_ray(cameras[k], plane, px, py, poses[k].width, poses[k].height);
   });
   if (batch.ray_count == 0)
     throw InputError(view.path + ": no pose sees the surface within " + std::to_string(int(kMaxViewDegrees)) +
@@ -586,15 +625,59 @@ RayBatch make_view_rays(const ViewSpec& view) {
   return frame_rays(view);
 }
 
+void set_pixel_gradients(RayBatch& rays, int frame_width, int frame_height) {
+  const std::size_t width = std::size_t(rays.image_width), height = std::size_t(rays.image_height);
+  check_memory_budget(4.0 * double(width) * double(height), "the pixel grid of a view");
+  constexpr std::uint32_t kNone = 0xffffffffu;
+  std::vector<std::uint32_t> ray_at(width * height, kNone);  // the ray of each pixel
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    if (rays.is_padding(i)) continue;
+    if (rays.origin[i] >= width * height) throw std::logic_error("a ray's pixel lies outside its view's grid");
+    ray_at[rays.origin[i]] = std::uint32_t(i);
+  }
+  // T's change to the next pixel along one axis (step: 1 pixel in x, or a row in y) at pixel p,
+  // its coordinate c along that axis of n pixels in frames of f: towards the quad partner (quads
+  // start at the frame's edge), else the other side; never into another frame.
+  const auto gradient = [&](std::size_t p, std::size_t c, std::size_t n, std::size_t f, std::size_t step, float& du,
+                            float& dv) {
+    const std::size_t self = ray_at[p], local = c % f;
+    for (const bool up : {local % 2 == 0, local % 2 != 0}) {
+      if (up ? c + 1 >= n || local + 1 >= f : local == 0) continue;
+      const std::size_t other = ray_at[up ? p + step : p - step];
+      if (other == kNone) continue;
+      const std::size_t from = up ? self : other, to = up ? other : self;
+      du = rays.tx[to] - rays.tx[from];
+      dv = rays.ty[to] - rays.ty[from];
+      return;
+    }
+    du = dv = 0.0f;
+  };
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    if (rays.is_padding(i)) {  // a copy of its tile's last ray (BatchBuilder)
+      rays.du_dx[i] = rays.du_dx[i - 1];
+      rays.dv_dx[i] = rays.dv_dx[i - 1];
+      rays.du_dy[i] = rays.du_dy[i - 1];
+      rays.dv_dy[i] = rays.dv_dy[i - 1];
+      continue;
+    }
+    const std::size_t p = rays.origin[i], x = p % width, y = p / width;
+    gradient(p, x, width, std::size_t(frame_width), 1, rays.du_dx[i], rays.dv_dx[i]);
+    gradient(p, y, height, std::size_t(frame_height), width, rays.du_dy[i], rays.dv_dy[i]);
+  }
+}
+
 void check_rays(const RayBatch& rays) {
   const std::size_t n = rays.tx.size();
-  if (rays.ty.size() != n || rays.vx.size() != n || rays.vy.size() != n || rays.vz.size() != n)
-    throw InputError("a ray batch whose arrays differ in length");
+  for (const auto* a : {&rays.ty, &rays.vx, &rays.vy, &rays.vz, &rays.du_dx, &rays.dv_dx, &rays.du_dy, &rays.dv_dy})
+    if (a->size() != n) throw InputError("a ray batch whose arrays differ in length");
+  const auto within = [](float x) { return std::isfinite(x) && std::fabs(x) <= kMaxRayOrigin; };
   for (std::size_t i = 0; i < n; ++i) {
-    const bool finite = std::isfinite(rays.tx[i]) && std::isfinite(rays.ty[i]) && std::isfinite(rays.vx[i]) &&
-                        std::isfinite(rays.vy[i]) && std::isfinite(rays.vz[i]);
-    if (!finite || std::fabs(rays.tx[i]) > kMaxRayOrigin || std::fabs(rays.ty[i]) > kMaxRayOrigin || !(rays.vz[i] > 0.0f))
-      throw InputError("ray " + std::to_string(i + 1) + " of the batch: not finite, |T| beyond 1e6 or V.z <= 0");
+    const bool finite = within(rays.tx[i]) && within(rays.ty[i]) && std::isfinite(rays.vx[i]) &&
+                        std::isfinite(rays.vy[i]) && std::isfinite(rays.vz[i]) && within(rays.du_dx[i]) &&
+                        within(rays.dv_dx[i]) && within(rays.du_dy[i]) && within(rays.dv_dy[i]);
+    if (!finite || !(rays.vz[i] > 0.0f))
+      throw InputError("ray " + std::to_string(i + 1) +
+                       " of the batch: not finite, |T| or a gradient beyond 1e6, or V.z <= 0");
   }
 }
 

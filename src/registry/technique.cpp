@@ -105,6 +105,8 @@ void check(const TechniqueParams& params) {
                      std::to_string(kMaxRefineSteps) + "]");
   if (params.wrap != Wrap::repeat && params.wrap != Wrap::clamp)
     throw InputError("wrap mode " + std::to_string(int(params.wrap)) + " is neither repeat nor clamp");
+  if (params.filter != Filter::bilinear && params.filter != Filter::trilinear)
+    throw InputError("filter " + std::to_string(int(params.filter)) + " is neither bilinear nor trilinear");
   const float* l3 = params.light;
   const float length = std::sqrt(l3[0] * l3[0] + l3[1] * l3[1] + l3[2] * l3[2]);
   if (!std::isfinite(length) || !(l3[2] > 0.0f))

@@ -4,7 +4,9 @@
 #include <cstdint>
 #include <string>
 
+#include "heightmarch/error.hpp"
 #include "heightmarch/memory_budget.hpp"
+#include "heightmarch/mip_chain.hpp"
 
 namespace heightmarch {
 namespace {
@@ -36,21 +38,57 @@ float sample_depth(const DepthMap& map, Wrap wrap, float u, float v) {
   return top + fy * (bottom - top);
 }
 
-SamplerTexture::SamplerTexture(const DepthMap& map, Wrap wrap_mode)
+std::string to_string(Filter filter) { return filter == Filter::bilinear ? "bilinear" : "trilinear"; }
+
+std::vector<std::string> filter_names() {
+  std::vector<std::string> names;
+  for (Filter f : kFilters) names.push_back(to_string(f));
+  return names;
+}
+
+Filter parse_filter(const std::string& name) {
+  for (Filter f : kFilters)
+    if (name == to_string(f)) return f;
+  throw InputError("unknown filter '" + name + "' (bilinear or trilinear)");
+}
+
+float sample_depth(const std::vector<DepthMap>& chain, Wrap wrap, float u, float v, float lod) {
+  const int first = int(std::floor(lod));
+  const int second = std::min(first + 1, int(chain.size()) - 1);
+  const float a = sample_depth(chain[std::size_t(first)], wrap, u, v);
+  const float b = sample_depth(chain[std::size_t(second)], wrap, u, v);
+  return a + (lod - float(first)) * (b - a);
+}
+
+SamplerTexture::SamplerTexture(const DepthMap& map, Wrap wrap_mode, Filter filter)
     : width(map.width), height(map.height), stride(map.width + 1), wrap(wrap_mode) {
-  const std::size_t count = std::size_t(stride) * std::size_t(height + 1);
-  check_memory_budget(4.0 * double(count), "the sampler's padded copy of a " + std::to_string(width) + "x" +
-                                               std::to_string(height) + " depth map");
-  texels.resize(count);
-  // Column `width` and row `height` hold the texel the wrap mode reads after the last one.
-  const int after_x = wrap == Wrap::repeat ? 0 : width - 1;
-  const int after_y = wrap == Wrap::repeat ? 0 : height - 1;
-  for (int j = 0; j <= height; ++j) {
-    const int sj = j < height ? j : after_y;
-    float* row = &texels[std::size_t(j) * std::size_t(stride)];
-    for (int i = 0; i < width; ++i) row[i] = map.at(i, sj);
-    row[width] = map.at(after_x, sj);
+  const auto padded = [](const DepthMap& m) { return std::size_t(m.width + 1) * std::size_t(m.height + 1); };
+  std::vector<DepthMap> chain;
+  std::size_t count = padded(map);
+  if (filter == Filter::trilinear) {
+    chain = build_mip_chain(map);
+    for (std::size_t level = 1; level < chain.size(); ++level) count += padded(chain[level]);
   }
+  check_memory_budget(4.0 * double(count), "the sampler's padded copy of a " + std::to_string(width) + "x" +
+                                               std::to_string(height) + " depth map" +
+                                               (chain.empty() ? "" : " and its mip chain"));
+  texels.resize(count);
+  // Column `width` and row `height` of each level hold the texel the wrap mode reads after the last one.
+  std::size_t offset = 0;
+  const auto lay_out = [&](const DepthMap& m) {
+    const int after_x = wrap == Wrap::repeat ? 0 : m.width - 1;
+    const int after_y = wrap == Wrap::repeat ? 0 : m.height - 1;
+    for (int j = 0; j <= m.height; ++j) {
+      const int sj = j < m.height ? j : after_y;
+      float* row = &texels[offset + std::size_t(j) * std::size_t(m.width + 1)];
+      for (int i = 0; i < m.width; ++i) row[i] = m.at(i, sj);
+      row[m.width] = m.at(after_x, sj);
+    }
+    levels.push_back({std::int32_t(offset), m.width, m.height});
+    offset += padded(m);
+  };
+  lay_out(map);
+  for (std::size_t level = 1; level < chain.size(); ++level) lay_out(chain[level]);
 }
 
 }  // namespace heightmarch

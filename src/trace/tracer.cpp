@@ -12,20 +12,24 @@ namespace heightmarch {
 
 namespace {
 
-TraceRangeFn pick(const TraceRangeFn (&row)[kAddressingCount], const SamplerTexture& texture) {
-  return row[int(addressing_of(texture.width, texture.height, texture.wrap))];
+TraceRangeFn pick(const TraceRangeFn (&rows)[kFilterCount][kAddressingCount], const SamplerTexture& texture,
+                  Filter filter) {
+  return rows[int(filter)][int(addressing_of(texture.width, texture.height, texture.wrap))];
 }
 
 }  // namespace
 
 Tracer::Tracer(const DepthMap& map, const TechniqueParams& params, Isa isa)
-    : params_(params), isa_(isa), texture_(map, params.wrap) {
+    : params_(params), isa_(isa), texture_(map, params.wrap, params.filter) {
   check_cpu_supports(isa, "tracing");
   precomputed_ = build_precomputed(map, params.wrap, info(params.technique).needs);
+  // Trilinear cone stepping reads the ratios' mip chain too, as a mipmapped (depth, ratio) texture.
+  if (const ConeMap* cone = precomputed_.cone_map.get(); cone && params.filter == Filter::trilinear)
+    cone_ratios_ = SamplerTexture(DepthMap{cone->width, cone->height, cone->ratio}, params.wrap, params.filter);
   const KernelTable& table = kernel_table(isa);
-  technique_kernel_ = pick(table.technique[int(params.technique)], texture_);
-  roofline_kernel_ = pick(table.sampler_roofline, texture_);
-  ceiling_kernel_ = pick(table.compute_ceiling, texture_);
+  technique_kernel_ = pick(table.technique[int(params.technique)], texture_, params.filter);
+  roofline_kernel_ = pick(table.sampler_roofline, texture_, params.filter);
+  ceiling_kernel_ = pick(table.compute_ceiling, texture_, params.filter);
 }
 
 TraceStats Tracer::run(const RayBatch& rays, HitBuffers& hits) const {
@@ -49,11 +53,15 @@ TraceStats Tracer::run_kernel(TraceRangeFn kernel, const RayBatch& rays, HitBuff
   if (precomputed_.id) texture.id = precomputed_.id->slot();
   HEIGHTMARCH_PRECOMPUTED_TEXTURES(HEIGHTMARCH_TRACER_SLOT)
 #undef HEIGHTMARCH_TRACER_SLOT
+  texture.levels = texture_.levels.data();
+  texture.level_count = int(texture_.levels.size());
+  if (!cone_ratios_.texels.empty()) texture.cone_map.texels = cone_ratios_.texels.data();
   const KernelParams params{params_.layers.min_layers, params_.layers.max_layers, params_.refine_steps(),
                             params_.scale, params_.discard,
                             {params_.light[0], params_.light[1], params_.light[2]}};
-  const KernelRays kernel_rays{rays.tx.data(), rays.ty.data(), rays.vx.data(), rays.vy.data(),
-                               rays.vz.data()};
+  const KernelRays kernel_rays{rays.tx.data(),    rays.ty.data(),    rays.vx.data(),    rays.vy.data(),
+                               rays.vz.data(),    rays.du_dx.data(), rays.dv_dx.data(), rays.du_dy.data(),
+                               rays.dv_dy.data()};
   const KernelHits out = kernel_hits(hits);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.tile_count(), 1),
                     [&](const tbb::blocked_range<std::size_t>& tiles) {

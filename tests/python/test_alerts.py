@@ -1,7 +1,7 @@
 """alerts: the behaviour alerts of deterministic measures, SIMD use among them."""
 from heightmarch_tools import alerts, history
 
-KEY = ("avx2", "1", "bricks", "maxmip", "", "default", "512x512")
+KEY = ("avx2", "1", "bricks", "maxmip", "", "default", "512x512", "bilinear")
 
 
 def row(**measures):

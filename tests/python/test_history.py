@@ -1,5 +1,6 @@
 """history and record_run: the machine key speed is compared within, rows as the history records
 and checks them, its repair, recordings that overlap or come from an incomplete run."""
+import csv
 import multiprocessing
 import time
 
@@ -62,7 +63,7 @@ def test_a_recorded_run_is_read_back(tmp_path):
 
 
 @pytest.mark.parametrize("bad, why", [
-    (lambda line: "<<<<<<< HEAD", "line 3: 1 cells, not 23 (a merge conflict's marker)"),
+    (lambda line: "<<<<<<< HEAD", "line 3: 1 cells, not 24 (a merge conflict's marker)"),
     (lambda line: line.replace(",2e+07,", ",fast,"), "line 3: rays_per_second_median: is \"fast\", not a number"),
     (lambda line: line.replace(",12.5,", ",nan,"), "line 3: samples_per_ray: is NaN, not a finite number"),
     (lambda line: line.replace(",1,bricks,", ",0.5,bricks,"), "line 3: threads: is 0.5, not in [1, inf]"),
@@ -146,3 +147,35 @@ def test_glsl_series_are_kept_apart_by_their_renderer():
     assert history.series_fields(gpu)["backend"] == "glsl (NVIDIA H100 80GB HBM3/PCIe/SSE2; EGL)"
     # a run from before rows recorded their renderer stays the series it was
     assert history.series_fields(glsl_row(None))["backend"] == "glsl"
+
+
+def row(**changes):
+    """A timed measurements.json row as history reads it."""
+    return dict({"kind": "trace", "backend": "avx2", "threads": 1, "heightfield": {"label": "bricks", "width": 512, "height": 512},
+                 "technique": "pom", "layers": "32", "view": {"kind": "default", "width": 64, "height": 64},
+                 "filter": "bilinear"}, **changes)
+
+
+def test_the_filter_is_part_of_a_series():
+    bilinear, trilinear = history.series_fields(row()), history.series_fields(row(filter="trilinear"))
+    assert bilinear != trilinear
+    assert history.series_name(tuple(trilinear[k] for k in history.SERIES_FIELDS)).endswith(", trilinear")
+    # a run before filters read level 0; the exact reference is every filter's, one series
+    assert history.series_fields({k: v for k, v in row().items() if k != "filter"}) == bilinear
+    assert history.series_fields(row(kind="exact", technique=None, filter=None))["filter"] == ""
+
+
+@pytest.mark.parametrize("earlier", [("filter",), ("filter", "simd_utilization")])
+def test_a_history_written_before_filters_reads_as_bilinear(tmp_path, earlier):
+    recorded(tmp_path, "c01")
+    path = tmp_path / "history.csv"
+    with open(path, newline="") as f:
+        lines = list(csv.reader(f))
+    gone = {lines[0].index(c) for c in earlier}
+    with open(path, "w", newline="") as f:
+        csv.writer(f, lineterminator="\n").writerows([c for i, c in enumerate(line) if i not in gone] for line in lines)
+    rows = history.read(str(path))
+    assert [r["filter"] for r in rows] == ["bilinear"] and rows[0]["samples_per_ray"] == "12.5"
+    assert set(rows[0]) == set(history.COLUMNS)
+    if "simd_utilization" in earlier:
+        assert rows[0]["simd_utilization"] == ""

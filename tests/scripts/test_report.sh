@@ -269,12 +269,12 @@ print("ok: report.html shows report.md's recommendation table cell for cell, its
       "the busy warning opens the page")
 PY
 
-columns='date,commit,machine,cpu,cores,best_isa,compiler,build_type,backend,threads,heightfield,technique,layers,view,depth_map,rays_per_second_median,rays_per_second_min,rays_per_second_max,samples_per_ray,uv_error_mean,uv_error_p95,wrong_surface_rate,simd_utilization'
+columns='date,commit,machine,cpu,cores,best_isa,compiler,build_type,backend,threads,heightfield,technique,layers,view,depth_map,filter,rays_per_second_median,rays_per_second_min,rays_per_second_max,samples_per_ray,uv_error_mean,uv_error_p95,wrong_surface_rate,simd_utilization'
 [ "$(head -1 "$tmp/history.csv")" = "$columns" ] || fail "history columns: $(head -1 "$tmp/history.csv")"
 [ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 13 ] || fail "history rows: expected one per timed row (13)"
 grep -q '^2026-01-01T00:00:00Z,abc123,unknown-test-cpu-2c-avx2-gnu-12-release,Test CPU,2,avx2,GNU 12,Release,avx2-autovec,1,bricks,pom,32,' "$tmp/history.csv" \
   || fail "the auto-vectorised port's history row is not told apart from avx2's"
-grep -q '^2026-01-01T00:00:00Z,abc123,unknown-test-cpu-2c-avx2-gnu-12-release,Test CPU,2,avx2,GNU 12,Release,avx2,2,bricks,pom,32,default 64x64,32x32,4e+07,3.9e+07,4.2e+07,10,0.5,1,0.1,1$' "$tmp/history.csv" \
+grep -q '^2026-01-01T00:00:00Z,abc123,unknown-test-cpu-2c-avx2-gnu-12-release,Test CPU,2,avx2,GNU 12,Release,avx2,2,bricks,pom,32,default 64x64,32x32,bilinear,4e+07,3.9e+07,4.2e+07,10,0.5,1,0.1,1$' "$tmp/history.csv" \
   || fail "history row of POM-32 at avx2"
 "$root/scripts/report" "$tmp/run" --history "$tmp/history.csv" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "rerun failed"; }
 [ "$(tail -n +2 "$tmp/history.csv" | wc -l)" = 13 ] || fail "a rerun of the same date and commit was appended, not replaced"

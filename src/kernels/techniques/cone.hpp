@@ -19,14 +19,11 @@ namespace heightmarch::HEIGHTMARCH_ISA_NS {
 // and CPU and GLSL would part over the last float bits of a gap that no longer shows.
 inline constexpr float kConeReached = 1.52587890625e-5f;  // 2^-16
 
-template <int W, Addressing ADDRESSING>
-HitPacket<W> cone(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
+template <int W, Addressing ADDRESSING, Filter FILTER>
+HitPacket<W> cone(KernelContext<W, ADDRESSING, Taps::memory, FILTER>& k, const RayPacket<W>& ray) {
   using F = vfloat<W>;
   using I = vint<W>;
   using B = vbool<W>;
-  KernelTexture ratios = k.texture;
-  ratios.texels = k.texture.cone_map.texels;
-  const PacketSampler<W, ADDRESSING> cone_ratio(ratios);  // the second channel of each read
 
   // uv offset per unit depth, as the layered techniques' P, and r = |P|: the ray's uv per depth.
   const F p_x = ray.vx / ray.vz * F(k.params.scale);
@@ -41,7 +38,7 @@ HitPacket<W> cone(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
   for (int step = 0; step < k.max_step_bound() && any(marching); ++step) {
     const F u = ray.tx - p_x * t, v = ray.ty - p_y * t;
     const F depth = k.sample(u, v, marching, samples);
-    const F c = cone_ratio(u, v);
+    const F c = k.read(k.texture.cone_map.texels, u, v);  // the second channel of the read
     const B stepping = marching & (depth - t > F(kConeReached));
     const B crossed = marching & (depth < t);
     above = select(stepping, t, above);

@@ -6,8 +6,8 @@
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
 // uv = T - V.xy / V.z * (D(T) s); limited drops the division by V.z.
-template <bool LIMITED, int W, Addressing ADDRESSING>
-HitPacket<W> parallax(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
+template <bool LIMITED, int W, Addressing ADDRESSING, Filter FILTER>
+HitPacket<W> parallax(KernelContext<W, ADDRESSING, Taps::memory, FILTER>& k, const RayPacket<W>& ray) {
   using F = vfloat<W>;
   HitPacket<W> hit;
   const F depth = k.sample(ray.tx, ray.ty, vbool<W>::all_true(), hit.samples);

@@ -7,8 +7,8 @@
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
 // Also the compute ceiling's kernel, on register taps (Taps::registers).
-template <int W, Addressing ADDRESSING, Taps TAPS>
-HitPacket<W> pom(KernelContext<W, ADDRESSING, TAPS>& k, const RayPacket<W>& ray) {
+template <int W, Addressing ADDRESSING, Taps TAPS, Filter FILTER>
+HitPacket<W> pom(KernelContext<W, ADDRESSING, TAPS, FILTER>& k, const RayPacket<W>& ray) {
   using F = vfloat<W>;
   LayerMarch<W> m = march_layers<false>(k, ray);
   const F prev_u = m.u + m.delta_u;

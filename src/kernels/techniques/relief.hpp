@@ -6,8 +6,8 @@
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
-template <int W, Addressing ADDRESSING>
-HitPacket<W> relief(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
+template <int W, Addressing ADDRESSING, Filter FILTER>
+HitPacket<W> relief(KernelContext<W, ADDRESSING, Taps::memory, FILTER>& k, const RayPacket<W>& ray) {
   using F = vfloat<W>;
   LayerMarch<W> m = march_layers<false>(k, ray);
   F delta_u = m.delta_u / F(2.0f);

@@ -8,8 +8,8 @@
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
-template <int W, Addressing ADDRESSING>
-HitPacket<W> secant(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
+template <int W, Addressing ADDRESSING, Filter FILTER>
+HitPacket<W> secant(KernelContext<W, ADDRESSING, Taps::memory, FILTER>& k, const RayPacket<W>& ray) {
   using F = vfloat<W>;
   using B = vbool<W>;
   LayerMarch<W> m = march_layers<false>(k, ray);

@@ -10,8 +10,8 @@ namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
 // The tutorial's soft shadow factor towards the light from a hit (its uv and depth, and its
 // samples go on counting) into hit.shadow: any technique's hit can be shadowed by it.
-template <int W, Addressing ADDRESSING>
-void soft_shadow(KernelContext<W, ADDRESSING>& k, HitPacket<W>& hit) {
+template <int W, Addressing ADDRESSING, Filter FILTER>
+void soft_shadow(KernelContext<W, ADDRESSING, Taps::memory, FILTER>& k, HitPacket<W>& hit) {
   using F = vfloat<W>;
   using B = vbool<W>;
   const float* light = k.params.light;
@@ -44,8 +44,8 @@ void soft_shadow(KernelContext<W, ADDRESSING>& k, HitPacket<W>& hit) {
   hit.shadow = select(under_surface, F(1.0f) - shadow_multiplier, F(1.0f));
 }
 
-template <int W, Addressing ADDRESSING>
-HitPacket<W> shadow(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
+template <int W, Addressing ADDRESSING, Filter FILTER>
+HitPacket<W> shadow(KernelContext<W, ADDRESSING, Taps::memory, FILTER>& k, const RayPacket<W>& ray) {
   HitPacket<W> hit = pom(k, ray);
   soft_shadow(k, hit);
   return hit;

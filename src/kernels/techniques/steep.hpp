@@ -5,8 +5,8 @@
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
-template <bool LIMITED, int W, Addressing ADDRESSING>
-HitPacket<W> steep(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray) {
+template <bool LIMITED, int W, Addressing ADDRESSING, Filter FILTER>
+HitPacket<W> steep(KernelContext<W, ADDRESSING, Taps::memory, FILTER>& k, const RayPacket<W>& ray) {
   const LayerMarch<W> m = march_layers<LIMITED>(k, ray);
   HitPacket<W> hit;
   hit.u = m.u;
