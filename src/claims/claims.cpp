@@ -486,7 +486,7 @@ ClaimResult claim_p2(const Claim& claim, const ClaimsData& d) {
   for (const std::string& hf : c.heightfields()) exact(hf, "", c.get(hf, at(T::maxmip, 1)));
   for (const std::string& hf : c.heightfields(true)) {
     const ClaimFigure* maxmip = c.get(hf, on_large_map(T::maxmip, 1));
-    const std::string size = string_format("at %d, ", kLargeMapSide);
+    const std::string size = string_format("%d x %d, ", kLargeMapSide, kLargeMapSide);  // where_text says "at"
     exact(hf, size, maxmip);
     const ClaimFigure *equal = nullptr, *closest = nullptr;
     for (int layers : kLargeMapLayers)
@@ -706,7 +706,10 @@ std::string claims_markdown(const std::vector<ClaimResult>& results, const std::
         md += "| " + markdown_text(c.where()) + " | " + markdown_text(c.figures) + " | " + markdown_text(c.deciding) +
               " | " + (c.passed ? "yes" : "**no**") + " |\n";
     }
-    md += "\nVerdict: **" + to_string(r.verdict) + "**: " + markdown_text(r.summary) + ".\n";
+    // The summary names a mixed verdict first ("holds partly: holds on ..."): said once, in bold.
+    std::string summary = r.summary;
+    if (const std::string lead = to_string(r.verdict) + ": "; summary.rfind(lead, 0) == 0) summary.erase(0, lead.size());
+    md += "\nVerdict: **" + to_string(r.verdict) + "**: " + markdown_text(summary) + ".\n";
   }
   return md;
 }
