@@ -9,9 +9,9 @@
 #   HEADER: its packet header in src/simd/, which defines vfloat<WIDTH> and friends.
 #   MARCH_PACKETS, WALK_PACKETS: native packets in flight per loop iteration (1 or 2, where 2
 #     uses src/simd/packet_pair.hpp) for the registry's two kernel shapes (technique_list.hpp).
-#     The walks refill their lanes (src/kernels/pyramid_walk.hpp) and hold a large state per
-#     lane: a pair of them spills on 16 registers (SSE4.2, AVX2) and is kept only on AVX-512's 32
-#     (docs/performance.md).
+#     The walks refill their lanes (src/kernels/pyramid_walk.hpp); a pass waits on its pyramid
+#     read, so two packets in flight pay for their spills even on 16 registers: 1.25-1.4x one
+#     packet at SSE4.2 and AVX2 (docs/performance.md).
 #   HIGHWAY_TARGET: the Google Highway target of the same instructions (HWY_AVX2, ...; for scalar
 #     code Highway's portable one, which it compiles as HWY_EMU128 or HWY_SCALAR): where the
 #     Highway port of the tutorial's POM runs at this ISA (src/baselines/highway_port.cpp).
@@ -33,8 +33,8 @@ if(CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$")
   # unless told to use the ISA's (-mtune-ctrl); it changes no result.
   set(gathers "$<$<CXX_COMPILER_ID:GNU>:-mtune-ctrl=use_gather_2parts,use_gather_4parts,use_gather>")
   heightmarch_isa(scalar "scalar" vfloat1.hpp 1 1 1 "HWY_EMU128|HWY_SCALAR" "" "")
-  heightmarch_isa(sse42 "sse4.2" vfloat4_sse.hpp 4 2 1 HWY_SSE4 "sse4.2" "-msse4.2")
-  heightmarch_isa(avx2 "avx2" vfloat8_avx2.hpp 8 2 1 HWY_AVX2 "avx2;fma;bmi2" "-mavx2;-mfma;-mbmi2" ${gathers})
+  heightmarch_isa(sse42 "sse4.2" vfloat4_sse.hpp 4 2 2 HWY_SSE4 "sse4.2" "-msse4.2")
+  heightmarch_isa(avx2 "avx2" vfloat8_avx2.hpp 8 2 2 HWY_AVX2 "avx2;fma;bmi2" "-mavx2;-mfma;-mbmi2" ${gathers})
   # GCC 12's AVX-512 headers warn about their own _mm512_undefined_* values.
   heightmarch_isa(avx512 "avx512" vfloat16_avx512.hpp 16 2 2 HWY_AVX3
     "avx2;fma;bmi2;avx512f;avx512bw;avx512dq;avx512vl"
