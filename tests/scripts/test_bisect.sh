@@ -7,9 +7,7 @@
 # heightmarch; about 30 s.
 # Usage: test_bisect.sh [BUILD_DIR] (unused)
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
+source "$(dirname "$0")/prelude.sh"
 fail() { echo "FAIL: $*"; cat "$tmp/out" "$tmp/err" 2>/dev/null | tail -30; exit 1; }
 
 # shellcheck source=tests/scripts/fake_bench_repo.sh

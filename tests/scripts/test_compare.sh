@@ -11,9 +11,7 @@
 # itself. Needs no build; about 30 s on 2 busy cores.
 # Usage: test_compare.sh BUILD_DIR (unused)
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
+source "$(dirname "$0")/prelude.sh"
 
 # write_run FILE [SPEC_JSON]: a run of BM_Trace benchmarks, each technique on heightfields h0..hN-1,
 # and its controls: BM_Calibration at 1 and 2 threads and each technique's BM_GLSL on h0. SPEC keys

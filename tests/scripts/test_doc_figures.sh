@@ -4,11 +4,8 @@
 # figure changed, and one naming a run that does not exist.
 # Usage: test_doc_figures.sh BUILD_DIR
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
+source "$(dirname "$0")/prelude.sh"
 build="$(cd "${1:-$root/build}" && pwd)"
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
 
 "$root/scripts/doc_figures" --check --heightmarch "$build/heightmarch" > "$tmp/check.out" 2>&1 ||
   { cat "$tmp/check.out"; fail "a figure in README.md or docs/ disagrees with the run it names"; }

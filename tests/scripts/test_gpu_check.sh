@@ -5,11 +5,8 @@
 # renderer; without a GPU and without --gl-device it says so in one line. About 10 s.
 # Usage: test_gpu_check.sh BUILD_DIR
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
+source "$(dirname "$0")/prelude.sh"
 build="$(cd "${1:?usage: $0 BUILD_DIR}" && pwd)"
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
 
 status=0
 out="$("$root/scripts/gpu_check" --quick --build "$build" --out "$tmp/none" 2>&1)" || status=$?

@@ -8,10 +8,8 @@
 # and the plot is drawn with a panel per machine.
 # Usage: test_history.sh [BUILD_DIR] (unused)
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
+source "$(dirname "$0")/prelude.sh"
 export PYTHONPATH="$root/scripts"  # the package heightmarch_tools
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
 
 /usr/bin/python3 - "$tmp" <<'PY'
 import json, os, sys

@@ -14,11 +14,8 @@
 # A small quick plan (POM and maxmip, matrix and gallery, no GLSL) on 64x64 maps: about 30 s.
 # Usage: test_hostile_names.sh BUILD_DIR
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
+source "$(dirname "$0")/prelude.sh"
 build="$(cd "${1:?usage: test_hostile_names.sh BUILD_DIR}" && pwd)"
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
 export PYTHONPATH="$root/scripts:$root/tests/scripts"
 
 mkdir -p "$tmp/in/a" "$tmp/in/b" "$tmp/cwd"

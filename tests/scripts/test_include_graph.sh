@@ -6,13 +6,11 @@
 # src/trace through isa.hpp and technique.hpp) does where the history holds that commit.
 # Usage: test_include_graph.sh BUILD_DIR
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
+source "$(dirname "$0")/prelude.sh"
 graph="$root/scripts/include_graph"
 out="$("$graph" "$root")" || { echo "$out"; echo "FAIL: the include graph breaks the layers"; exit 1; }
 echo "$out" | tail -1
 
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
 mkdir -p "$tmp/include/heightmarch" "$tmp/src/trace" "$tmp/src/kernels"
 echo '#pragma once' > "$tmp/include/heightmarch/table.hpp"
 echo '#include "heightmarch/table.hpp"' > "$tmp/src/trace/table.cpp"

@@ -7,11 +7,8 @@
 # measurements.json. A small quick plan (POM and maxmip, the matrix and the gallery): about 10 s.
 # Usage: test_installed.sh BUILD_DIR
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
+source "$(dirname "$0")/prelude.sh"
 build="$(cd "${1:?usage: test_installed.sh BUILD_DIR}" && pwd)"
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
 
 cmake --install "$build" --prefix "$tmp/prefix" > "$tmp/install.log" || { cat "$tmp/install.log"; fail "cmake --install"; }
 mv "$tmp/prefix" "$tmp/moved"  # nothing may depend on where it was installed either

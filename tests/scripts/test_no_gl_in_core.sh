@@ -4,7 +4,7 @@
 # heightmarch::core configures without either (HEIGHTMARCH_GLSL=OFF) where pkg-config finds neither.
 # Usage: test_no_gl_in_core.sh BUILD_DIR
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
+source "$(dirname "$0")/prelude.sh"
 build="${1:?usage: $0 BUILD_DIR}"
 status=0
 for binary in heightmarch heightmarch-tests; do
@@ -44,8 +44,6 @@ fi
 # A pkg-config that knows neither osmesa nor egl: the core must configure with it, the GLSL
 # backend must not, and say why (or the check proves nothing). Configure only: what links is
 # shown above; a worker with one of them is test_gl_paths.sh's.
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
 printf '#!/bin/sh\ncase "$*" in *osmesa*|*egl*) exit 1 ;; esac\nexec pkg-config "$@"\n' > "$tmp/pkg-config"
 chmod +x "$tmp/pkg-config"
 if PKG_CONFIG="$tmp/pkg-config" cmake -S "$root" -B "$tmp/core" -DHEIGHTMARCH_GLSL=OFF > "$tmp/core.log" 2>&1 &&

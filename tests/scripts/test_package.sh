@@ -6,11 +6,8 @@
 # heightmarch as a subdirectory (same aliases, no tool/benchmarks/tests by default).
 # Usage: test_package.sh BUILD_DIR
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
+source "$(dirname "$0")/prelude.sh"
 build="$(cd "${1:?usage: test_package.sh BUILD_DIR}" && pwd)"
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
 launcher=()
 command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 

@@ -5,10 +5,8 @@
 # About 30 s.
 # Usage: test_regress.sh BUILD_DIR
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
+source "$(dirname "$0")/prelude.sh"
 build="${1:-$root/build}"
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*"; cat "$tmp/err"; exit 1; }
 # regress makes its worktrees under TMPDIR: here $tmp, so that one left behind is told apart from
 # the worktrees other work on this repository holds meanwhile.

@@ -14,11 +14,8 @@
 # measurements.json still reads, and a missing measurements.json is a one-line error, status 2.
 # Usage: test_report.sh [BUILD_DIR]
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
+source "$(dirname "$0")/prelude.sh"
 export PYTHONPATH="$root/scripts"  # the package heightmarch_tools
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
 
 /usr/bin/python3 - "$tmp/run" <<'PY'
 import json, os, sys

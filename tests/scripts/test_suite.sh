@@ -9,11 +9,8 @@
 # moves results/latest nor writes results/history.csv.
 # Usage: test_suite.sh BUILD_DIR
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
+source "$(dirname "$0")/prelude.sh"
 build="$(cd "${1:-$root/build}" && pwd)"
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
 
 # A quick run into the default place: a fresh results/<date>-<commit>-<time>-quick of the cwd.
 mkdir "$tmp/cwd"
