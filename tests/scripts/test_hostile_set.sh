@@ -5,10 +5,9 @@
 # About 10 s of CPU.
 # Usage: test_hostile_set.sh BUILD_DIR
 set -euo pipefail
+source "$(dirname "$0")/prelude.sh"
 build="$(cd "${1:?usage: test_hostile_set.sh BUILD_DIR}" && pwd)"
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
-cp -r "$(dirname "$0")/../hostile" "$tmp/set"
+cp -r "$root/tests/hostile" "$tmp/set"
 set_dir="$tmp/set"
 mkfifo "$tmp/fifo.png"
 mkdir -p "$tmp/elsewhere" "$tmp/linked-out"
