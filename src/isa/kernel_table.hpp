@@ -102,9 +102,9 @@ HEIGHTMARCH_FLATTEN void trace_packets(const KernelTexture& texture, const Kerne
 }
 
 // The loop of a walk's kernel (KernelShape::walk, the exact reference's float pass): the range's
-// rays go through queues of up to kWalkQueueRays, whose walks refill the lanes as rays end
+// rays are queued up to kWalkQueueRays at a time and walked as SCHEDULE says
 // (kernels/pyramid_walk.hpp); then each packet's hits are made from its rays' walks.
-template <int W, Addressing ADDRESSING, class Kernel>
+template <int W, Addressing ADDRESSING, class Kernel, WalkSchedule SCHEDULE>
 HEIGHTMARCH_FLATTEN void trace_walks(const KernelTexture& texture, const KernelParams& params, const KernelRays& rays,
                                      const KernelHits& hits, std::size_t begin, std::size_t end,
                                      KernelCounters& counters) {
@@ -120,10 +120,12 @@ HEIGHTMARCH_FLATTEN void trace_walks(const KernelTexture& texture, const KernelP
   for (std::size_t first = begin; first < end; first += kWalkQueueRays) {
     const int n = int(std::min<std::size_t>(kWalkQueueRays, end - first));
     for (int i = 0; i < n; i += W) kernel.queue(context, load_rays<W>(in, first + i), queue, i);
-    walker.run(queue, list, again, n, outcomes);
-    for (int i = 0; i < n; i += W)
-      store_hits<Kernel>(kernel(context, load_rays<W>(in, first + i), PyramidWalk<W>::at(outcomes, i)), out,
-                         first + i, discard, local);
+    if constexpr (SCHEDULE == WalkSchedule::refill) walker.run(queue, list, again, n, outcomes);
+    for (int i = 0; i < n; i += W) {
+      const PyramidWalk<W> walk =
+          SCHEDULE == WalkSchedule::refill ? PyramidWalk<W>::at(outcomes, i) : walker.walk_packet(queue, i);
+      store_hits<Kernel>(kernel(context, load_rays<W>(in, first + i), walk), out, first + i, discard, local);
+    }
   }
   counters.lane_samples += local.lane_samples;
   counters.packet_samples += local.packet_samples;
@@ -153,12 +155,12 @@ inline constexpr bool kStoresExactPass<ExactBoundKernel> = true;
 
 // The addressing modes in Addressing's order, each the packet loop of its kernel's shape.
 template <int W, class Kernel, Taps TAPS = Taps::memory, KernelShape SHAPE = KernelShape::march,
-          Filter FILTER = Filter::bilinear>
+          Filter FILTER = Filter::bilinear, WalkSchedule SCHEDULE = WalkSchedule::packet>
 constexpr void fill_addressing(TraceRangeFn (&row)[kAddressingCount]) {
   if constexpr (SHAPE == KernelShape::walk) {
-    row[int(Addressing::repeat_pow2)] = &trace_walks<W, Addressing::repeat_pow2, Kernel>;
-    row[int(Addressing::repeat)] = &trace_walks<W, Addressing::repeat, Kernel>;
-    row[int(Addressing::clamp)] = &trace_walks<W, Addressing::clamp, Kernel>;
+    row[int(Addressing::repeat_pow2)] = &trace_walks<W, Addressing::repeat_pow2, Kernel, SCHEDULE>;
+    row[int(Addressing::repeat)] = &trace_walks<W, Addressing::repeat, Kernel, SCHEDULE>;
+    row[int(Addressing::clamp)] = &trace_walks<W, Addressing::clamp, Kernel, SCHEDULE>;
   } else {
     row[int(Addressing::repeat_pow2)] = &trace_packets<W, Addressing::repeat_pow2, Kernel, TAPS, FILTER>;
     row[int(Addressing::repeat)] = &trace_packets<W, Addressing::repeat, Kernel, TAPS, FILTER>;
@@ -168,16 +170,18 @@ constexpr void fill_addressing(TraceRangeFn (&row)[kAddressingCount]) {
 
 // Both filters' rows. A walk reads texels, never a filtered sample (maxmip's walk and the patch
 // it solves, texelFetch in GLSL): its one instantiation serves both.
-template <int W, class Kernel, Taps TAPS = Taps::memory, KernelShape SHAPE = KernelShape::march>
+template <int W, class Kernel, Taps TAPS = Taps::memory, KernelShape SHAPE = KernelShape::march,
+          WalkSchedule SCHEDULE = WalkSchedule::packet>
 constexpr void fill_filters(TraceRangeFn (&rows)[kFilterCount][kAddressingCount]) {
-  fill_addressing<W, Kernel, TAPS, SHAPE, Filter::bilinear>(rows[int(Filter::bilinear)]);
-  fill_addressing<W, Kernel, TAPS, SHAPE, SHAPE == KernelShape::walk ? Filter::bilinear : Filter::trilinear>(
-      rows[int(Filter::trilinear)]);
+  fill_addressing<W, Kernel, TAPS, SHAPE, Filter::bilinear, SCHEDULE>(rows[int(Filter::bilinear)]);
+  fill_addressing<W, Kernel, TAPS, SHAPE, SHAPE == KernelShape::walk ? Filter::bilinear : Filter::trilinear,
+                  SCHEDULE>(rows[int(Filter::trilinear)]);
 }
 
 // MARCH_W and WALK_W: the packet widths of the ISA's list (cmake/isa_list.cmake) for each
-// KernelShape of the registry; tiles are padded to the wider, which the other divides.
-template <int MARCH_W, int WALK_W>
+// KernelShape of the registry; tiles are padded to the wider, which the other divides. SCHEDULE:
+// how the walks keep their lanes (the list's too).
+template <int MARCH_W, int WALK_W, WalkSchedule SCHEDULE>
 constexpr KernelTable make_kernel_table() {
   constexpr int W = MARCH_W > WALK_W ? MARCH_W : WALK_W;
   static_assert(W % MARCH_W == 0 && W % WALK_W == 0, "tiles are padded to the wider packet");
@@ -185,11 +189,12 @@ constexpr KernelTable make_kernel_table() {
   table.packet_width = W;
 #define HEIGHTMARCH_TECHNIQUE_ROW(id, name, layered, refine, needs, writes, search, shape, ...)       \
   fill_filters<shape == KernelShape::walk ? WALK_W : MARCH_W, TechniqueKernel<Technique::id>, Taps::memory, \
-                  shape>(table.technique[int(Technique::id)]);
+                  shape, SCHEDULE>(table.technique[int(Technique::id)]);
   HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_ROW)
 #undef HEIGHTMARCH_TECHNIQUE_ROW
   fill_filters<MARCH_W, SamplerRooflineKernel>(table.sampler_roofline);
-  fill_addressing<WALK_W, ExactBoundKernel, Taps::memory, KernelShape::walk>(table.exact_bound);  // the level-0 surface
+  fill_addressing<WALK_W, ExactBoundKernel, Taps::memory, KernelShape::walk, Filter::bilinear, SCHEDULE>(
+      table.exact_bound);  // the level-0 surface
   fill_filters<MARCH_W, TechniqueKernel<Technique::pom>, Taps::registers>(table.compute_ceiling);
   table.autovec_pom = &autovec_pom;
   return table;

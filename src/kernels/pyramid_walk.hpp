@@ -125,6 +125,12 @@ TexelPath<W> texel_path(const KernelContext<W, ADDRESSING>& k, const RayPacket<W
 // The queues hold rays as the lanes do, a field a column; the outcomes are kept in the order the
 // walks ended, with each ray's position, from which the caller makes the hits a packet at a time
 // in ray order (src/isa/kernel_table.hpp, trace_walks).
+// Which of the two a walk's kernel runs at an ISA (its row of cmake/isa_list.cmake): the lanes
+// refilled from the queue (PyramidWalker::run), or each packet walked in its own lanes
+// (PyramidWalker::walk_packet). The outcomes are the same; which is faster depends on the width
+// and the registers (docs/performance.md).
+enum class WalkSchedule { refill, packet };
+
 inline constexpr int kWalkQueueRays = 1024;  // a tile of the default 32 x 32 pixels
 inline constexpr int kWalkQueuePadding = 32;  // the widest packet: a pair of 16
 inline constexpr int kWalkQueueSize = kWalkQueueRays + kWalkQueuePadding;
@@ -288,6 +294,60 @@ class PyramidWalker {
     }
   }
 
+  // Walks the queued rays i .. i + W - 1 of `rays` in the packet's own lanes, each cell solved in
+  // the pass that reaches it: no queue, no outcome lists, every lane's state in registers, but a
+  // lane whose ray has ended idles until the packet's last has.
+  PyramidWalk<W> walk_packet(const WalkQueue& rays, int i) {
+    const auto field = [&](WalkQueue::Field f) { return F::load(rays.column[f] + i); };
+    Lanes l;
+    l.x0 = field(WalkQueue::x0);
+    l.y0 = field(WalkQueue::y0);
+    l.dx = field(WalkQueue::dx);
+    l.dy = field(WalkQueue::dy);
+    l.inv_dx = field(WalkQueue::inv_dx);
+    l.inv_dy = field(WalkQueue::inv_dy);
+    l.eta = CONSERVATIVE ? field(WalkQueue::eta) : F(0.0f);
+    l.left = field(WalkQueue::left);
+    l.t = field(WalkQueue::t);
+    l.cx = field(WalkQueue::cx);
+    l.cy = field(WalkQueue::cy);
+    l.level = I::load(rays.level + i);
+    l.samples = I::load(rays.samples + i);
+    PyramidWalk<W> walk;
+    walk.c0 = walk.c1 = walk.c2 = walk.span = F(0.0f);
+    walk.reached = walk.cut_off = !B::all_true();
+    B live = B::all_true();
+    // A lane ends within its bound of passes.
+    for (std::int64_t p = 0; p <= std::int64_t(kMaxLanePasses) + 1 && any(live); ++p) {
+      l.left = select(live, l.left - F(1.0f), l.left);
+      const B over = live & (l.left < F(0.0f));
+      const Pass s = pass(l, live & !over);
+      B hit = !B::all_true();
+      if (any(s.solve)) {
+        F cell[4];
+        hit = test_cell(l, s.box, s.solve, cell);
+        walk.c0 = select(hit, cell[0], walk.c0);
+        walk.c1 = select(hit, cell[1], walk.c1);
+        walk.c2 = select(hit, cell[2], walk.c2);
+        walk.span = select(hit, cell[3], walk.span);
+      }
+      const B beyond = advance(l, s.box, s.skip | (s.solve & !hit), s.descend, s.clear_above);
+      walk.reached = walk.reached | hit;
+      walk.cut_off = walk.cut_off | over;
+      live = live & !(over | beyond | hit);
+    }
+    walk.cut_off = walk.cut_off | live;
+    walk.t00 = walk.c0;
+    walk.t10 = walk.c1;
+    walk.t01 = walk.c2;
+    walk.t11 = walk.span;
+    walk.t = l.t;
+    walk.cx = l.cx;
+    walk.cy = l.cy;
+    walk.samples = l.samples;
+    return walk;
+  }
+
  private:
   // Rays in lanes: a queue's fields as packets.
   struct Lanes {
@@ -425,10 +485,71 @@ class PyramidWalker {
     out.count += std::popcount(mask_bits(ending));
   }
 
+  // One pass of the lanes `active`: the box each is in, the pyramid entry of its block read, and
+  // what the lane does next (skip the box, descend a level, or have its cell solved).
+  struct Pass {
+    Box box;
+    F clear_above;  // the path is clear of the block above this depth
+    B skip, descend, solve;
+  };
+
+  Pass pass(Lanes& l, B active) {
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    Pass s;
+    s.box = box(l);
+    const Box& b = s.box;
+    const B in_pyramid = active & b.interior & (top_ >= 0 ? B::all_true() : !B::all_true());
+    F shallowest(-kInf);
+    if (top_ >= 0) {
+      // The block's entry; REPEAT wraps the block index into the level's nb blocks a side.
+      F bx = b.bx, by = b.by;
+      if constexpr (kRepeat) {
+        const F nbx = width_ * b.inv_size, nby = height_ * b.inv_size;
+        if constexpr (ADDRESSING == Addressing::repeat_pow2) {  // exact in float: no correction
+          bx = bx - nbx * floor(bx * inv_width_ * b.size);
+          by = by - nby * floor(by * inv_height_ * b.size);
+        } else {
+          bx = wrap_cell(bx, nbx, inv_width_ * b.size);
+          by = wrap_cell(by, nby, inv_height_ * b.size);
+        }
+      }
+      const I entry = lookup(level_offset_, l.level) + to_int(by) * lookup(level_blocks_x_, l.level) + to_int(bx);
+      if constexpr (!CONSERVATIVE) k_.count(in_pyramid, l.samples, 1);
+      shallowest = select(in_pyramid, gather(texture_.min_depth_pyramid.texels, select(in_pyramid, entry, I(0))), F(-kInf));
+    }
+    s.clear_above = shallowest;
+    if constexpr (CONSERVATIVE) s.clear_above = s.clear_above - l.eta;
+    s.skip = in_pyramid & (b.t_end < s.clear_above);
+    s.descend = in_pyramid & (!s.skip) & (I(0) < l.level);
+    s.solve = active & (!s.skip) & (!s.descend);
+    return s;
+  }
+
+  // The cell test of the lanes `solving`: whether the path meets the patch of its cell before it
+  // leaves the box. Where it does, `cell` holds the quadratic over the span, or (CONSERVATIVE:
+  // the exact reference solves the cell again in double) the texels; 0 elsewhere.
+  B test_cell(Lanes& l, const Box& b, B solving, F (&cell)[4]) {
+    F t00, t10, t01, t11;
+    cell_texels<ADDRESSING>(texture_, l.cx, l.cy, t00, t10, t01, t11);
+    k_.count(solving, l.samples, CONSERVATIVE ? 1 : 4);
+    const F fx = (l.x0 - l.cx) + l.dx * l.t, fy = (l.y0 - l.cy) + l.dy * l.t;
+    const F e = t10 - t00, f = t01 - t00, g = (t11 - t10) - (t01 - t00);
+    const F c0 = l.t - (t00 + e * fx + f * fy + g * fx * fy) + l.eta;
+    const F c1 = F(1.0f) - (e * l.dx + f * l.dy + g * (fx * l.dy + fy * l.dx));
+    const F c2 = F(0.0f) - g * l.dx * l.dy;
+    const F span = b.t_end - l.t;
+    const B hit = solving & reaches_patch(c0, c1, c2, span);
+    const F zero(0.0f);
+    cell[0] = select(hit, CONSERVATIVE ? t00 : c0, zero);
+    cell[1] = select(hit, CONSERVATIVE ? t10 : c1, zero);
+    cell[2] = select(hit, CONSERVATIVE ? t01 : c2, zero);
+    cell[3] = select(hit, CONSERVATIVE ? t11 : span, zero);
+    return hit;
+  }
+
   // Walks the n rays of q until each has ended or needs a solve, then handed to `list` (at its
   // positions 0, 1, ...; returns how many). A lane takes the next ray as soon as its own leaves.
   int walk(WalkQueue& q, int n, WalkQueue& list, WalkOutcomes& out) {
-    constexpr float kInf = std::numeric_limits<float>::infinity();
     q.end_at(n);
     Lanes l{};
     l.level = l.samples = I(0);
@@ -441,42 +562,17 @@ class PyramidWalker {
       // Past its bound a lane stops where it is, its path clear down to t (cut off).
       l.left = select(live, l.left - F(1.0f), l.left);
       const B over = live & (l.left < F(0.0f));
-      const B active = live & !over;
-      const Box b = box(l);
-      const B in_pyramid = active & b.interior & (top_ >= 0 ? B::all_true() : !B::all_true());
-      F shallowest(-kInf);
-      if (top_ >= 0) {
-        // The block's entry; REPEAT wraps the block index into the level's nb blocks a side.
-        F bx = b.bx, by = b.by;
-        if constexpr (kRepeat) {
-          const F nbx = width_ * b.inv_size, nby = height_ * b.inv_size;
-          if constexpr (ADDRESSING == Addressing::repeat_pow2) {  // exact in float: no correction
-            bx = bx - nbx * floor(bx * inv_width_ * b.size);
-            by = by - nby * floor(by * inv_height_ * b.size);
-          } else {
-            bx = wrap_cell(bx, nbx, inv_width_ * b.size);
-            by = wrap_cell(by, nby, inv_height_ * b.size);
-          }
-        }
-        const I entry = lookup(level_offset_, l.level) + to_int(by) * lookup(level_blocks_x_, l.level) + to_int(bx);
-        if constexpr (!CONSERVATIVE) k_.count(in_pyramid, l.samples, 1);
-        shallowest = select(in_pyramid, gather(texture_.min_depth_pyramid.texels, select(in_pyramid, entry, I(0))), F(-kInf));
-      }
-      F clear_above = shallowest;  // the path is clear of the block above this depth
-      if constexpr (CONSERVATIVE) clear_above = clear_above - l.eta;
-      const B skip = in_pyramid & (b.t_end < clear_above);
-      const B descend = in_pyramid & (!skip) & (I(0) < l.level);
-      const B solve = active & (!skip) & (!descend);
-      const B beyond = advance(l, b, skip, descend, clear_above);
+      const Pass s = pass(l, live & !over);
+      const B beyond = advance(l, s.box, s.skip, s.descend, s.clear_above);
 
       const B ended = over | beyond;
-      if (any(ended | solve)) {
+      if (any(ended | s.solve)) {
         if (any(ended)) {
           const F no_cell[4] = {F(0.0f), F(0.0f), F(0.0f), F(0.0f)};
           leave_outcome(l, ended, select(over, F(float(WalkEnd::cut_off)), F(float(WalkEnd::clear))), no_cell, out);
         }
-        hand_over<false>(l, solve, list, listed);
-        live = live & !(ended | solve);
+        hand_over<false>(l, s.solve, list, listed);
+        live = live & !(ended | s.solve);
         if (next < n) take(q, n, next, l, live);
       }
     }
@@ -509,21 +605,9 @@ class PyramidWalker {
       l.samples = I::load(list.samples + i);
       const B solving = F::load(kWalkQueuePositions.values) < F(float(n - i));  // lane < n - i
       const Box b = box(l);
-      F t00, t10, t01, t11;
-      cell_texels<ADDRESSING>(texture_, l.cx, l.cy, t00, t10, t01, t11);
-      k_.count(solving, l.samples, CONSERVATIVE ? 1 : 4);
-      const F fx = (l.x0 - l.cx) + l.dx * l.t, fy = (l.y0 - l.cy) + l.dy * l.t;
-      const F e = t10 - t00, f = t01 - t00, g = (t11 - t10) - (t01 - t00);
-      const F c0 = l.t - (t00 + e * fx + f * fy + g * fx * fy) + l.eta;
-      const F c1 = F(1.0f) - (e * l.dx + f * l.dy + g * (fx * l.dy + fy * l.dx));
-      const F c2 = F(0.0f) - g * l.dx * l.dy;
-      const F span = b.t_end - l.t;
-      const B hit = solving & reaches_patch(c0, c1, c2, span);
+      F cell[4];
+      const B hit = test_cell(l, b, solving, cell);
       const B beyond = advance(l, b, solving & !hit, !B::all_true(), F(0.0f));
-      // The exact reference solves the cell again in double: it keeps the texels.
-      const F zero(0.0f);
-      const F cell[4] = {select(hit, CONSERVATIVE ? t00 : c0, zero), select(hit, CONSERVATIVE ? t10 : c1, zero),
-                         select(hit, CONSERVATIVE ? t01 : c2, zero), select(hit, CONSERVATIVE ? t11 : span, zero)};
       leave_outcome(l, hit | beyond, select(hit, F(float(WalkEnd::reached)), F(float(WalkEnd::clear))), cell, out);
       hand_over<true>(l, solving & !hit & !beyond, again, kept);
     }
