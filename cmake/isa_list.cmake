@@ -13,9 +13,10 @@
 #     on 16 registers: 1.25-1.4x one packet at SSE4.2 and AVX2 (docs/performance.md).
 #   WALK_SCHEDULE: how the walks keep their lanes (WalkSchedule, src/kernels/pyramid_walk.hpp):
 #     refill (a lane takes the next ray as its own ends) or packet (each packet's rays in their
-#     own lanes, every lane's state in registers), whichever measures faster: on an Intel Xeon
-#     packet ran 1.0-1.25x refill at AVX-512, AVX2 and width 1, refill 1.06-1.08x packet at
-#     SSE4.2 on three of the five builtins (docs/performance.md). The outputs are the same.
+#     own lanes, every lane's state in registers), whichever is faster on the suite's window of
+#     views. On an Intel Xeon packet ran 1.06-1.11x refill at width 1, where nothing idles, and
+#     0.85-1.13x at AVX-512 (0.95-1.02x at AVX2) on the window, though 1.0-1.25x on the single
+#     default view, whose packets diverge less (docs/performance.md). The outputs are the same.
 #   HIGHWAY_TARGET: the Google Highway target of the same instructions (HWY_AVX2, ...; for scalar
 #     code Highway's portable one, which it compiles as HWY_EMU128 or HWY_SCALAR): where the
 #     Highway port of the tutorial's POM runs at this ISA (src/baselines/highway_port.cpp).
@@ -39,9 +40,9 @@ if(CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$")
   set(gathers "$<$<CXX_COMPILER_ID:GNU>:-mtune-ctrl=use_gather_2parts,use_gather_4parts,use_gather>")
   heightmarch_isa(scalar "scalar" vfloat1.hpp 1 1 1 packet "HWY_EMU128|HWY_SCALAR" "" "")
   heightmarch_isa(sse42 "sse4.2" vfloat4_sse.hpp 4 2 2 refill HWY_SSE4 "sse4.2" "-msse4.2")
-  heightmarch_isa(avx2 "avx2" vfloat8_avx2.hpp 8 2 2 packet HWY_AVX2 "avx2;fma;bmi2" "-mavx2;-mfma;-mbmi2" ${gathers})
+  heightmarch_isa(avx2 "avx2" vfloat8_avx2.hpp 8 2 2 refill HWY_AVX2 "avx2;fma;bmi2" "-mavx2;-mfma;-mbmi2" ${gathers})
   # GCC 12's AVX-512 headers warn about their own _mm512_undefined_* values.
-  heightmarch_isa(avx512 "avx512" vfloat16_avx512.hpp 16 2 2 packet HWY_AVX3
+  heightmarch_isa(avx512 "avx512" vfloat16_avx512.hpp 16 2 2 refill HWY_AVX3
     "avx2;fma;bmi2;avx512f;avx512bw;avx512dq;avx512vl"
     "-mavx512f;-mavx512bw;-mavx512dq;-mavx512vl;-mfma;-mbmi2;-Wno-maybe-uninitialized;-Wno-uninitialized" ${gathers})
 else()

@@ -112,23 +112,25 @@ TexelPath<W> texel_path(const KernelContext<W, ADDRESSING>& k, const RayPacket<W
   return path;
 }
 
-// The walks of a range of rays keep every lane busy (the persistent threads of Aila and Laine
+// A range's rays are queued, then walked in one of two schedules, chosen per ISA (its row of
+// cmake/isa_list.cmake), whichever is faster there (docs/performance.md); a ray's outcome is the
+// same under both.
+//
+// refill (PyramidWalker::run) keeps every lane busy (the persistent threads of Aila and Laine
 // 2009, and the ray streams of Wald et al. and Embree, on SIMD lanes): a walk's pass reads a
 // pyramid entry, and a cell it may touch waits for a solve that reads four texels, so the two run
 // apart, each on full packets. A lane walks a ray from a queue until it needs a cell solved (the
 // lane hands it to a list), has ended (clear beyond depth 1, or cut off by its bound: it leaves
 // its outcome), and takes the queue's next ray at the next pass. The list is then solved a packet
 // at a time; a ray whose path clears its cell goes on into the next round's queue. A lane computes
-// the same for its ray whichever lane it is and whenever it starts, so the outcome of every ray is
-// that of a walk per packet.
+// the same for its ray whichever lane it is and whenever it starts. The outcomes are kept in the
+// order the walks ended, with each ray's position, from which the caller makes the hits a packet
+// at a time in ray order (src/isa/kernel_table.hpp, trace_walks).
 //
-// The queues hold rays as the lanes do, a field a column; the outcomes are kept in the order the
-// walks ended, with each ray's position, from which the caller makes the hits a packet at a time
-// in ray order (src/isa/kernel_table.hpp, trace_walks).
-// Which of the two a walk's kernel runs at an ISA (its row of cmake/isa_list.cmake): the lanes
-// refilled from the queue (PyramidWalker::run), or each packet walked in its own lanes
-// (PyramidWalker::walk_packet). The outcomes are the same; which is faster depends on the width
-// and the registers (docs/performance.md).
+// packet (PyramidWalker::walk_packet) walks each packet's rays in its own lanes to the last, a
+// cell solved in the pass that reaches it: no moves and no lists, but idle lanes.
+//
+// The queues hold rays as the lanes do, a field a column.
 enum class WalkSchedule { refill, packet };
 
 inline constexpr int kWalkQueueRays = 1024;  // a tile of the default 32 x 32 pixels
@@ -317,8 +319,8 @@ class PyramidWalker {
     walk.c0 = walk.c1 = walk.c2 = walk.span = F(0.0f);
     walk.reached = walk.cut_off = !B::all_true();
     B live = B::all_true();
-    // A lane ends within its bound of passes.
-    for (std::int64_t p = 0; p <= std::int64_t(kMaxLanePasses) + 1 && any(live); ++p) {
+    // A lane is over its bound of passes (at most kMaxLanePasses) by the pass after it.
+    for (std::int64_t p = 0; p <= std::int64_t(kMaxLanePasses) && any(live); ++p) {
       l.left = select(live, l.left - F(1.0f), l.left);
       const B over = live & (l.left < F(0.0f));
       const Pass s = pass(l, live & !over);
@@ -336,7 +338,6 @@ class PyramidWalker {
       walk.cut_off = walk.cut_off | over;
       live = live & !(over | beyond | hit);
     }
-    walk.cut_off = walk.cut_off | live;
     walk.t00 = walk.c0;
     walk.t10 = walk.c1;
     walk.t01 = walk.c2;
