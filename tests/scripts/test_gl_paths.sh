@@ -21,8 +21,11 @@ grep -q "heightmarch GLSL worker: EGL alone" "$egl.log" ||
 cmake --build "$egl" --target heightmarch-glsl-worker -j "$(nproc)" > "$egl-build.log" 2>&1 ||
   { tail -30 "$egl-build.log"; echo "FAIL: the worker does not build with OSMesa hidden"; exit 1; }
 worker="$egl/heightmarch-glsl-worker"
-if ldd "$worker" | grep -qi osmesa || ! ldd "$worker" | grep -q libEGL; then
-  ldd "$worker"
+# Read whole first: ldd writes a line at a time, and under pipefail `ldd | grep -q` fails when
+# grep has matched and left before ldd's next line (SIGPIPE), as it did now and then.
+libs="$(ldd "$worker")"
+if grep -qi osmesa <<<"$libs" || ! grep -q libEGL <<<"$libs"; then
+  echo "$libs"
   echo "FAIL: the worker built with OSMesa hidden does not link EGL alone"
   exit 1
 fi
