@@ -301,20 +301,7 @@ class PyramidWalker {
   // lane whose ray has ended idles until the packet's last has.
   PyramidWalk<W> walk_packet(const WalkQueue& rays, int i) {
     const auto field = [&](WalkQueue::Field f) { return F::load(rays.column[f] + i); };
-    Lanes l;
-    l.x0 = field(WalkQueue::x0);
-    l.y0 = field(WalkQueue::y0);
-    l.dx = field(WalkQueue::dx);
-    l.dy = field(WalkQueue::dy);
-    l.inv_dx = field(WalkQueue::inv_dx);
-    l.inv_dy = field(WalkQueue::inv_dy);
-    l.eta = CONSERVATIVE ? field(WalkQueue::eta) : F(0.0f);
-    l.left = field(WalkQueue::left);
-    l.t = field(WalkQueue::t);
-    l.cx = field(WalkQueue::cx);
-    l.cy = field(WalkQueue::cy);
-    l.level = I::load(rays.level + i);
-    l.samples = I::load(rays.samples + i);
+    Lanes l = lanes(field, field, rays, i);
     PyramidWalk<W> walk;
     walk.c0 = walk.c1 = walk.c2 = walk.span = F(0.0f);
     walk.reached = walk.cut_off = !B::all_true();
@@ -356,6 +343,27 @@ class PyramidWalker {
     F x0, y0, dx, dy, inv_dx, inv_dy, eta, left, t, cx, cy;
     I level, samples;
   };
+
+  // A packet of lanes (but its rays' indices): the paths' fields from path(field), where the
+  // walks are from walk(field) and from q's packet at i.
+  template <class Path, class Walk>
+  static Lanes lanes(Path path, Walk walk, const WalkQueue& q, int i) {
+    Lanes l;
+    l.x0 = path(WalkQueue::x0);
+    l.y0 = path(WalkQueue::y0);
+    l.dx = path(WalkQueue::dx);
+    l.dy = path(WalkQueue::dy);
+    l.inv_dx = path(WalkQueue::inv_dx);
+    l.inv_dy = path(WalkQueue::inv_dy);
+    l.eta = CONSERVATIVE ? path(WalkQueue::eta) : F(0.0f);
+    l.left = walk(WalkQueue::left);
+    l.t = walk(WalkQueue::t);
+    l.cx = walk(WalkQueue::cx);
+    l.cy = walk(WalkQueue::cy);
+    l.level = I::load(q.level + i);
+    l.samples = I::load(q.samples + i);
+    return l;
+  }
 
   // The box a lane is in: its block at its level (blocks tile the period: REPEAT keeps a level
   // only while 2^L divides both sides), or (CLAMP edge cells) the cell, infinite on its outer
@@ -587,23 +595,11 @@ class PyramidWalker {
     list.end_at(n);
     int kept = 0;
     for (int i = 0; i < n; i += W) {
+      const I ray = I::load(list.ray + i);
+      const auto path = [&](WalkQueue::Field f) { return gather(rays.column[f], ray); };
       const auto field = [&](WalkQueue::Field f) { return F::load(list.column[f] + i); };
-      Lanes l;
-      l.ray = I::load(list.ray + i);
-      const auto path = [&](WalkQueue::Field f) { return gather(rays.column[f], l.ray); };
-      l.x0 = path(WalkQueue::x0);
-      l.y0 = path(WalkQueue::y0);
-      l.dx = path(WalkQueue::dx);
-      l.dy = path(WalkQueue::dy);
-      l.inv_dx = path(WalkQueue::inv_dx);
-      l.inv_dy = path(WalkQueue::inv_dy);
-      l.eta = CONSERVATIVE ? path(WalkQueue::eta) : F(0.0f);
-      l.left = field(WalkQueue::left);
-      l.t = field(WalkQueue::t);
-      l.cx = field(WalkQueue::cx);
-      l.cy = field(WalkQueue::cy);
-      l.level = I::load(list.level + i);
-      l.samples = I::load(list.samples + i);
+      Lanes l = lanes(path, field, list, i);
+      l.ray = ray;
       const B solving = F::load(kWalkQueuePositions.values) < F(float(n - i));  // lane < n - i
       const Box b = box(l);
       F cell[4];
