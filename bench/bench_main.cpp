@@ -40,17 +40,18 @@ struct BenchOptions {
   std::string views = "single";
   int res = 512;
   std::vector<std::string> heightfields = {"bricks", "terrain"};
-  PlanFilters filters;       // empty lists: the suite's default
-  std::vector<int> threads;  // empty: 1 and all cores
+  PlanFilters filters;                                  // empty lists: the suite's default
+  std::vector<int> threads;                             // empty: 1 and all cores
   std::vector<std::string> map_filters = {"bilinear"};  // how the depth map is read: the plan under each
-  std::vector<std::string> gl;    // GL paths of the GLSL benchmarks; empty: the worker's default
-  std::string gl_device;          // EGL's device for them; empty: EGL's first
+  std::vector<std::string> gl;  // GL paths of the GLSL benchmarks; empty: the worker's default
+  std::string gl_device;        // EGL's device for them; empty: EGL's first
   double min_time = 0.2;
   bool dry_run = false;
 };
 
 // The parts heightmarch-bench times unless told: the suite's timed parts but the claims' rows.
-const std::vector<std::string> kDefaultParts = {"matrix", "isa", "glsl", "roofline", "naive", "exact", "calibration"};
+const std::vector<std::string> kDefaultParts = {"matrix", "isa",   "glsl",       "roofline",
+                                                "naive",  "exact", "calibration"};
 
 MeasurementSession& session() {
   static MeasurementSession s;
@@ -60,13 +61,15 @@ MeasurementSession& session() {
 void set_counters(benchmark::State& state, const Measurement& m) {
   const double iterations = double(state.iterations());
   state.SetItemsProcessed(std::int64_t(m.rays) * state.iterations());
-  state.counters["rays_per_second"] = benchmark::Counter(double(m.rays) * iterations, benchmark::Counter::kIsRate);
+  state.counters["rays_per_second"] =
+      benchmark::Counter(double(m.rays) * iterations, benchmark::Counter::kIsRate);
   // A GLSL draw's two clocks, the median seconds of the timed draws (the manual time is one of them:
   // GlDrawTime::seconds()).
   if (!m.gl_wall_seconds.empty()) state.counters["gl_wall_seconds"] = spread_of(m.gl_wall_seconds).median;
   if (!m.gl_timer_seconds.empty()) state.counters["gl_timer_seconds"] = spread_of(m.gl_timer_seconds).median;
   if (!m.samples_known) return;
-  state.counters["samples_per_second"] = benchmark::Counter(double(m.samples) * iterations, benchmark::Counter::kIsRate);
+  state.counters["samples_per_second"] =
+      benchmark::Counter(double(m.samples) * iterations, benchmark::Counter::kIsRate);
   state.counters["samples_per_ray"] = m.rays ? double(m.samples) / double(m.rays) : 0.0;
   if (m.config.kind == RunKind::trace) state.counters["simd_utilization"] = m.simd_utilization;
   if (m.precompute_seconds) state.counters["precompute_seconds"] = *m.precompute_seconds;  // not in the rates
@@ -107,7 +110,8 @@ void view_size(const std::string& text, int& width, int& height) {
     return error == std::errc() && end == digits.data() + digits.size() && out >= 1 && out <= kMaxViewSide;
   };
   if (!side(w, width) || !side(h, height))
-    throw InputError("--hm_size " + printable(text) + ": not N or WxH with sides in [1, " + std::to_string(kMaxViewSide) + "]");
+    throw InputError("--hm_size " + printable(text) + ": not N or WxH with sides in [1, " +
+                     std::to_string(kMaxViewSide) + "]");
 }
 
 // The suite's plan at the options' sizes, heightfields, threads and filters, with the Highway
@@ -127,7 +131,8 @@ std::vector<Configuration> bench_plan(const BenchOptions& o) {
   settings.window = parse_view("default", width, height);
   apply_views(o.views, settings.window);
   settings.heightfields.clear();
-  for (const std::string& name : o.heightfields) settings.heightfields.push_back(parse_heightfield(name, o.res));
+  for (const std::string& name : o.heightfields)
+    settings.heightfields.push_back(parse_heightfield(name, o.res));
   give_unique_labels(settings.heightfields);
   settings.large_maps = false;
   settings.highway = true;
@@ -160,7 +165,6 @@ std::vector<Configuration> bench_plan(const BenchOptions& o) {
   return plan;
 }
 
-
 // Google Benchmark's file reporter, told apart from its stream's failure (a full disk): the file
 // goes to a temporary that is renamed into place only when every byte was written.
 template <class Base>
@@ -181,43 +185,69 @@ class CheckedReporter : public Base {
 
 int main(int argc, char** argv) {
   BenchOptions o;
-  CLI::App app("heightmarch-bench: Google Benchmark over heightmarch's techniques, ISAs and GLSL. Google Benchmark's own "
-               "--benchmark_* flags are accepted too (--benchmark_filter, --benchmark_repetitions, --benchmark_out, ...).",
-               "heightmarch-bench");
+  CLI::App app(
+      "heightmarch-bench: Google Benchmark over heightmarch's techniques, ISAs and GLSL. Google Benchmark's "
+      "own "
+      "--benchmark_* flags are accepted too (--benchmark_filter, --benchmark_repetitions, --benchmark_out, "
+      "...).",
+      "heightmarch-bench");
   app.allow_extras();
   app.set_help_flag("-h,--help", "this text, then Google Benchmark's flags");
   app.add_option("--hm_size", o.size, "the view: N (N x N) or WxH pixels")->capture_default_str();
-  app.add_option("--hm_views", o.views,
-                 "the window: single (default), around, tutorial[:N] (frames of --hm_size), or a camera-pose CSV "
-                 "(docs/measures.md#view-sets)")
+  app.add_option(
+         "--hm_views", o.views,
+         "the window: single (default), around, tutorial[:N] (frames of --hm_size), or a camera-pose CSV "
+         "(docs/measures.md#view-sets)")
       ->capture_default_str();
-  app.add_option("--hm_res", o.res, "builtin depth map side")->check(CLI::Range(1, kMaxDepthMapSide))->capture_default_str();
-  app.add_option("--hm_heightfields", o.heightfields, "builtin names or depth map files")->delimiter(',')->capture_default_str();
-  app.add_option("--hm_techniques", o.filters.techniques, technique_names() + " (default: all)")->delimiter(',');
+  app.add_option("--hm_res", o.res, "builtin depth map side")
+      ->check(CLI::Range(1, kMaxDepthMapSide))
+      ->capture_default_str();
+  app.add_option("--hm_heightfields", o.heightfields, "builtin names or depth map files")
+      ->delimiter(',')
+      ->capture_default_str();
+  app.add_option("--hm_techniques", o.filters.techniques, technique_names() + " (default: all)")
+      ->delimiter(',');
   app.add_option("--hm_layers", o.filters.layers,
-                 "layer specs, N or A-B (default: the suite's, 4, 8, 10, 16, 32, 64, 8-32)")->delimiter(',');
-  app.add_option("--hm_threads", o.threads, "thread counts (default: 1 and all cores)")->delimiter(',')->check(CLI::Range(1, 1024));
-  app.add_option("--hm_isas", o.filters.isas, isa_names() + " (default: every ISA the CPU runs)")->delimiter(',');
-  app.add_option("--hm_filters", o.map_filters,
-                 "bilinear, trilinear or both: the kernels, their anchors and GLSL under each (names of trilinear "
-                 "ones end in /filter:trilinear)")
-      ->delimiter(',')->check(CLI::IsMember(filter_names()))->capture_default_str();
-  app.add_option("--hm_gl", o.gl, "GL paths of the GLSL benchmarks, " + gl_path_names() +
-                 ", comma-separated: each its own benchmarks, side by side (default: osmesa where built, else egl)")
+                 "layer specs, N or A-B (default: the suite's, 4, 8, 10, 16, 32, 64, 8-32)")
+      ->delimiter(',');
+  app.add_option("--hm_threads", o.threads, "thread counts (default: 1 and all cores)")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 1024));
+  app.add_option("--hm_isas", o.filters.isas, isa_names() + " (default: every ISA the CPU runs)")
+      ->delimiter(',');
+  app.add_option(
+         "--hm_filters", o.map_filters,
+         "bilinear, trilinear or both: the kernels, their anchors and GLSL under each (names of trilinear "
+         "ones end in /filter:trilinear)")
+      ->delimiter(',')
+      ->check(CLI::IsMember(filter_names()))
+      ->capture_default_str();
+  app.add_option("--hm_gl", o.gl,
+                 "GL paths of the GLSL benchmarks, " + gl_path_names() +
+                     ", comma-separated: each its own benchmarks, side by side (default: osmesa where built, "
+                     "else egl)")
       ->delimiter(',');
   app.add_option("--hm_gl_device", o.gl_device,
                  "EGL device of the GLSL benchmarks: software, or an index or name from `heightmarch glsl "
                  "--list-devices` (default: EGL's first)");
   std::string parts;
   for (const std::string& name : part_names()) parts += (parts.empty() ? "" : ", ") + name;
-  app.add_option("--hm_parts", o.filters.parts, "the parts of the suite's plan to time: " + parts + " (default: " + [] {
-    std::string names;
-    for (const std::string& name : kDefaultParts) names += (names.empty() ? "" : ",") + name;
-    return names;
-  }() + ")")->delimiter(',');
-  app.add_flag("--hm_dry_run", o.dry_run, "list the configurations it would time, as suite --dry-run does, and time nothing");
-  app.add_option("--hm_min_time", o.min_time, "seconds per benchmark (Google Benchmark's --benchmark_min_time)")
-      ->check(CLI::Range(0.0, 60.0))->capture_default_str();
+  app.add_option(
+         "--hm_parts", o.filters.parts,
+         "the parts of the suite's plan to time: " + parts + " (default: " +
+             [] {
+               std::string names;
+               for (const std::string& name : kDefaultParts) names += (names.empty() ? "" : ",") + name;
+               return names;
+             }() +
+             ")")
+      ->delimiter(',');
+  app.add_flag("--hm_dry_run", o.dry_run,
+               "list the configurations it would time, as suite --dry-run does, and time nothing");
+  app.add_option("--hm_min_time", o.min_time,
+                 "seconds per benchmark (Google Benchmark's --benchmark_min_time)")
+      ->check(CLI::Range(0.0, 60.0))
+      ->capture_default_str();
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp&) {
@@ -233,7 +263,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (!std::isfinite(o.min_time)) {  // CLI11's range check lets NaN through
-    std::fprintf(stderr, "heightmarch-bench: --hm_min_time: %g is not a finite number of seconds\n", o.min_time);
+    std::fprintf(stderr, "heightmarch-bench: --hm_min_time: %g is not a finite number of seconds\n",
+                 o.min_time);
     return 2;
   }
   // Our flags are ours; whatever remains must be Google Benchmark's.
@@ -268,7 +299,8 @@ int main(int argc, char** argv) {
     }
   }
   if (out_format != "json" && out_format != "console") {  // csv is deprecated in Google Benchmark
-    std::fprintf(stderr, "heightmarch-bench: --benchmark_out_format=%s: json or console\n", out_format.c_str());
+    std::fprintf(stderr, "heightmarch-bench: --benchmark_out_format=%s: json or console\n",
+                 out_format.c_str());
     return 2;
   }
   std::vector<char*> gbench_argv = {argv[0]};
@@ -290,9 +322,9 @@ int main(int argc, char** argv) {
     session().load_depth_maps(*plan);
     for (const Configuration& c : *plan) {
       const HeightfieldSource& source = c.heightfield;
-      sizes[&c] = source.builtin.empty()
-                      ? std::pair<int, int>{session().depth_map(source).width, session().depth_map(source).height}
-                      : std::pair<int, int>{source.resolution, source.resolution};
+      sizes[&c] = source.builtin.empty() ? std::pair<int, int>{session().depth_map(source).width,
+                                                               session().depth_map(source).height}
+                                         : std::pair<int, int>{source.resolution, source.resolution};
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "heightmarch-bench: %s\n", e.what());
@@ -307,7 +339,8 @@ int main(int argc, char** argv) {
   benchmark::AddCustomContext("heightmarch_build_type", prov.build_type);
   benchmark::AddCustomContext("heightmarch_best_isa", to_string(best_isa()));
   benchmark::AddCustomContext("heightmarch_error_measures", error_measure_names());
-  benchmark::AddCustomContext("heightmarch_view", plan->empty() ? "none" : benchmark_view(plan->front().view));
+  benchmark::AddCustomContext("heightmarch_view",
+                              plan->empty() ? "none" : benchmark_view(plan->front().view));
   benchmark::AddCustomContext("heightmarch_depth_map", std::to_string(o.res) + "x" + std::to_string(o.res));
   for (const Configuration& c : *plan) {
     const auto [width, height] = sizes.at(&c);
@@ -325,7 +358,8 @@ int main(int argc, char** argv) {
   CheckedReporter<benchmark::JSONReporter> json;
   CheckedReporter<benchmark::ConsoleReporter> console;
   const bool as_console = out_format == "console";
-  benchmark::RunSpecifiedBenchmarks(nullptr, as_console ? static_cast<benchmark::BenchmarkReporter*>(&console) : &json);
+  benchmark::RunSpecifiedBenchmarks(
+      nullptr, as_console ? static_cast<benchmark::BenchmarkReporter*>(&console) : &json);
   benchmark::Shutdown();
   const bool write_failed = as_console ? console.failed() : json.failed();
   std::string why = write_failed ? out_path + ": cannot write (a write failed; a full disk?)" : "";
@@ -335,6 +369,7 @@ int main(int argc, char** argv) {
       why = e.what();
     }
   if (why.empty()) return 0;
-  std::fprintf(stderr, "heightmarch-bench: %s\n", printable(why).c_str());  // the temporary goes with out_file
+  std::fprintf(stderr, "heightmarch-bench: %s\n",
+               printable(why).c_str());  // the temporary goes with out_file
   return 1;
 }

@@ -1,10 +1,11 @@
 // The claims' rules on synthetic figures give the expected verdicts.
+#include "claims/claims.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "claims/claims.hpp"
 #include "experiment/claims_collector.hpp"
 #include "experiment/plan_runner.hpp"
 #include "experiment/suite_plan.hpp"
@@ -12,13 +13,14 @@
 namespace heightmarch {
 namespace {
 
-ClaimFigure figure(const std::string& hf, const std::string& technique, const std::string& layers, double mean,
-                   double rays_per_second = 1e7, double wrong = 0.0, double samples = 10.0, double theta = -1.0) {
+ClaimFigure figure(const std::string& hf, const std::string& technique, const std::string& layers,
+                   double mean, double rays_per_second = 1e7, double wrong = 0.0, double samples = 10.0,
+                   double theta = -1.0) {
   ClaimFigure f;
   f.heightfield = hf;
   const Technique t = parse_technique(technique);
-  f.row = {t, layers_for(t, parse_layer_spec(layers)), theta >= 0 ? ClaimView::sweep : ClaimView::default_view,
-           theta >= 0 ? theta : 0.0};
+  f.row = {t, layers_for(t, parse_layer_spec(layers)),
+           theta >= 0 ? ClaimView::sweep : ClaimView::default_view, theta >= 0 ? theta : 0.0};
   f.uv_error_mean = mean;
   f.rays_per_second = rays_per_second;
   f.wrong_surface_rate = wrong;
@@ -61,7 +63,8 @@ TEST(Claims, RulesReadOnlyDeclaredRowsAndThePlanMeasuresThem) {
   for (const Claim& claim : claims())
     for (const ClaimRow& row : claim.rows) {
       const bool planned = std::any_of(plan.begin(), plan.end(), [&](const Configuration& c) {
-        const bool view = row.view == ClaimView::sweep ? c.view.kind == ViewSpec::Kind::sweep && c.view.theta_degrees == row.theta
+        const bool view = row.view == ClaimView::sweep
+                              ? c.view.kind == ViewSpec::Kind::sweep && c.view.theta_degrees == row.theta
                           : row.view == ClaimView::large_map ? c.heightfield.resolution == kLargeMapSide
                                                              : c.view.kind == ViewSpec::Kind::perspective &&
                                                                    c.heightfield.resolution != kLargeMapSide;
@@ -72,7 +75,8 @@ TEST(Claims, RulesReadOnlyDeclaredRowsAndThePlanMeasuresThem) {
 }
 
 TEST(Claims, NoFiguresMeansNotMeasured) {
-  for (const ClaimResult& r : evaluate_claims(ClaimsData{})) EXPECT_EQ(r.verdict, Verdict::not_measured) << r.id;
+  for (const ClaimResult& r : evaluate_claims(ClaimsData{}))
+    EXPECT_EQ(r.verdict, Verdict::not_measured) << r.id;
 }
 
 // P2's rule once came out cut at 240 characters, mid-word.
@@ -87,7 +91,7 @@ TEST(Claims, PomMuchMoreAccurateThanSteep) {
   ClaimsData d;
   for (const char* layers : {"8", "16", "32"}) {
     d.figures.push_back(figure("bricks", "steep", layers, 1.0));
-    d.figures.push_back(figure("bricks", "pom", layers, 0.2));           // 0.2 <= 0.5: passes
+    d.figures.push_back(figure("bricks", "pom", layers, 0.2));  // 0.2 <= 0.5: passes
     d.figures.push_back(figure("terrain", "steep", layers, 1.0));
     d.figures.push_back(figure("terrain", "pom", layers, layers == std::string("8") ? 0.9 : 0.1));
   }
@@ -123,25 +127,31 @@ TEST(Claims, AVerdictSaysWhereItFails) {
     for (const char* layers : {"8", "16", "32"}) {
       const bool near_miss = std::string(layers) == "8" && std::string(hf) != "waves";
       d.figures.push_back(figure(hf, "steep", layers, 1.0));
-      d.figures.push_back(figure(hf, "pom", layers, near_miss ? (hf == std::string("bricks") ? 0.54 : 0.52) : 0.2));
+      d.figures.push_back(
+          figure(hf, "pom", layers, near_miss ? (hf == std::string("bricks") ? 0.54 : 0.52) : 0.2));
     }
   const ClaimResult c7 = claim(evaluate_claims(d), "C7");
   EXPECT_EQ(c7.verdict, Verdict::mostly_holds);
   EXPECT_EQ(c7.passed, 7u);
-  EXPECT_EQ(c7.summary,
-            "mostly holds: holds on 7 of 9 checks; fails at 8 layers on bricks (0.54x, against at most 0.5x) and "
-            "toybox (0.52x, against at most 0.5x)");
+  EXPECT_EQ(
+      c7.summary,
+      "mostly holds: holds on 7 of 9 checks; fails at 8 layers on bricks (0.54x, against at most 0.5x) and "
+      "toybox (0.52x, against at most 0.5x)");
   for (ClaimFigure& f : d.figures)
     if (f.row.technique == Technique::pom && f.heightfield != "waves") f.uv_error_mean = 0.9;
   const ClaimResult refuted = claim(evaluate_claims(d), "C7");
   EXPECT_EQ(refuted.verdict, Verdict::holds_partly);
   for (ClaimFigure& f : d.figures)
-    if (f.row.technique == Technique::pom && f.heightfield == "waves" && f.row.layers.max_layers != 32) f.uv_error_mean = 0.9;
+    if (f.row.technique == Technique::pom && f.heightfield == "waves" && f.row.layers.max_layers != 32)
+      f.uv_error_mean = 0.9;
   const ClaimResult mostly = claim(evaluate_claims(d), "C7");
   EXPECT_EQ(mostly.verdict, Verdict::mostly_refuted);
-  EXPECT_EQ(mostly.summary, "mostly refuted: holds on 1 of 9 checks, only at 32 layers on waves (0.2x, against at most 0.5x)");
+  EXPECT_EQ(
+      mostly.summary,
+      "mostly refuted: holds on 1 of 9 checks, only at 32 layers on waves (0.2x, against at most 0.5x)");
   const std::string md = claims_markdown(evaluate_claims(d), "", "", "");
-  EXPECT_NE(md.find("| 1 / 9 | mostly refuted: holds on 1 of 9 checks"), std::string::npos) << md.substr(0, 2000);
+  EXPECT_NE(md.find("| 1 / 9 | mostly refuted: holds on 1 of 9 checks"), std::string::npos)
+      << md.substr(0, 2000);
 }
 
 // C9's quality takes the wrong-surface share in (revised in this release); the previous rule's
@@ -149,12 +159,14 @@ TEST(Claims, AVerdictSaysWhereItFails) {
 TEST(Claims, PomsQualityCountsItsWrongSurfaceAndThePreviousVerdictIsShown) {
   ClaimsData d;
   d.figures.push_back(figure("waves", "relief", "8", 0.40, 8e6, 0.0045, 20.0));
-  d.figures.push_back(figure("waves", "pom", "8", 0.45, 10e6, 0.0568, 16.0));  // close mean error, 12.6x the wrong surface
+  d.figures.push_back(
+      figure("waves", "pom", "8", 0.45, 10e6, 0.0568, 16.0));  // close mean error, 12.6x the wrong surface
   const ClaimResult c9 = claim(evaluate_claims(d), "C9");
   EXPECT_EQ(c9.verdict, Verdict::refuted);
   ASSERT_TRUE(c9.previous);
   EXPECT_EQ(c9.previous->verdict, Verdict::holds);
-  EXPECT_NE(c9.checks[0].deciding.find("wrong surface 5.68% vs 0.45%"), std::string::npos) << c9.checks[0].deciding;
+  EXPECT_NE(c9.checks[0].deciding.find("wrong surface 5.68% vs 0.45%"), std::string::npos)
+      << c9.checks[0].deciding;
   const std::string json = claims_json(evaluate_claims(d));
   EXPECT_NE(json.find("\"previous\": {"), std::string::npos);
   d.figures[1].wrong_surface_rate = 0.0054;  // 1.2x: close
@@ -204,7 +216,8 @@ TEST(Claims, SpeedsAreComparedByTheirSpreads) {
 TEST(Claims, PlainParallaxBreaksWithinOneField) {
   ClaimsData d;
   for (double theta : {20.0, 30.0, 70.0, 80.0}) {
-    ClaimFigure f = figure("waves", "parallax", "1", 0.1 * std::tan(theta * M_PI / 180), 1e7, 0.0, 1.0, theta);
+    ClaimFigure f =
+        figure("waves", "parallax", "1", 0.1 * std::tan(theta * M_PI / 180), 1e7, 0.0, 1.0, theta);
     f.per_ray.offset_mean = 2.0 * std::tan(theta * M_PI / 180);  // relative error 0.05 at every angle
     d.figures.push_back(f);
   }
@@ -253,7 +266,8 @@ TEST(Claims, TunnellingThroughThinFeaturesAndSharpChanges) {
   c10 = claim(evaluate_claims(d), "C10");
   EXPECT_EQ(c10.checks.size(), 4u);
   for (ClaimFigure& f : d.figures)
-    if (f.row.layers == parse_layer_spec("8")) f.per_ray.sharp_beyond_one_layer = 0.015;  // not 1 point above 64's
+    if (f.row.layers == parse_layer_spec("8"))
+      f.per_ray.sharp_beyond_one_layer = 0.015;  // not 1 point above 64's
   EXPECT_EQ(claim(evaluate_claims(d), "C10").verdict, Verdict::holds_partly);
 }
 
@@ -281,7 +295,8 @@ TEST(Claims, VerdictsDoNotDependOnNames) {
 TEST(Claims, SteepImprovesWithLayers) {
   ClaimsData d;
   double error = 2.0;
-  for (const char* layers : {"4", "8", "16", "32", "64"}) d.figures.push_back(figure("spikes", "steep", layers, error /= 2));
+  for (const char* layers : {"4", "8", "16", "32", "64"})
+    d.figures.push_back(figure("spikes", "steep", layers, error /= 2));
   EXPECT_EQ(claim(evaluate_claims(d), "C3").verdict, Verdict::holds);
   d.figures.back().uv_error_mean = 1.0;  // 64 layers worse than 32
   EXPECT_EQ(claim(evaluate_claims(d), "C3").verdict, Verdict::mostly_holds) << "3 of 4 doublings";
@@ -295,7 +310,8 @@ TEST(Claims, DynamicLayersAreParetoEfficientAndSaveSamplesNearTheNormal) {
   d.figures.push_back(figure("toybox", "steep", "8-32", 0.30, 1e7, 0.0, 13.0));  // curve at 13 samples: 1/3
   for (double theta : {0.0, 10.0, 20.0, 30.0}) {
     d.figures.push_back(figure("toybox", "steep", "32", 0.01, 1e7, 0.0, 20.0, theta));
-    d.figures.push_back(figure("toybox", "steep", "8-32", 0.20, 1e7, 0.0, 6.0, theta));  // worse, but < 1/4 texel more
+    d.figures.push_back(
+        figure("toybox", "steep", "8-32", 0.20, 1e7, 0.0, 6.0, theta));  // worse, but < 1/4 texel more
   }
   EXPECT_EQ(claim(evaluate_claims(d), "C5").verdict, Verdict::holds);
   d.figures[4].uv_error_mean = 0.36;  // above the fixed counts' curve at the same samples per ray
@@ -320,7 +336,6 @@ TEST(Claims, OffsetLimitingAtGrazingAngles) {
   EXPECT_NE(md.find("Rule: Per heightfield and grazing angle"), std::string::npos);
   EXPECT_LT(md.find("Rule:"), md.find("limited 2.000 vs plain 5.000"));  // the rule precedes the figures
 }
-
 
 // Two consecutive claims computations on the same rows give identical verdict tables, and two
 // measurements of the same small plan too (costs are samples per ray; speeds decide nothing).
@@ -363,11 +378,13 @@ TEST(Claims, MaxmipExactAndFasterOnLargeMaps) {
   EXPECT_NE(p2.checks[2].figures.find("1024 (as accurate)"), std::string::npos) << p2.checks[2].figures;
   // None as accurate: against the most accurate, which here is faster than maxmip.
   for (ClaimFigure& f : d.figures)
-    if (f.row.view == ClaimView::large_map && f.row.technique != Technique::maxmip) f.uv_error_p99 *= 10, f.rays_per_second *= 1000, f.rays_per_second_min *= 1000,
-                                 f.rays_per_second_max *= 1000;
+    if (f.row.view == ClaimView::large_map && f.row.technique != Technique::maxmip)
+      f.uv_error_p99 *= 10, f.rays_per_second *= 1000, f.rays_per_second_min *= 1000,
+          f.rays_per_second_max *= 1000;
   const ClaimResult slower = claim(evaluate_claims(d), "P2");
   EXPECT_EQ(slower.verdict, Verdict::holds_partly);
-  EXPECT_NE(slower.checks[2].figures.find("(the most accurate)"), std::string::npos) << slower.checks[2].figures;
+  EXPECT_NE(slower.checks[2].figures.find("(the most accurate)"), std::string::npos)
+      << slower.checks[2].figures;
   // Not exact.
   d.figures[0].uv_error_p99 = 0.01;
   EXPECT_FALSE(claim(evaluate_claims(d), "P2").checks[0].passed);
@@ -417,7 +434,8 @@ TEST(Claims, ConsecutiveComputationsGiveIdenticalVerdicts) {
   }
   EXPECT_EQ(tables[0], tables[1]);
   // Every claim speaks on these two small fields, and the features were measured from the maps.
-  for (const ClaimResult& r : evaluate_claims(ClaimsData{})) EXPECT_NE(tables[0].find(r.id + " "), std::string::npos);
+  for (const ClaimResult& r : evaluate_claims(ClaimsData{}))
+    EXPECT_NE(tables[0].find(r.id + " "), std::string::npos);
   EXPECT_EQ(tables[0].find("not measured"), std::string::npos) << tables[0];
 }
 
@@ -430,8 +448,11 @@ namespace {
 // A map named with markup stays text in claims.md: no HTML, no live link, no split heading or
 // cut table row (markdown_text, the one rule for Markdown).
 TEST(Claims, MarkdownOfAMapNamedWithMarkupIsText) {
-  ClaimResult r{"C7", "POM is much more accurate than steep parallax", "a tutorial", "a rule", {}, Verdict::holds_partly};
-  const std::string hostile = "<img src=x onerror=alert(1)> [x](javascript:alert(1)) a|b\n### heading \x1b]0;PWN\x07";
+  ClaimResult r{"C7",         "POM is much more accurate than steep parallax",
+                "a tutorial", "a rule",
+                {},           Verdict::holds_partly};
+  const std::string hostile =
+      "<img src=x onerror=alert(1)> [x](javascript:alert(1)) a|b\n### heading \x1b]0;PWN\x07";
   r.checks = {{hostile, "32 layers", "1 | 2", true, "0.6x | 1"}, {hostile, "", "3", false, ""}};
   r.summary = "holds partly: fails on " + hostile;
   const std::string md = claims_markdown({r}, "Measured here.", "Configurations: one map.", "");

@@ -64,9 +64,9 @@ TEST(ShaderLabel, LabelAndBenchmarkNameAreTheShaders) {
   EXPECT_FALSE(c.has_technique());
   EXPECT_EQ(c.label(), "shader:mine.glsl");
   c.gl.path = GlPath::osmesa;
-  EXPECT_EQ(
-      benchmark_name(c, 64, 64),
-      "BM_GLSL/heightfield:bricks/shader:mine.glsl/layers:32/isa:glsl/threads:1/gl:osmesa/view:48x40/depth_map:64x64");
+  EXPECT_EQ(benchmark_name(c, 64, 64),
+            "BM_GLSL/heightfield:bricks/shader:mine.glsl/layers:32/isa:glsl/threads:1/gl:osmesa/view:48x40/"
+            "depth_map:64x64");
   EXPECT_NE(benchmark_name(c, 64, 64), technique_name);
   // Another GL target is another measurement, named apart.
   Configuration egl = c;

@@ -1,13 +1,11 @@
 // The CLI end to end: outputs written, and bad input answered with one clear line and a
 // non-zero exit, never a crash.
-#include <gtest/gtest.h>
-
+#include <OpenImageIO/imageio.h>
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
-
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -36,7 +34,8 @@ std::string write_text(const std::string& dir, const std::string& name, const st
 
 TEST(Cli, TraceWritesItsFourFiles) {
   const std::string out = test::temp_dir("trace-out");
-  const auto r = test::run_cli("trace --heightmap builtin:bricks --res 128 --size 96x64 --technique pom --layers 32 --out " + out);
+  const auto r = test::run_cli(
+      "trace --heightmap builtin:bricks --res 128 --size 96x64 --technique pom --layers 32 --out " + out);
   ASSERT_EQ(r.status, 0) << r.output;
   for (const char* file : {"hits.exr", "error.png", "render.png", "metrics.json"})
     EXPECT_GT(fs::file_size(out + "/" + file), 100u) << file;
@@ -49,16 +48,20 @@ TEST(Cli, TraceWritesItsFourFiles) {
 
 TEST(Cli, RaysFromCsvKeepTheirOrder) {
   const std::string dir = test::temp_dir("rays-csv");
-  const std::string csv = write_text(dir, "rays.csv", "tx,ty,vx,vy,vz\n0.5,0.5,0,0,1\n0.25,0.75,0.6,0,0.8\n0.1,0.2,0,-0.6,0.8\n");
-  const auto r = test::run_cli("trace --heightmap builtin:flat --res 16 --technique steep --layers 10 --rays " + csv +
-                               " --out " + dir + "/out");
+  const std::string csv =
+      write_text(dir, "rays.csv", "tx,ty,vx,vy,vz\n0.5,0.5,0,0,1\n0.25,0.75,0.6,0,0.8\n0.1,0.2,0,-0.6,0.8\n");
+  const auto r =
+      test::run_cli("trace --heightmap builtin:flat --res 16 --technique steep --layers 10 --rays " + csv +
+                    " --out " + dir + "/out");
   ASSERT_EQ(r.status, 0) << r.output;
   std::ifstream in(dir + "/out/rays.csv");
   std::string header, first, second;
   std::getline(in, header);
   std::getline(in, first);
   std::getline(in, second);
-  EXPECT_EQ(header, "tx,ty,vx,vy,vz,u,v,depth,samples,shadow,exact_u,exact_v,exact_depth,uv_error_texels,exact_visibility");
+  EXPECT_EQ(
+      header,
+      "tx,ty,vx,vy,vz,u,v,depth,samples,shadow,exact_u,exact_v,exact_depth,uv_error_texels,exact_visibility");
   EXPECT_EQ(first.rfind("0.5,0.5,0,0,1,", 0), 0u) << first;
   EXPECT_EQ(second.rfind("0.25,0.75,0.6", 0), 0u) << second;
 }
@@ -71,11 +74,13 @@ TEST(Cli, RaysCsvCarriesTheShadowPerRay) {
   std::string text = "tx,ty,vx,vy,vz\n";
   for (std::size_t i = 0; i < rays.size(); ++i)
     if (!rays.is_padding(i))
-      text += std::to_string(rays.tx[i]) + "," + std::to_string(rays.ty[i]) + "," + std::to_string(rays.vx[i]) + "," +
-              std::to_string(rays.vy[i]) + "," + std::to_string(rays.vz[i]) + "\n";
+      text += std::to_string(rays.tx[i]) + "," + std::to_string(rays.ty[i]) + "," +
+              std::to_string(rays.vx[i]) + "," + std::to_string(rays.vy[i]) + "," +
+              std::to_string(rays.vz[i]) + "\n";
   const std::string csv = write_text(dir, "rays.csv", text);
-  const auto r = test::run_cli("trace --heightmap builtin:bricks --res 64 --technique shadow --layers 16 --repetitions 1 --rays " +
-                               csv + " --out " + dir + "/out");
+  const auto r = test::run_cli(
+      "trace --heightmap builtin:bricks --res 64 --technique shadow --layers 16 --repetitions 1 --rays " +
+      csv + " --out " + dir + "/out");
   ASSERT_EQ(r.status, 0) << r.output;
   std::ifstream in(dir + "/out/rays.csv");
   std::string line;
@@ -90,7 +95,9 @@ TEST(Cli, RaysCsvCarriesTheShadowPerRay) {
     return out;
   };
   const std::vector<std::string> header = fields(line);
-  const auto column = [&](const char* name) { return std::size_t(std::find(header.begin(), header.end(), name) - header.begin()); };
+  const auto column = [&](const char* name) {
+    return std::size_t(std::find(header.begin(), header.end(), name) - header.begin());
+  };
   const std::size_t shadow_column = column("shadow"), exact_column = column("exact_visibility");
   ASSERT_LT(exact_column, header.size()) << line;
   std::size_t rows = 0, dimmed = 0, lit = 0, unlit = 0;
@@ -121,12 +128,13 @@ TEST(Cli, AMillionRaysFromCsv) {
     csv << "tx,ty,vx,vy,vz\n";
     for (int i = 0; i < rays; ++i) csv << (i % 1000) / 1000.0 << "," << (i / 1000) / 1000.0 << ",0.6,0,0.8\n";
   }
-  const auto r = test::run_cli("trace --res 64 --technique steep --layers 8 --json --repetitions 1 --rays " + dir +
-                               "/rays.csv --out " + dir + "/out");
+  const auto r = test::run_cli("trace --res 64 --technique steep --layers 8 --json --repetitions 1 --rays " +
+                               dir + "/rays.csv --out " + dir + "/out");
   ASSERT_EQ(r.status, 0) << r.output.substr(0, 500);
   EXPECT_NE(r.output.find("\"rays\": 1000001"), std::string::npos) << r.output.substr(0, 500);
   std::vector<std::string> files;
-  for (const auto& entry : fs::directory_iterator(dir + "/out")) files.push_back(entry.path().filename().string());
+  for (const auto& entry : fs::directory_iterator(dir + "/out"))
+    files.push_back(entry.path().filename().string());
   std::sort(files.begin(), files.end());
   EXPECT_EQ(files, (std::vector<std::string>{".lock", "metrics.json", "rays.csv"}));
   std::ifstream out(dir + "/out/rays.csv");
@@ -150,14 +158,15 @@ TEST(Cli, ChannelPicksTheDepth) {
   for (const auto& [channel, depth] : std::vector<std::pair<std::string, std::string>>{
            {"", ",0,"}, {"r", ",0,"}, {"1", ",0.5019608,"}, {"g", ",0.5019608,"}, {"b", ",1,"}}) {
     const std::string out = dir + "/out" + channel;
-    const auto r = test::run_cli("trace --json --repetitions 1 --heightmap " + dir + "/rgb.png --rays " + rays + " --out " +
-                                 out + (channel.empty() ? "" : " --channel " + channel));
+    const auto r = test::run_cli("trace --json --repetitions 1 --heightmap " + dir + "/rgb.png --rays " +
+                                 rays + " --out " + out + (channel.empty() ? "" : " --channel " + channel));
     ASSERT_EQ(r.status, 0) << r.output;
     std::ifstream in(out + "/rays.csv");
     std::string header, row;
     std::getline(in, header);
     std::getline(in, row);
-    EXPECT_NE(row.find("0.5,0.5,0,0,1,0.5,0.5" + depth), std::string::npos) << "--channel " << channel << ": " << row;
+    EXPECT_NE(row.find("0.5,0.5,0,0,1,0.5,0.5" + depth), std::string::npos)
+        << "--channel " << channel << ": " << row;
   }
 }
 
@@ -181,15 +190,19 @@ TEST(Cli, TheDepthInAlphaIsNotReadAsAFlatRed) {
   auto r = test::run_cli(trace);
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
-  EXPECT_NE(r.output.find("rgba.png: channel 0 (R), read as the depth, is constant (0.501961) while channel 3 (A) varies"),
-            std::string::npos) << r.output;
+  EXPECT_NE(
+      r.output.find(
+          "rgba.png: channel 0 (R), read as the depth, is constant (0.501961) while channel 3 (A) varies"),
+      std::string::npos)
+      << r.output;
   for (const std::string& meant : {trace + " --channel a", trace + ":channel=a"}) {
     r = test::run_cli(meant);
     EXPECT_EQ(r.status, 0) << meant << ": " << r.output;
   }
   r = test::run_cli(trace + " --allow-flat");
   EXPECT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("warning: " + dir + "/rgba.png: channel 0 (R), read as the depth, is constant"), std::string::npos)
+  EXPECT_NE(r.output.find("warning: " + dir + "/rgba.png: channel 0 (R), read as the depth, is constant"),
+            std::string::npos)
       << r.output;
 }
 
@@ -202,17 +215,21 @@ TEST(Cli, SuiteReadsEachMapAsMeant) {
   auto image = OIIO::ImageOutput::create(dir + "/ramp.png");
   ASSERT_TRUE(image && image->open(dir + "/ramp.png", OIIO::ImageSpec(32, 32, 2, OIIO::TypeDesc::UINT8)));
   ASSERT_TRUE(image->write_image(OIIO::TypeDesc::UINT8, ramp.data()) && image->close());
-  const auto r = test::run_cli("suite --quick --no-glsl --no-builtins --heightmap " + dir + "/ramp.png," + dir +
-                               "/ramp.png:channel=1:wrap=clamp:convention=depth --convention height --parts matrix "
-                               "--techniques pom --layers 8 --isas scalar --threads 1 --repetitions 1 --out " + dir + "/run");
+  const auto r =
+      test::run_cli("suite --quick --no-glsl --no-builtins --heightmap " + dir + "/ramp.png," + dir +
+                    "/ramp.png:channel=1:wrap=clamp:convention=depth --convention height --parts matrix "
+                    "--techniques pom --layers 8 --isas scalar --threads 1 --repetitions 1 --out " +
+                    dir + "/run");
   ASSERT_EQ(r.status, 0) << r.output;
   std::ifstream in(dir + "/run/measurements.json");
   const std::string json((std::istreambuf_iterator<char>(in)), {});
-  const auto field = [&](const std::string& entry, const std::string& name) {  // of the entry's heightfield object
+  const auto field = [&](const std::string& entry,
+                         const std::string& name) {  // of the entry's heightfield object
     const std::size_t at = json.find("\"source\": \"" + dir + entry + "\"");
     const std::size_t key = json.find("\"" + name + "\": ", at);
-    return at == std::string::npos || key == std::string::npos ? "(none)"
-                                                                : json.substr(key, json.find_first_of(",\n}", key) - key);
+    return at == std::string::npos || key == std::string::npos
+               ? "(none)"
+               : json.substr(key, json.find_first_of(",\n}", key) - key);
   };
   EXPECT_EQ(field("/ramp.png:convention=height", "convention"), "\"convention\": \"height\"");
   EXPECT_EQ(field("/ramp.png:convention=height", "channel"), "\"channel\": 0");
@@ -229,7 +246,8 @@ TEST(Cli, RaysFileEdgeValuesAreAccepted) {
                                   std::string("tx,ty,vx,vy,vz\n0.5,0.5,1e-50,0,1\n"),
                                   std::string("tx,ty,vx,vy,vz\n0.5,0.5,0,1,5e-7\n")}) {
     // A small scale keeps the V.z = 5e-7 path within the exact reference's 2^20 cells.
-    const auto r = test::run_cli("trace --res 16 --scale 0.001 --repetitions 1 --json --rays " + write_text(dir, "rays.csv", text));
+    const auto r = test::run_cli("trace --res 16 --scale 0.001 --repetitions 1 --json --rays " +
+                                 write_text(dir, "rays.csv", text));
     EXPECT_EQ(r.status, 0) << text << ": " << r.output.substr(0, 300);
   }
 }
@@ -246,11 +264,13 @@ TEST(Cli, GrazingRayBeyondTheExactLimitIsRefused) {
 
 // HEIGHTMARCH_MEMORY_LIMIT: bytes with K, M, G, T suffixes; anything else is one line, exit 2.
 TEST(Cli, MemoryLimitIsParsedStrictly) {
-  const std::string trace = std::string(HEIGHTMARCH_CLI) + " trace --res 16 --size 8x8 --repetitions 1 --json";
+  const std::string trace =
+      std::string(HEIGHTMARCH_CLI) + " trace --res 16 --size 8x8 --repetitions 1 --json";
   for (const char* bad : {"1e30", "inf", "2e19", "10X", "abc", "-1", "0", "nan", "99999999999999999999"}) {
     const auto r = test::run_command("HEIGHTMARCH_MEMORY_LIMIT='" + std::string(bad) + "' " + trace);
     EXPECT_EQ(r.status, 2) << bad << ": " << r.output;
-    EXPECT_EQ(r.output.rfind("heightmarch: HEIGHTMARCH_MEMORY_LIMIT='" + std::string(bad) + "': ", 0), 0u) << r.output;
+    EXPECT_EQ(r.output.rfind("heightmarch: HEIGHTMARCH_MEMORY_LIMIT='" + std::string(bad) + "': ", 0), 0u)
+        << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
   }
   for (const char* good : {"1T", "512M", "1.5GiB", "1073741824"}) {
@@ -261,14 +281,16 @@ TEST(Cli, MemoryLimitIsParsedStrictly) {
 
 // The budget counts what a run holds: --tile 1 pads every tile of one ray to 32.
 TEST(Cli, MemoryBudgetCountsTilePadding) {
-  const auto r = test::run_command("HEIGHTMARCH_MEMORY_LIMIT=200M " + std::string(HEIGHTMARCH_CLI) + " trace --tile 1 --json");
+  const auto r = test::run_command("HEIGHTMARCH_MEMORY_LIMIT=200M " + std::string(HEIGHTMARCH_CLI) +
+                                   " trace --tile 1 --json");
   EXPECT_EQ(r.status, 2) << r.output.substr(0, 300);
   EXPECT_NE(r.output.find("a 1024x1024 view needs 5.5 GiB, more than the "), std::string::npos) << r.output;
   EXPECT_NE(r.output.find(" left of the 200.0 MiB budget"), std::string::npos) << r.output;
 }
 
 TEST(Cli, JsonHasTheSpecKeys) {
-  const auto r = test::run_cli("trace --res 64 --size 32x32 --technique relief --layers 8-32 --json --threads 1 --filter trilinear");
+  const auto r = test::run_cli(
+      "trace --res 64 --size 32x32 --technique relief --layers 8-32 --json --threads 1 --filter trilinear");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("\"filter\": \"trilinear\""), std::string::npos) << r.output;
   for (const char* key : {"technique",
@@ -309,10 +331,12 @@ TEST(Cli, HelpAndVersion) {
   const auto version = test::run_cli("--version");
   EXPECT_EQ(version.status, 0);
   EXPECT_EQ(version.output.rfind("heightmarch ", 0), 0u) << version.output;
-  EXPECT_NE(version.output.find("\nISAs this CPU runs: " + runnable_isa_names() + "\n"), std::string::npos) << version.output;
+  EXPECT_NE(version.output.find("\nISAs this CPU runs: " + runnable_isa_names() + "\n"), std::string::npos)
+      << version.output;
   // The help lists every technique of the registry.
   const auto trace_help = test::run_cli("trace --help");
-  for (const TechniqueInfo& t : techniques()) EXPECT_NE(trace_help.output.find(std::string(t.name)), std::string::npos) << t.name;
+  for (const TechniqueInfo& t : techniques())
+    EXPECT_NE(trace_help.output.find(std::string(t.name)), std::string::npos) << t.name;
 }
 
 // An ISA the CPU does not run (simulated with the cap, which hides sse4.2 from any x86-64 CPU's
@@ -339,7 +363,8 @@ TEST(Cli, AnIsaTheCpuLacksIsNamedWithTheIsasItRuns) {
 // current directory.
 TEST(Cli, ClaimsWriteAFreshRunDirectoryByDefault) {
   const std::string dir = test::temp_dir("claims-default");
-  const auto r = test::run_command("cd " + dir + " && " HEIGHTMARCH_CLI
+  const auto r = test::run_command("cd " + dir +
+                                   " && " HEIGHTMARCH_CLI
                                    " claims --quick --no-builtins --heightmap builtin:waves --repetitions 1");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_FALSE(fs::exists(dir + "/claims.md"));
@@ -376,9 +401,11 @@ TEST(Cli, SuiteRefusesAGalleryThatIsALink) {
   fs::create_directories(dir + "/elsewhere");
   fs::create_directories(dir + "/out");
   fs::create_directory_symlink(dir + "/elsewhere", dir + "/out/gallery");
-  const auto r = test::run_cli("suite --quick --no-glsl --techniques pom --parts gallery --out " + dir + "/out");
+  const auto r =
+      test::run_cli("suite --quick --no-glsl --techniques pom --parts gallery --out " + dir + "/out");
   EXPECT_EQ(r.status, 2) << r.output;
-  EXPECT_EQ(r.output, "heightmarch: " + dir + "/out/gallery: is a link, not a directory of the run's own to write into\n");
+  EXPECT_EQ(r.output, "heightmarch: " + dir +
+                          "/out/gallery: is a link, not a directory of the run's own to write into\n");
   EXPECT_TRUE(fs::is_empty(dir + "/elsewhere"));
   EXPECT_FALSE(fs::exists(dir + "/out/INCOMPLETE"));
 }
@@ -398,37 +425,46 @@ TEST(Cli, ReportRefusalIsOneLine) {
 // joins); beside them only the Highway forms (the port, POM's structure) and the technique x
 // layers matrix at the ISAs other than the widest asked for.
 TEST(Cli, BenchTimesTheSuitesPlan) {
-  const std::string bench = std::filesystem::path(HEIGHTMARCH_CLI).parent_path().string() + "/heightmarch-bench";
-  if (!std::filesystem::exists(bench)) GTEST_SKIP() << "heightmarch-bench is not built here (HEIGHTMARCH_BUILD_BENCHMARKS=OFF)";
+  const std::string bench =
+      std::filesystem::path(HEIGHTMARCH_CLI).parent_path().string() + "/heightmarch-bench";
+  if (!std::filesystem::exists(bench))
+    GTEST_SKIP() << "heightmarch-bench is not built here (HEIGHTMARCH_BUILD_BENCHMARKS=OFF)";
   const auto lines = [](const std::string& output, bool timed_only) {
     std::set<std::string> out;
     std::istringstream in(output);
     for (std::string line; std::getline(in, line);)
-      if (line.find('\t') != std::string::npos && (!timed_only || line.find("\ttimed\t") != std::string::npos))
+      if (line.find('\t') != std::string::npos &&
+          (!timed_only || line.find("\ttimed\t") != std::string::npos))
         out.insert(line.substr(0, line.rfind('\t')));
     return out;
   };
   const std::string widest = to_string(best_isa());
-  for (const auto& [parts, filter] : {std::pair<std::string, std::string>{"matrix,isa,glsl,roofline,exact", "bilinear"},
-                                       {"matrix,isa,naive", "trilinear"}}) {
+  for (const auto& [parts, filter] :
+       {std::pair<std::string, std::string>{"matrix,isa,glsl,roofline,exact", "bilinear"},
+        {"matrix,isa,naive", "trilinear"}}) {
     for (const std::string& isas : {widest, "scalar," + widest}) {
       SCOPED_TRACE(parts + " at " + isas + ", " + filter);
-      const auto suite = test::run_cli("suite --dry-run --no-builtins --heightmap builtin:bricks --techniques pom,maxmip "
-                                       "--layers 8,8-32 --threads 1 --isas " + isas + " --parts " + parts +
-                                       " --filter " + filter);
-      const auto benched = test::run_command(bench + " --hm_dry_run --hm_views=around --hm_heightfields=builtin:bricks "
-                                             "--hm_techniques=pom,maxmip --hm_layers=8,8-32 --hm_threads=1 --hm_isas=" +
-                                             isas + " --hm_parts=" + parts + " --hm_filters=" + filter);
+      const auto suite = test::run_cli(
+          "suite --dry-run --no-builtins --heightmap builtin:bricks --techniques pom,maxmip "
+          "--layers 8,8-32 --threads 1 --isas " +
+          isas + " --parts " + parts + " --filter " + filter);
+      const auto benched =
+          test::run_command(bench +
+                            " --hm_dry_run --hm_views=around --hm_heightfields=builtin:bricks "
+                            "--hm_techniques=pom,maxmip --hm_layers=8,8-32 --hm_threads=1 --hm_isas=" +
+                            isas + " --hm_parts=" + parts + " --hm_filters=" + filter);
       ASSERT_EQ(suite.status, 0) << suite.output;
       ASSERT_EQ(benched.status, 0) << benched.output;
-      const std::set<std::string> in_suite = lines(suite.output, true), in_bench = lines(benched.output, false);
+      const std::set<std::string> in_suite = lines(suite.output, true),
+                                  in_bench = lines(benched.output, false);
       ASSERT_FALSE(in_suite.empty());
-      for (const std::string& line : in_suite) EXPECT_EQ(in_bench.count(line), 1u) << "not in the bench: " << line;
+      for (const std::string& line : in_suite)
+        EXPECT_EQ(in_bench.count(line), 1u) << "not in the bench: " << line;
       for (const std::string& line : in_bench) {
         if (in_suite.count(line)) continue;
         const bool highway = line.find("\thighway") != std::string::npos;  // the port, and the structured POM
-        const bool matrix_elsewhere =
-            line.find("\ttrace\t") != std::string::npos && line.find("\t" + widest + "\t") == std::string::npos;
+        const bool matrix_elsewhere = line.find("\ttrace\t") != std::string::npos &&
+                                      line.find("\t" + widest + "\t") == std::string::npos;
         EXPECT_TRUE(highway || matrix_elsewhere) << "only in the bench: " << line;
       }
     }
@@ -437,11 +473,11 @@ TEST(Cli, BenchTimesTheSuitesPlan) {
 
 // heightmarch-bench's own flags are checked like the CLI's: one line, exit 2.
 TEST(Cli, BenchFlagsAreChecked) {
-  const std::string bench = std::filesystem::path(HEIGHTMARCH_CLI).parent_path().string() + "/heightmarch-bench";
-  if (!std::filesystem::exists(bench)) GTEST_SKIP() << "heightmarch-bench is not built here (HEIGHTMARCH_BUILD_BENCHMARKS=OFF)";
-  auto run = [&](const std::string& args) {
-    return test::run_command(bench + " " + args);
-  };
+  const std::string bench =
+      std::filesystem::path(HEIGHTMARCH_CLI).parent_path().string() + "/heightmarch-bench";
+  if (!std::filesystem::exists(bench))
+    GTEST_SKIP() << "heightmarch-bench is not built here (HEIGHTMARCH_BUILD_BENCHMARKS=OFF)";
+  auto run = [&](const std::string& args) { return test::run_command(bench + " " + args); };
   for (const char* args : {"--hm_size=12x", "--hm_size=abc", "--hm_heightfields=nope", "--hm_min_time=nan",
                            "--hm_layers=0", "--hm_isas=neon", "--frobnicate"}) {
     const auto r = run(args);
@@ -451,14 +487,17 @@ TEST(Cli, BenchFlagsAreChecked) {
   }
   const auto help = run("--help");
   EXPECT_EQ(help.status, 0) << help.output;
-  for (const char* flag : {"--hm_size", "--hm_res", "--hm_heightfields", "--hm_layers", "--hm_threads", "--hm_isas",
-                           "--hm_min_time", "--benchmark_filter"})
+  for (const char* flag : {"--hm_size", "--hm_res", "--hm_heightfields", "--hm_layers", "--hm_threads",
+                           "--hm_isas", "--hm_min_time", "--benchmark_filter"})
     EXPECT_NE(help.output.find(flag), std::string::npos) << flag;
   // Names carry the view and depth-map sizes, never min_time.
-  const auto list = run("--hm_size=64 --hm_res=32 --hm_heightfields=bricks --hm_layers=8 --benchmark_list_tests=true");
+  const auto list =
+      run("--hm_size=64 --hm_res=32 --hm_heightfields=bricks --hm_layers=8 --benchmark_list_tests=true");
   EXPECT_EQ(list.status, 0) << list.output;
-  EXPECT_NE(list.output.find("BM_Trace/heightfield:bricks/technique:pom/layers:8/isa:scalar/threads:1/view:64x64/depth_map:32x32"),
-            std::string::npos) << list.output;
+  EXPECT_NE(list.output.find("BM_Trace/heightfield:bricks/technique:pom/layers:8/isa:scalar/threads:1/"
+                             "view:64x64/depth_map:32x32"),
+            std::string::npos)
+      << list.output;
   EXPECT_EQ(list.output.find("min_time"), std::string::npos);
 }
 
@@ -511,11 +550,13 @@ std::string fixture_dir() {
     write_text(d, "zero.csv", "tx,ty,vx,vy,vz\n0.5,0.5,0,0,0\n");
     write_text(d, "huge_value.csv", "tx,ty,vx,vy,vz\n0.5,0.5,1e50,0,1\n");
     // LearnOpenGL's parallax_mapping.fs, whole, as a user might pass it
-    write_text(d, "whole.fs", "#version 330 core\nout vec4 FragColor;\nuniform sampler2D depthMap;\n"
-                              "uniform float heightScale;\n// void main() is below\n"
-                              "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) {\n  return texCoords;\n}\n\n"
-                              "void main()\n{\n  FragColor = vec4(1.0);\n}\n");
-    write_text(d, "typo.glsl", "// mine\n\nvec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) {\n  return texCoordz;\n}\n");
+    write_text(d, "whole.fs",
+               "#version 330 core\nout vec4 FragColor;\nuniform sampler2D depthMap;\n"
+               "uniform float heightScale;\n// void main() is below\n"
+               "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) {\n  return texCoords;\n}\n\n"
+               "void main()\n{\n  FragColor = vec4(1.0);\n}\n");
+    write_text(d, "typo.glsl",
+               "// mine\n\nvec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) {\n  return texCoordz;\n}\n");
     write_text(d, "nofunction.glsl", "float depthAt(vec2 uv) { return 0.5; }\n");
     write_text(d, "rgb.csv", "tx,ty,vx,vy,vz\n0.5,0.5,0,0,1\n");
     write_text(d, "a_file", "");
@@ -531,7 +572,8 @@ std::string fixture_dir() {
       alpha->close();
     }
     write_text(d, "discard.glsl",
-               "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) {\n  if (texCoords.x > 0.5) discard;\n  return texCoords;\n}\n");
+               "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) {\n  if (texCoords.x > 0.5) discard;\n  "
+               "return texCoords;\n}\n");
     return d;
   }();
   return dir;
@@ -568,7 +610,8 @@ std::vector<BadInput> bad_inputs() {
       {"BadIsa", "trace --isa neon", "--isa neon: unknown ISA (scalar"},
       // Every numeric option's range in one form, never DBL_MAX's 309 digits.
       {"NegativeMaxError", "recommend /nonexistent --max-error -1", "--max-error: must be >= 0, not -1"},
-      {"NanMaxWrongSurface", "recommend /nonexistent --max-wrong-surface nan", "--max-wrong-surface: must be in [0, 100], not nan"},
+      {"NanMaxWrongSurface", "recommend /nonexistent --max-wrong-surface nan",
+       "--max-wrong-surface: must be in [0, 100], not nan"},
       {"ZeroFrames", "recommend /nonexistent --frames 0", "--frames: must be in [1, 1073741824], not 0"},
       {"SuiteZeroScale", "suite --quick --scale 0", "--scale: must be in (0, 1], not 0"},
       {"SuiteZeroRepetitions", "suite --quick --repetitions 0", "--repetitions: must be in [1, 1000], not 0"},
@@ -587,38 +630,54 @@ std::vector<BadInput> bad_inputs() {
       {"HugeValueCsv", "trace --rays " + d + "/huge_value.csv", "vx '1e50' is beyond a float's range"},
       {"NanPhi", "trace --view sweep:30,nan", "PHI must be a finite number"},
       {"GrazingLight", "trace --technique shadow --light 1,0,0.0001", "light direction grazes the plane"},
-      {"OutUnderAFile", "trace --size 8x8 --out " + d + "/a_file/out", d + "/a_file/out: cannot create the directory"},
-      {"DevZeroHeightmap", "trace --heightmap /dev/zero", "/dev/zero: is a character device, not a regular file"},
+      {"OutUnderAFile", "trace --size 8x8 --out " + d + "/a_file/out",
+       d + "/a_file/out: cannot create the directory"},
+      {"DevZeroHeightmap", "trace --heightmap /dev/zero",
+       "/dev/zero: is a character device, not a regular file"},
       {"DevZeroRays", "trace --rays /dev/zero", "/dev/zero: is a character device, not a regular file"},
       {"DevZeroShader", "glsl --shader /dev/zero", "/dev/zero: is a character device, not a regular file"},
       {"FifoHeightmap", "trace --heightmap " + d + "/fifo.png", "fifo.png: is a FIFO, not a regular file"},
-      {"TruncatedJpeg", "trace --size 8x8 --heightmap " + d + "/truncated.jpg", "truncated.jpg: cannot read pixels"},
-      {"HugeJpeg", "trace --size 8x8 --heightmap " + d + "/huge.jpg", "declares 16000x16000 pixels in only 400 bytes"},
+      {"TruncatedJpeg", "trace --size 8x8 --heightmap " + d + "/truncated.jpg",
+       "truncated.jpg: cannot read pixels"},
+      {"HugeJpeg", "trace --size 8x8 --heightmap " + d + "/huge.jpg",
+       "declares 16000x16000 pixels in only 400 bytes"},
       {"MissingChannel", "trace --size 8x8 --heightmap " + d + "/whole.jpg --channel g", "has no channel 1"},
       {"BadChannel", "trace --size 8x8 --heightmap " + d + "/whole.jpg --channel x", "--channel 'x'"},
-      {"ChannelOfBuiltin", "trace --size 8x8 --channel 1", "a channel (--channel, :channel=) applies to a depth map file"},
-      {"HeightOfBuiltin", "trace --size 8x8 --convention height", "applies to a depth map file, not builtin:bricks"},
+      {"ChannelOfBuiltin", "trace --size 8x8 --channel 1",
+       "a channel (--channel, :channel=) applies to a depth map file"},
+      {"HeightOfBuiltin", "trace --size 8x8 --convention height",
+       "applies to a depth map file, not builtin:bricks"},
       {"UnknownEntryOption", "suite --quick --heightmap " + d + "/whole.jpg:chanel=g --dry-run",
        "unknown option 'chanel' (convention, channel, wrap)"},
-      {"SuiteConventionWithoutMaps", "suite --quick --convention height --dry-run", "--convention requires --heightmap"},
-      {"SuiteDepthInAlpha", "suite --quick --no-glsl --heightmap " + d + "/rgba_alpha.png --out " + d + "/suite-alpha",
+      {"SuiteConventionWithoutMaps", "suite --quick --convention height --dry-run",
+       "--convention requires --heightmap"},
+      {"SuiteDepthInAlpha",
+       "suite --quick --no-glsl --heightmap " + d + "/rgba_alpha.png --out " + d + "/suite-alpha",
        "rgba_alpha.png: channel 0 (R), read as the depth, is constant"},
-      {"ClaimsDepthInAlpha", "claims --quick --heightmap " + d + "/rgba_alpha.png --out " + d + "/claims-alpha",
+      {"ClaimsDepthInAlpha",
+       "claims --quick --heightmap " + d + "/rgba_alpha.png --out " + d + "/claims-alpha",
        "rgba_alpha.png: channel 0 (R), read as the depth, is constant"},
       {"WholeShader", "glsl --size 8x8 --shader " + d + "/whole.fs",
-       "whole.fs:10: defines main(): a function vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) is expected, not a "
+       "whole.fs:10: defines main(): a function vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) is "
+       "expected, not a "
        "whole shader"},
-      {"ShaderTypo", "glsl --size 8x8 --shader " + d + "/typo.glsl", "typo.glsl:4:9: error: `texCoordz' undeclared"},
-      {"ShaderWithoutFunction", "glsl --size 8x8 --shader " + d + "/nofunction.glsl", "does not define vec2 ParallaxMapping"},
-      {"BadExtraHeightmapInSuite", "suite --quick --no-glsl --heightmap " + d + "/truncated.jpg --out " + d + "/suite",
+      {"ShaderTypo", "glsl --size 8x8 --shader " + d + "/typo.glsl",
+       "typo.glsl:4:9: error: `texCoordz' undeclared"},
+      {"ShaderWithoutFunction", "glsl --size 8x8 --shader " + d + "/nofunction.glsl",
+       "does not define vec2 ParallaxMapping"},
+      {"BadExtraHeightmapInSuite",
+       "suite --quick --no-glsl --heightmap " + d + "/truncated.jpg --out " + d + "/suite",
        "truncated.jpg: cannot read pixels"},
       {"DiscardingShader", "glsl --size 16x16 --views single --repetitions 1 --shader " + d + "/discard.glsl",
        "discard.glsl: left 128 of 256 rays without a hit (does it call discard?)"},
       {"NoSuchGlPath", "glsl --size 8x8 --gl vulkan", "--gl vulkan: not a GL path (osmesa|egl)"},
       {"DeviceWithOsmesa", "glsl --size 8x8 --gl osmesa --gl-device software", "OSMesa has no devices"},
-      {"DeviceThatIsAPath", "glsl --size 8x8 --gl-device ../dri/card0", "--gl-device ../dri/card0: not a device"},
-      {"NoSuchDevice", "glsl --size 8x8 --gl-device 63", "--gl-device 63: EGL lists no such device; it lists 0 "},
-      {"SuiteNoSuchGlPath", "suite --quick --gl vulkan --out " + d + "/gl-suite", "--gl vulkan: not a GL path"},
+      {"DeviceThatIsAPath", "glsl --size 8x8 --gl-device ../dri/card0",
+       "--gl-device ../dri/card0: not a device"},
+      {"NoSuchDevice", "glsl --size 8x8 --gl-device 63",
+       "--gl-device 63: EGL lists no such device; it lists 0 "},
+      {"SuiteNoSuchGlPath", "suite --quick --gl vulkan --out " + d + "/gl-suite",
+       "--gl vulkan: not a GL path"},
   };
 }
 

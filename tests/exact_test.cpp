@@ -1,11 +1,12 @@
 // The exact intersection: closed forms, and an independent brute-force search over every
 // builtin heightfield, both wrap modes, view angles up to 85 degrees.
+#include "heightmarch/exact.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "heightmarch/exact.hpp"
 #include "test_support.hpp"
 
 namespace heightmarch {
@@ -25,14 +26,17 @@ double brute_depth(const DepthMap& map, Wrap wrap, double x, double y) {
   };
   const double fx = x - std::floor(x), fy = y - std::floor(y);
   const long long i = (long long)std::floor(x), j = (long long)std::floor(y);
-  return (1 - fy) * ((1 - fx) * tap(i, j) + fx * tap(i + 1, j)) + fy * ((1 - fx) * tap(i, j + 1) + fx * tap(i + 1, j + 1));
+  return (1 - fy) * ((1 - fx) * tap(i, j) + fx * tap(i + 1, j)) +
+         fy * ((1 - fx) * tap(i, j + 1) + fx * tap(i + 1, j + 1));
 }
 
 // Fine stepping (1/64 texel along the path, at most 1/8192 in depth), then bisection.
 double brute_force_depth(const DepthMap& map, Wrap wrap, double tx, double ty, double vx, double vy,
                          double vz, double scale) {
   const double kx = -scale * vx / vz * map.width, ky = -scale * vy / vz * map.height;
-  auto g = [&](double d) { return d - brute_depth(map, wrap, tx * map.width - 0.5 + kx * d, ty * map.height - 0.5 + ky * d); };
+  auto g = [&](double d) {
+    return d - brute_depth(map, wrap, tx * map.width - 0.5 + kx * d, ty * map.height - 0.5 + ky * d);
+  };
   if (g(0.0) >= 0.0) return 0.0;
   const double step = std::min(1.0 / 8192.0, 1.0 / 64.0 / std::max(1e-9, std::fabs(kx) + std::fabs(ky)));
   double lo = 0.0;
@@ -86,13 +90,15 @@ TEST(Exact, AgreesWithBruteForceOnEveryBuiltin) {
         const HitBuffers hits = exact_hits(map, rays, params, LightVisibility::skip);
         for (std::size_t i = 0; i < rays.size(); ++i) {
           if (rays.is_padding(i)) continue;
-          const double d = exact.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], scale).t;
+          const double d =
+              exact.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], scale).t;
           const double reference =
               brute_force_depth(map, wrap, rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], scale);
-          ASSERT_NEAR(d, reference, 1e-6) << name << (wrap == Wrap::repeat ? " repeat" : " clamp") << " ray " << i
-                                          << " scale " << scale;
-          ASSERT_NEAR(hits.depth[i], reference, 1e-6) << name << (wrap == Wrap::repeat ? " repeat" : " clamp")
-                                                      << " ray " << i << " scale " << scale << " (exact_hits)";
+          ASSERT_NEAR(d, reference, 1e-6)
+              << name << (wrap == Wrap::repeat ? " repeat" : " clamp") << " ray " << i << " scale " << scale;
+          ASSERT_NEAR(hits.depth[i], reference, 1e-6)
+              << name << (wrap == Wrap::repeat ? " repeat" : " clamp") << " ray " << i << " scale " << scale
+              << " (exact_hits)";
           ++rays_checked;
         }
       }
@@ -130,16 +136,19 @@ TEST(Exact, FloatPassThenDoubleAgreesWithTheDoubleWalk) {
           const HitBuffers hits = exact_hits(map, rays, params, LightVisibility::skip, Isa::scalar);
           for (std::size_t i = 0; i < rays.size(); ++i) {
             if (rays.is_padding(i)) continue;
-            const double d = exact.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], scale).t;
-            ASSERT_NEAR(hits.depth[i], d, 1e-6) << name << " " << side << (wrap == Wrap::repeat ? " repeat" : " clamp")
-                                                << " ray " << i << " scale " << scale;
+            const double d =
+                exact.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], scale).t;
+            ASSERT_NEAR(hits.depth[i], d, 1e-6)
+                << name << " " << side << (wrap == Wrap::repeat ? " repeat" : " clamp") << " ray " << i
+                << " scale " << scale;
             ++rays_checked;
           }
           // With the light walked too (the shadow's reference), from the hit in double.
           const HitBuffers lit = exact_hits(map, rays, params, LightVisibility::compute);
           for (std::size_t i = 0; i < rays.size(); ++i) {
             if (rays.is_padding(i)) continue;
-            const double d = exact.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], scale).t;
+            const double d =
+                exact.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], scale).t;
             const double u = rays.tx[i] - d * (double(scale) / rays.vz[i]) * rays.vx[i];
             const double v = rays.ty[i] - d * (double(scale) / rays.vz[i]) * rays.vy[i];
             ASSERT_NEAR(lit.depth[i], d, 1e-6) << name << " " << side << " ray " << i << " (light walked)";
@@ -202,7 +211,8 @@ TEST(Exact, FloatPassStopsBeforeAGrazedPeak) {
       if (a < 0.0f || dip(a) < 0.5 * kDip || dip(a) > 2.0 * kDip) continue;  // no such peak in [0, 1]
       DepthMap map{kSide, kSide, std::vector<float>(std::size_t(kSide) * kSide, 1.0f)};
       map.texels[std::size_t(pj) * kSide + std::size_t(pi)] = a;
-      const double d = ExactIntersector(map, wrap).intersect(rays.tx[0], rays.ty[0], rays.vx[0], rays.vy[0], vz, s).t;
+      const double d =
+          ExactIntersector(map, wrap).intersect(rays.tx[0], rays.ty[0], rays.vx[0], rays.vy[0], vz, s).t;
       const HitBuffers hits = exact_hits(map, rays, params, LightVisibility::skip);
       ASSERT_NEAR(hits.depth[0], d, 1e-6) << (wrap == Wrap::repeat ? "repeat" : "clamp") << " ray " << k;
       ++rays_checked;
@@ -250,7 +260,8 @@ TEST(Exact, GrazingPathsAreRefusedPastTheLimit) {
   params.light[0] = 1.0f;
   params.light[1] = 0.0f;
   params.light[2] = 1e-5f;
-  EXPECT_THROW(check_exact_path_lengths(map, make_ray_list({0.5f}, {0.5f}, {0.0f}, {0.0f}, {1.0f}), params), InputError);
+  EXPECT_THROW(check_exact_path_lengths(map, make_ray_list({0.5f}, {0.5f}, {0.0f}, {0.0f}, {1.0f}), params),
+               InputError);
 }
 
 }  // namespace

@@ -13,7 +13,8 @@
 namespace heightmarch {
 namespace {
 
-HitBuffers draw_hits(GlslRunner& runner, const DepthMap& map, const TechniqueParams& params, const RayBatch& rays) {
+HitBuffers draw_hits(GlslRunner& runner, const DepthMap& map, const TechniqueParams& params,
+                     const RayBatch& rays) {
   runner.prepare(map, params, rays);
   runner.draw();
   HitBuffers hits;

@@ -21,9 +21,9 @@ namespace {
 // formula in the last bit for a few percent of samples (its lerp is fused), which moves POM's hit
 // depth by an ulp. Every technique that writes no shadow factor must then still take identical
 // sample counts on 99.9% of rays. The soft shadow's loop (as the tutorials write it) runs while
-// h - k h / N > 0, whose last step lands within an ulp of 0, so its step count flips by one on a few percent of rays (7% on white noise
-// at 4 layers); that step is the k = N one, weighted by 1 - k / N = 0, so it never changes the
-// factor. A technique that writes a shadow factor is therefore measured by its factor (agreeing
+// h - k h / N > 0, whose last step lands within an ulp of 0, so its step count flips by one on a few percent
+// of rays (7% on white noise at 4 layers); that step is the k = N one, weighted by 1 - k / N = 0, so it never
+// changes the factor. A technique that writes a shadow factor is therefore measured by its factor (agreeing
 // within 1e-4 on 99.9% of rays) and by sample counts within one on 99.9% of rays, not by identical
 // counts, which the flip dominates: its own search is still held to the 99.9% every technique
 // meets, and where that search's one-sample flip meets the shadow's on a ray the two add up.
@@ -41,8 +41,11 @@ ShadowConformance compare_hits(const RayBatch& rays, const HitBuffers& glsl, con
     ++n;
     same += glsl.samples[i] == reference.samples[i];
     factor += std::fabs(glsl.shadow[i] - reference.shadow[i]) <= 1e-4f;
-    within_one += std::max(glsl.samples[i], reference.samples[i]) - std::min(glsl.samples[i], reference.samples[i]) <= 1;
-    differences.push_back(uv_error_texels(glsl.u[i], glsl.v[i], reference.u[i], reference.v[i], map.width, map.height));
+    within_one +=
+        std::max(glsl.samples[i], reference.samples[i]) - std::min(glsl.samples[i], reference.samples[i]) <=
+        1;
+    differences.push_back(
+        uv_error_texels(glsl.u[i], glsl.v[i], reference.u[i], reference.v[i], map.width, map.height));
   }
   std::sort(differences.begin(), differences.end());
   c.same_samples = double(same) / double(n);
@@ -53,7 +56,8 @@ ShadowConformance compare_hits(const RayBatch& rays, const HitBuffers& glsl, con
 }
 
 // The GLSL run (one llvmpipe thread) of params on rays; whether the worker counted the samples.
-HitBuffers glsl_hits(const DepthMap& map, const TechniqueParams& params, const RayBatch& rays, bool& samples_known) {
+HitBuffers glsl_hits(const DepthMap& map, const TechniqueParams& params, const RayBatch& rays,
+                     bool& samples_known) {
   HitBuffers hits;
   GlslRunner& runner = GlslRunner::instance(1);
   runner.prepare(map, params, rays);
@@ -131,12 +135,14 @@ TEST(GlslTrilinear, ViewMinifiedByTwoReadsLevelOne) {
   const HitBuffers glsl = glsl_hits(map, params, rays, samples_known);
   float worst = 0.0f;
   for (std::size_t i = 0; i < rays.size(); ++i)
-    worst = std::max(worst, std::fabs(glsl.depth[i] - sample_depth(chain[1], Wrap::repeat, rays.tx[i], rays.ty[i])));
+    worst = std::max(worst,
+                     std::fabs(glsl.depth[i] - sample_depth(chain[1], Wrap::repeat, rays.tx[i], rays.ty[i])));
   EXPECT_LE(worst, 1e-6f);
   // and not level 0's
   float apart = 0.0f;
   for (std::size_t i = 0; i < rays.size(); ++i)
-    apart = std::max(apart, std::fabs(glsl.depth[i] - sample_depth(map, Wrap::repeat, rays.tx[i], rays.ty[i])));
+    apart =
+        std::max(apart, std::fabs(glsl.depth[i] - sample_depth(map, Wrap::repeat, rays.tx[i], rays.ty[i])));
   EXPECT_GT(apart, 1e-2f);
 }
 
@@ -232,7 +238,8 @@ TEST(GlslRunner, RepeatedPreparesOnOneSceneGiveTheHitsOfFreshOnes) {
   for (int round = 0; round < 3; ++round)
     for (std::size_t c = 0; c < cases.size(); ++c) {
       runner.prepare(map, cases[c], rays);
-      expect_same_hits(draw_and_read(runner), references[c], "round " + std::to_string(round) + ", case " + std::to_string(c));
+      expect_same_hits(draw_and_read(runner), references[c],
+                       "round " + std::to_string(round) + ", case " + std::to_string(c));
     }
 
   // New contents in the same buffers (a pointer says nothing), after a cached prepare.
@@ -299,7 +306,9 @@ TEST(GlslRunner, MissingWorkerIsAClearError) {
   const auto r = test::run_cli("glsl --res 16 --size 8x8 --threads 1");
   EXPECT_EQ(r.status, 1) << r.output;
   // The tool's first question to the worker is which GL paths it has.
-  EXPECT_EQ(r.output.rfind("heightmarch: GLSL worker /nonexistent (asked which GL paths it has): cannot start", 0), 0u)
+  EXPECT_EQ(
+      r.output.rfind("heightmarch: GLSL worker /nonexistent (asked which GL paths it has): cannot start", 0),
+      0u)
       << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
 }
@@ -347,7 +356,8 @@ vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)
 TEST(GlslShaderFile, TutorialShaderRunsAndIsMeasured) {
   const std::string dir = test::temp_dir("glsl-shader");
   std::ofstream(dir + "/steep.glsl") << kTutorialShader;
-  const auto r = test::run_cli("glsl --res 64 --size 64x48 --layers 8-32 --threads 1 --shader " + dir + "/steep.glsl --out " + dir + "/out");
+  const auto r = test::run_cli("glsl --res 64 --size 64x48 --layers 8-32 --threads 1 --shader " + dir +
+                               "/steep.glsl --out " + dir + "/out");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("samples/ray unknown"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("uv error (texels)"), std::string::npos) << r.output;
@@ -358,7 +368,8 @@ TEST(GlslShaderFile, TutorialShaderRunsAndIsMeasured) {
 
 TEST(GlslShaderFile, SyntaxErrorNamesTheLine) {
   const std::string dir = test::temp_dir("glsl-bad");
-  std::ofstream(dir + "/bad.glsl") << "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)\n{\n  return texCoords +;\n}\n";
+  std::ofstream(dir + "/bad.glsl")
+      << "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)\n{\n  return texCoords +;\n}\n";
   const auto r = test::run_cli("glsl --res 16 --size 8x8 --threads 1 --shader " + dir + "/bad.glsl");
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("bad.glsl:3:"), std::string::npos) << r.output;
@@ -370,8 +381,9 @@ TEST(GlslShaderFile, SyntaxErrorNamesTheLine) {
 // compiler returned NaN on one CPU and finite garbage on another.)
 TEST(GlslShaderFile, RunawayLoopIsReportedNotMeasured) {
   const std::string dir = test::temp_dir("glsl-forever");
-  std::ofstream(dir + "/forever.glsl") << "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)\n{\n  vec2 uv = texCoords;\n"
-                                          "  for (int i = 0; i >= 0; ++i) uv = uv * 2.0 + 1.0;\n  return uv;\n}\n";
+  std::ofstream(dir + "/forever.glsl")
+      << "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)\n{\n  vec2 uv = texCoords;\n"
+         "  for (int i = 0; i >= 0; ++i) uv = uv * 2.0 + 1.0;\n  return uv;\n}\n";
   const auto r = test::run_cli("glsl --res 16 --size 16x16 --threads 1 --shader " + dir + "/forever.glsl");
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("non-finite uv"), std::string::npos) << r.output;
@@ -384,8 +396,8 @@ TEST(GlslShaderFile, LongLinesAndOwnUniformDeclarations) {
   const std::string dir = test::temp_dir("glsl-long");
   std::ofstream(dir + "/long.glsl") << "#version 330 //" << std::string(40000, 'x') << "\n"
                                     << "  uniform float heightScale ;\nuniform sampler2D depthMap;\n"
-                                    << "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) { // " << std::string(40000, 'y')
-                                    << "\n  return texCoords;\n}\n";
+                                    << "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) { // "
+                                    << std::string(40000, 'y') << "\n  return texCoords;\n}\n";
   const auto r = test::run_cli("glsl --res 16 --size 8x8 --threads 1 --shader " + dir + "/long.glsl");
   EXPECT_EQ(r.status, 0) << r.output.substr(0, 2000);
   EXPECT_NE(r.output.find("uv error (texels)"), std::string::npos) << r.output.substr(0, 2000);
@@ -401,8 +413,8 @@ TEST(GlslShaderFile, MissingAndEmptyFiles) {
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("empty shader file"), std::string::npos) << r.output;
   // what follows a NUL byte was dropped unread, and the rest ran as if it were the whole file
-  std::ofstream(dir + "/nul.glsl", std::ios::binary)
-      << std::string("vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) { return texCoords; }\n\0 garbage\n", 83);
+  std::ofstream(dir + "/nul.glsl", std::ios::binary) << std::string(
+      "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) { return texCoords; }\n\0 garbage\n", 83);
   r = test::run_cli("glsl --res 16 --size 8x8 --shader " + dir + "/nul.glsl");
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("nul.glsl: holds a NUL byte (line 2)"), std::string::npos) << r.output;

@@ -45,7 +45,8 @@ TEST(GlslWatchdog, KillsAnEndlessDrawAndRestarts) {
     FAIL() << "the endless draw returned";
   } catch (const InputError& e) {
     const std::string message = e.what();
-    EXPECT_NE(message.find("endless.glsl: the GLSL draw of 65536 rays ran past its bound of 10.5 s"), std::string::npos)
+    EXPECT_NE(message.find("endless.glsl: the GLSL draw of 65536 rays ran past its bound of 10.5 s"),
+              std::string::npos)
         << message;
     EXPECT_NE(message.find("restarts"), std::string::npos) << message;
   }
@@ -65,7 +66,9 @@ TEST(GlslWatchdog, KillsAnEndlessDrawAndRestarts) {
 
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
 
 // What a call threw (its message), or "returned", and how long it took.
 struct Outcome {
@@ -92,7 +95,8 @@ Outcome outcome_of(Call call) {
 // the three wait side by side.
 TEST(GlslWatchdog, AWorkerThatHangsIsNoticedAtItsStepsBound) {
   if (kAddressSanitizer)
-    GTEST_SKIP() << "20 s of waiting on the same bounds the Release build's run holds (the test command's time)";
+    GTEST_SKIP()
+        << "20 s of waiting on the same bounds the Release build's run holds (the test command's time)";
   const std::string dir = test::temp_dir("stall");
   const std::string worker = test::glsl_worker();
   const std::string script = dir + "/stalling-worker";
@@ -101,14 +105,17 @@ TEST(GlslWatchdog, AWorkerThatHangsIsNoticedAtItsStepsBound) {
                         << "HEIGHTMARCH_GLSL_WORKER_STALL=$s exec " << worker << " \"$@\"\n";
   std::filesystem::permissions(script, std::filesystem::perms::owner_all);
   gl_paths_built();  // asked of the real worker, before the script stands in for it
-  std::optional<test::ScopedEnv> stalling(std::in_place, "HEIGHTMARCH_GLSL_WORKER", script);  // read as each runner starts its worker
+  std::optional<test::ScopedEnv> stalling(std::in_place, "HEIGHTMARCH_GLSL_WORKER",
+                                          script);  // read as each runner starts its worker
   GlslRunner& upload = GlslRunner::instance(8);
   GlslRunner& read_back = GlslRunner::instance(9);
   const DepthMap map = make_builtin_heightfield("bricks", 64, 1);
   const RayBatch rays = make_view_rays(parse_view("default", 32, 32));
   const TechniqueParams params;
-  auto start_up = std::async(std::launch::async, [&] { return outcome_of([&] { GlslRunner::instance(7); }); });
-  auto uploads = std::async(std::launch::async, [&] { return outcome_of([&] { upload.prepare(map, params, rays); }); });
+  auto start_up =
+      std::async(std::launch::async, [&] { return outcome_of([&] { GlslRunner::instance(7); }); });
+  auto uploads =
+      std::async(std::launch::async, [&] { return outcome_of([&] { upload.prepare(map, params, rays); }); });
   read_back.prepare(map, params, rays);
   read_back.draw();
   const Outcome read = outcome_of([&] {
@@ -118,11 +125,13 @@ TEST(GlslWatchdog, AWorkerThatHangsIsNoticedAtItsStepsBound) {
   });
   const Outcome started = start_up.get(), uploaded = uploads.get();
   stalling.reset();
-  EXPECT_NE(started.message.find("no answer to start-up within 20.0 s; killed"), std::string::npos) << started.message;
+  EXPECT_NE(started.message.find("no answer to start-up within 20.0 s; killed"), std::string::npos)
+      << started.message;
   EXPECT_GE(started.seconds, 20.0);
   EXPECT_LT(started.seconds, 25.0);
   for (const auto& [what, o] : {std::pair{"upload", uploaded}, std::pair{"read-back", read}}) {
-    EXPECT_NE(o.message.find(std::string("no answer to ") + what + " within 10.0 s; killed"), std::string::npos)
+    EXPECT_NE(o.message.find(std::string("no answer to ") + what + " within 10.0 s; killed"),
+              std::string::npos)
         << o.message;
     EXPECT_GE(o.seconds, 10.0) << what;
     EXPECT_LT(o.seconds, 15.0) << what;
@@ -160,8 +169,8 @@ TEST(GlslWatchdog, AWorkerDiesWithItsKilledClient) {
   if (client == 0) {
     std::freopen("/dev/null", "w", stdout);
     std::freopen("/dev/null", "w", stderr);
-    ::execl(HEIGHTMARCH_CLI, "heightmarch", "glsl", "--shader", path.c_str(), "--res", "64", "--size", "256x256",
-            "--threads", "1", "--repetitions", "1", static_cast<char*>(nullptr));
+    ::execl(HEIGHTMARCH_CLI, "heightmarch", "glsl", "--shader", path.c_str(), "--res", "64", "--size",
+            "256x256", "--threads", "1", "--repetitions", "1", static_cast<char*>(nullptr));
     ::_exit(127);
   }
   pid_t worker = -1;
@@ -176,7 +185,8 @@ TEST(GlslWatchdog, AWorkerDiesWithItsKilledClient) {
   ::waitpid(client, nullptr, 0);
   const Clock::time_point killed = Clock::now();
   // Polls every 50 ms for the worker's end, for 5 s at most.
-  while (running(worker) && seconds_since(killed) < 5.0) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  while (running(worker) && seconds_since(killed) < 5.0)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
   const bool orphan = running(worker);
   if (orphan) ::kill(worker, SIGKILL);
   EXPECT_FALSE(orphan) << "the worker drew on for 5 s after its client was killed";

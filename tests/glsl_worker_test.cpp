@@ -83,19 +83,22 @@ TEST(GlslProtocol, HitsCarryEveryOutputOfTheList) {
   protocol::Reader reader(writer.bytes());
   protocol::read(reader, back, 5);
   reader.finish();
-  HitBuffers::for_each_pair(hits, back, [](HitChannel c, const auto& a, const auto& b) { EXPECT_EQ(a, b) << info(c).name; });
+  HitBuffers::for_each_pair(
+      hits, back, [](HitChannel c, const auto& a, const auto& b) { EXPECT_EQ(a, b) << info(c).name; });
   protocol::Reader short_reader(writer.bytes());
   EXPECT_THROW(protocol::read(short_reader, back, 4), protocol::BadMessage);
 
   // The harness draws every output a technique writes, four floats to an attachment, in the
   // list's order; the read-back puts each where it belongs and derives `discarded` from the uv.
   const std::string glsl = hit_outputs_glsl();
-  std::vector<std::vector<float>> attachments(std::size_t(hit_output_attachments()), std::vector<float>(4 * 2, 0.0f));
+  std::vector<std::vector<float>> attachments(std::size_t(hit_output_attachments()),
+                                              std::vector<float>(4 * 2, 0.0f));
   std::size_t k = 0;
   for (const HitChannelInfo& c : hit_channels()) {
     if (c.writer != ChannelWriter::hit && c.writer != ChannelWriter::optional) continue;
     EXPECT_NE(glsl.find("  float " + std::string(c.name) + ";\n"), std::string::npos) << c.name;
-    for (std::size_t ray = 0; ray < 2; ++ray) attachments[k / 4][4 * ray + k % 4] = float(100 * (k + 1) + ray);
+    for (std::size_t ray = 0; ray < 2; ++ray)
+      attachments[k / 4][4 * ray + k % 4] = float(100 * (k + 1) + ray);
     ++k;
   }
   EXPECT_EQ(std::size_t(hit_output_attachments()), (k + 3) / 4);
@@ -244,8 +247,9 @@ TEST(GlslWorker, SaysWhatIsWrongWithItsStreamAndExits) {
 // one) still ends when its client hangs up, in the middle of a draw: it watches its channel.
 TEST(GlslWorker, EndsWhenItsClientHangsUpEvenWhileDrawing) {
   const std::string dir = test::temp_dir("hang-up");
-  std::ofstream(dir + "/endless.glsl") << "vec2 ParallaxMapping(vec2 t, vec3 v) {\n"
-                                          "  while (texture(depthMap, t).r < 2.0) t += vec2(1e-7);\n  return t;\n}\n";
+  std::ofstream(dir + "/endless.glsl")
+      << "vec2 ParallaxMapping(vec2 t, vec3 v) {\n"
+         "  while (texture(depthMap, t).r < 2.0) t += vec2(1e-7);\n  return t;\n}\n";
   int fds[2];
   ASSERT_EQ(::socketpair(AF_UNIX, SOCK_STREAM, 0, fds), 0);
   const std::string worker = test::glsl_worker();
@@ -254,21 +258,23 @@ TEST(GlslWorker, EndsWhenItsClientHangsUpEvenWhileDrawing) {
     ::dup2(fds[1], STDIN_FILENO);
     ::dup2(fds[1], STDOUT_FILENO);
     ::close(fds[0]);
-    ::execl(worker.c_str(), worker.c_str(), "--threads", "1", "--memory-limit", "1G", static_cast<char*>(nullptr));
+    ::execl(worker.c_str(), worker.c_str(), "--threads", "1", "--memory-limit", "1G",
+            static_cast<char*>(nullptr));
     ::_exit(127);
   }
   ::close(fds[1]);
   std::vector<char> reply;
   ASSERT_EQ(protocol::receive(fds[0], reply, std::nullopt, 1 << 20), Message::ready);
   const std::string request =
-      message(Message::prepare, prepare_payload(TechniqueParams(), make_builtin_heightfield("bricks", 64, 1),
-                                                make_view_rays(parse_view("default", 256, 256)), 1,
-                                                dir + "/endless.glsl")) +
+      message(Message::prepare,
+              prepare_payload(TechniqueParams(), make_builtin_heightfield("bricks", 64, 1),
+                              make_view_rays(parse_view("default", 256, 256)), 1, dir + "/endless.glsl")) +
       header(Message::draw, 0);
   ASSERT_EQ(::write(fds[0], request.data(), request.size()), ssize_t(request.size()));
   ASSERT_EQ(protocol::receive(fds[0], reply, std::nullopt, 1 << 20), Message::compiled);
   ASSERT_EQ(protocol::receive(fds[0], reply, std::nullopt, 1 << 20), Message::done);
-  std::this_thread::sleep_for(std::chrono::seconds(1));  // drawing: llvmpipe cuts this loop only after minutes
+  std::this_thread::sleep_for(
+      std::chrono::seconds(1));  // drawing: llvmpipe cuts this loop only after minutes
   const auto closed = std::chrono::steady_clock::now();
   ::close(fds[0]);
   int status = 0;
@@ -295,7 +301,8 @@ double footprint_mib() {
 // array, is stopped by the worker's memory limit within seconds and named in one line; neither
 // process grows past the budget (the worker by at most the stacks it reserved before its limit).
 TEST(GlslWorker, RunawayShadersStopAtTheMemoryLimit) {
-  if (kAddressSanitizer) GTEST_SKIP() << "an AddressSanitizer build runs the worker without its OS data limit";
+  if (kAddressSanitizer)
+    GTEST_SKIP() << "an AddressSanitizer build runs the worker without its OS data limit";
   const std::string dir = test::temp_dir("runaway");
   {
     std::ofstream bomb(dir + "/bomb.glsl");

@@ -1,19 +1,20 @@
 // Builtin heightfields and depth maps from image files: formats, conventions and hostile files.
-#include <gtest/gtest.h>
+#include "heightmarch/heightfield.hpp"
 
 #include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <fstream>
 
 #include "heightmarch/error.hpp"
-#include "heightmarch/heightfield.hpp"
 #include "test_support.hpp"
 
 namespace heightmarch {
 namespace {
 
-void write_image(const std::string& path, int w, int h, int channels, OIIO::TypeDesc type, const std::vector<float>& pixels) {
+void write_image(const std::string& path, int w, int h, int channels, OIIO::TypeDesc type,
+                 const std::vector<float>& pixels) {
   auto out = OIIO::ImageOutput::create(path);
   ASSERT_TRUE(out) << path;
   OIIO::ImageSpec spec(w, h, channels, type);
@@ -35,7 +36,8 @@ TEST(Builtins, DeterministicFiniteInRangeAtAnySize) {
 
 TEST(Builtins, SeedChangesTheRandomOnes) {
   for (const char* name : {"waves", "terrain", "bricks", "toybox", "spikes"})
-    EXPECT_NE(make_builtin_heightfield(name, 64, 1).texels, make_builtin_heightfield(name, 64, 2).texels) << name;
+    EXPECT_NE(make_builtin_heightfield(name, 64, 1).texels, make_builtin_heightfield(name, 64, 2).texels)
+        << name;
   EXPECT_EQ(make_builtin_heightfield("ramp", 64, 1).texels, make_builtin_heightfield("ramp", 64, 2).texels);
 }
 
@@ -52,7 +54,13 @@ TEST(Loading, FormatsDepthsAndChannels) {
   for (float g : gray) rgba.insert(rgba.end(), {g, 0.9f, 0.1f, 1.0f});
   std::vector<float> two;
   for (float g : gray) two.insert(two.end(), {g, 0.5f});
-  struct Case { std::string file; int channels; OIIO::TypeDesc type; const std::vector<float>* pixels; float tolerance; };
+  struct Case {
+    std::string file;
+    int channels;
+    OIIO::TypeDesc type;
+    const std::vector<float>* pixels;
+    float tolerance;
+  };
   const std::vector<Case> cases = {{"a.png", 1, OIIO::TypeDesc::UINT8, &gray, 1.0f / 255},
                                    {"b.png", 4, OIIO::TypeDesc::UINT8, &rgba, 1.0f / 255},
                                    {"c.png", 1, OIIO::TypeDesc::UINT16, &gray, 1.0f / 65535},
@@ -64,7 +72,8 @@ TEST(Loading, FormatsDepthsAndChannels) {
     const DepthMap depth = load_depth_map(dir + "/" + c.file);
     ASSERT_EQ(depth.width, 3) << c.file;
     ASSERT_EQ(depth.height, 2) << c.file;
-    for (int k = 0; k < 6; ++k) EXPECT_NEAR(depth.texels[k], gray[k], c.tolerance + 1e-6f) << c.file << " texel " << k;
+    for (int k = 0; k < 6; ++k)
+      EXPECT_NEAR(depth.texels[k], gray[k], c.tolerance + 1e-6f) << c.file << " texel " << k;
     const DepthMap height = load_depth_map(dir + "/" + c.file, {Convention::height});
     for (int k = 0; k < 6; ++k) EXPECT_NEAR(height.texels[k], 1.0f - depth.texels[k], 1e-6f) << c.file;
   }
@@ -84,15 +93,17 @@ TEST(Loading, AlphaNeverScalesTheDepth) {
   write_image(dir + "/ga.png", 3, 2, 2, OIIO::TypeDesc::UINT8, ga);
   for (const char* file : {"rgba.png", "ga.png"}) {
     const DepthMap depth = load_depth_map(dir + "/" + file);
-    for (int k = 0; k < 6; ++k) EXPECT_NEAR(depth.texels[k], gray[k], 1.0f / 255 + 1e-6f) << file << " texel " << k;
+    for (int k = 0; k < 6; ++k)
+      EXPECT_NEAR(depth.texels[k], gray[k], 1.0f / 255 + 1e-6f) << file << " texel " << k;
   }
 }
 
 TEST(Loading, HandWrittenPfm) {
   const std::string dir = test::temp_dir("pfm");
   const float texels[2] = {0.0f, 1.0f};
-  std::ofstream(dir + "/row.pfm", std::ios::binary) << "Pf\n2 1\n-1.0\n"
-                                                    << std::string(reinterpret_cast<const char*>(texels), sizeof texels);
+  std::ofstream(dir + "/row.pfm", std::ios::binary)
+      << "Pf\n2 1\n-1.0\n"
+      << std::string(reinterpret_cast<const char*>(texels), sizeof texels);
   const DepthMap map = load_depth_map(dir + "/row.pfm");
   EXPECT_EQ(map.texels, (std::vector<float>{0.0f, 1.0f}));
 }
@@ -123,8 +134,8 @@ TEST(Loading, HostileFilesAreInputErrors) {
   std::ofstream(dir + "/zero.pfm", std::ios::binary) << "Pf\n0 0\n-1.0\n";
   // Truncated pixel data: a 64 x 64 PFM with 10 bytes of pixels.
   std::ofstream(dir + "/truncated.pfm", std::ios::binary) << "Pf\n64 64\n-1.0\n0123456789";
-  for (const char* file : {"nan.exr", "empty.png", "text.png", "magic.png", "huge.pfm", "zero.pfm", "truncated.pfm",
-                           "missing.png"}) {
+  for (const char* file : {"nan.exr", "empty.png", "text.png", "magic.png", "huge.pfm", "zero.pfm",
+                           "truncated.pfm", "missing.png"}) {
     try {
       load_depth_map(dir + "/" + file);
       ADD_FAILURE() << file << " was accepted";
@@ -146,7 +157,8 @@ TEST(Loading, FirstSubimageOfAMultiImageFile) {
   const std::string path = dir + "/multi.tif";
   auto out = OIIO::ImageOutput::create(path);
   ASSERT_TRUE(out && out->supports("multiimage"));
-  const OIIO::ImageSpec specs[2] = {OIIO::ImageSpec(2, 1, 1, OIIO::TypeDesc::FLOAT), OIIO::ImageSpec(3, 3, 1, OIIO::TypeDesc::FLOAT)};
+  const OIIO::ImageSpec specs[2] = {OIIO::ImageSpec(2, 1, 1, OIIO::TypeDesc::FLOAT),
+                                    OIIO::ImageSpec(3, 3, 1, OIIO::TypeDesc::FLOAT)};
   ASSERT_TRUE(out->open(path, 2, specs));
   const float first[2] = {0.3f, 0.6f};
   const float second[9] = {};
@@ -177,9 +189,11 @@ TEST(Loading, AConstantChannelWhileAnotherVariesIsRefused) {
     load_depth_map(dir + "/rgba.png");
     ADD_FAILURE() << "a constant red channel beside a varying alpha was read as the depth";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("rgba.png: channel 0 (R), read as the depth, is constant (0.501961) while "
-                                         "channel 3 (A) varies: choose the depth's channel with --channel 3"),
-              std::string::npos) << e.what();
+    EXPECT_NE(
+        std::string(e.what()).find("rgba.png: channel 0 (R), read as the depth, is constant (0.501961) while "
+                                   "channel 3 (A) varies: choose the depth's channel with --channel 3"),
+        std::string::npos)
+        << e.what();
   }
   MapReading alpha;
   alpha.channel = 3;
@@ -200,7 +214,8 @@ TEST(MapEntries, OptionsOfAnEntryOverrideTheCommandsReading) {
   defaults.convention = Convention::height;
   const HeightfieldSource plain = parse_heightfield(dir + "/rock.png", 512, 1, defaults);
   EXPECT_EQ(plain.reading, defaults);
-  const HeightfieldSource own = parse_heightfield(dir + "/rock.png:wrap=clamp:channel=a:convention=depth", 512, 1, defaults);
+  const HeightfieldSource own =
+      parse_heightfield(dir + "/rock.png:wrap=clamp:channel=a:convention=depth", 512, 1, defaults);
   EXPECT_EQ(own.path, dir + "/rock.png");
   EXPECT_EQ(own.reading.convention, Convention::depth);
   EXPECT_EQ(own.reading.channel, 3);

@@ -8,8 +8,8 @@
 #include "baselines/structured_pom.hpp"
 #include "experiment/plan_runner.hpp"
 #include "experiment/run_outputs.hpp"
-#include "heightmarch/error.hpp"
 #include "experiment/suite_plan.hpp"
+#include "heightmarch/error.hpp"
 #include "kernels/kernel_abi.hpp"
 #include "test_support.hpp"
 
@@ -48,7 +48,8 @@ TEST(Plan, OneConfigurationIsMeasuredOnce) {
 }
 
 TEST(Plan, RoundsInterleaveAndEveryTimedRowHasItsRepetitions) {
-  std::vector<Configuration> plan = {small(Technique::pom, "32", kPurposeMatrix), small(Technique::steep, "8", kPurposeMatrix),
+  std::vector<Configuration> plan = {small(Technique::pom, "32", kPurposeMatrix),
+                                     small(Technique::steep, "8", kPurposeMatrix),
                                      small(Technique::relief, "8", kPurposeSweep)};
   plan[2].timed = false;
   std::vector<std::string> steps;
@@ -105,9 +106,10 @@ TEST(Plan, TheExactReferenceIsARowWithoutError) {
 TEST(Registry, MeasuresFollowTheHitList) {
   std::vector<std::string> names;
   for (const ErrorMeasure& m : error_measure_list()) names.push_back(m.name);
-  EXPECT_EQ(names, (std::vector<std::string>{"uv_error_mean", "uv_error_rms", "uv_error_p50", "uv_error_p95",
-                                             "uv_error_p99", "uv_error_max", "wrong_surface_rate", "depth_error_mean",
-                                             "shadow_error_mean", "shadow_mismatch_rate"}));
+  EXPECT_EQ(names,
+            (std::vector<std::string>{"uv_error_mean", "uv_error_rms", "uv_error_p50", "uv_error_p95",
+                                      "uv_error_p99", "uv_error_max", "wrong_surface_rate",
+                                      "depth_error_mean", "shadow_error_mean", "shadow_mismatch_rate"}));
   std::vector<Configuration> plan;
   for (Technique t : {Technique::pom, Technique::shadow}) plan.push_back(small(t, "8", kPurposeCommand));
   MeasureOptions options;
@@ -120,7 +122,8 @@ TEST(Registry, MeasuresFollowTheHitList) {
     for (std::size_t i = 0; i < names.size(); ++i) {
       EXPECT_EQ(measures[i].first, names[i]);
       const bool shadow_measure = names[i].rfind("shadow_", 0) == 0;
-      EXPECT_EQ(std::isnan(measures[i].second), shadow_measure && row.config.params.technique == Technique::pom)
+      EXPECT_EQ(std::isnan(measures[i].second),
+                shadow_measure && row.config.params.technique == Technique::pom)
           << names[i];
     }
   }
@@ -156,17 +159,26 @@ TEST(Plan, BenchmarkNamesCarryTheSizes) {
   Configuration c = small(Technique::pom, "8-32", 0);
   c.isa = Isa::scalar;
   EXPECT_EQ(benchmark_name(c, 64, 64),
-            "BM_Trace/heightfield:bricks/technique:pom/layers:8-32/isa:scalar/threads:1/view:48x40/depth_map:64x64");
+            "BM_Trace/heightfield:bricks/technique:pom/layers:8-32/isa:scalar/threads:1/view:48x40/"
+            "depth_map:64x64");
   c.kind = RunKind::roofline;
-  EXPECT_EQ(benchmark_name(c, 64, 64).rfind("BM_SamplerRoofline/heightfield:bricks/layers:8-32/isa:scalar/", 0), 0u);
+  EXPECT_EQ(
+      benchmark_name(c, 64, 64).rfind("BM_SamplerRoofline/heightfield:bricks/layers:8-32/isa:scalar/", 0),
+      0u);
   c.kind = RunKind::ceiling;
-  EXPECT_EQ(benchmark_name(c, 64, 64).rfind("BM_ComputeCeiling/heightfield:bricks/layers:8-32/isa:scalar/", 0), 0u);
+  EXPECT_EQ(
+      benchmark_name(c, 64, 64).rfind("BM_ComputeCeiling/heightfield:bricks/layers:8-32/isa:scalar/", 0), 0u);
   c.kind = RunKind::autovec;
-  EXPECT_EQ(benchmark_name(c, 64, 64).rfind("BM_AutoVecPort/heightfield:bricks/technique:pom/layers:8-32/isa:scalar/", 0), 0u);
+  EXPECT_EQ(benchmark_name(c, 64, 64).rfind(
+                "BM_AutoVecPort/heightfield:bricks/technique:pom/layers:8-32/isa:scalar/", 0),
+            0u);
   c.kind = RunKind::highway;
-  EXPECT_EQ(benchmark_name(c, 64, 64).rfind("BM_HighwayPort/heightfield:bricks/technique:pom/layers:8-32/isa:scalar/", 0), 0u);
+  EXPECT_EQ(benchmark_name(c, 64, 64).rfind(
+                "BM_HighwayPort/heightfield:bricks/technique:pom/layers:8-32/isa:scalar/", 0),
+            0u);
   c.kind = RunKind::calibration;
-  EXPECT_EQ(benchmark_name(c, 64, 64), "BM_Calibration/heightfield:bricks/isa:calibration/threads:1/view:48x40/depth_map:64x64");
+  EXPECT_EQ(benchmark_name(c, 64, 64),
+            "BM_Calibration/heightfield:bricks/isa:calibration/threads:1/view:48x40/depth_map:64x64");
 }
 
 // The calibration loop, scripts/compare's control: timed like any row, with nothing to check or
@@ -192,7 +204,8 @@ TEST(Plan, TheCalibrationLoopIsTimedAndInEveryPlan) {
   }
   PlanSettings settings = suite_settings(true, 2);
   int calibrations = 0;
-  for (const Configuration& c : suite_plan(settings)) calibrations += c.kind == RunKind::calibration && c.timed;
+  for (const Configuration& c : suite_plan(settings))
+    calibrations += c.kind == RunKind::calibration && c.timed;
   EXPECT_EQ(calibrations, int(settings.heightfields.size() * settings.thread_counts.size()));
 }
 
@@ -237,7 +250,8 @@ TEST(Registry, EveryIsaHasEveryKernel) {
     const KernelTable& table = kernel_table(isa);
     for (int f = 0; f < kFilterCount; ++f) {
       for (const TechniqueInfo& t : techniques())
-        for (int a = 0; a < kAddressingCount; ++a) EXPECT_NE(table.technique[int(t.id)][f][a], nullptr) << t.name;
+        for (int a = 0; a < kAddressingCount; ++a)
+          EXPECT_NE(table.technique[int(t.id)][f][a], nullptr) << t.name;
       for (int a = 0; a < kAddressingCount; ++a) {
         EXPECT_NE(table.sampler_roofline[f][a], nullptr);
         EXPECT_NE(table.compute_ceiling[f][a], nullptr);

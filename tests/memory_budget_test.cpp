@@ -61,7 +61,8 @@ TEST(MemoryBudget, BelowTheFootprintIsRefusedAtStartUp) {
 // Runs trace over `image` at `over_footprint_mib` above the footprint: refused in one line holding
 // `message`, at a peak of no more than the footprint and a little (peaks are not checked in an
 // AddressSanitizer build, whose own memory swamps them: util/sanitizers.hpp).
-void expect_refused_from_header(const std::string& image, double over_footprint_mib, const std::string& message) {
+void expect_refused_from_header(const std::string& image, double over_footprint_mib,
+                                const std::string& message) {
   const auto r = test::run_with_peak(std::string(HEIGHTMARCH_CLI) + " trace --size 8x8 --heightmap " + image +
                                      " --memory-limit " + limit_above_footprint(over_footprint_mib));
   EXPECT_EQ(r.status, 2) << r.output;
@@ -72,7 +73,8 @@ void expect_refused_from_header(const std::string& image, double over_footprint_
 TEST(MemoryBudget, ImagesAreRefusedFromTheirHeader) {
   const std::string dir = test::temp_dir("budget-images");
   write_image(dir + "/rgba16.png", 2048, 4, OIIO::TypeDesc::UINT16);
-  expect_refused_from_header(dir + "/rgba16.png", 60, "rgba16.png (2048x2048, 4 channels of uint16) needs 88.0 MiB");
+  expect_refused_from_header(dir + "/rgba16.png", 60,
+                             "rgba16.png (2048x2048, 4 channels of uint16) needs 88.0 MiB");
   // A PNM file is read whole, twice, when its reader opens it: asked before.
   {
     std::ofstream pfm(dir + "/big.pfm", std::ios::binary);
@@ -81,7 +83,8 @@ TEST(MemoryBudget, ImagesAreRefusedFromTheirHeader) {
     for (int y = 0; y < 2048; ++y)
       pfm.write(reinterpret_cast<const char*>(row.data()), std::streamsize(row.size() * 4));
   }
-  expect_refused_from_header(dir + "/big.pfm", 24, "big.pfm (its reader holds the whole file) needs 32.0 MiB");
+  expect_refused_from_header(dir + "/big.pfm", 24,
+                             "big.pfm (its reader holds the whole file) needs 32.0 MiB");
 }
 
 // The budget holds at the peak whatever the run: refused where an allocation would pass it (each

@@ -2,13 +2,14 @@
 // level of detail against GL's formula (and on views minified by exactly 2 and 4, which must read
 // levels 1 and 2 at every ISA), and the gradients a view's pixel grid gives its rays (a view set's
 // too).
+#include "heightmarch/mip_chain.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 
-#include "heightmarch/mip_chain.hpp"
 #include "heightmarch/sampler.hpp"
 #include "heightmarch/tracer.hpp"
 #include "test_support.hpp"
@@ -84,8 +85,9 @@ TEST(LevelOfDetail, ViewsMinifiedByTwoAndFourReadLevelsOneAndTwo) {
     for (float& t : rays.tx) t += 0.3f / 512.0f;
     for (float& t : rays.ty) t += 0.2f / 512.0f;
     for (std::size_t i = 0; i < rays.size(); ++i)
-      ASSERT_EQ(level_of_detail(rays.du_dx[i], rays.dv_dx[i], rays.du_dy[i], rays.dv_dy[i], 512.0f, 512.0f, 9),
-                float(level));
+      ASSERT_EQ(
+          level_of_detail(rays.du_dx[i], rays.dv_dx[i], rays.du_dy[i], rays.dv_dy[i], 512.0f, 512.0f, 9),
+          float(level));
     TechniqueParams params;
     params.technique = Technique::parallax;  // one sample at T: its depth
     params.filter = Filter::trilinear;
@@ -94,9 +96,11 @@ TEST(LevelOfDetail, ViewsMinifiedByTwoAndFourReadLevelsOneAndTwo) {
       Tracer(map, params, isa).run(rays, hits);
       float apart = 0.0f;  // from level 0's
       for (std::size_t i = 0; i < rays.size(); ++i) {
-        ASSERT_EQ(hits.depth[i], sample_depth(chain[std::size_t(level)], Wrap::repeat, rays.tx[i], rays.ty[i]))
+        ASSERT_EQ(hits.depth[i],
+                  sample_depth(chain[std::size_t(level)], Wrap::repeat, rays.tx[i], rays.ty[i]))
             << to_string(isa) << " ray " << i;
-        apart = std::max(apart, std::fabs(hits.depth[i] - sample_depth(map, Wrap::repeat, rays.tx[i], rays.ty[i])));
+        apart = std::max(apart,
+                         std::fabs(hits.depth[i] - sample_depth(map, Wrap::repeat, rays.tx[i], rays.ty[i])));
       }
       EXPECT_GT(apart, 1e-3f);
     }
@@ -155,7 +159,8 @@ TEST(PixelGradients, QuadPartnersAndOneSidedWhereTheyMiss) {
   rays.image_height = 3;
   set_pixel_gradients(rays, 4, 3);
   const auto expect = [&](int x, int y, float du_dx, float dv_dx, float du_dy, float dv_dy) {
-    const std::size_t i = std::size_t(std::find(pixels.begin(), pixels.end(), std::uint32_t(y * 4 + x)) - pixels.begin());
+    const std::size_t i =
+        std::size_t(std::find(pixels.begin(), pixels.end(), std::uint32_t(y * 4 + x)) - pixels.begin());
     ASSERT_LT(i, pixels.size());
     EXPECT_EQ(rays.du_dx[i], du_dx) << x << "," << y;
     EXPECT_EQ(rays.dv_dx[i], dv_dx) << x << "," << y;
@@ -168,7 +173,8 @@ TEST(PixelGradients, QuadPartnersAndOneSidedWhereTheyMiss) {
   expect(0, 1, 10, 1, 1, 100);  // partner (0, 0) misses: (0, 2) below
   expect(0, 2, 10, 1, 1, 100);  // (0, 3) is off the grid: (0, 1) above
   expect(3, 2, 10, 1, 0, 0);    // (3, 3) is off the grid and (3, 1) misses: 0 in y
-  for (std::size_t i = pixels.size(); i < rays.size(); ++i) EXPECT_EQ(rays.du_dx[i], rays.du_dx[pixels.size() - 1]);
+  for (std::size_t i = pixels.size(); i < rays.size(); ++i)
+    EXPECT_EQ(rays.du_dx[i], rays.du_dx[pixels.size() - 1]);
 }
 
 }  // namespace

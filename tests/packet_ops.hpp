@@ -8,7 +8,7 @@
 
 namespace heightmarch::test {
 
-inline constexpr int kOpLanes = 64;  // one block: a multiple of every packet width
+inline constexpr int kOpLanes = 64;                       // one block: a multiple of every packet width
 inline constexpr int kTexelStride = 37, kTexelRows = 23;  // the gathers' texture (odd sizes)
 
 struct OpInputs {
@@ -20,9 +20,9 @@ struct OpInputs {
   double md[kOpLanes], nd[kOpLanes];  // masks of doubles: 0 or 1
   float texels[kTexelStride * kTexelRows];
   std::int32_t ints[kTexelStride * kTexelRows];
-  std::int32_t index[kOpLanes];   // gather: inside the texture; gather_pairs: index + 1 too
+  std::int32_t index[kOpLanes];             // gather: inside the texture; gather_pairs: index + 1 too
   std::int32_t tx[kOpLanes], ty[kOpLanes];  // fetch_taps: (tx + 1, ty + 1) inside the texture
-  float table[16];                 // lookup's, at count & 15
+  float table[16];                          // lookup's, at count & 15
   std::int32_t int_table[16];
   float lane[kOpLanes];  // 0, 1, 2, ...: the packets' lane numbers
 };
@@ -55,62 +55,62 @@ using OpFn = void (*)(const OpInputs&, OpOutputs&);
 // The ops of vfloat<W>, vint<W>, vbool<W> that act lane by lane:
 // X(name, NaN results: exact bits or any NaN, the packet op, the scalar op of the contract).
 // Inputs a, b (float), i, j (int32), m, n (mask); the packet side reads them as packets.
-#define HEIGHTMARCH_TEST_LANE_OPS(X)                                                   \
-  X(identity, exact, a, a)                                                             \
-  X(add, any_nan, a + b, a + b)                                                        \
-  X(sub, any_nan, a - b, a - b)                                                        \
-  X(mul, any_nan, a * b, a * b)                                                        \
-  X(div, any_nan, a / b, a / b)                                                        \
-  X(min, exact, min(a, b), a < b ? a : b)                                              \
-  X(max, exact, max(a, b), a > b ? a : b)                                              \
-  X(abs, exact, abs(a), std::fabs(a))                                                  \
-  X(floor, any_nan, floor(a), std::floor(a))                                           \
-  X(ceil, any_nan, ceil(a), std::ceil(a))                                              \
-  X(sqrt, any_nan, sqrt(a), std::sqrt(a))                                              \
-  X(less, exact, a < b, a < b)                                                         \
-  X(greater, exact, a > b, a > b)                                                      \
-  X(greater_equal, exact, a >= b, a >= b)                                              \
-  X(not_equal, exact, a != b, a != b)                                                  \
-  X(select, exact, select(m, a, b), m ? a : b)                                         \
-  X(to_int, exact, to_int(a), truncate_or_int32_min(a))                                \
-  X(int_add, exact, i + j, std::int32_t(std::uint32_t(i) + std::uint32_t(j)))          \
-  X(int_sub, exact, i - j, std::int32_t(std::uint32_t(i) - std::uint32_t(j)))          \
-  X(int_mul, exact, i * j, std::int32_t(std::uint32_t(i) * std::uint32_t(j)))          \
-  X(int_and, exact, i & j, i & j)                                                      \
-  X(int_less, exact, i < j, i < j)                                                     \
-  X(int_min, exact, min(i, j), i < j ? i : j)                                          \
-  X(int_max, exact, max(i, j), i > j ? i : j)                                          \
-  X(int_select, exact, select(m, i, j), m ? i : j)                                     \
+#define HEIGHTMARCH_TEST_LANE_OPS(X)                                                       \
+  X(identity, exact, a, a)                                                                 \
+  X(add, any_nan, a + b, a + b)                                                            \
+  X(sub, any_nan, a - b, a - b)                                                            \
+  X(mul, any_nan, a* b, a* b)                                                              \
+  X(div, any_nan, a / b, a / b)                                                            \
+  X(min, exact, min(a, b), a < b ? a : b)                                                  \
+  X(max, exact, max(a, b), a > b ? a : b)                                                  \
+  X(abs, exact, abs(a), std::fabs(a))                                                      \
+  X(floor, any_nan, floor(a), std::floor(a))                                               \
+  X(ceil, any_nan, ceil(a), std::ceil(a))                                                  \
+  X(sqrt, any_nan, sqrt(a), std::sqrt(a))                                                  \
+  X(less, exact, a < b, a < b)                                                             \
+  X(greater, exact, a > b, a > b)                                                          \
+  X(greater_equal, exact, a >= b, a >= b)                                                  \
+  X(not_equal, exact, a != b, a != b)                                                      \
+  X(select, exact, select(m, a, b), m ? a : b)                                             \
+  X(to_int, exact, to_int(a), truncate_or_int32_min(a))                                    \
+  X(int_add, exact, i + j, std::int32_t(std::uint32_t(i) + std::uint32_t(j)))              \
+  X(int_sub, exact, i - j, std::int32_t(std::uint32_t(i) - std::uint32_t(j)))              \
+  X(int_mul, exact, i* j, std::int32_t(std::uint32_t(i) * std::uint32_t(j)))               \
+  X(int_and, exact, i& j, i& j)                                                            \
+  X(int_less, exact, i < j, i < j)                                                         \
+  X(int_min, exact, min(i, j), i < j ? i : j)                                              \
+  X(int_max, exact, max(i, j), i > j ? i : j)                                              \
+  X(int_select, exact, select(m, i, j), m ? i : j)                                         \
   X(pow2, exact, pow2((i & vint<W>(127)) - vint<W>(63)), std::ldexp(1.0f, (i & 127) - 63)) \
-  X(mask_and, exact, m & n, m && n)                                                    \
-  X(mask_or, exact, m | n, m || n)                                                     \
+  X(mask_and, exact, m& n, m&& n)                                                          \
+  X(mask_or, exact, m | n, m || n)                                                         \
   X(mask_not, exact, !m, !m)
 
 // The ops of vdouble<D>, vboold<D> that act lane by lane, as above with inputs x, y (double),
 // md, nd (mask) and a (float, for the conversion).
-#define HEIGHTMARCH_TEST_DOUBLE_OPS(X)                                      \
-  X(d_identity, exact, x, x)                                                \
-  X(d_from_float, exact, vdouble<D>::load(in.a + first), double(a))         \
-  X(d_add, any_nan, x + y, x + y)                                           \
-  X(d_sub, any_nan, x - y, x - y)                                           \
-  X(d_mul, any_nan, x * y, x * y)                                           \
-  X(d_div, any_nan, x / y, x / y)                                           \
-  X(d_neg, exact, -x, -x)                                                   \
-  X(d_less, exact, x < y, x < y)                                            \
-  X(d_less_equal, exact, x <= y, x <= y)                                    \
-  X(d_greater, exact, x > y, x > y)                                         \
-  X(d_greater_equal, exact, x >= y, x >= y)                                 \
-  X(d_equal, exact, x == y, x == y)                                         \
-  X(d_not_equal, exact, x != y, x != y)                                     \
-  X(d_min, exact, min(x, y), std::min(x, y))                                \
-  X(d_max, exact, max(x, y), std::max(x, y))                                \
-  X(d_abs, exact, abs(x), std::fabs(x))                                     \
-  X(d_floor, any_nan, floor(x), std::floor(x))                              \
-  X(d_sqrt, any_nan, sqrt(x), std::sqrt(x))                                 \
-  X(d_copysign, exact, copysign(x, y), std::copysign(x, y))                 \
-  X(d_select, exact, select(md, x, y), md ? x : y)                          \
-  X(d_mask_and, exact, md & nd, md && nd)                                   \
-  X(d_mask_or, exact, md | nd, md || nd)                                    \
+#define HEIGHTMARCH_TEST_DOUBLE_OPS(X)                              \
+  X(d_identity, exact, x, x)                                        \
+  X(d_from_float, exact, vdouble<D>::load(in.a + first), double(a)) \
+  X(d_add, any_nan, x + y, x + y)                                   \
+  X(d_sub, any_nan, x - y, x - y)                                   \
+  X(d_mul, any_nan, x* y, x* y)                                     \
+  X(d_div, any_nan, x / y, x / y)                                   \
+  X(d_neg, exact, -x, -x)                                           \
+  X(d_less, exact, x < y, x < y)                                    \
+  X(d_less_equal, exact, x <= y, x <= y)                            \
+  X(d_greater, exact, x > y, x > y)                                 \
+  X(d_greater_equal, exact, x >= y, x >= y)                         \
+  X(d_equal, exact, x == y, x == y)                                 \
+  X(d_not_equal, exact, x != y, x != y)                             \
+  X(d_min, exact, min(x, y), std::min(x, y))                        \
+  X(d_max, exact, max(x, y), std::max(x, y))                        \
+  X(d_abs, exact, abs(x), std::fabs(x))                             \
+  X(d_floor, any_nan, floor(x), std::floor(x))                      \
+  X(d_sqrt, any_nan, sqrt(x), std::sqrt(x))                         \
+  X(d_copysign, exact, copysign(x, y), std::copysign(x, y))         \
+  X(d_select, exact, select(md, x, y), md ? x : y)                  \
+  X(d_mask_and, exact, md& nd, md&& nd)                             \
+  X(d_mask_or, exact, md | nd, md || nd)                            \
   X(d_mask_not, exact, !md, !md)
 
 #define HEIGHTMARCH_TEST_COUNT_OP(...) +1

@@ -35,27 +35,37 @@ struct DoublePackets {
 };
 
 template <int W>
-void put(vfloat<W> r, test::OpOutputs& out, int first) { r.store(out.f + first); }
+void put(vfloat<W> r, test::OpOutputs& out, int first) {
+  r.store(out.f + first);
+}
 template <int W>
-void put(vint<W> r, test::OpOutputs& out, int first) { r.store(out.i + first); }
+void put(vint<W> r, test::OpOutputs& out, int first) {
+  r.store(out.i + first);
+}
 template <int W>
-void put(vbool<W> r, test::OpOutputs& out, int first) { select(r, vfloat<W>(1.0f), vfloat<W>(0.0f)).store(out.m + first); }
+void put(vbool<W> r, test::OpOutputs& out, int first) {
+  select(r, vfloat<W>(1.0f), vfloat<W>(0.0f)).store(out.m + first);
+}
 template <int D>
-void put(vdouble<D> r, test::OpOutputs& out, int first) { r.store(out.d + first); }
+void put(vdouble<D> r, test::OpOutputs& out, int first) {
+  r.store(out.d + first);
+}
 template <int D>
-void put(vboold<D> r, test::OpOutputs& out, int first) { select(r, vdouble<D>(1.0), vdouble<D>(0.0)).store(out.d + first); }
+void put(vboold<D> r, test::OpOutputs& out, int first) {
+  select(r, vdouble<D>(1.0), vdouble<D>(0.0)).store(out.d + first);
+}
 
 template <int W>
 constexpr test::PacketOps make_packet_ops() {
   test::PacketOps ops;
   ops.width = W;
   int next = 0;
-#define HEIGHTMARCH_TEST_LANE_OP(name, nan, packet, reference)                  \
-  ops.lane_ops[next++] = +[](const test::OpInputs& in, test::OpOutputs& out) {  \
-    for (int first = 0; first < test::kOpLanes; first += W) {                   \
+#define HEIGHTMARCH_TEST_LANE_OP(name, nan, packet, reference)                     \
+  ops.lane_ops[next++] = +[](const test::OpInputs& in, test::OpOutputs& out) {     \
+    for (int first = 0; first < test::kOpLanes; first += W) {                      \
       [[maybe_unused]] const auto [a, b, i, j, m, n] = InputPackets<W>(in, first); \
-      put<W>(packet, out, first);                                               \
-    }                                                                           \
+      put<W>(packet, out, first);                                                  \
+    }                                                                              \
   };
   HEIGHTMARCH_TEST_LANE_OPS(HEIGHTMARCH_TEST_LANE_OP)
 #undef HEIGHTMARCH_TEST_LANE_OP
@@ -128,12 +138,12 @@ constexpr test::DoubleOps make_double_ops() {
   test::DoubleOps ops;
   ops.width = D;
   int next = 0;
-#define HEIGHTMARCH_TEST_DOUBLE_OP(name, nan, packet, reference)               \
-  ops.lane_ops[next++] = +[](const test::OpInputs& in, test::OpOutputs& out) { \
-    for (int first = 0; first < test::kOpLanes; first += D) {                  \
+#define HEIGHTMARCH_TEST_DOUBLE_OP(name, nan, packet, reference)                \
+  ops.lane_ops[next++] = +[](const test::OpInputs& in, test::OpOutputs& out) {  \
+    for (int first = 0; first < test::kOpLanes; first += D) {                   \
       [[maybe_unused]] const auto [x, y, md, nd] = DoublePackets<D>(in, first); \
-      put<D>(packet, out, first);                                              \
-    }                                                                          \
+      put<D>(packet, out, first);                                               \
+    }                                                                           \
   };
   HEIGHTMARCH_TEST_DOUBLE_OPS(HEIGHTMARCH_TEST_DOUBLE_OP)
 #undef HEIGHTMARCH_TEST_DOUBLE_OP

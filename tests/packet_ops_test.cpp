@@ -3,6 +3,8 @@
 // lane on random blocks that mix NaNs, infinities, signed zeros, denormals, out-of-range values
 // for to_int and equal operands (Highway's habit). The ISA list comes from heightmarch/isa_list.hpp:
 // a new ISA is tested without editing this file.
+#include "packet_ops.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,15 +16,14 @@
 #include <string>
 
 #include "heightmarch/isa.hpp"
-#include "packet_ops.hpp"
 #include "test_support.hpp"
 
 namespace heightmarch {
 
 // Each ISA's half, generated from tests/packet_ops_isa.cpp.in.
-#define HEIGHTMARCH_DECLARE_PACKET_OPS(id, ...) \
-  namespace isa_##id {                          \
-  const test::PacketOpTables& packet_op_tables(); \
+#define HEIGHTMARCH_DECLARE_PACKET_OPS(id, ...)     \
+  namespace isa_##id {                              \
+    const test::PacketOpTables& packet_op_tables(); \
   }
 HEIGHTMARCH_ISAS(HEIGHTMARCH_DECLARE_PACKET_OPS)
 #undef HEIGHTMARCH_DECLARE_PACKET_OPS
@@ -133,21 +134,37 @@ class Lanes {
                                     -std::numeric_limits<float>::quiet_NaN(),
                                     std::numeric_limits<float>::infinity(),
                                     -std::numeric_limits<float>::infinity(),
-                                    0.0f, -0.0f, 0.5f, -0.5f, 1.0f, -1.0f, 1.5f, -2.5f,
-                                    2147483648.0f, -2147483648.0f, 2147483520.0f, -2147483904.0f,
-                                    16777217.0f, 1e10f, -1e10f,
-                                    std::numeric_limits<float>::max(), -std::numeric_limits<float>::max(),
-                                    std::numeric_limits<float>::denorm_min(), -1e-40f,
+                                    0.0f,
+                                    -0.0f,
+                                    0.5f,
+                                    -0.5f,
+                                    1.0f,
+                                    -1.0f,
+                                    1.5f,
+                                    -2.5f,
+                                    2147483648.0f,
+                                    -2147483648.0f,
+                                    2147483520.0f,
+                                    -2147483904.0f,
+                                    16777217.0f,
+                                    1e10f,
+                                    -1e10f,
+                                    std::numeric_limits<float>::max(),
+                                    -std::numeric_limits<float>::max(),
+                                    std::numeric_limits<float>::denorm_min(),
+                                    -1e-40f,
                                     std::numeric_limits<float>::min()};
     switch (pick(4)) {
-      case 0: return special[pick(std::size(special))];
+      case 0:
+        return special[pick(std::size(special))];
       case 1: {
         const std::uint32_t bits = std::uint32_t(rng_.next());
         float f;
         std::memcpy(&f, &bits, sizeof f);
         return f;
       }
-      default: return float(rng_.uniform(-8.0, 8.0));
+      default:
+        return float(rng_.uniform(-8.0, 8.0));
     }
   }
 
@@ -156,26 +173,39 @@ class Lanes {
                                      -std::numeric_limits<double>::quiet_NaN(),
                                      std::numeric_limits<double>::infinity(),
                                      -std::numeric_limits<double>::infinity(),
-                                     0.0, -0.0, 0.5, -0.5, 1.0, -1.0, 1e300, -1e-310, 3.4028235677973366e38,
+                                     0.0,
+                                     -0.0,
+                                     0.5,
+                                     -0.5,
+                                     1.0,
+                                     -1.0,
+                                     1e300,
+                                     -1e-310,
+                                     3.4028235677973366e38,
                                      std::numeric_limits<double>::denorm_min()};
     switch (pick(4)) {
-      case 0: return special[pick(std::size(special))];
+      case 0:
+        return special[pick(std::size(special))];
       case 1: {
         const std::uint64_t bits = rng_.next();
         double d;
         std::memcpy(&d, &bits, sizeof d);
         return d;
       }
-      default: return rng_.uniform(-8.0, 8.0);
+      default:
+        return rng_.uniform(-8.0, 8.0);
     }
   }
 
   std::int32_t any_int() {
     static const std::int32_t special[] = {0, 1, -1, 2, INT32_MIN, INT32_MAX, 46341, -46341, 65536, 255};
     switch (pick(4)) {
-      case 0: return special[pick(std::size(special))];
-      case 1: return std::int32_t(std::uint32_t(rng_.next()));
-      default: return std::int32_t(pick(2001)) - 1000;
+      case 0:
+        return special[pick(std::size(special))];
+      case 1:
+        return std::int32_t(std::uint32_t(rng_.next()));
+      default:
+        return std::int32_t(pick(2001)) - 1000;
     }
   }
 
@@ -183,11 +213,21 @@ class Lanes {
     const int odd_one = int(pick(kOpLanes));
     for (int k = 0; k < kOpLanes; ++k) {
       switch (mode % 5) {
-        case 0: mask[k] = 0.0f; break;
-        case 1: mask[k] = 1.0f; break;
-        case 2: mask[k] = float(pick(2)); break;
-        case 3: mask[k] = k == odd_one ? 0.0f : 1.0f; break;
-        default: mask[k] = k == odd_one ? 1.0f : 0.0f; break;
+        case 0:
+          mask[k] = 0.0f;
+          break;
+        case 1:
+          mask[k] = 1.0f;
+          break;
+        case 2:
+          mask[k] = float(pick(2));
+          break;
+        case 3:
+          mask[k] = k == odd_one ? 0.0f : 1.0f;
+          break;
+        default:
+          mask[k] = k == odd_one ? 1.0f : 0.0f;
+          break;
       }
     }
   }
@@ -201,8 +241,9 @@ class Mismatches {
   explicit Mismatches(std::string where) : where_(std::move(where)) {}
   void add(const std::string& op, int lane, const std::string& inputs, const std::string& got,
            const std::string& want) {
-    if (count_++ < 8) text_ += "\n  " + where_ + " " + op + " lane " + std::to_string(lane) + ": " + inputs +
-                               " gives " + got + ", the contract " + want;
+    if (count_++ < 8)
+      text_ += "\n  " + where_ + " " + op + " lane " + std::to_string(lane) + ": " + inputs + " gives " +
+               got + ", the contract " + want;
   }
   int count() const { return count_; }
   const std::string& text() const { return text_; }
@@ -220,21 +261,26 @@ void check_lane_ops(const test::PacketOps& ops, const test::OpInputs& in, Mismat
   // Each op's output slot follows from its scalar result's type.
   auto got_of = [&](auto want, int k) {
     using T = decltype(want);
-    if constexpr (std::is_same_v<T, bool>) return out.m[k] != 0.0f;
-    else if constexpr (std::is_same_v<T, float>) return out.f[k];
-    else return out.i[k];
+    if constexpr (std::is_same_v<T, bool>)
+      return out.m[k] != 0.0f;
+    else if constexpr (std::is_same_v<T, float>)
+      return out.f[k];
+    else
+      return out.i[k];
   };
-#define HEIGHTMARCH_CHECK_LANE_OP(name, nan, packet, reference)                                          \
-  ops.lane_ops[op++](in, out);                                                                           \
-  for (int k = 0; k < kOpLanes; ++k) {                                                                   \
-    [[maybe_unused]] const float a = in.a[k], b = in.b[k];                                               \
-    [[maybe_unused]] const std::int32_t i = in.i[k], j = in.j[k];                                        \
-    [[maybe_unused]] const bool m = in.m[k] != 0.0f, n = in.n[k] != 0.0f;                                \
-    const auto want = reference;                                                                         \
-    const auto got = got_of(want, k);                                                                    \
-    if (!same(got, want, Nan::nan))                                                                      \
-      bad.add(#name, k, "a=" + show(a) + " b=" + show(b) + " i=" + show(i) + " j=" + show(j) + " m=" +   \
-                            show(m) + " n=" + show(n), show(got), show(want));                           \
+#define HEIGHTMARCH_CHECK_LANE_OP(name, nan, packet, reference)                                        \
+  ops.lane_ops[op++](in, out);                                                                         \
+  for (int k = 0; k < kOpLanes; ++k) {                                                                 \
+    [[maybe_unused]] const float a = in.a[k], b = in.b[k];                                             \
+    [[maybe_unused]] const std::int32_t i = in.i[k], j = in.j[k];                                      \
+    [[maybe_unused]] const bool m = in.m[k] != 0.0f, n = in.n[k] != 0.0f;                              \
+    const auto want = reference;                                                                       \
+    const auto got = got_of(want, k);                                                                  \
+    if (!same(got, want, Nan::nan))                                                                    \
+      bad.add(#name, k,                                                                                \
+              "a=" + show(a) + " b=" + show(b) + " i=" + show(i) + " j=" + show(j) + " m=" + show(m) + \
+                  " n=" + show(n),                                                                     \
+              show(got), show(want));                                                                  \
   }
   HEIGHTMARCH_TEST_LANE_OPS(HEIGHTMARCH_CHECK_LANE_OP)
 #undef HEIGHTMARCH_CHECK_LANE_OP
@@ -287,7 +333,8 @@ void check_reductions_and_memory(const test::PacketOps& ops, const test::OpInput
     const int entry = in.count[k] & 15;
     expect("lookup", out.looked_up[k], in.table[entry], "entry=" + show(entry));
     if (out.looked_up_int[k] != in.int_table[entry])
-      bad.add("lookup (int32)", k, "entry=" + show(entry), show(out.looked_up_int[k]), show(in.int_table[entry]));
+      bad.add("lookup (int32)", k, "entry=" + show(entry), show(out.looked_up_int[k]),
+              show(in.int_table[entry]));
     if (out.bytes[k] != std::uint8_t(in.count[k] & 255))
       bad.add("store_bytes", k, "count=" + show(in.count[k]), show(out.bytes[k]), show(in.count[k] & 255));
   }
@@ -306,7 +353,8 @@ void check_moves(const test::PacketOps& ops, const test::OpInputs& in, Mismatche
       const std::string lane = "m=" + show(m);
       if (out.loaded_int[k] != in.i[k]) bad.add("vint load", k, "", show(out.loaded_int[k]), show(in.i[k]));
       const float expanded = m ? in.texels[first + rank] : in.a[k];
-      if (!same(out.expanded[k], expanded, Nan::exact)) bad.add("expand_load", k, lane, show(out.expanded[k]), show(expanded));
+      if (!same(out.expanded[k], expanded, Nan::exact))
+        bad.add("expand_load", k, lane, show(out.expanded[k]), show(expanded));
       const std::int32_t expanded_int = m ? in.ints[first + rank] : in.i[k];
       if (out.expanded_int[k] != expanded_int)
         bad.add("expand_load (int32)", k, lane, show(out.expanded_int[k]), show(expanded_int));
@@ -326,7 +374,9 @@ void check_moves(const test::PacketOps& ops, const test::OpInputs& in, Mismatche
         ++rank;
       }
     }
-    if (out.bits[first / w] != bits) bad.add("mask_bits", first, "lanes " + std::to_string(first) + "..", show(out.bits[first / w]), show(bits));
+    if (out.bits[first / w] != bits)
+      bad.add("mask_bits", first, "lanes " + std::to_string(first) + "..", show(out.bits[first / w]),
+              show(bits));
   }
 }
 
@@ -335,8 +385,10 @@ void check_double_ops(const test::DoubleOps& ops, const test::OpInputs& in, Mism
   int op = 0;
   auto got_of = [&](auto want, int k) {
     using T = decltype(want);
-    if constexpr (std::is_same_v<T, bool>) return out.d[k] != 0.0;
-    else return out.d[k];
+    if constexpr (std::is_same_v<T, bool>)
+      return out.d[k] != 0.0;
+    else
+      return out.d[k];
   };
 #define HEIGHTMARCH_CHECK_DOUBLE_OP(name, nan, packet, reference)                                         \
   ops.lane_ops[op++](in, out);                                                                            \
@@ -347,8 +399,9 @@ void check_double_ops(const test::DoubleOps& ops, const test::OpInputs& in, Mism
     const auto want = reference;                                                                          \
     const auto got = got_of(want, k);                                                                     \
     if (!same(got, want, Nan::nan))                                                                       \
-      bad.add(#name, k, "a=" + show(a) + " x=" + show(x) + " y=" + show(y) + " md=" + show(md) + " nd=" + \
-                            show(nd), show(got), show(want));                                             \
+      bad.add(#name, k,                                                                                   \
+              "a=" + show(a) + " x=" + show(x) + " y=" + show(y) + " md=" + show(md) + " nd=" + show(nd), \
+              show(got), show(want));                                                                     \
   }
   HEIGHTMARCH_TEST_DOUBLE_OPS(HEIGHTMARCH_CHECK_DOUBLE_OP)
 #undef HEIGHTMARCH_CHECK_DOUBLE_OP
@@ -357,8 +410,8 @@ void check_double_ops(const test::DoubleOps& ops, const test::OpInputs& in, Mism
     bool any = false;
     for (int k = first; k < first + ops.width; ++k) any = any || in.md[k] != 0.0;
     if (out.any_d[first / ops.width] != any)
-      bad.add("any (doubles)", first, "lanes " + std::to_string(first) + "..", show(out.any_d[first / ops.width]),
-              show(any));
+      bad.add("any (doubles)", first, "lanes " + std::to_string(first) + "..",
+              show(out.any_d[first / ops.width]), show(any));
   }
   for (int k = 0; k < kOpLanes; ++k)
     if (!same(out.narrowed[k], float(in.x[k]), Nan::any_nan))
@@ -369,7 +422,8 @@ class PacketOpsTest : public ::testing::TestWithParam<Isa> {};
 
 TEST_P(PacketOpsTest, EveryOpMatchesTheScalarContract) {
   const Isa isa = GetParam();
-  if (!cpu_supports(isa)) GTEST_SKIP() << "this CPU lacks " << to_string(isa) << ": its packet ops are not tested here";
+  if (!cpu_supports(isa))
+    GTEST_SKIP() << "this CPU lacks " << to_string(isa) << ": its packet ops are not tested here";
   const test::PacketOpTables& tables = tables_of(isa);
   Lanes lanes(0x5eed0000u + std::uint64_t(isa));
   test::OpInputs in{};
@@ -394,7 +448,9 @@ TEST_P(PacketOpsTest, EveryOpMatchesTheScalarContract) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryIsaOfTheList, PacketOpsTest, ::testing::ValuesIn(all_isas()),
-                         [](const ::testing::TestParamInfo<Isa>& info) { return std::string(isa_id(info.param)); });
+                         [](const ::testing::TestParamInfo<Isa>& info) {
+                           return std::string(isa_id(info.param));
+                         });
 
 }  // namespace
 }  // namespace heightmarch

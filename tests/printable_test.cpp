@@ -51,7 +51,10 @@ TEST(Printable, CliErrorLinesQuoteInputEscaped) {
 TEST(Printable, JsonStringsEscapeWhatPrintableEscapes) {
   EXPECT_EQ(JsonWriter::quote("a\"b\\ ümlaut"), "\"a\\\"b\\\\ ümlaut\"");
   EXPECT_EQ(JsonWriter::quote("\x1b]0;\x07"), "\"\\u001b]0;\\u0007\"");
-  EXPECT_EQ(JsonWriter::quote("\xc2\x9b" "2J \xe2\x80\xae" "x"), "\"\\u009b2J \\u202ex\"");
+  EXPECT_EQ(JsonWriter::quote("\xc2\x9b"
+                              "2J \xe2\x80\xae"
+                              "x"),
+            "\"\\u009b2J \\u202ex\"");
   EXPECT_EQ(JsonWriter::quote("\xff"), "\"\\\\xff\"");  // valid UTF-8, as JSON must be
 }
 
@@ -61,17 +64,23 @@ TEST(Printable, SummariesShowFileNamesAsText) {
   const std::string dir = test::temp_dir("printable-names");
   const std::string escape = "$'\\x1b[2J\\x1b]0;pwned\\x07'";
   std::ofstream(dir + "/depth.pfm", std::ios::binary) << std::string("Pf\n1 1\n-1.0\n\0\0\0?", 16);  // 0.5
-  std::ofstream(dir + "/mine.glsl") << "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) { return texCoords; }\n";
+  std::ofstream(dir + "/mine.glsl")
+      << "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) { return texCoords; }\n";
   const std::string map = dir + "/map" + escape + ".pfm";
   const std::string shader = dir + "/shader" + escape + ".glsl";
-  ASSERT_EQ(test::run_command("bash -c \"cp " + dir + "/depth.pfm " + map + " && cp " + dir + "/mine.glsl " + shader + "\"").status, 0);
-  for (const std::string& args : {"trace --size 8x8 --repetitions 1 --heightmap " + map,
-                                  "suite --dry-run --quick --no-glsl --techniques pom --heightmap " + map,
-                                  "glsl --size 8x8 --repetitions 1 --layers 8 --heightmap " + map + " --shader " + shader}) {
+  ASSERT_EQ(test::run_command("bash -c \"cp " + dir + "/depth.pfm " + map + " && cp " + dir + "/mine.glsl " +
+                              shader + "\"")
+                .status,
+            0);
+  for (const std::string& args :
+       {"trace --size 8x8 --repetitions 1 --heightmap " + map,
+        "suite --dry-run --quick --no-glsl --techniques pom --heightmap " + map,
+        "glsl --size 8x8 --repetitions 1 --layers 8 --heightmap " + map + " --shader " + shader}) {
     const auto r = test::run_command("bash -c \"" + std::string(HEIGHTMARCH_CLI) + " " + args + "\"");
     EXPECT_EQ(r.status, 0) << args << ": " << r.output;
     EXPECT_EQ(r.output.find('\x1b'), std::string::npos) << args << ": " << r.output;
-    EXPECT_NE(r.output.find("map\\x1b[2J\\x1b]0;pwned\\x07.pfm"), std::string::npos) << args << ": " << r.output;
+    EXPECT_NE(r.output.find("map\\x1b[2J\\x1b]0;pwned\\x07.pfm"), std::string::npos)
+        << args << ": " << r.output;
   }
 }
 

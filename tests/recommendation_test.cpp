@@ -5,7 +5,6 @@
 #include "experiment/recommendation.hpp"
 
 #include <gtest/gtest.h>
-
 #include <sys/stat.h>
 
 #include <algorithm>
@@ -167,14 +166,17 @@ TEST(Recommendation, APlantedWindowOnlySettingIsNotRecommended) {
   EXPECT_EQ(a.near_miss->measure, "wrong surface");
   const std::string text = recommendation_text(r);
   EXPECT_NE(text.find("not pom 8, pom 16, which meet the target on the window but not on the held-out views"),
-            std::string::npos) << text;
-  EXPECT_NE(text.find("the next that holds: relief 16"), std::string::npos) << text;
-  EXPECT_NE(text.find("held-out p99 0.25 (0.225-0.275) texel, wrong surface 0.3% (0.27-0.33%)"), std::string::npos)
+            std::string::npos)
       << text;
-  EXPECT_NE(text.find("near miss pom 16: 1.33x faster, wrong surface 10% over its bound"), std::string::npos) << text;
+  EXPECT_NE(text.find("the next that holds: relief 16"), std::string::npos) << text;
+  EXPECT_NE(text.find("held-out p99 0.25 (0.225-0.275) texel, wrong surface 0.3% (0.27-0.33%)"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("near miss pom 16: 1.33x faster, wrong surface 10% over its bound"), std::string::npos)
+      << text;
   const std::string json = recommendation_json(r);
-  for (const char* key : {"\"held_out\": {", "\"uv_error_p99_ci\": [", "\"failed_held_out\": [", "\"near_miss\": {",
-                          "\"held_out_checked\": true", "\"format_version\": 2"})
+  for (const char* key : {"\"held_out\": {", "\"uv_error_p99_ci\": [", "\"failed_held_out\": [",
+                          "\"near_miss\": {", "\"held_out_checked\": true", "\"format_version\": 2"})
     EXPECT_NE(json.find(key), std::string::npos) << key;
   // Without held-out twins the window decides, and the answer says it was not checked.
   for (Candidate& c : rows) c.held_out.reset();
@@ -188,7 +190,7 @@ TEST(Recommendation, APlantedWindowOnlySettingIsNotRecommended) {
 TEST(Recommendation, TheRunnerUpNeverReadsFasterThanTheChoice) {
   Candidate choice = row(0, "waves", Technique::pom, "32", 1.0, 0.2, 0.001);
   Candidate second = row(1, "waves", Technique::relief, "8", 1.0, 0.2, 0.001);
-  choice.seconds = {1e-6, 1e-6, 1e-6, 3e-6, 3e-6};  // median 1 us
+  choice.seconds = {1e-6, 1e-6, 1e-6, 3e-6, 3e-6};      // median 1 us
   second.seconds = {0.9e-6, 0.9e-6, 2e-6, 2e-6, 2e-6};  // median 2 us; per-round ratios' median 0.9
   const Recommendation r = recommend({choice, second}, RecommendationTarget{});
   const Answer& a = cpu(r).per_heightfield.at(0);
@@ -231,7 +233,8 @@ TEST(Recommendation, RecommendReadsARunToTheSuitesAnswer) {
   EXPECT_NE(other.output.find("at p95 <= 2 texel, wrong surface <= 100%"), std::string::npos) << other.output;
   for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
            {"recommend " + out + " --percentile p90", "--percentile: p90 not in"},
-           {"recommend " + out + " --max-wrong-surface 101", "--max-wrong-surface: must be in [0, 100], not 101"},
+           {"recommend " + out + " --max-wrong-surface 101",
+            "--max-wrong-surface: must be in [0, 100], not 101"},
            {"recommend /nonexistent", "/nonexistent: cannot open measurements.json"}}) {
     const auto r = test::run_cli(args);
     EXPECT_EQ(r.status, 2) << args << ": " << r.output;
@@ -264,18 +267,23 @@ TEST(Recommendation, RecommendRefusesBadValuesInOneLine) {
   const auto fine = write(good);
   ASSERT_EQ(fine.status, 0) << fine.output;
   for (const auto& [text, message] : std::vector<std::pair<std::string, std::string>>{
-           {with("[0.001, 0.0011, 0.0009]", "[1e308, 0.0011, 0.0009]"), "rows[0]: speed.seconds: is 1e+308, not in (0,"},
-           {with("[0.001, 0.0011, 0.0009]", "[]"), "rows[0]: speed.seconds: is not a list of repetitions' seconds"},
+           {with("[0.001, 0.0011, 0.0009]", "[1e308, 0.0011, 0.0009]"),
+            "rows[0]: speed.seconds: is 1e+308, not in (0,"},
+           {with("[0.001, 0.0011, 0.0009]", "[]"),
+            "rows[0]: speed.seconds: is not a list of repetitions' seconds"},
            {with("\"rays\": 4096", "\"rays\": -1"), "rows[0]: rays: is -1, not in 0.."},
            {with("\"id\": 0", "\"id\": 1e20"), "rows[0]: id: is 1e+20, not an integer"},
-           {with("\"uv_error_p99\": 0.3", "\"uv_error_p99\": -5"), "rows[0]: errors.uv_error_p99: is -5, not in [0,"},
+           {with("\"uv_error_p99\": 0.3", "\"uv_error_p99\": -5"),
+            "rows[0]: errors.uv_error_p99: is -5, not in [0,"},
            {with("\"threads\": 2", "\"threads\": \"2\""), "rows[0]: threads: is \"2\", not an integer"},
            {with("0.0011", "NaN"), "not JSON"},
            {with("0.0011", "1e400"), "not JSON"},
            // read as an int, 2^32 + 2 was format 2
-           {with("\"format_version\": 2", "\"format_version\": 4294967298"), "not a heightmarch measurements.json of format"},
+           {with("\"format_version\": 2", "\"format_version\": 4294967298"),
+            "not a heightmarch measurements.json of format"},
            // quoted in its error line, it was dumped one recursion a level deep (a crash)
-           {with("\"id\": 0", "\"id\": " + std::string(100000, '[') + std::string(100000, ']')), "nested deeper than 64"}}) {
+           {with("\"id\": 0", "\"id\": " + std::string(100000, '[') + std::string(100000, ']')),
+            "nested deeper than 64"}}) {
     const auto r = write(text);
     EXPECT_EQ(r.status, 2) << message << ": " << r.output;
     EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
@@ -288,7 +296,8 @@ TEST(Recommendation, RecommendRefusesBadValuesInOneLine) {
   EXPECT_NE(fifo.output.find("is a FIFO"), std::string::npos) << fifo.output;
   std::filesystem::remove(dir + "/measurements.json");
   // 64 MiB of text would need about 512 MiB parsed: more than a 400 MiB budget leaves beside the tool
-  std::ofstream(dir + "/measurements.json") << with("{\"id\": 0,", "{\"id\": 0, \"pad\": \"" + std::string(64 << 20, 'x') + "\",");
+  std::ofstream(dir + "/measurements.json")
+      << with("{\"id\": 0,", "{\"id\": 0, \"pad\": \"" + std::string(64 << 20, 'x') + "\",");
   const auto over = test::run_cli("recommend " + dir + " --memory-limit 400M");
   EXPECT_EQ(over.status, 2) << over.output;
   EXPECT_NE(over.output.find("reading measurements.json needs"), std::string::npos) << over.output;
@@ -324,7 +333,8 @@ TEST(SuiteFilters, TheUsersMapsTechniquesLayersIsasThreadsAndParts) {
       "--threads 1 --parts matrix --view-angles 45-85 --scale 0.05 --dry-run");
   ASSERT_EQ(dry.status, 0) << dry.output;
   EXPECT_NE(dry.output.find("waves\ttrace\tpom\t8\t"), std::string::npos) << dry.output;
-  EXPECT_NE(dry.output.find("around:45-85 256x256\tbilinear\ttimed\tmatrix\n1 configurations\n"), std::string::npos)
+  EXPECT_NE(dry.output.find("around:45-85 256x256\tbilinear\ttimed\tmatrix\n1 configurations\n"),
+            std::string::npos)
       << dry.output;
   for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
            {"--techniques pom,bogus", "--techniques: bogus not in"},
@@ -365,7 +375,8 @@ TEST(SuiteFilters, FilterReadsTheRunAndComparesTheMatrix) {
       }));
     } else {
       matrix += (c.purposes & kPurposeMatrix) != 0;
-      EXPECT_EQ(c.params.filter, takes_filter(c.kind) ? Filter::trilinear : Filter::bilinear) << to_string(c.kind);
+      EXPECT_EQ(c.params.filter, takes_filter(c.kind) ? Filter::trilinear : Filter::bilinear)
+          << to_string(c.kind);
     }
   }
   EXPECT_EQ(compared, matrix);
@@ -374,8 +385,10 @@ TEST(SuiteFilters, FilterReadsTheRunAndComparesTheMatrix) {
       "--parts matrix,filters --filter trilinear,bilinear --dry-run");
   ASSERT_EQ(dry.status, 0) << dry.output;
   EXPECT_NE(dry.output.find("around 256x256\ttrilinear\ttimed\tmatrix\n"), std::string::npos) << dry.output;
-  EXPECT_NE(dry.output.find("around 256x256\tbilinear\taccuracy\tfilters\n"), std::string::npos) << dry.output;
-  const auto claims = test::run_cli("claims --quick --filter bilinear,trilinear --out " + test::temp_dir("claims-filters"));
+  EXPECT_NE(dry.output.find("around 256x256\tbilinear\taccuracy\tfilters\n"), std::string::npos)
+      << dry.output;
+  const auto claims =
+      test::run_cli("claims --quick --filter bilinear,trilinear --out " + test::temp_dir("claims-filters"));
   EXPECT_EQ(claims.status, 2) << claims.output;
   EXPECT_NE(claims.output.find("claims --filter takes one filter"), std::string::npos) << claims.output;
 }

@@ -1,11 +1,13 @@
-// The sampler: the sampling formula (docs/conventions.md) against hand-computed values, and the packet sampler of every
-// ISA against the sampling formula (docs/conventions.md), bit for bit, on scattered and on clustered packets.
+// The sampler: the sampling formula (docs/conventions.md) against hand-computed values, and the packet
+// sampler of every ISA against the sampling formula (docs/conventions.md), bit for bit, on scattered and on
+// clustered packets.
+#include "heightmarch/sampler.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "heightmarch/mip_chain.hpp"
-#include "heightmarch/sampler.hpp"
 #include "heightmarch/tracer.hpp"
 #include "test_support.hpp"
 
@@ -56,7 +58,8 @@ void expect_parallax_reads_the_formula(const DepthMap& map, const RayBatch& rays
     Tracer(map, params, isa).run(rays, hits);
     for (std::size_t i = 0; i < rays.size(); ++i)
       ASSERT_EQ(hits.depth[i], sample_depth(map, wrap, rays.tx[i], rays.ty[i]))
-          << to_string(isa) << " " << map.width << "x" << map.height << " at (" << rays.tx[i] << ", " << rays.ty[i] << ")";
+          << to_string(isa) << " " << map.width << "x" << map.height << " at (" << rays.tx[i] << ", "
+          << rays.ty[i] << ")";
   }
 }
 
@@ -93,7 +96,8 @@ TEST_P(PacketSamplerTest, BitIdenticalOnClusteredPackets) {
     std::vector<float> tx, ty, zero(32 * 400, 0.0f), one(32 * 400, 1.0f);
     for (int packet = 0; packet < 400; ++packet) {
       // a centre anywhere, edges and the seam included, and a spread of 0 to 10 texels
-      const double cu = rng.uniform(-1.1, 2.1), cv = rng.uniform(-1.1, 2.1), spread = 10.0 * rng.uniform() * rng.uniform();
+      const double cu = rng.uniform(-1.1, 2.1), cv = rng.uniform(-1.1, 2.1),
+                   spread = 10.0 * rng.uniform() * rng.uniform();
       for (int lane = 0; lane < 32; ++lane) {
         tx.push_back(float(cu + spread * rng.uniform(-0.5, 0.5) / w));
         ty.push_back(float(cv + spread * rng.uniform(-0.5, 0.5) / h));
@@ -144,8 +148,8 @@ TEST_P(PacketSamplerTest, TrilinearBitIdenticalToSpecFormula) {
       HitBuffers hits;
       Tracer(map, params, isa).run(rays, hits);
       for (std::size_t i = 0; i < gradients[0].size(); ++i) {
-        const float lod = level_of_detail(rays.du_dx[i], rays.dv_dx[i], rays.du_dy[i], rays.dv_dy[i], float(w),
-                                          float(h), last);
+        const float lod = level_of_detail(rays.du_dx[i], rays.dv_dx[i], rays.du_dy[i], rays.dv_dy[i],
+                                          float(w), float(h), last);
         ASSERT_EQ(hits.depth[i], sample_depth(chain, wrap, rays.tx[i], rays.ty[i], lod))
             << to_string(isa) << " " << w << "x" << h << " ray " << i << " at lod " << lod;
       }
@@ -153,8 +157,7 @@ TEST_P(PacketSamplerTest, TrilinearBitIdenticalToSpecFormula) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(AllIsas, PacketSamplerTest,
-                         ::testing::ValuesIn(all_isas()),
+INSTANTIATE_TEST_SUITE_P(AllIsas, PacketSamplerTest, ::testing::ValuesIn(all_isas()),
                          [](const auto& info) { return std::string(isa_id(info.param)); });
 
 }  // namespace

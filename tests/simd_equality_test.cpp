@@ -33,7 +33,8 @@ TEST_P(PacketKernelTest, MatchesScalarReference) {
       int side;
       Filter filter;
     };
-    std::vector<MapCase> maps = {{"bricks", 128, Filter::bilinear}, {"terrain", 128, Filter::bilinear},
+    std::vector<MapCase> maps = {{"bricks", 128, Filter::bilinear},
+                                 {"terrain", 128, Filter::bilinear},
                                  {"spikes", 128, Filter::bilinear}};
     if (label.rfind("layers 10,", 0) == 0 || label.rfind("layers 8-32,", 0) == 0)
       maps.insert(maps.end(), {{"terrain", 128, Filter::trilinear}, {"bricks", 120, Filter::trilinear}});
@@ -142,11 +143,14 @@ TEST(Dispatch, EnvironmentCapIsHonoured) {
       } catch (const InputError& e) {
         std::string runs;
         for (Isa r : expected) runs += (runs.empty() ? "" : ", ") + to_string(r);
-        EXPECT_NE(std::string(e.what()).find("HEIGHTMARCH_ISA=" + to_string(isa) + ": this CPU does not run " +
-                                             to_string(isa) + "; it runs " + runs),
-                  std::string::npos) << e.what();
+        EXPECT_NE(
+            std::string(e.what()).find("HEIGHTMARCH_ISA=" + to_string(isa) + ": this CPU does not run " +
+                                       to_string(isa) + "; it runs " + runs),
+            std::string::npos)
+            << e.what();
         if (std::find(hardware.begin(), hardware.end(), isa) != hardware.end()) {
-          EXPECT_NE(std::string(e.what()).find("capped by HEIGHTMARCH_MAX_ISA=" + to_string(cap)), std::string::npos)
+          EXPECT_NE(std::string(e.what()).find("capped by HEIGHTMARCH_MAX_ISA=" + to_string(cap)),
+                    std::string::npos)
               << e.what();
         }
       }

@@ -12,7 +12,8 @@
 namespace heightmarch {
 namespace {
 
-HitBuffers trace_with(const DepthMap& map, const RayBatch& rays, TechniqueParams params, Isa isa = Isa::scalar) {
+HitBuffers trace_with(const DepthMap& map, const RayBatch& rays, TechniqueParams params,
+                      Isa isa = Isa::scalar) {
   HitBuffers hits;
   Tracer(map, params, isa).run(rays, hits);
   return hits;
@@ -42,7 +43,8 @@ TEST(Parallax, ClosedForm) {
   const DepthMap map = make_builtin_heightfield("terrain", 64, 3);
   const RayBatch rays = test::random_rays(500, 80.0, 11);
   for (bool limited : {false, true}) {
-    const HitBuffers hits = trace_with(map, rays, params_for(limited ? Technique::parallax_limited : Technique::parallax, "1"));
+    const HitBuffers hits =
+        trace_with(map, rays, params_for(limited ? Technique::parallax_limited : Technique::parallax, "1"));
     for (std::size_t i = 0; i < rays.size(); ++i) {
       const float d = sample_depth(map, Wrap::repeat, rays.tx[i], rays.ty[i]);
       const float dir_x = limited ? rays.vx[i] : rays.vx[i] / rays.vz[i];
@@ -59,7 +61,8 @@ TEST(Steep, HandTracedOnAFlatDepth) {
   // runs while layer < D, so it stops at the 3rd step with 4 samples, uv = T - 3 delta.
   const DepthMap map{8, 8, std::vector<float>(64, 0.3f)};
   const float vx = 0.6f, vy = 0.0f, vz = 0.8f;
-  const HitBuffers hits = trace_with(map, one_ray(0.5f, 0.5f, vx, vy, vz), params_for(Technique::steep, "10"));
+  const HitBuffers hits =
+      trace_with(map, one_ray(0.5f, 0.5f, vx, vy, vz), params_for(Technique::steep, "10"));
   const float delta = (vx / vz * 0.1f) / 10.0f;
   EXPECT_EQ(hits.samples[0], 4u);
   EXPECT_FLOAT_EQ(hits.depth[0], 0.3f);
@@ -82,7 +85,8 @@ TEST(Steep, ErrorBelowOneLayer) {
         ASSERT_GE(hits.depth[i] + 1e-6f, sample_depth(map, Wrap::clamp, hits.u[i], hits.v[i]));
         if (hits.samples[i] > 1) {
           ASSERT_LT(hits.depth[i] - 1.0f / 16.0f,
-                    sample_depth(map, Wrap::clamp, hits.u[i] + delta, hits.v[i] + rays.vy[i] * 0.1f / 16.0f) + 1e-6f);
+                    sample_depth(map, Wrap::clamp, hits.u[i] + delta, hits.v[i] + rays.vy[i] * 0.1f / 16.0f) +
+                        1e-6f);
         }
         continue;
       }
@@ -104,7 +108,8 @@ TEST(Relief, WithinTheFinalBracket) {
     for (std::size_t i = 0; i < rays.size(); ++i) {
       const double d = exact.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], 0.1).t;
       ASSERT_NEAR(hits.depth[i], d, (1.0 / 8.0) / std::pow(2.0, refine + 1) + 1e-6) << "refine " << refine;
-      ASSERT_EQ(hits.samples[i] - refine, trace_with(map, rays, params_for(Technique::steep, "8", Wrap::clamp)).samples[i]);
+      ASSERT_EQ(hits.samples[i] - refine,
+                trace_with(map, rays, params_for(Technique::steep, "8", Wrap::clamp)).samples[i]);
     }
   }
 }
@@ -130,7 +135,8 @@ TEST(Pom, OnAPlaneItIsExact) {
   const RayBatch rays = test::random_rays(300, 60.0, 9);
   const HitBuffers hits = trace_with(map, rays, params_for(Technique::pom, "8", Wrap::clamp));
   for (std::size_t i = 0; i < rays.size(); ++i) {
-    const double u0 = rays.tx[i], d = exact.intersect(u0, rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], 0.1).t;
+    const double u0 = rays.tx[i],
+                 d = exact.intersect(u0, rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], 0.1).t;
     if (hits.u[i] < 1.0 / 64.0 || hits.u[i] > 63.0 / 64.0) continue;  // the clamped border is not linear
     ASSERT_NEAR(hits.depth[i], d, 1e-4);
   }
@@ -189,10 +195,13 @@ TEST(Maxmip, EqualsTheExactReferenceUpToFloatRounding) {
         const HitBuffers exact = exact_hits(map, rays, exact_params, LightVisibility::skip);
         std::vector<double> errors;
         for (std::size_t i = 0; i < rays.size(); ++i)
-          if (!rays.is_padding(i)) errors.push_back(uv_error_texels(hits.u[i], hits.v[i], exact.u[i], exact.v[i], size, size));
+          if (!rays.is_padding(i))
+            errors.push_back(uv_error_texels(hits.u[i], hits.v[i], exact.u[i], exact.v[i], size, size));
         std::sort(errors.begin(), errors.end());
-        EXPECT_LE(errors[errors.size() * 99 / 100], 1e-3) << name << " " << size << (wrap == Wrap::repeat ? " repeat" : " clamp");
-        EXPECT_LE(errors.back(), 0.05) << name << " " << size << (wrap == Wrap::repeat ? " repeat" : " clamp");
+        EXPECT_LE(errors[errors.size() * 99 / 100], 1e-3)
+            << name << " " << size << (wrap == Wrap::repeat ? " repeat" : " clamp");
+        EXPECT_LE(errors.back(), 0.05)
+            << name << " " << size << (wrap == Wrap::repeat ? " repeat" : " clamp");
       }
     }
   }
@@ -201,9 +210,11 @@ TEST(Maxmip, EqualsTheExactReferenceUpToFloatRounding) {
 TEST(Maxmip, StraightDownAndOnAOneTexelWideClampMap) {
   // Straight down the path is a point (both rates 0); a 1 x 8 CLAMP map has no interior cell.
   const DepthMap column{1, 8, {0.1f, 0.2f, 0.3f, 0.4f, 0.5f, 0.6f, 0.7f, 0.8f}};
-  const HitBuffers down = trace_with(column, one_ray(0.5f, 0.5f, 0.0f, 0.0f, 1.0f), params_for(Technique::maxmip, "1", Wrap::clamp));
+  const HitBuffers down = trace_with(column, one_ray(0.5f, 0.5f, 0.0f, 0.0f, 1.0f),
+                                     params_for(Technique::maxmip, "1", Wrap::clamp));
   EXPECT_NEAR(down.depth[0], sample_depth(column, Wrap::clamp, 0.5f, 0.5f), 1e-6);
-  const HitBuffers slanted = trace_with(column, one_ray(0.5f, 0.3f, 0.3f, 0.5f, 0.8f), params_for(Technique::maxmip, "1", Wrap::clamp));
+  const HitBuffers slanted = trace_with(column, one_ray(0.5f, 0.3f, 0.3f, 0.5f, 0.8f),
+                                        params_for(Technique::maxmip, "1", Wrap::clamp));
   const ExactIntersector exact(column, Wrap::clamp);
   EXPECT_NEAR(slanted.depth[0], exact.intersect(0.5, 0.3, 0.3, 0.5, 0.8, 0.1).t, 1e-5);
 }
@@ -277,10 +288,12 @@ TEST(Cone, AtMostCeilNReadsAndRefineHalvings) {
 TEST(DynamicLayers, FollowTheTutorialsMix) {
   // N = mix(32, 8, |V.z|): straight down 8 layers, at V.z = 0.5 twenty.
   const DepthMap map{8, 8, std::vector<float>(64, 1.0f)};
-  const HitBuffers down = trace_with(map, one_ray(0.5f, 0.5f, 0.0f, 0.0f, 1.0f), params_for(Technique::steep, "8-32"));
+  const HitBuffers down =
+      trace_with(map, one_ray(0.5f, 0.5f, 0.0f, 0.0f, 1.0f), params_for(Technique::steep, "8-32"));
   EXPECT_EQ(down.samples[0], 9u);  // first read + 8 layers to reach depth 1
   const float s = std::sqrt(0.75f);
-  const HitBuffers tilted = trace_with(map, one_ray(0.5f, 0.5f, s, 0.0f, 0.5f), params_for(Technique::steep, "8-32"));
+  const HitBuffers tilted =
+      trace_with(map, one_ray(0.5f, 0.5f, s, 0.0f, 0.5f), params_for(Technique::steep, "8-32"));
   EXPECT_EQ(tilted.samples[0], 21u);
 }
 

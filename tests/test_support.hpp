@@ -1,5 +1,9 @@
 #pragma once
 // Helpers shared by the tests: deterministic random rays, small scenes, running the CLI.
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -11,10 +15,6 @@
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include "heightmarch/rays.hpp"
 #include "heightmarch/tracer.hpp"
@@ -31,7 +31,9 @@ class Random {
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
     return z ^ (z >> 31);
   }
-  double uniform(double lo = 0.0, double hi = 1.0) { return lo + (hi - lo) * double(next() >> 11) * 0x1.0p-53; }
+  double uniform(double lo = 0.0, double hi = 1.0) {
+    return lo + (hi - lo) * double(next() >> 11) * 0x1.0p-53;
+  }
 
  private:
   std::uint64_t state_;
@@ -54,7 +56,8 @@ inline std::vector<std::pair<std::string, TechniqueParams>> layer_specs_and_wrap
       params.technique = technique;
       params.layers = parse_layer_spec(layers);
       params.wrap = wrap;
-      cases.emplace_back(std::string("layers ") + layers + (wrap == Wrap::repeat ? ", repeat" : ", clamp"), params);
+      cases.emplace_back(std::string("layers ") + layers + (wrap == Wrap::repeat ? ", repeat" : ", clamp"),
+                         params);
     }
   return cases;
 }
@@ -102,13 +105,17 @@ inline CliResult run_command(const std::string& command_line) {
 
 #ifdef HEIGHTMARCH_CLI  // not in a build of the tracing core alone (HEIGHTMARCH_TRACE_ONLY)
 // Runs build/heightmarch with the arguments (a shell string), capturing its output.
-inline CliResult run_cli(const std::string& arguments) { return run_command(std::string(HEIGHTMARCH_CLI) + " " + arguments); }
+inline CliResult run_cli(const std::string& arguments) {
+  return run_command(std::string(HEIGHTMARCH_CLI) + " " + arguments);
+}
 
 // The GLSL worker the tests run: $HEIGHTMARCH_GLSL_WORKER where set (tests/scripts/test_gl_paths.sh
 // sets one built with EGL alone), as GlslRunner finds it, else the one beside the tool.
 inline std::string glsl_worker() {
   const char* set = std::getenv("HEIGHTMARCH_GLSL_WORKER");
-  return set && *set ? set : std::filesystem::path(HEIGHTMARCH_CLI).parent_path().string() + "/heightmarch-glsl-worker";
+  return set && *set
+             ? set
+             : std::filesystem::path(HEIGHTMARCH_CLI).parent_path().string() + "/heightmarch-glsl-worker";
 }
 #endif
 

@@ -25,7 +25,9 @@ std::vector<double> view_angles(const RayBatch& rays) {
   return angles;
 }
 
-double percentile(const std::vector<double>& sorted, double p) { return sorted[std::size_t(p / 100.0 * (sorted.size() - 1))]; }
+double percentile(const std::vector<double>& sorted, double p) {
+  return sorted[std::size_t(p / 100.0 * (sorted.size() - 1))];
+}
 
 // The share of the rays whose V lies in each of 8 azimuth sectors.
 std::vector<double> sector_shares(const RayBatch& rays) {
@@ -74,25 +76,29 @@ TEST(Views, AroundTurnsTheDefaultViewToEveryAzimuth) {
   single.tile_size = around.tile_size = 16;
   EXPECT_FALSE(is_view_set(single));
   EXPECT_TRUE(is_view_set(around));
-  const RayBatch one = make_view_rays(single), set = make_view_rays(around), held = make_view_rays(held_out_view(around));
+  const RayBatch one = make_view_rays(single), set = make_view_rays(around),
+                 held = make_view_rays(held_out_view(around));
   EXPECT_EQ(set.ray_count, one.ray_count) << "the set traces the frame's pixels once";
   EXPECT_EQ(set.views, std::uint32_t(512 / kViewCell * 512 / kViewCell)) << "a view per cell";
   std::vector<double> a = view_angles(set), b = view_angles(one);
-  for (std::size_t i = 0; i < a.size(); i += 97) EXPECT_NEAR(a[i], b[i], 1e-3) << "turning keeps every view angle";
+  for (std::size_t i = 0; i < a.size(); i += 97)
+    EXPECT_NEAR(a[i], b[i], 1e-3) << "turning keeps every view angle";
   for (const RayBatch* rays : {&set, &held})
     for (double share : sector_shares(*rays)) EXPECT_NEAR(share, 1.0 / 8.0, 0.02);
   // In every band of view angles too: the near rows see every azimuth as the far rows do.
   RayBatch near = set;
   for (std::size_t i = 0; i < near.size(); ++i)
     if (degrees(std::acos(double(near.vz[i]))) > 45.0) near.origin[i] = kPaddingRay;
-  near.ray_count = std::count_if(near.origin.begin(), near.origin.end(), [](std::uint32_t o) { return o != kPaddingRay; });
+  near.ray_count =
+      std::count_if(near.origin.begin(), near.origin.end(), [](std::uint32_t o) { return o != kPaddingRay; });
   for (double share : sector_shares(near)) EXPECT_NEAR(share, 1.0 / 8.0, 0.03);
   const std::vector<double> single_shares = sector_shares(one);
   EXPECT_GT(single_shares[5] + single_shares[6], 0.95) << "the single view looks from 225-315 degrees";
   // Positions cover the map evenly: each quarter of [0, 1)^2 holds its share.
   double quarter[4] = {0, 0, 0, 0};
   for (std::size_t i = 0; i < set.size(); ++i)
-    if (!set.is_padding(i)) quarter[(set.tx[i] >= 0.5f) + 2 * (set.ty[i] >= 0.5f)] += 1.0 / double(set.ray_count);
+    if (!set.is_padding(i))
+      quarter[(set.tx[i] >= 0.5f) + 2 * (set.ty[i] >= 0.5f)] += 1.0 / double(set.ray_count);
   for (double q : quarter) EXPECT_NEAR(q, 0.25, 0.05);
   // Another draw: no ray of the held-out set is one of the selection set's.
   std::set<std::pair<float, float>> entries;
@@ -108,7 +114,8 @@ TEST(Views, AroundTurnsTheDefaultViewToEveryAzimuth) {
 }
 
 TEST(Views, TheSingleViewIsTodaysRayForRay) {
-  const RayBatch a = make_view_rays(parse_view("default", 96, 64)), b = make_view_rays(window("single", 96, 64));
+  const RayBatch a = make_view_rays(parse_view("default", 96, 64)),
+                 b = make_view_rays(window("single", 96, 64));
   EXPECT_EQ(a.tx, b.tx);
   EXPECT_EQ(a.vz, b.vz);
   ViewSpec sweep = parse_view("sweep:60,90", 64, 64);
@@ -118,7 +125,8 @@ TEST(Views, TheSingleViewIsTodaysRayForRay) {
   sweep.tile_size = 4;
   EXPECT_EQ(describe(sweep), "sweep:60,90 around 64x64");
   const RayBatch turned = make_view_rays(sweep);
-  for (std::size_t i = 0; i < turned.size(); ++i) EXPECT_NEAR(degrees(std::acos(double(turned.vz[i]))), 60.0, 1e-3);
+  for (std::size_t i = 0; i < turned.size(); ++i)
+    EXPECT_NEAR(degrees(std::acos(double(turned.vz[i]))), 60.0, 1e-3);
   for (double share : sector_shares(turned)) EXPECT_NEAR(share, 1.0 / 8.0, 0.01);
 }
 
@@ -186,7 +194,8 @@ TEST(Views, FreshRaysHaveTheWindowsAnglesAndEveryAzimuth) {
   EXPECT_EQ(describe(fresh), "fresh 40000 rays like default 128x128 seed 7");
   const RayBatch rays = make_view_rays(fresh);
   EXPECT_EQ(rays.ray_count, 40000u);
-  const std::vector<double> drawn = view_angles(rays), own = view_angles(make_view_rays(window("single", 128, 128)));
+  const std::vector<double> drawn = view_angles(rays),
+                            own = view_angles(make_view_rays(window("single", 128, 128)));
   for (double p : {5.0, 50.0, 95.0}) EXPECT_NEAR(percentile(drawn, p), percentile(own, p), 1.0) << p;
   for (double share : sector_shares(rays)) EXPECT_NEAR(share, 1.0 / 8.0, 0.01);
 }
@@ -216,12 +225,15 @@ TEST(Confidence, SummariesCarryIntervalsThatHoldTheirFigures) {
   hits.resize(rays.size());
   exact.resize(rays.size());
   test::Random rng(5);
-  for (std::size_t i = 0; i < rays.size(); ++i) hits.u[i] = float(rng.uniform() < 0.01 ? 4.0 : 0.1 * rng.uniform()) / 64.0f;
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    hits.u[i] = float(rng.uniform() < 0.01 ? 4.0 : 0.1 * rng.uniform()) / 64.0f;
   const ErrorSummary e = summarize_errors(rays, hits, exact, 64, 64, Writes::hit);
   EXPECT_NEAR(e.effective_rays, double(e.rays), 0.35 * e.rays) << "independent rays: about no design effect";
   const Interval cp = clopper_pearson(e.wrong_surface_rate * e.effective_rays, e.effective_rays);
   EXPECT_NEAR(e.wrong_surface_ci.low, cp.low, 1e-9);
-  for (const auto& [value, ci] : {std::pair{e.p50, e.p50_ci}, {e.p95, e.p95_ci}, {e.p99, e.p99_ci},
+  for (const auto& [value, ci] : {std::pair{e.p50, e.p50_ci},
+                                  {e.p95, e.p95_ci},
+                                  {e.p99, e.p99_ci},
                                   {e.wrong_surface_rate, e.wrong_surface_ci}}) {
     EXPECT_LE(ci.low, value);
     EXPECT_GE(ci.high, value);

@@ -53,8 +53,8 @@ class ExactIntersector {
 
  private:
   double texel(long long i, long long j) const;
-  bool cell_first_root(long long ci, long long cj, const HeightfieldPath& path, double t0,
-                       double t1, double& t_hit) const;
+  bool cell_first_root(long long ci, long long cj, const HeightfieldPath& path, double t0, double t1,
+                       double& t_hit) const;
 
   const DepthMap* map_;
   Wrap wrap_;
@@ -76,8 +76,8 @@ void check_exact_path_lengths(const DepthMap& map, const RayBatch& rays, const T
 // the pyramid walk at one ISA (maxmip's walk with every test loosened by a bound on its rounding:
 // src/exact/exact_bound.hpp), which stops each ray in the first cell the exact path may touch and
 // solves that cell (and, where the path is clear through it, the next) in double; the double
-// walk goes on from there for the rays it does not settle. The answer does not depend on the ISA (every ISA's pass is
-// bit-identical to the scalar one).
+// walk goes on from there for the rays it does not settle. The answer does not depend on the ISA (every ISA's
+// pass is bit-identical to the scalar one).
 enum class LightVisibility { skip, compute };
 inline LightVisibility visibility_for(Technique technique) {
   return writes_visibility(info(technique)) ? LightVisibility::compute : LightVisibility::skip;

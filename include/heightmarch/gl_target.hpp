@@ -22,9 +22,9 @@ namespace heightmarch {
 enum class GlPath { HEIGHTMARCH_GL_PATHS(HEIGHTMARCH_GL_PATH_ENUM) };
 #undef HEIGHTMARCH_GL_PATH_ENUM
 
-std::string to_string(GlPath path);       // "osmesa", "egl"
-std::string display_name(GlPath path);    // "OSMesa", "EGL"
-std::string gl_path_names();              // "osmesa|egl", for help texts
+std::string to_string(GlPath path);     // "osmesa", "egl"
+std::string display_name(GlPath path);  // "OSMesa", "EGL"
+std::string gl_path_names();            // "osmesa|egl", for help texts
 // InputError naming `option` for a name that is no path.
 GlPath parse_gl_path(const std::string& name, const std::string& option);
 
@@ -61,8 +61,9 @@ struct GlRenderer {
 
 // One draw's time, both ways (docs/measurements.md).
 struct GlDrawTime {
-  double wall_seconds = 0;              // the draw and its glFinish, timed in the worker
-  std::optional<double> timer_seconds;  // GL_TIME_ELAPSED around the draw; none where the driver answered none
+  double wall_seconds = 0;  // the draw and its glFinish, timed in the worker
+  std::optional<double>
+      timer_seconds;  // GL_TIME_ELAPSED around the draw; none where the driver answered none
   // The figure results use: on a software renderer (llvmpipe) the wall time, as the CPU's rows
   // are timed; on a GPU the timer query, the GPU's own time without the driver's overhead.
   double seconds(const GlRenderer& renderer) const {

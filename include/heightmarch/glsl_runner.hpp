@@ -16,9 +16,9 @@
 // textures, the precomputed ones) 10 s + 20 ns per byte sent + 1 us per texel of the depth map; a draw
 // 10 s + 100 ns per ray and bound of its samples (2 x max layers + refine steps + 8), some 25
 // times what the slowest built-in technique needs at one llvmpipe thread; the read-back 10 s +
-// 200 ns per ray. A worker that crashes, exits, does not answer in time or compiles or draws past its bound is
-// killed (the call throws one line: an InputError naming a brought-in shader when the worker died
-// or ran past a bound while compiling or drawing it) and the next prepare starts a new one.
+// 200 ns per ray. A worker that crashes, exits, does not answer in time or compiles or draws past its bound
+// is killed (the call throws one line: an InputError naming a brought-in shader when the worker died or ran
+// past a bound while compiling or drawing it) and the next prepare starts a new one.
 //
 // Brought-in shaders (--shader FILE): the file defines LearnOpenGL's
 //   vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)

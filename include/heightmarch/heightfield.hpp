@@ -26,7 +26,7 @@ enum class Wrap { repeat, clamp };
 // (rock.png:convention=height:channel=a:wrap=clamp).
 struct MapReading {
   Convention convention = Convention::depth;
-  int channel = 0;  // of an image file, from 0: the depth
+  int channel = 0;           // of an image file, from 0: the depth
   Wrap wrap = Wrap::repeat;  // the configurations on the map sample it so
   // A constant channel while another channel of the file varies (a normal map in RGB, the depth
   // in alpha) is refused, as a map read wrong; allow_flat measures it anyway, with a warning.

@@ -23,14 +23,14 @@ namespace heightmarch {
 // - measured against: `hit`, the exact hit (the uv and depth errors); `visibility`, the exact
 //   visibility of the light from the exact hit (the exact reference walks the light where a
 //   technique writes such an output; measures NAME_error_mean and NAME_mismatch_rate); `none`.
-#define HEIGHTMARCH_HIT_CHANNELS(X)                                                                    \
-  X(u, float, 0.0f, hit, hit, "u")                                                                     \
-  X(v, float, 0.0f, hit, hit, "v")                                                                     \
-  X(depth, float, 0.0f, hit, hit, "depth")                                                             \
-  X(samples, std::uint32_t, 0, hit, none, "height samples taken (exact: texel cells solved)")          \
-  X(shadow, float, 1.0f, optional, visibility, "shadow factor") /* exact: the visibility, 0 or 1 */    \
-  X(discarded, std::uint8_t, 0, loop, none, "discarded (--discard: final uv outside [0,1]^2)")         \
-  X(settled, std::uint8_t, 0, exact_pass, none, "settled by the exact reference's float pass")         \
+#define HEIGHTMARCH_HIT_CHANNELS(X)                                                                 \
+  X(u, float, 0.0f, hit, hit, "u")                                                                  \
+  X(v, float, 0.0f, hit, hit, "v")                                                                  \
+  X(depth, float, 0.0f, hit, hit, "depth")                                                          \
+  X(samples, std::uint32_t, 0, hit, none, "height samples taken (exact: texel cells solved)")       \
+  X(shadow, float, 1.0f, optional, visibility, "shadow factor") /* exact: the visibility, 0 or 1 */ \
+  X(discarded, std::uint8_t, 0, loop, none, "discarded (--discard: final uv outside [0,1]^2)")      \
+  X(settled, std::uint8_t, 0, exact_pass, none, "settled by the exact reference's float pass")      \
   X(clear_depth, float, 0.0f, exact_pass, none, "depth to which the exact path is clear")
 
 enum class ChannelWriter { hit, optional, loop, exact_pass };
@@ -54,8 +54,9 @@ struct HitChannelInfo {
 };
 
 constexpr std::array<HitChannelInfo, kHitChannelCount> hit_channels() {
-#define HEIGHTMARCH_HIT_CHANNEL_INFO(name, type, initial, writer, against, label) \
-  HitChannelInfo{HitChannel::name, #name, double(initial), ChannelWriter::writer, MeasuredAgainst::against, label},
+#define HEIGHTMARCH_HIT_CHANNEL_INFO(name, type, initial, writer, against, label)         \
+  HitChannelInfo{HitChannel::name,         #name, double(initial), ChannelWriter::writer, \
+                 MeasuredAgainst::against, label},
   return {HEIGHTMARCH_HIT_CHANNELS(HEIGHTMARCH_HIT_CHANNEL_INFO)};
 #undef HEIGHTMARCH_HIT_CHANNEL_INFO
 }
@@ -69,19 +70,25 @@ constexpr HitChannelInfo info(HitChannel channel) { return hit_channels()[std::s
 
 // A technique's outputs for a batch: one array per row but the exact pass's.
 struct HitBuffers {
-#define HEIGHTMARCH_HIT_BUFFER(name, type, initial, writer, ...) HEIGHTMARCH_IN_HITS_##writer(std::vector<type> name;)
+#define HEIGHTMARCH_HIT_BUFFER(name, type, initial, writer, ...) \
+  HEIGHTMARCH_IN_HITS_##writer(std::vector<type> name;)
   HEIGHTMARCH_HIT_CHANNELS(HEIGHTMARCH_HIT_BUFFER)
 #undef HEIGHTMARCH_HIT_BUFFER
 
   // Calls f(channel, array) for each array, in the list's order.
   template <class F>
-  void for_each(F&& f) { visit(*this, f); }
+  void for_each(F&& f) {
+    visit(*this, f);
+  }
   template <class F>
-  void for_each(F&& f) const { visit(*this, f); }
+  void for_each(F&& f) const {
+    visit(*this, f);
+  }
   // Calls f(channel, a's array, b's array) for each array of two batches' hits.
   template <class F>
   static void for_each_pair(const HitBuffers& a, const HitBuffers& b, F&& f) {
-#define HEIGHTMARCH_HIT_PAIR(name, type, initial, writer, ...) HEIGHTMARCH_IN_HITS_##writer(f(HitChannel::name, a.name, b.name);)
+#define HEIGHTMARCH_HIT_PAIR(name, type, initial, writer, ...) \
+  HEIGHTMARCH_IN_HITS_##writer(f(HitChannel::name, a.name, b.name);)
     HEIGHTMARCH_HIT_CHANNELS(HEIGHTMARCH_HIT_PAIR)
 #undef HEIGHTMARCH_HIT_PAIR
   }
@@ -90,7 +97,8 @@ struct HitBuffers {
   // same-size reuse does not refill.
   void resize(std::size_t n) {
     if (size() == n) return;
-#define HEIGHTMARCH_HIT_ASSIGN(name, type, initial, writer, ...) HEIGHTMARCH_IN_HITS_##writer(name.assign(n, type(initial));)
+#define HEIGHTMARCH_HIT_ASSIGN(name, type, initial, writer, ...) \
+  HEIGHTMARCH_IN_HITS_##writer(name.assign(n, type(initial));)
     HEIGHTMARCH_HIT_CHANNELS(HEIGHTMARCH_HIT_ASSIGN)
 #undef HEIGHTMARCH_HIT_ASSIGN
   }
@@ -99,7 +107,8 @@ struct HitBuffers {
  private:
   template <class Self, class F>
   static void visit(Self& self, F& f) {
-#define HEIGHTMARCH_HIT_VISIT(name, type, initial, writer, ...) HEIGHTMARCH_IN_HITS_##writer(f(HitChannel::name, self.name);)
+#define HEIGHTMARCH_HIT_VISIT(name, type, initial, writer, ...) \
+  HEIGHTMARCH_IN_HITS_##writer(f(HitChannel::name, self.name);)
     HEIGHTMARCH_HIT_CHANNELS(HEIGHTMARCH_HIT_VISIT)
 #undef HEIGHTMARCH_HIT_VISIT
   }

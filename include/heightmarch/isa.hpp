@@ -29,10 +29,10 @@ std::string_view isa_id(Isa isa);              // an identifier: scalar, sse42, 
 // the dispatch, the tests), so that one machine proves the project on older cores. Throws
 // InputError for a cap that names no ISA.
 bool cpu_supports(Isa isa);
-Isa best_isa();                           // the widest the CPU runs
-std::vector<Isa> supported_isas();        // narrowest first
-std::string isa_names();                  // "scalar, sse4.2, avx2, avx512", for help texts
-std::string runnable_isa_names();         // the ISAs the CPU runs, and the cap where it hides one
+Isa best_isa();                     // the widest the CPU runs
+std::vector<Isa> supported_isas();  // narrowest first
+std::string isa_names();            // "scalar, sse4.2, avx2, avx512", for help texts
+std::string runnable_isa_names();   // the ISAs the CPU runs, and the cap where it hides one
 
 // The one name -> ISA: the ISA to_string() names so, whichever CPU runs it (a recorded run's
 // backend); throws InputError for an unknown name.

@@ -38,12 +38,12 @@ inline constexpr int kAzimuthSectors = 8;
 inline constexpr double kViewAngleBand = 15.0;
 
 struct ErrorSummary {
-  std::size_t rays = 0;        // real rays measured (not discarded)
+  std::size_t rays = 0;  // real rays measured (not discarded)
   std::size_t discarded = 0;
   double mean = 0, rms = 0, p50 = 0, p95 = 0, p99 = 0, max = 0;  // uv error, texels
-  double wrong_surface_rate = 0;   // share of rays with uv error > 1 texel
+  double wrong_surface_rate = 0;                                 // share of rays with uv error > 1 texel
   double depth_error_mean = 0;
-  double samples_per_ray = 0;      // over all real rays, discarded included
+  double samples_per_ray = 0;  // over all real rays, discarded included
   // Per output measured against the light's visibility (hits.hpp), where the technique writes it
   // (`measured`): mean |value - exact visibility| and the share of rays whose value, thresholded
   // at 0.5, disagrees with the exact visibility.
@@ -77,13 +77,13 @@ double incomplete_beta(double a, double b, double x);
 // NAME_mismatch_rate ("NAME mismatch (share)"), they are the one list of the error measures:
 // measurements.json (which carries their names and labels), metrics.json, measurements.csv,
 // bench.json, heightmarch-bench's counters and the report use them.
-#define HEIGHTMARCH_HIT_MEASURES(X)                                   \
-  X(uv_error_mean, mean, "mean uv error (texels)")                    \
-  X(uv_error_rms, rms, "RMS uv error (texels)")                       \
-  X(uv_error_p50, p50, "p50 uv error (texels)")                       \
-  X(uv_error_p95, p95, "p95 uv error (texels)")                       \
-  X(uv_error_p99, p99, "p99 uv error (texels)")                       \
-  X(uv_error_max, max, "max uv error (texels)")                       \
+#define HEIGHTMARCH_HIT_MEASURES(X)                                          \
+  X(uv_error_mean, mean, "mean uv error (texels)")                           \
+  X(uv_error_rms, rms, "RMS uv error (texels)")                              \
+  X(uv_error_p50, p50, "p50 uv error (texels)")                              \
+  X(uv_error_p95, p95, "p95 uv error (texels)")                              \
+  X(uv_error_p99, p99, "p99 uv error (texels)")                              \
+  X(uv_error_max, max, "max uv error (texels)")                              \
   X(wrong_surface_rate, wrong_surface_rate, "wrong surface (share of rays)") \
   X(depth_error_mean, depth_error_mean, "mean depth error")
 

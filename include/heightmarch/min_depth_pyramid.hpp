@@ -26,8 +26,8 @@ class MinDepthPyramid {
   int blocks_x(int level) const { return blocks_x_[std::size_t(level)]; }
   int blocks_y(int level) const { return blocks_y_[std::size_t(level)]; }
   float at(int level, long long bx, long long by) const {
-    return min_depth_[std::size_t(offsets_[std::size_t(level)]) + std::size_t(by) * std::size_t(blocks_x(level)) +
-                      std::size_t(bx)];
+    return min_depth_[std::size_t(offsets_[std::size_t(level)]) +
+                      std::size_t(by) * std::size_t(blocks_x(level)) + std::size_t(bx)];
   }
 
   // The flat layout the packet kernels and the GLSL read: level L's block (bx, by) at

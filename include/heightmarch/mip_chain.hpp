@@ -50,8 +50,9 @@ F mip_log2(F x) {
   const F s = (x - F(1.0f)) / (x + F(1.0f));
   const F s2 = s * s;
   // 2 / ((2k + 1) ln 2), k = 0..4
-  const F series = F(2.88539008f) +
-                   s2 * (F(0.961796694f) + s2 * (F(0.577078016f) + s2 * (F(0.412198583f) + s2 * F(0.320598898f))));
+  const F series =
+      F(2.88539008f) +
+      s2 * (F(0.961796694f) + s2 * (F(0.577078016f) + s2 * (F(0.412198583f) + s2 * F(0.320598898f))));
   return exponent + s * series;
 }
 

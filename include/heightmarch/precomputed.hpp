@@ -20,8 +20,8 @@
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/min_depth_pyramid.hpp"
 
-#define HEIGHTMARCH_PRECOMPUTED_TEXTURES(X)                                                         \
-  X(min_depth_pyramid, MinDepthPyramid, build_min_depth_pyramid, 4, "minDepthPyramid")             \
+#define HEIGHTMARCH_PRECOMPUTED_TEXTURES(X)                                            \
+  X(min_depth_pyramid, MinDepthPyramid, build_min_depth_pyramid, 4, "minDepthPyramid") \
   X(cone_map, ConeMap, cached_cone_map, 5, "coneMap")
 
 namespace heightmarch {
@@ -30,7 +30,8 @@ namespace heightmarch {
 enum class PrecomputedKind { HEIGHTMARCH_PRECOMPUTED_TEXTURES(HEIGHTMARCH_PRECOMPUTED_ENUM) };
 #undef HEIGHTMARCH_PRECOMPUTED_ENUM
 #define HEIGHTMARCH_PRECOMPUTED_COUNT(...) +1
-inline constexpr int kPrecomputedKindCount = 0 HEIGHTMARCH_PRECOMPUTED_TEXTURES(HEIGHTMARCH_PRECOMPUTED_COUNT);
+inline constexpr int kPrecomputedKindCount =
+    0 HEIGHTMARCH_PRECOMPUTED_TEXTURES(HEIGHTMARCH_PRECOMPUTED_COUNT);
 #undef HEIGHTMARCH_PRECOMPUTED_COUNT
 
 // What a technique reads besides the depth map (flags, combinable).

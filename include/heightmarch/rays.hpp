@@ -44,7 +44,7 @@ struct RayBatch {
   // 2k and 2k + 1 are neighbours in azimuth and angle (metrics.cpp pairs them).
   std::vector<std::uint32_t> view;
   std::uint32_t views = 0;
-  int image_width = 0;   // pixels of the view (rays file: row count x 1)
+  int image_width = 0;  // pixels of the view (rays file: row count x 1)
   int image_height = 0;
   std::size_t ray_count = 0;  // rays without the padding
 
@@ -66,13 +66,13 @@ inline constexpr float kMaxViewDegrees = 89.0f;
 struct ViewSpec {
   enum class Kind { perspective, sweep, rays_file, tutorial, poses };
   Kind kind = Kind::perspective;
-  int width = 1024;             // of the frame; the tutorial: of each of its frames
+  int width = 1024;  // of the frame; the tutorial: of each of its frames
   int height = 1024;
-  float theta_degrees = 0.0f;   // sweep: angle of V from the normal
+  float theta_degrees = 0.0f;  // sweep: angle of V from the normal
   // perspective: the view angle from the normal at the near edge of the plane (v = 0) and at the
   // far edge (v = 1), on the centre line: the span of angles a scene shows the surface at
   float near_degrees = kDefaultNearDegrees, far_degrees = kDefaultFarDegrees;
-  float phi_degrees = 270.0f;   // sweep: azimuth of V (270: eye towards -v, as the default view)
+  float phi_degrees = 270.0f;  // sweep: azimuth of V (270: eye towards -v, as the default view)
   // perspective and sweep: seen around the surface, every tile of the frame from an azimuth and
   // at an offset of its own (views.cpp); else the single view
   bool around = false;
@@ -84,8 +84,8 @@ struct ViewSpec {
   // Not the window's rays but this many fresh ones: every azimuth and position uniform, the view
   // angles drawn from the window's own (the outside check's rays).
   std::size_t fresh_rays = 0;
-  std::string path;             // rays_file: the rays CSV; poses: the camera poses CSV
-  int tile_size = 32;           // tile side in pixels (rays_file: tile_size^2 rays per tile)
+  std::string path;    // rays_file: the rays CSV; poses: the camera poses CSV
+  int tile_size = 32;  // tile side in pixels (rays_file: tile_size^2 rays per tile)
   friend bool operator==(const ViewSpec&, const ViewSpec&) = default;
 };
 

@@ -16,13 +16,13 @@ namespace heightmarch {
 enum class Filter { bilinear, trilinear };
 inline constexpr Filter kFilters[] = {Filter::bilinear, Filter::trilinear};
 inline constexpr int kFilterCount = 2;
-std::string to_string(Filter filter);  // "bilinear", "trilinear"
+std::string to_string(Filter filter);          // "bilinear", "trilinear"
 Filter parse_filter(const std::string& name);  // throws InputError naming both
 std::vector<std::string> filter_names();
 
-// The sampling formula of docs/conventions.md, written plainly with integer wrapping: x = u W - 0.5, i0 = floor(x),
-// fx = x - i0, taps wrapped or clamped, blended as a + f (b - a) in x, then in y.
-// The kernels' packet sampler (src/kernels/packet_sampler.hpp) must agree with it bit for bit.
+// The sampling formula of docs/conventions.md, written plainly with integer wrapping: x = u W - 0.5, i0 =
+// floor(x), fx = x - i0, taps wrapped or clamped, blended as a + f (b - a) in x, then in y. The kernels'
+// packet sampler (src/kernels/packet_sampler.hpp) must agree with it bit for bit.
 float sample_depth(const DepthMap& map, Wrap wrap, float u, float v);
 
 // Trilinear: the formula above on the two levels of the mip chain (build_mip_chain) around the
@@ -44,7 +44,7 @@ struct SamplerTexture {
   int height = 0;
   int stride = 0;  // width + 1
   Wrap wrap = Wrap::repeat;
-  std::vector<float> texels;  // level 0: (width + 1) x (height + 1); then the chain's levels
+  std::vector<float> texels;         // level 0: (width + 1) x (height + 1); then the chain's levels
   std::vector<SamplerLevel> levels;  // level 0 alone, or every level of the chain
 
   SamplerTexture() = default;
@@ -63,8 +63,8 @@ struct TextureSlot {
 // the int uniforms (single values or arrays) that say how to read it.
 struct GlImage {
   int width = 0, height = 0, channels = 1;
-  bool linear = false;     // GL_LINEAR, else GL_NEAREST (read with texelFetch)
-  bool run_wrap = false;   // the run's wrap mode, else CLAMP_TO_EDGE
+  bool linear = false;    // GL_LINEAR, else GL_NEAREST (read with texelFetch)
+  bool run_wrap = false;  // the run's wrap mode, else CLAMP_TO_EDGE
   std::vector<float> texels;
   std::vector<std::pair<std::string, std::vector<std::int32_t>>> uniforms;
 };

@@ -36,14 +36,14 @@ inline constexpr int kTechniqueCount = 0 HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECH
 // One row of the registry.
 struct TechniqueInfo {
   Technique id;
-  std::string_view name;         // on the command line and in results
-  bool layered;                  // takes a layer spec; otherwise one sample ("1")
-  int refine;                    // its default --refine (ignored by techniques that do not refine)
-  Needs needs;                   // precomputed textures it reads
+  std::string_view name;  // on the command line and in results
+  bool layered;           // takes a layer spec; otherwise one sample ("1")
+  int refine;             // its default --refine (ignored by techniques that do not refine)
+  Needs needs;            // precomputed textures it reads
   Writes writes;
-  bool search;                   // one of the searches timed at every ISA and thread count
+  bool search;  // one of the searches timed at every ISA and thread count
   KernelShape shape;
-  std::string_view glsl_call;    // the GLSL expression the harness evaluates
+  std::string_view glsl_call;  // the GLSL expression the harness evaluates
   std::string_view color, marker;
   std::string_view description;  // one line, for --help and the report
 };
@@ -100,10 +100,10 @@ struct TechniqueParams {
   // relief's halvings, secant's regula falsi steps, cone's halvings; none: the technique's
   // registry default (refine_steps() resolves it)
   std::optional<int> refine;
-  float scale = 0.1f;            // height scale s
+  float scale = 0.1f;  // height scale s
   Wrap wrap = Wrap::repeat;
   Filter filter = Filter::bilinear;  // how samples read the depth map (sampler.hpp)
-  bool discard = false;          // the tutorial's discard of a final uv outside [0,1]^2
+  bool discard = false;              // the tutorial's discard of a final uv outside [0,1]^2
   float light[3] = {0.5773503f, 0.5773503f, 0.5773503f};  // unit vector towards the light
 
   // Not value_or, whose argument is always evaluated: a broken technique (a message) would index

@@ -24,34 +24,31 @@
 //   kernel(k, ray, walk) with its rays' PyramidWalk, after its WalkSteps queued them.
 // The GLSL call is evaluated with `T` and `V` in scope. Colours and markers are the report's,
 // one per technique everywhere.
-#define HEIGHTMARCH_TECHNIQUES(X)                                                                       \
-  X(parallax, "parallax", false, 5, Needs::nothing, Writes::hit, false, KernelShape::march,             \
-    parallax<false>, "parallax(T, V, false)", "#7f7f7f", "v",                                           \
-    "plain parallax: one sample, uv = T - V.xy / V.z * D(T) s")                                         \
-  X(parallax_limited, "parallax-limited", false, 5, Needs::nothing, Writes::hit, false,                 \
-    KernelShape::march, parallax<true>, "parallax(T, V, true)", "#bcbd22", "^",                         \
-    "offset limiting: one sample, uv = T - V.xy * D(T) s")                                              \
-  X(steep, "steep", true, 5, Needs::nothing, Writes::hit, true, KernelShape::march, steep<false>,       \
-    "steep(T, V, false)", "#1f77b4", "o",                                                               \
-    "steep parallax: layers of depth 1/N, stop at the first below the surface")                         \
-  X(steep_limited, "steep-limited", true, 5, Needs::nothing, Writes::hit, false, KernelShape::march,    \
-    steep<true>, "steep(T, V, true)", "#17becf", "D",                                                   \
-    "steep parallax stepping s V.xy / N (no division by V.z)")                                          \
-  X(relief, "relief", true, 5, Needs::nothing, Writes::hit, true, KernelShape::march, relief,           \
-    "relief(T, V)", "#2ca02c", "P",                                                                     \
-    "relief mapping: steep, then binary search between the last two layers")                            \
-  X(pom, "pom", true, 5, Needs::nothing, Writes::hit, true, KernelShape::march, pom, "pom(T, V)",       \
-    "#d62728", "s",                                                                                     \
-    "parallax occlusion mapping: steep, then linear interpolation between the last two layers")         \
-  X(secant, "secant", true, 5, Needs::nothing, Writes::hit, true, KernelShape::march, secant,           \
-    "secant(T, V)", "#ff7f0e", "X",                                                                     \
-    "secant (interval) mapping: steep, then --refine regula falsi steps between the last two layers")   \
-  X(cone, "cone", true, 4, Needs::cone_map, Writes::hit, true, KernelShape::march, cone, "cone(T, V)",  \
-    "#e377c2", "p",                                                                                     \
-    "relaxed cone stepping: N steps to the relaxed cone's edge, then --refine halvings of the bracket") \
-  X(maxmip, "maxmip", false, 5, Needs::min_depth_pyramid, Writes::hit, true, KernelShape::walk,         \
-    maxmip, "maxmip(T, V)", "#8c564b", "h",                                                             \
-    "maximum mipmaps: walk down and up the min-depth pyramid, solve each reached cell exactly")         \
-  X(shadow, "shadow", true, 5, Needs::nothing, Writes::shadow, false, KernelShape::march, shadow,       \
-    "softShadow(pom(T, V))", "#9467bd", "*",                                                            \
+#define HEIGHTMARCH_TECHNIQUES(X)                                                                            \
+  X(parallax, "parallax", false, 5, Needs::nothing, Writes::hit, false, KernelShape::march, parallax<false>, \
+    "parallax(T, V, false)", "#7f7f7f", "v", "plain parallax: one sample, uv = T - V.xy / V.z * D(T) s")     \
+  X(parallax_limited, "parallax-limited", false, 5, Needs::nothing, Writes::hit, false, KernelShape::march,  \
+    parallax<true>, "parallax(T, V, true)", "#bcbd22", "^",                                                  \
+    "offset limiting: one sample, uv = T - V.xy * D(T) s")                                                   \
+  X(steep, "steep", true, 5, Needs::nothing, Writes::hit, true, KernelShape::march, steep<false>,            \
+    "steep(T, V, false)", "#1f77b4", "o",                                                                    \
+    "steep parallax: layers of depth 1/N, stop at the first below the surface")                              \
+  X(steep_limited, "steep-limited", true, 5, Needs::nothing, Writes::hit, false, KernelShape::march,         \
+    steep<true>, "steep(T, V, true)", "#17becf", "D",                                                        \
+    "steep parallax stepping s V.xy / N (no division by V.z)")                                               \
+  X(relief, "relief", true, 5, Needs::nothing, Writes::hit, true, KernelShape::march, relief,                \
+    "relief(T, V)", "#2ca02c", "P", "relief mapping: steep, then binary search between the last two layers") \
+  X(pom, "pom", true, 5, Needs::nothing, Writes::hit, true, KernelShape::march, pom, "pom(T, V)", "#d62728", \
+    "s", "parallax occlusion mapping: steep, then linear interpolation between the last two layers")         \
+  X(secant, "secant", true, 5, Needs::nothing, Writes::hit, true, KernelShape::march, secant,                \
+    "secant(T, V)", "#ff7f0e", "X",                                                                          \
+    "secant (interval) mapping: steep, then --refine regula falsi steps between the last two layers")        \
+  X(cone, "cone", true, 4, Needs::cone_map, Writes::hit, true, KernelShape::march, cone, "cone(T, V)",       \
+    "#e377c2", "p",                                                                                          \
+    "relaxed cone stepping: N steps to the relaxed cone's edge, then --refine halvings of the bracket")      \
+  X(maxmip, "maxmip", false, 5, Needs::min_depth_pyramid, Writes::hit, true, KernelShape::walk, maxmip,      \
+    "maxmip(T, V)", "#8c564b", "h",                                                                          \
+    "maximum mipmaps: walk down and up the min-depth pyramid, solve each reached cell exactly")              \
+  X(shadow, "shadow", true, 5, Needs::nothing, Writes::shadow, false, KernelShape::march, shadow,            \
+    "softShadow(pom(T, V))", "#9467bd", "*",                                                                 \
     "POM's hit, then the tutorial's soft self-shadow factor towards the light")

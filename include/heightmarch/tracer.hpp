@@ -55,8 +55,8 @@ class Tracer {
   const PrecomputedTextures& precomputed() const { return precomputed_; }
 
  private:
-  using KernelFn = void (*)(const KernelTexture&, const KernelParams&, const KernelRays&,
-                            const KernelHits&, std::size_t, std::size_t, KernelCounters&);
+  using KernelFn = void (*)(const KernelTexture&, const KernelParams&, const KernelRays&, const KernelHits&,
+                            std::size_t, std::size_t, KernelCounters&);
   TraceStats run_kernel(KernelFn kernel, const RayBatch& rays, HitBuffers& hits) const;
 
   TechniqueParams params_;

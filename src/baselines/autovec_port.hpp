@@ -46,8 +46,8 @@ inline float sample(const KernelTexture& t, float u, float v) {
 // Traces rays [begin, end) of a DepthMap laid out plainly (stride = width, REPEAT); writes u, v
 // and samples as the naive port does (depth and shadow are not the port's). Not inline: this is
 // the ISA's one definition, declared in kernel_abi.hpp.
-void autovec_pom(const KernelTexture& texture, const KernelParams& params, const KernelRays& rays, const KernelHits& hits,
-                 std::size_t begin, std::size_t end, KernelCounters& counters) {
+void autovec_pom(const KernelTexture& texture, const KernelParams& params, const KernelRays& rays,
+                 const KernelHits& hits, std::size_t begin, std::size_t end, KernelCounters& counters) {
   using namespace autovec;
   const float min_layers = params.min_layers, max_layers = params.max_layers, height_scale = params.scale;
   for (std::size_t first = begin; first < end; first += kBlock) {

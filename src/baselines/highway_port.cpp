@@ -47,15 +47,17 @@ Vf Sample(const KernelTexture& t, Vf u, Vf v) {
   const Vi i0 = Wrap(x0, w, inv_w), i1 = Wrap(hn::Add(x0, one), w, inv_w);
   const Vi row0 = hn::Mul(Wrap(y0, h, inv_h), hn::Set(di, t.stride));
   const Vi row1 = hn::Mul(Wrap(hn::Add(y0, one), h, inv_h), hn::Set(di, t.stride));
-  const Vf a = hn::GatherIndex(d, t.texels, hn::Add(row0, i0)), b = hn::GatherIndex(d, t.texels, hn::Add(row0, i1));
-  const Vf c = hn::GatherIndex(d, t.texels, hn::Add(row1, i0)), e = hn::GatherIndex(d, t.texels, hn::Add(row1, i1));
+  const Vf a = hn::GatherIndex(d, t.texels, hn::Add(row0, i0)),
+           b = hn::GatherIndex(d, t.texels, hn::Add(row0, i1));
+  const Vf c = hn::GatherIndex(d, t.texels, hn::Add(row1, i0)),
+           e = hn::GatherIndex(d, t.texels, hn::Add(row1, i1));
   return Mix(Mix(a, b, fx), Mix(c, e, fx), fy);
 }
 
 // Traces rays [begin, end): the tutorial's POM with its loop bound, writing u, v and samples as
 // the naive port does.
-void TracePom(const KernelTexture& texture, const KernelParams& params, const KernelRays& rays, const KernelHits& hits,
-              std::size_t begin, std::size_t end, KernelCounters& counters) {
+void TracePom(const KernelTexture& texture, const KernelParams& params, const KernelRays& rays,
+              const KernelHits& hits, std::size_t begin, std::size_t end, KernelCounters& counters) {
   const PortTag d;
   const hn::RebindToSigned<PortTag> di;
   const std::size_t n = hn::Lanes(d);
@@ -73,7 +75,8 @@ void TracePom(const KernelTexture& texture, const KernelParams& params, const Ke
     Vf depth_map_value = Sample(texture, u, v);
     Vi samples = hn::Set(di, 1);
     const Vi bound = hn::Add(hn::ConvertTo(di, hn::Ceil(num_layers)), hn::Set(di, 1));
-    auto going = hn::And(hn::Lt(current_layer_depth, depth_map_value), hn::RebindMask(d, hn::Lt(hn::Zero(di), bound)));
+    auto going =
+        hn::And(hn::Lt(current_layer_depth, depth_map_value), hn::RebindMask(d, hn::Lt(hn::Zero(di), bound)));
     // The tutorial's while loop, with the loop bound of docs/techniques.md.
     for (int step = 1; !hn::AllFalse(d, going); ++step) {
       const Vf next_u = hn::Sub(u, du), next_v = hn::Sub(v, dv);

@@ -39,7 +39,8 @@ using Ms = hn::Mask<StructuredTag>;
 // deinterleaved (the hand-written gather_pairs); single texels on HWY_SCALAR, whose one lane has
 // no halves.
 template <class D>
-HWY_INLINE void GatherPairs(D d, const float* base, hn::Vec<hn::RebindToSigned<D>> index, hn::Vec<D>& first, hn::Vec<D>& second) {
+HWY_INLINE void GatherPairs(D d, const float* base, hn::Vec<hn::RebindToSigned<D>> index, hn::Vec<D>& first,
+                            hn::Vec<D>& second) {
 #if HWY_TARGET == HWY_SCALAR
   first = hn::GatherIndex(d, base, index);
   second = hn::GatherIndex(d, base + 1, index);
@@ -59,8 +60,8 @@ HWY_INLINE void GatherPairs(D d, const float* base, hn::Vec<hn::RebindToSigned<D
 // Each lane's taps from registers holding the window: t00 and t10 at entries `at` and at + 1 of
 // `top`, t01 and t11 at the same entries of `below` (the window one row down).
 template <class D>
-HWY_INLINE void PickTaps(D d, hn::Vec<D> top, hn::Vec<D> below, hn::Vec<hn::RebindToSigned<D>> at, hn::Vec<D>& t00,
-                         hn::Vec<D>& t10, hn::Vec<D>& t01, hn::Vec<D>& t11) {
+HWY_INLINE void PickTaps(D d, hn::Vec<D> top, hn::Vec<D> below, hn::Vec<hn::RebindToSigned<D>> at,
+                         hn::Vec<D>& t00, hn::Vec<D>& t10, hn::Vec<D>& t01, hn::Vec<D>& t11) {
   const auto left = hn::IndicesFromVec(d, at);
   const auto right = hn::IndicesFromVec(d, hn::Add(at, hn::Set(hn::RebindToSigned<D>(), 1)));
   t00 = hn::TableLookupLanes(top, left);
@@ -72,8 +73,9 @@ HWY_INLINE void PickTaps(D d, hn::Vec<D> top, hn::Vec<D> below, hn::Vec<hn::Rebi
 // The four taps of each lane (fetch_taps): from a window of rows where every lane's taps lie in
 // it, else by gathers.
 template <class D>
-HWY_INLINE void FetchTaps(D d, const KernelTexture& t, hn::Vec<hn::RebindToSigned<D>> ix, hn::Vec<hn::RebindToSigned<D>> iy,
-               hn::Vec<D>& t00, hn::Vec<D>& t10, hn::Vec<D>& t01, hn::Vec<D>& t11) {
+HWY_INLINE void FetchTaps(D d, const KernelTexture& t, hn::Vec<hn::RebindToSigned<D>> ix,
+                          hn::Vec<hn::RebindToSigned<D>> iy, hn::Vec<D>& t00, hn::Vec<D>& t10,
+                          hn::Vec<D>& t01, hn::Vec<D>& t11) {
   using VI = hn::Vec<hn::RebindToSigned<D>>;
   const hn::RebindToSigned<D> di;
   if constexpr (hn::MaxLanes(d) == 8) {
@@ -81,8 +83,9 @@ HWY_INLINE void FetchTaps(D d, const KernelTexture& t, hn::Vec<hn::RebindToSigne
     const std::int32_t x0 = std::min(hn::GetLane(ix), t.stride - 8);
     const std::int32_t y0 = hn::GetLane(iy);
     const VI dx = hn::Sub(ix, hn::Set(di, x0));
-    const auto inside = hn::And(hn::Eq(iy, hn::Set(di, y0)),
-                                hn::And(hn::Lt(hn::Set(di, -1), dx), hn::Lt(dx, hn::Set(di, 7))));  // 0 <= dx <= 6
+    const auto inside =
+        hn::And(hn::Eq(iy, hn::Set(di, y0)),
+                hn::And(hn::Lt(hn::Set(di, -1), dx), hn::Lt(dx, hn::Set(di, 7))));  // 0 <= dx <= 6
     if (t.stride >= 8 && hn::AllTrue(di, inside)) {
       const float* row = t.texels + std::ptrdiff_t(y0) * t.stride + x0;
       PickTaps(d, hn::LoadU(d, row), hn::LoadU(d, row + t.stride), dx, t00, t10, t01, t11);
@@ -102,7 +105,8 @@ HWY_INLINE void FetchTaps(D d, const KernelTexture& t, hn::Vec<hn::RebindToSigne
       const hn::Half<D> dh;
       const float* row = t.texels + std::ptrdiff_t(y0) * t.stride + x0;
       const auto two_rows = [&](int r) {
-        return hn::Combine(d, hn::LoadU(dh, row + std::ptrdiff_t(r + 1) * t.stride), hn::LoadU(dh, row + std::ptrdiff_t(r) * t.stride));
+        return hn::Combine(d, hn::LoadU(dh, row + std::ptrdiff_t(r + 1) * t.stride),
+                           hn::LoadU(dh, row + std::ptrdiff_t(r) * t.stride));
       };
       PickTaps(d, two_rows(0), two_rows(1), hn::Add(hn::ShiftLeft<3>(dy), dx), t00, t10, t01, t11);
       return;
@@ -136,7 +140,8 @@ static HWY_INLINE Vs Sample(const KernelTexture& t, Vs u, Vs v) {
 // Traces rays [begin, end) with POM as src/kernels/techniques/pom.hpp does, on a REPEAT map of
 // power-of-two sides in the sampler's layout; writes what the technique kernels write.
 void TracePomStructured(const KernelTexture& texture, const KernelParams& params, const KernelRays& rays,
-                        const KernelHits& hits, std::size_t begin, std::size_t end, KernelCounters& counters) {
+                        const KernelHits& hits, std::size_t begin, std::size_t end,
+                        KernelCounters& counters) {
   const StructuredTag d;
   const hn::RebindToSigned<StructuredTag> di;
   const std::size_t n = hn::Lanes(d);
@@ -151,7 +156,8 @@ void TracePomStructured(const KernelTexture& texture, const KernelParams& params
     Vs num_layers = hn::Set(d, params.max_layers);
     if (params.min_layers != params.max_layers) {
       const Vs a = hn::Abs(vz);
-      num_layers = hn::Add(hn::Mul(hn::Set(d, params.max_layers), hn::Sub(one, a)), hn::Mul(hn::Set(d, params.min_layers), a));
+      num_layers = hn::Add(hn::Mul(hn::Set(d, params.max_layers), hn::Sub(one, a)),
+                           hn::Mul(hn::Set(d, params.min_layers), a));
     }
     const Vs layer_depth = hn::Div(one, num_layers);
     const Vs p_x = hn::Mul(hn::Div(vx, vz), hn::Set(d, params.scale));
@@ -195,14 +201,17 @@ void TracePomStructured(const KernelTexture& texture, const KernelParams& params
     const Vs hit_v = hn::Add(hn::Mul(prev_v, weight), hn::Mul(last_v, one_minus_weight));
     hn::StoreU(hit_u, d, hits.u + i);
     hn::StoreU(hit_v, d, hits.v + i);
-    hn::StoreU(hn::Add(hn::Mul(hn::Sub(last_layer_depth, layer_depth), weight), hn::Mul(last_layer_depth, one_minus_weight)),
+    hn::StoreU(hn::Add(hn::Mul(hn::Sub(last_layer_depth, layer_depth), weight),
+                       hn::Mul(last_layer_depth, one_minus_weight)),
                d, hits.depth + i);
     hn::StoreU(one, d, hits.shadow + i);
     hn::StoreU(samples, di, reinterpret_cast<std::int32_t*>(hits.samples + i));
     local.lane_samples += std::uint64_t(hn::GetLane(hn::SumOfLanes(di, samples)));
-    const Ms outside = hn::Or(hn::Or(hn::Lt(hit_u, zero), hn::Gt(hit_u, one)), hn::Or(hn::Lt(hit_v, zero), hn::Gt(hit_v, one)));
+    const Ms outside = hn::Or(hn::Or(hn::Lt(hit_u, zero), hn::Gt(hit_u, one)),
+                              hn::Or(hn::Lt(hit_v, zero), hn::Gt(hit_v, one)));
     alignas(64) std::int32_t discarded[16];
-    hn::Store(hn::IfThenElseZero(hn::RebindMask(di, outside), hn::Set(di, params.discard ? 1 : 0)), di, discarded);
+    hn::Store(hn::IfThenElseZero(hn::RebindMask(di, outside), hn::Set(di, params.discard ? 1 : 0)), di,
+              discarded);
     for (std::size_t lane = 0; lane < n; ++lane) hits.discarded[i + lane] = std::uint8_t(discarded[lane]);
   }
   counters.lane_samples += local.lane_samples;

@@ -28,15 +28,16 @@ struct Texture {
     const glm::vec2 x0 = glm::floor(x);
     const glm::vec2 f = x - x0;
     const int i = int(x0.x), j = int(x0.y);
-    return glm::mix(glm::mix(fetch(i, j), fetch(i + 1, j), f.x), glm::mix(fetch(i, j + 1), fetch(i + 1, j + 1), f.x),
-                    f.y);
+    return glm::mix(glm::mix(fetch(i, j), fetch(i + 1, j), f.x),
+                    glm::mix(fetch(i, j + 1), fetch(i + 1, j + 1), f.x), f.y);
   }
 };
 
 // LearnOpenGL's ParallaxMapping() for POM, as the tutorial writes it, with its sample count.
 glm::vec2 parallax_mapping(const Texture& depthMap, glm::vec2 texCoords, glm::vec3 viewDir, float minLayers,
                            float maxLayers, float height_scale, unsigned& samples) {
-  const float numLayers = glm::mix(maxLayers, minLayers, glm::abs(glm::dot(glm::vec3(0.0, 0.0, 1.0), viewDir)));
+  const float numLayers =
+      glm::mix(maxLayers, minLayers, glm::abs(glm::dot(glm::vec3(0.0, 0.0, 1.0), viewDir)));
   float layerDepth = 1.0f / numLayers;
   float currentLayerDepth = 0.0f;
   glm::vec2 P = glm::vec2(viewDir.x, viewDir.y) / viewDir.z * height_scale;
@@ -69,8 +70,9 @@ void naive_pom(const DepthMap& map, const RayBatch& rays, float min_layers, floa
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.tile_count(), 1), [&](const auto& tiles) {
     for (std::size_t t = tiles.begin(); t != tiles.end(); ++t)
       for (std::size_t i = rays.tile_offsets[t]; i < rays.tile_offsets[t + 1]; ++i) {
-        const glm::vec2 uv = parallax_mapping(texture, {rays.tx[i], rays.ty[i]}, {rays.vx[i], rays.vy[i], rays.vz[i]},
-                                              min_layers, max_layers, scale, hits.samples[i]);
+        const glm::vec2 uv =
+            parallax_mapping(texture, {rays.tx[i], rays.ty[i]}, {rays.vx[i], rays.vy[i], rays.vz[i]},
+                             min_layers, max_layers, scale, hits.samples[i]);
         hits.u[i] = uv.x;
         hits.v[i] = uv.y;
       }
@@ -81,18 +83,20 @@ namespace {
 
 // A port's kernel over the batch's tiles, on the plain REPEAT depth map; its samples are read
 // from hits.samples, as the naive port's.
-void trace_port(TraceRangeFn kernel, const DepthMap& map, const RayBatch& rays, float min_layers, float max_layers,
-                float scale, HitBuffers& hits) {
+void trace_port(TraceRangeFn kernel, const DepthMap& map, const RayBatch& rays, float min_layers,
+                float max_layers, float scale, HitBuffers& hits) {
   const KernelTexture texture{map.texels.data(), map.width, map.height, map.width, Wrap::repeat};
-  trace_tiles(kernel, texture, KernelParams{min_layers, max_layers, 0, scale, false, {0.0f, 0.0f, 1.0f}}, rays, hits);
+  trace_tiles(kernel, texture, KernelParams{min_layers, max_layers, 0, scale, false, {0.0f, 0.0f, 1.0f}},
+              rays, hits);
 }
 
 }  // namespace
 
-void trace_tiles(TraceRangeFn kernel, const KernelTexture& texture, const KernelParams& params, const RayBatch& rays,
-                 HitBuffers& hits) {
+void trace_tiles(TraceRangeFn kernel, const KernelTexture& texture, const KernelParams& params,
+                 const RayBatch& rays, HitBuffers& hits) {
   hits.resize(rays.size());
-  const KernelRays kernel_rays{rays.tx.data(), rays.ty.data(), rays.vx.data(), rays.vy.data(), rays.vz.data()};
+  const KernelRays kernel_rays{rays.tx.data(), rays.ty.data(), rays.vx.data(), rays.vy.data(),
+                               rays.vz.data()};
   const KernelHits out = kernel_hits(hits);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.tile_count(), 1), [&](const auto& tiles) {
     KernelCounters counters;
@@ -101,8 +105,8 @@ void trace_tiles(TraceRangeFn kernel, const KernelTexture& texture, const Kernel
   });
 }
 
-void autovec_pom(const DepthMap& map, const RayBatch& rays, float min_layers, float max_layers, float scale, Isa isa,
-                 HitBuffers& hits) {
+void autovec_pom(const DepthMap& map, const RayBatch& rays, float min_layers, float max_layers, float scale,
+                 Isa isa, HitBuffers& hits) {
   check_cpu_supports(isa, "the auto-vectorised port");
   trace_port(kernel_table(isa).autovec_pom, map, rays, min_layers, max_layers, scale, hits);
 }
@@ -114,10 +118,11 @@ TraceRangeFn highway_kernel(Isa) { return nullptr; }
 
 bool highway_port_runs(Isa isa) { return highway_kernel(isa) != nullptr; }
 
-void highway_pom(const DepthMap& map, const RayBatch& rays, float min_layers, float max_layers, float scale, Isa isa,
-                 HitBuffers& hits) {
+void highway_pom(const DepthMap& map, const RayBatch& rays, float min_layers, float max_layers, float scale,
+                 Isa isa, HitBuffers& hits) {
   const TraceRangeFn kernel = highway_kernel(isa);
-  if (!kernel) throw InputError("the Highway port does not run at ISA " + to_string(isa) + " in this build on this CPU");
+  if (!kernel)
+    throw InputError("the Highway port does not run at ISA " + to_string(isa) + " in this build on this CPU");
   trace_port(kernel, map, rays, min_layers, max_layers, scale, hits);
 }
 

@@ -20,9 +20,9 @@ enum class ClaimView { default_view, sweep, large_map };
 // One row a claim reads on each heightfield: a technique at a layer spec on a view.
 struct ClaimRow {
   Technique technique = Technique::pom;
-  LayerSpec layers;   // as the technique runs it (layers_for: "1" for one-sample techniques)
+  LayerSpec layers;  // as the technique runs it (layers_for: "1" for one-sample techniques)
   ClaimView view = ClaimView::default_view;
-  double theta = 0;   // sweep views: degrees from the normal
+  double theta = 0;  // sweep views: degrees from the normal
   friend bool operator==(const ClaimRow&, const ClaimRow&) = default;
 };
 std::string describe(const ClaimRow& row);  // "pom 32", "parallax 1 at 70 deg", "relief 64 on the large map"
@@ -40,8 +40,9 @@ struct ClaimFigure {
   ClaimRow row;
   double uv_error_mean = 0, uv_error_p95 = 0, uv_error_p99 = 0, wrong_surface_rate = 0;
   double samples_per_ray = 0;
-  double rays_per_second = 0, rays_per_second_min = 0, rays_per_second_max = 0;  // median and spread; 0: not timed
-  double within_one_layer = 0;  // share of rays whose uv error is at most one layer's step
+  double rays_per_second = 0, rays_per_second_min = 0,
+         rays_per_second_max = 0;  // median and spread; 0: not timed
+  double within_one_layer = 0;     // share of rays whose uv error is at most one layer's step
 
   // Figures per ray, measured from the depth map and the exact hits (never from names).
   struct PerRay {
@@ -80,10 +81,10 @@ Verdict verdict_of(std::size_t passed, std::size_t checks);
 
 struct ClaimCheck {
   std::string heightfield;
-  std::string at;        // where on it, e.g. "32 layers" (empty: the heightfield as a whole)
-  std::string figures;   // e.g. "POM 0.21 vs steep 1.30 texels"
+  std::string at;       // where on it, e.g. "32 layers" (empty: the heightfield as a whole)
+  std::string figures;  // e.g. "POM 0.21 vs steep 1.30 texels"
   bool passed;
-  std::string deciding;  // the figure that decides, against its bound: "0.54x, against at most 0.5x"
+  std::string deciding;       // the figure that decides, against its bound: "0.54x, against at most 0.5x"
   std::string where() const;  // "bricks, 32 layers"
 };
 
@@ -121,8 +122,8 @@ struct Claim {
 const std::vector<Claim>& claims();
 
 // Applies every claim's rule to the figures: a verdict on the share of its checks that pass
-// (verdict_of), not measured without checks; a revised rule's previous verdict beside it. Deterministic: the same figures
-// give the same results (speeds never decide a verdict but P2's, a claim about time).
+// (verdict_of), not measured without checks; a revised rule's previous verdict beside it. Deterministic: the
+// same figures give the same results (speeds never decide a verdict but P2's, a claim about time).
 std::vector<ClaimResult> evaluate_claims(const ClaimsData& data);
 
 // "faster", "slower" or "not distinguishable (spreads overlap)": a's speed against b's, from

@@ -32,9 +32,11 @@ std::string claim_rows_text(ClaimView view) {
       if (row.view != view) continue;
       std::string what = to_string(row.layers);
       if (view == ClaimView::sweep) what += " at " + std::to_string(int(row.theta)) + " deg";
-      auto it = std::find_if(by_technique.begin(), by_technique.end(), [&](auto& t) { return t.first == row.technique; });
+      auto it = std::find_if(by_technique.begin(), by_technique.end(),
+                             [&](auto& t) { return t.first == row.technique; });
       if (it == by_technique.end()) it = by_technique.insert(by_technique.end(), {row.technique, {}});
-      if (std::find(it->second.begin(), it->second.end(), what) == it->second.end()) it->second.push_back(what);
+      if (std::find(it->second.begin(), it->second.end(), what) == it->second.end())
+        it->second.push_back(what);
     }
   std::string text;
   for (const auto& [technique, specs] : by_technique) {
@@ -50,10 +52,10 @@ void write_claims(const std::string& dir, const ClaimsData& data, const PlanSett
                   const Recommendation& recommendation) {
   const std::vector<ClaimResult> results = evaluate_claims(data);
   const Provenance p = provenance();
-  const std::string provenance_line = markdown_text(
-      "Measured " + p.date + " on " + p.cpu + " (" + std::to_string(p.cores) + " cores), ISA " +
-      to_string(settings.best_isa) + ", " + std::to_string(settings.threads) + " threads, commit " + p.commit + ", " +
-      p.compiler + " (" + p.build_type + ").");
+  const std::string provenance_line =
+      markdown_text("Measured " + p.date + " on " + p.cpu + " (" + std::to_string(p.cores) + " cores), ISA " +
+                    to_string(settings.best_isa) + ", " + std::to_string(settings.threads) +
+                    " threads, commit " + p.commit + ", " + p.compiler + " (" + p.build_type + ").");
   std::string heightfields, clamped;
   for (const auto& hf : settings.heightfields) {
     heightfields += (heightfields.empty() ? "" : ", ") + markdown_text(hf.label());
@@ -63,12 +65,12 @@ void write_claims(const std::string& dir, const ClaimsData& data, const PlanSett
       "Configurations: heightfields " + heightfields + " (builtins at " +
       std::to_string(settings.heightfields.front().resolution) + " x " +
       std::to_string(settings.heightfields.front().resolution) + "), scale " +
-      string_format("%g", settings.scale) + ", REPEAT" + (clamped.empty() ? "" : " (" + clamped + ": CLAMP_TO_EDGE)") + ", " +
-      to_string(settings.filter) + " filtering (docs/conventions.md#filters); on the window " + describe(settings.window) +
+      string_format("%g", settings.scale) + ", REPEAT" +
+      (clamped.empty() ? "" : " (" + clamped + ": CLAMP_TO_EDGE)") + ", " + to_string(settings.filter) +
+      " filtering (docs/conventions.md#filters); on the window " + describe(settings.window) +
       " (docs/measures.md#view-sets; the same rows as the report's tables): " +
-      claim_rows_text(ClaimView::default_view) +
-      "; on sweep views of " + std::to_string(settings.sweep_size) + " x " +
-      std::to_string(settings.sweep_size) + " rays" +
+      claim_rows_text(ClaimView::default_view) + "; on sweep views of " +
+      std::to_string(settings.sweep_size) + " x " + std::to_string(settings.sweep_size) + " rays" +
       (settings.window.kind == ViewSpec::Kind::perspective && !settings.window.around ? "" : " seen around") +
       ": " + claim_rows_text(ClaimView::sweep) +
       (settings.large_maps
@@ -92,7 +94,8 @@ void write_claims(const std::string& dir, const ClaimsData& data, const PlanSett
   write_file_atomically(dir + "/claims.json", claims_json(results));
   for (const ClaimResult& r : results)
     std::printf("%-4s %-14s %s\n     %s%s\n", r.id.c_str(), to_string(r.verdict).c_str(), r.claim.c_str(),
-                r.summary.c_str(), r.previous ? (" (previous rule: " + to_string(r.previous->verdict) + ")").c_str() : "");
+                r.summary.c_str(),
+                r.previous ? (" (previous rule: " + to_string(r.previous->verdict) + ")").c_str() : "");
 }
 
 namespace {
@@ -108,24 +111,28 @@ struct ClaimsOptions {
 }  // namespace
 
 Command add_claims_command(CLI::App& app) {
-  CLI::App* command =
-      app.add_subcommand("claims", "measure the tutorials' claims C1-C10 and the papers' P1-P3 and write claims.md");
+  CLI::App* command = app.add_subcommand(
+      "claims", "measure the tutorials' claims C1-C10 and the papers' P1-P3 and write claims.md");
   auto o = std::make_shared<ClaimsOptions>();
   add_plan_options(*command, o->plan, "the quick plan's heightfields and sizes");
-  add_out_options(*command, o->out,
-                  "directory for claims.md, claims.json, measurements.json and recommendation.json (default: a "
-                  "fresh results/<date>-<commit>-<time>-claims)");
+  add_out_options(
+      *command, o->out,
+      "directory for claims.md, claims.json, measurements.json and recommendation.json (default: a "
+      "fresh results/<date>-<commit>-<time>-claims)");
   command->add_option("--isa", o->isa, isa_names() + " or auto");
-  command->add_flag("--list", o->list, "list the claims (id, words, the rows each reads) and measure nothing");
+  command->add_flag("--list", o->list,
+                    "list the claims (id, words, the rows each reads) and measure nothing");
   add_target_options(*command, o->target);
   return [o] {
     if (o->list) {
-      for (const Claim& claim : claims()) std::printf("%s\t%s\t%zu rows\n", claim.id.c_str(), claim.claim.c_str(), claim.rows.size());
+      for (const Claim& claim : claims())
+        std::printf("%s\t%s\t%zu rows\n", claim.id.c_str(), claim.claim.c_str(), claim.rows.size());
       return 0;
     }
     PlanSettings settings = plan_settings(o->plan, false);
     if (!settings.compared_filters.empty())
-      throw InputError("claims --filter takes one filter: the claims are read under one (suite compares filters)");
+      throw InputError(
+          "claims --filter takes one filter: the claims are read under one (suite compares filters)");
     settings.best_isa = select_isa(o->isa);
     validate(o->target);
     const std::vector<Configuration> plan = with_held_out(claims_plan(settings), settings);
@@ -139,15 +146,17 @@ Command add_claims_command(CLI::App& app) {
                    std::to_string(settings.heightfields.size()) + " heightfields (" +
                    std::to_string(plan_runs(plan, settings.repetitions)) + " runs) into " + dir.path());
     ClaimsCollector claims;
-    const MeasuredPlan run = measure_with_progress(plan, settings, progress,
-                                                   [&](const TracedRow& traced) { claims.observe(traced); }, session);
-    write_file_atomically(dir.path() + "/measurements.json", measurements_json(run, settings.name + " claims"));
+    const MeasuredPlan run = measure_with_progress(
+        plan, settings, progress, [&](const TracedRow& traced) { claims.observe(traced); }, session);
+    write_file_atomically(dir.path() + "/measurements.json",
+                          measurements_json(run, settings.name + " claims"));
     dir.finished("measurements.json");
     const Recommendation recommendation = recommend(candidates(run.rows), o->target);
     write_recommendation(dir.path(), recommendation);
     write_claims(dir.path(), claims.data(run.rows), settings, recommendation);
     dir.complete();
-    std::fprintf(stderr, "claims: done in %.0f s: %s/claims.md\n", progress.total_seconds(), dir.path().c_str());
+    std::fprintf(stderr, "claims: done in %.0f s: %s/claims.md\n", progress.total_seconds(),
+                 dir.path().c_str());
     return 0;
   };
 }

@@ -14,7 +14,8 @@ namespace heightmarch::cli {
 // The one range check of every numeric option: "--max-error: must be >= 0, not -1", "--scale: must
 // be in (0, 1], not 0". NaN and text that is no number are refused too. (CLI11's own Range writes
 // its bounds with std::to_string, DBL_MAX as 309 digits, and lets NaN through.)
-CLI::Validator in_range(double low, double high = std::numeric_limits<double>::infinity(), bool open_low = false);
+CLI::Validator in_range(double low, double high = std::numeric_limits<double>::infinity(),
+                        bool open_low = false);
 
 // --out (with `help`) and --replace on a command that writes results (trace, glsl, claims, suite),
 // declared once for all; the directory's guard is RunDirectory.
@@ -49,9 +50,9 @@ struct TraceOptions {
   int seed = 1;
   MapOptions map;  // its wrap is the technique's too
   std::string view = "default";
-  std::string views;  // empty: around for the default view, single for a sweep
+  std::string views;                        // empty: around for the default view, single for a sweep
   std::optional<std::uint32_t> views_seed;  // none: the window's selection seed
-  std::string size;   // empty: the window's own (views_size_help)
+  std::string size;                         // empty: the window's own (views_size_help)
   std::string rays;
   int tile = kDefaultTileSize;
   // The technique
@@ -78,7 +79,8 @@ void add_trace_options(CLI::App& command, TraceOptions& options, bool exact_allo
 // The configuration the options describe (kind exact for --technique exact when allowed), and in
 // `layers_asked`, if given, --layers as asked (the configuration's technique may take one sample).
 // Throws InputError naming the option for values CLI11 cannot check on its own.
-Configuration trace_configuration(const TraceOptions& options, RunKind kind, LayerSpec* layers_asked = nullptr);
+Configuration trace_configuration(const TraceOptions& options, RunKind kind,
+                                  LayerSpec* layers_asked = nullptr);
 
 // --threads 0 (the default) means all cores.
 int resolve_threads(int threads);

@@ -32,7 +32,8 @@ struct GlslOptions {
 // extensions.
 int print_devices() {
   const std::vector<GlDevice> devices = list_gl_devices();
-  if (devices.empty()) std::printf("no EGL devices (this heightmarch was built without EGL, or EGL lists none)\n");
+  if (devices.empty())
+    std::printf("no EGL devices (this heightmarch was built without EGL, or EGL lists none)\n");
   for (const GlDevice& d : devices)
     std::printf("%d\t%s\t%s\t%s\n", d.index, printable(d.name).c_str(),
                 printable(d.error.empty() ? d.renderer + ", " + d.version : "no context: " + d.error).c_str(),
@@ -135,14 +136,16 @@ void print_comparison(const Measurement& glsl, const Measurement& cpu, const Com
 }  // namespace
 
 Command add_glsl_command(CLI::App& app) {
-  CLI::App* command = app.add_subcommand("glsl",
-                                         "run a technique, or a brought-in shader, as GLSL in OSMesa or EGL "
-                                         "(llvmpipe, or a GPU through EGL); --compare sets it beside the CPU");
+  CLI::App* command =
+      app.add_subcommand("glsl",
+                         "run a technique, or a brought-in shader, as GLSL in OSMesa or EGL "
+                         "(llvmpipe, or a GPU through EGL); --compare sets it beside the CPU");
   auto o = std::make_shared<GlslOptions>();
   add_trace_options(*command, o->trace, false);
   add_gl_options(*command, o->gl);
-  command->add_flag("--list-devices", o->list_devices,
-                    "list EGL's devices (index, name, renderer, extensions) for --gl-device, and run nothing");
+  command->add_flag(
+      "--list-devices", o->list_devices,
+      "list EGL's devices (index, name, renderer, extensions) for --gl-device, and run nothing");
   command
       ->add_option(
           "--shader", o->shader,
@@ -162,7 +165,8 @@ Command add_glsl_command(CLI::App& app) {
     Configuration glsl = trace_configuration(o->trace, RunKind::glsl, &layers_asked);
     glsl.gl = gl_target(o->gl);
     if (!o->shader.empty()) glsl.shader = BroughtInShader{o->shader};
-    if (!o->shader.empty()) user_source(read_input_file(o->shader, "shader file", kMaxShaderBytes), o->shader);  // before the run
+    if (!o->shader.empty())
+      user_source(read_input_file(o->shader, "shader file", kMaxShaderBytes), o->shader);  // before the run
     std::optional<RunDirectory> dir;  // checked and locked before the run
     if (!o->trace.out.out.empty()) dir.emplace(o->trace.out.out, o->trace.out.existing());
     std::vector<Configuration> plan = {glsl};
@@ -232,8 +236,9 @@ Command add_glsl_command(CLI::App& app) {
     std::fputs(summary_text(g).c_str(), stdout);
     for (std::size_t k = 0; k < comparisons.size(); ++k) print_comparison(g, run.rows[k + 1], comparisons[k]);
     if (comparisons.size() > 1 && closest)
-      std::printf("closest technique to %s: %s (uv difference p99 %.3g texels)\n", printable(g.config.label()).c_str(),
-                  run.rows[*closest + 1].config.label().c_str(), comparisons[*closest].conformance->p99);
+      std::printf("closest technique to %s: %s (uv difference p99 %.3g texels)\n",
+                  printable(g.config.label()).c_str(), run.rows[*closest + 1].config.label().c_str(),
+                  comparisons[*closest].conformance->p99);
     return 0;
   };
 }

@@ -14,13 +14,14 @@
 
 int main(int argc, char** argv) {
   using namespace heightmarch;
-  CLI::App app("heightmarch: parallax-mapping techniques as SIMD packet kernels and as GLSL, measured "
-               "against the exact ray/heightfield intersection",
-               "heightmarch");
+  CLI::App app(
+      "heightmarch: parallax-mapping techniques as SIMD packet kernels and as GLSL, measured "
+      "against the exact ray/heightfield intersection",
+      "heightmarch");
   // The ISAs too: what a run here can measure (scripts/test reads them for its capped phase).
   app.set_version_flag("--version", [] {
-    return "heightmarch " HEIGHTMARCH_VERSION " (commit " + provenance().commit + ", " + provenance().build_type +
-           ")\nISAs this CPU runs: " + runnable_isa_names();
+    return "heightmarch " HEIGHTMARCH_VERSION " (commit " + provenance().commit + ", " +
+           provenance().build_type + ")\nISAs this CPU runs: " + runnable_isa_names();
   });
   app.require_subcommand(1);
   std::map<const CLI::App*, cli::Command> commands;
@@ -29,18 +30,20 @@ int main(int argc, char** argv) {
                    cli::add_recommend_command, cli::add_report_command, cli::add_glsl_command}) {
     cli::Command run = add(app);
     CLI::App* command = app.get_subcommands({}).back();
-    command->add_option("--memory-limit", memory_limit,
-                        "the most memory the run may hold, its own code and libraries included (bytes, or with a "
-                        "suffix K, M, G or T: 512M, 1.5G; default: $HEIGHTMARCH_MEMORY_LIMIT, else half the RAM)");
+    command->add_option(
+        "--memory-limit", memory_limit,
+        "the most memory the run may hold, its own code and libraries included (bytes, or with a "
+        "suffix K, M, G or T: 512M, 1.5G; default: $HEIGHTMARCH_MEMORY_LIMIT, else half the RAM)");
     commands[command] = std::move(run);
   }
   const auto subcommands = app.get_subcommands({});
   const bool known = argc >= 2 && std::any_of(subcommands.begin(), subcommands.end(),
                                               [&](const CLI::App* c) { return c->get_name() == argv[1]; });
   if (argc >= 2 && argv[1][0] != '-' && !known) {
-    std::fprintf(stderr,
-                 "heightmarch: unknown command '%s' (trace, glsl, suite, claims, recommend, report; see --help)\n",
-                 printable(argv[1]).c_str());
+    std::fprintf(
+        stderr,
+        "heightmarch: unknown command '%s' (trace, glsl, suite, claims, recommend, report; see --help)\n",
+        printable(argv[1]).c_str());
     return 2;
   }
   try {

@@ -10,9 +10,11 @@ namespace heightmarch::cli {
 
 void add_plan_options(CLI::App& command, PlanOptions& o, const std::string& quick_help) {
   command.add_flag("--quick", o.quick, quick_help);
-  command.add_option("--heightmap", o.heightmap,
-                     std::string("depth map files, comma-separated, measured beside the builtins; each may carry its "
-                                 "own ") + kMapEntryOptionsHelp);
+  command.add_option(
+      "--heightmap", o.heightmap,
+      std::string("depth map files, comma-separated, measured beside the builtins; each may carry its "
+                  "own ") +
+          kMapEntryOptionsHelp);
   add_map_options(command, o.map, "every --heightmap file");
   for (const char* option : {"--convention", "--channel", "--wrap", "--allow-flat"})
     command.get_option(option)->needs(command.get_option("--heightmap"));
@@ -25,7 +27,9 @@ void add_plan_options(CLI::App& command, PlanOptions& o, const std::string& quic
                   "thread counts, comma-separated (0: all cores; default: 1 and all cores)")
       ->delimiter(',')
       ->check(in_range(0, 1024));
-  command.add_option("--repetitions", o.repetitions, "timed repetitions per configuration (at least 5 for published figures)")
+  command
+      .add_option("--repetitions", o.repetitions,
+                  "timed repetitions per configuration (at least 5 for published figures)")
       ->check(in_range(1, 1000))
       ->capture_default_str();
   command.add_option("--scale", o.scale, "height scale s of every configuration (default 0.1)")
@@ -35,11 +39,12 @@ void add_plan_options(CLI::App& command, PlanOptions& o, const std::string& quic
       "NEAR-FAR: the view angles from the normal, in degrees, that the default view spans from its near "
       "edge to its far edge (default 30-80); the sweeps cover the same span");
   command
-      .add_option("--filter", o.filters,
-                  "the filter the run's figures are read with: bilinear (level 0; the default) or trilinear (the "
-                  "mip chain, as shipped shaders read it; the default of --views tutorial, as the tutorial reads "
-                  "it); suite: a second, comma-separated, adds the technique x layers "
-                  "matrix's accuracy under it, which the report sets beside the first's")
+      .add_option(
+          "--filter", o.filters,
+          "the filter the run's figures are read with: bilinear (level 0; the default) or trilinear (the "
+          "mip chain, as shipped shaders read it; the default of --views tutorial, as the tutorial reads "
+          "it); suite: a second, comma-separated, adds the technique x layers "
+          "matrix's accuracy under it, which the report sets beside the first's")
       ->delimiter(',')
       ->check(CLI::IsMember(filter_names()));
   add_views_option(command, o.views, "around");
@@ -68,8 +73,10 @@ PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
   apply_views(o.views, settings.window);
   size_views_for_rays(settings.window, rays);
   // The tutorial's scene is read as the tutorial reads its depth map, unless asked otherwise.
-  if (!o.filters.empty()) settings.filter = parse_filter(o.filters.front());
-  else if (settings.window.kind == ViewSpec::Kind::tutorial) settings.filter = Filter::trilinear;
+  if (!o.filters.empty())
+    settings.filter = parse_filter(o.filters.front());
+  else if (settings.window.kind == ViewSpec::Kind::tutorial)
+    settings.filter = Filter::trilinear;
   for (const std::string& name : o.filters) {
     const Filter filter = parse_filter(name);
     if (filter != settings.filter &&
@@ -89,14 +96,17 @@ MeasuredPlan measure_with_progress(const std::vector<Configuration>& plan, const
   measure.repetitions = settings.repetitions;
   measure.min_seconds = settings.min_seconds;
   measure.on_traced = on_traced;
-  measure.progress = [&](const std::string& what, std::size_t done, std::size_t total) { progress.step(what, done, total); };
+  measure.progress = [&](const std::string& what, std::size_t done, std::size_t total) {
+    progress.step(what, done, total);
+  };
   MeasuredPlan run = measure_plan(plan, measure, session);
   progress.finish_line();
   return run;
 }
 
 MeasuredPlan measure_with_progress(const std::vector<Configuration>& plan, const PlanSettings& settings,
-                                   Progress& progress, const std::function<void(const TracedRow&)>& on_traced) {
+                                   Progress& progress,
+                                   const std::function<void(const TracedRow&)>& on_traced) {
   MeasurementSession session;
   return measure_with_progress(plan, settings, progress, on_traced, session);
 }

@@ -26,8 +26,8 @@ struct PlanOptions {
   std::vector<int> threads;  // thread counts (0: all cores); none given: 1 and all cores
   int repetitions = 5;
   std::optional<double> scale;
-  std::string view_angles;  // NEAR-FAR degrees; empty: the default view's
-  std::string views = "around";  // the window (common_options.hpp's --views)
+  std::string view_angles;           // NEAR-FAR degrees; empty: the default view's
+  std::string views = "around";      // the window (common_options.hpp's --views)
   std::vector<std::string> filters;  // the run's filter, then the compared ones; none: bilinear
 };
 
@@ -43,6 +43,7 @@ MeasuredPlan measure_with_progress(const std::vector<Configuration>& plan, const
                                    Progress& progress, const std::function<void(const TracedRow&)>& on_traced,
                                    MeasurementSession& session);
 MeasuredPlan measure_with_progress(const std::vector<Configuration>& plan, const PlanSettings& settings,
-                                   Progress& progress, const std::function<void(const TracedRow&)>& on_traced);
+                                   Progress& progress,
+                                   const std::function<void(const TracedRow&)>& on_traced);
 
 }  // namespace heightmarch::cli

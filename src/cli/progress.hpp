@@ -21,7 +21,8 @@ class Progress {
   void stage(const std::string& what) {
     finish_line();
     stage_start_ = Clock::now();
-    std::fprintf(stderr, "%s: %s (%.0f s elapsed)\n", name_.c_str(), printable(what).c_str(), seconds_since(start_));
+    std::fprintf(stderr, "%s: %s (%.0f s elapsed)\n", name_.c_str(), printable(what).c_str(),
+                 seconds_since(start_));
   }
 
   void step(const std::string& what, std::size_t done, std::size_t total) {
@@ -29,7 +30,8 @@ class Progress {
     const double seconds = seconds_since(stage_start_);
     const double left = done ? seconds / double(done) * double(total - done) : 0.0;
     if (interactive_) {
-      std::fprintf(stderr, "\r\033[K  [%zu/%zu runs] %.0f s left  %s", done, total, left, printable(what.substr(0, 85)).c_str());
+      std::fprintf(stderr, "\r\033[K  [%zu/%zu runs] %.0f s left  %s", done, total, left,
+                   printable(what.substr(0, 85)).c_str());
       std::fflush(stderr);
       pending_line_ = true;
     } else if (done * 10 / total != (done - 1) * 10 / total) {  // every tenth

@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <map>
 #include <limits>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -17,9 +17,9 @@
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
 #include "cli/run_directory.hpp"
+#include "experiment/plan_runner.hpp"
 #include "experiment/run_outputs.hpp"
 #include "heightmarch/error.hpp"
-#include "experiment/plan_runner.hpp"
 #include "heightmarch/memory_budget.hpp"
 #include "io/atomic_file.hpp"
 #include "io/json_writer.hpp"
@@ -72,7 +72,7 @@ using Json = nlohmann::json;
 constexpr double kJsonParseFactor = 8.0;
 constexpr std::uintmax_t kMaxMeasurementsBytes = std::uintmax_t(1) << 36;
 constexpr std::int64_t kMaxRays = std::int64_t(1) << 53;  // exact in a double
-constexpr int kMaxJsonDepth = 64;  // a measurements.json nests 5 levels
+constexpr int kMaxJsonDepth = 64;                         // a measurements.json nests 5 levels
 // Bounds no measurement reaches, so that no figure made of them overflows: a repetition of a
 // week; errors and samples per ray far beyond any map.
 constexpr double kMaxSeconds = 7 * 24 * 3600.0;
@@ -100,20 +100,24 @@ class RowFields {
   }
   // A finite number in [low, high] ((low, high] when `above`).
   double number(const Json& v, const std::string& path, double low, double high, bool above = false) const {
-    if (!v.is_number() || !std::isfinite(v.get<double>())) refuse(path, "is " + shown(v) + ", not a finite number");
+    if (!v.is_number() || !std::isfinite(v.get<double>()))
+      refuse(path, "is " + shown(v) + ", not a finite number");
     const double x = v.get<double>();
     if (x < low || (above && x == low) || x > high)
-      refuse(path, "is " + shown(v) + ", not in " + (above ? "(" : "[") + string_format("%g, %g]", low, high));
+      refuse(path,
+             "is " + shown(v) + ", not in " + (above ? "(" : "[") + string_format("%g, %g]", low, high));
     return x;
   }
   // An integer in low..high (low is never negative here). nlohmann keeps 1e20 a float and a
   // non-negative integer unsigned: neither is cast blindly.
   std::int64_t integer(const Json& v, const std::string& path, std::int64_t low, std::int64_t high) const {
     if (!v.is_number_integer()) refuse(path, "is " + shown(v) + ", not an integer");
-    const bool in_range = v.is_number_unsigned()
-                              ? v.get<std::uint64_t>() >= std::uint64_t(low) && v.get<std::uint64_t>() <= std::uint64_t(high)
-                              : v.get<std::int64_t>() >= low && v.get<std::int64_t>() <= high;
-    if (!in_range) refuse(path, "is " + shown(v) + ", not in " + std::to_string(low) + ".." + std::to_string(high));
+    const bool in_range =
+        v.is_number_unsigned()
+            ? v.get<std::uint64_t>() >= std::uint64_t(low) && v.get<std::uint64_t>() <= std::uint64_t(high)
+            : v.get<std::int64_t>() >= low && v.get<std::int64_t>() <= high;
+    if (!in_range)
+      refuse(path, "is " + shown(v) + ", not in " + std::to_string(low) + ".." + std::to_string(high));
     return v.get<std::int64_t>();
   }
   bool has_purpose(const std::string& name) const {
@@ -141,7 +145,8 @@ class RowFields {
 // interval. Format 1 named the percentiles uv_p99.
 Accuracy accuracy_of(const RowFields& f, int format_version) {
   const Json& errors = f.at("errors");
-  const Json& confidence = errors.is_object() && errors.contains("confidence") ? errors.at("confidence") : Json();
+  const Json& confidence =
+      errors.is_object() && errors.contains("confidence") ? errors.at("confidence") : Json();
   const auto interval = [&](const std::string& name, double value) -> Interval {
     if (!confidence.is_object() || !confidence.contains(name)) return {value, value};
     const Json& ci = confidence.at(name);
@@ -155,8 +160,8 @@ Accuracy accuracy_of(const RowFields& f, int format_version) {
     a.uv_error[int(p)] = f.number(f.at(errors, name, "errors." + name), "errors." + name, 0.0, kLargest);
     a.uv_error_ci[int(p)] = interval(measure_name(p), a.uv_error[int(p)]);
   }
-  a.wrong_surface_rate =
-      f.number(f.at(errors, "wrong_surface_rate", "errors.wrong_surface_rate"), "errors.wrong_surface_rate", 0.0, 1.0);
+  a.wrong_surface_rate = f.number(f.at(errors, "wrong_surface_rate", "errors.wrong_surface_rate"),
+                                  "errors.wrong_surface_rate", 0.0, 1.0);
   a.wrong_surface_ci = interval("wrong_surface_rate", a.wrong_surface_rate);
   a.rays = std::size_t(f.integer(f.at("rays"), "rays", 0, kMaxRays));
   return a;
@@ -166,7 +171,8 @@ Accuracy accuracy_of(const RowFields& f, int format_version) {
 // candidate's key at its seed + 1 is its twin's at its own.
 std::string twin_key(const RowFields& f, std::int64_t seed) {
   Json key = Json::array();
-  for (const char* field : {"kind", "backend", "threads", "technique", "layers", "refine", "scale", "wrap", "filter", "discard"})
+  for (const char* field :
+       {"kind", "backend", "threads", "technique", "layers", "refine", "scale", "wrap", "filter", "discard"})
     key.push_back(f.optional(field));
   key.push_back(f.at(f.at("heightfield"), "label", "heightfield.label"));
   Json view = f.at("view");
@@ -193,7 +199,9 @@ std::optional<Candidate> candidate_of(const RowFields& f, int format_version) {
   if (f.at("technique").is_null() || !f.optional("shader").is_null()) return std::nullopt;
   if (f.at("errors").is_null() || f.at("speed").is_null() || !f.at("failure").is_null()) return std::nullopt;
   const std::string view_kind = f.text(f.at(f.at("view"), "kind", "view.kind"), "view.kind");
-  const Json& fresh = f.at("view").is_object() && f.at("view").contains("fresh_rays") ? f.at("view").at("fresh_rays") : Json();
+  const Json& fresh = f.at("view").is_object() && f.at("view").contains("fresh_rays")
+                          ? f.at("view").at("fresh_rays")
+                          : Json();
   if (view_kind == "sweep" || view_kind == "rays" || !fresh.is_null()) return std::nullopt;
   const std::int64_t rays = f.integer(f.at("rays"), "rays", 0, kMaxRays);
   if (rays == 0) return std::nullopt;
@@ -202,7 +210,8 @@ std::optional<Candidate> candidate_of(const RowFields& f, int format_version) {
   const Json& hf = f.at("heightfield");
   c.heightfield = f.text(f.at(hf, "label", "heightfield.label"), "heightfield.label");
   c.depth_map_width = int(f.integer(f.at(hf, "width", "heightfield.width"), "heightfield.width", 1, 1 << 30));
-  c.depth_map_height = int(f.integer(f.at(hf, "height", "heightfield.height"), "heightfield.height", 1, 1 << 30));
+  c.depth_map_height =
+      int(f.integer(f.at(hf, "height", "heightfield.height"), "heightfield.height", 1, 1 << 30));
   const bool glsl = kind == "glsl";
   c.backend = {glsl ? RunKind::glsl : RunKind::trace,
                glsl ? Isa::scalar : isa_named(f.text(f.at("backend"), "backend")),
@@ -214,13 +223,15 @@ std::optional<Candidate> candidate_of(const RowFields& f, int format_version) {
   c.technique = parse_technique(f.text(f.at("technique"), "technique"));
   c.layers = parse_layer_spec(f.text(f.at("layers"), "layers"));
   // Runs before filters read level 0.
-  if (const Json& filter = f.optional("filter"); !filter.is_null()) c.filter = parse_filter(f.text(filter, "filter"));
+  if (const Json& filter = f.optional("filter"); !filter.is_null())
+    c.filter = parse_filter(f.text(filter, "filter"));
   c.selection = accuracy_of(f, format_version);
   const Json& samples = f.at("samples_per_ray");
   c.samples_per_ray = samples.is_null() ? 0.0 : f.number(samples, "samples_per_ray", 0.0, kLargest);
   c.rays = std::size_t(rays);
   const Json& seconds = f.at(f.at("speed"), "seconds", "speed.seconds");
-  if (!seconds.is_array() || seconds.empty()) f.refuse("speed.seconds", "is not a list of repetitions' seconds");
+  if (!seconds.is_array() || seconds.empty())
+    f.refuse("speed.seconds", "is not a list of repetitions' seconds");
   for (const Json& s : seconds) c.seconds.push_back(f.number(s, "speed.seconds", 0.0, kMaxSeconds, true));
   if (const Json& p = f.optional("precompute_seconds"); !p.is_null())
     c.precompute_seconds = f.number(p, "precompute_seconds", 0.0, kMaxSeconds);
@@ -241,7 +252,8 @@ Measurements read_measurements(const std::string& path) {
   // Nesting beyond any measurements.json is refused as it is read: what reads a value (dump() in
   // an error line among them) recurses once per level.
   const auto shallow = [&path](int depth, Json::parse_event_t, Json&) {
-    if (depth > kMaxJsonDepth) throw InputError(path + ": nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+    if (depth > kMaxJsonDepth)
+      throw InputError(path + ": nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
     return true;
   };
   try {
@@ -279,8 +291,8 @@ std::vector<Candidate> read_candidates(const Measurements& m, const std::string&
       out.push_back(std::move(*c));
       keys.push_back(twin_key(f, view_seed(f) + 1));
     } else if (f.has_purpose("held-out") && !f.at("errors").is_null() && f.at("failure").is_null()) {
-      held_out[twin_key(f, view_seed(f))] = {int(f.integer(f.at("id"), "id", 0, std::numeric_limits<int>::max())),
-                                             accuracy_of(f, m.version)};
+      held_out[twin_key(f, view_seed(f))] = {
+          int(f.integer(f.at("id"), "id", 0, std::numeric_limits<int>::max())), accuracy_of(f, m.version)};
     }
   }
   for (std::size_t i = 0; i < out.size(); ++i)
@@ -301,8 +313,9 @@ Configuration fresh_rays_configuration(const RowFields& f, std::size_t rays, std
   c.isa = glsl ? Isa::scalar : isa_named(f.text(f.at("backend"), "backend"));
   c.threads = int(f.integer(f.at("threads"), "threads", 1, 1 << 20));
   const Json& hf = f.at("heightfield");
-  c.heightfield = parse_heightfield(f.text(f.at(hf, "source", "heightfield.source"), "heightfield.source"),
-                                    int(f.integer(f.at(hf, "width", "heightfield.width"), "heightfield.width", 1, kMaxDepthMapSide)));
+  c.heightfield = parse_heightfield(
+      f.text(f.at(hf, "source", "heightfield.source"), "heightfield.source"),
+      int(f.integer(f.at(hf, "width", "heightfield.width"), "heightfield.width", 1, kMaxDepthMapSide)));
   c.heightfield.name = f.text(f.at(hf, "label", "heightfield.label"), "heightfield.label");
   TechniqueParams& p = c.params;
   p.technique = parse_technique(f.text(f.at("technique"), "technique"));
@@ -314,16 +327,20 @@ Configuration fresh_rays_configuration(const RowFields& f, std::size_t rays, std
   validate(p);
   const Json& view = f.at("view");
   const std::string kind = f.text(f.at(view, "kind", "view.kind"), "view.kind");
-  c.view = parse_view("default", int(f.integer(f.at(view, "width", "view.width"), "view.width", 1, kMaxViewSide)),
-                      int(f.integer(f.at(view, "height", "view.height"), "view.height", 1, kMaxViewSide)));
+  c.view =
+      parse_view("default", int(f.integer(f.at(view, "width", "view.width"), "view.width", 1, kMaxViewSide)),
+                 int(f.integer(f.at(view, "height", "view.height"), "view.height", 1, kMaxViewSide)));
   if (kind == "tutorial") {
-    apply_views("tutorial:" + std::to_string(f.integer(f.at(view, "views", "view.views"), "view.views", 1, kMaxSetViews)),
+    apply_views("tutorial:" + std::to_string(f.integer(f.at(view, "views", "view.views"), "view.views", 1,
+                                                       kMaxSetViews)),
                 c.view);
   } else if (kind == "poses") {
     apply_views(f.text(f.at(view, "file", "view.file"), "view.file"), c.view);
   } else if (kind == "default") {
-    c.view.near_degrees = float(f.number(f.at(view, "near_angle", "view.near_angle"), "view.near_angle", 0.0, kMaxViewDegrees));
-    c.view.far_degrees = float(f.number(f.at(view, "far_angle", "view.far_angle"), "view.far_angle", 0.0, kMaxViewDegrees));
+    c.view.near_degrees =
+        float(f.number(f.at(view, "near_angle", "view.near_angle"), "view.near_angle", 0.0, kMaxViewDegrees));
+    c.view.far_degrees =
+        float(f.number(f.at(view, "far_angle", "view.far_angle"), "view.far_angle", 0.0, kMaxViewDegrees));
   } else {
     f.refuse("view.kind", "is " + kind + ": no window to draw fresh rays like");
   }
@@ -341,7 +358,8 @@ int outside_check(const Recommendation& recommendation, const Measurements& meas
                   std::uint32_t seed, const std::string& out) {
   std::map<int, const Json*> by_id;
   for (const Json& row : measurements.data.at("rows"))
-    if (row.is_object() && row.contains("id") && row["id"].is_number_integer()) by_id[row["id"].get<int>()] = &row;
+    if (row.is_object() && row.contains("id") && row["id"].is_number_integer())
+      by_id[row["id"].get<int>()] = &row;
   std::vector<Configuration> plan;
   struct Checked {
     std::string backend, heightfield, setting;
@@ -352,9 +370,11 @@ int outside_check(const Recommendation& recommendation, const Measurements& meas
     for (const Answer& a : b.per_heightfield) {
       if (!a.choice) continue;
       const int id = a.choice->rows.front().id;
-      const Configuration c =
-          fresh_rays_configuration(RowFields(*by_id.at(id), "measurements.json: row " + std::to_string(id)), rays, seed);
-      std::size_t index = std::find_if(plan.begin(), plan.end(), [&](const Configuration& p) { return p.same_measurement(c); }) - plan.begin();
+      const Configuration c = fresh_rays_configuration(
+          RowFields(*by_id.at(id), "measurements.json: row " + std::to_string(id)), rays, seed);
+      std::size_t index = std::find_if(plan.begin(), plan.end(),
+                                       [&](const Configuration& p) { return p.same_measurement(c); }) -
+                          plan.begin();
       if (index == plan.size()) plan.push_back(c);
       checked.push_back({b.backend.name(), a.heightfield, a.choice->label(), index});
     }
@@ -363,10 +383,11 @@ int outside_check(const Recommendation& recommendation, const Measurements& meas
   options.min_seconds = 0;
   const MeasuredPlan run = measure_plan(plan, options);
   const RecommendationTarget& t = recommendation.target;
-  std::string text = string_format("Outside check at %s: each choice on %zu fresh rays (seed %u: every azimuth and entry "
-                                   "point uniform, the view angles drawn from the window's), against the exact "
-                                   "intersection; 95%% intervals:\n",
-                                   describe(t).c_str(), rays, seed);
+  std::string text = string_format(
+      "Outside check at %s: each choice on %zu fresh rays (seed %u: every azimuth and entry "
+      "point uniform, the view angles drawn from the window's), against the exact "
+      "intersection; 95%% intervals:\n",
+      describe(t).c_str(), rays, seed);
   JsonWriter json;
   json.begin_object().value("format", "heightmarch-outside-check").value("format_version", 1);
   json.value("target", describe(t)).value("rays", rays).value("seed", (long long)seed).begin_array("checks");
@@ -381,16 +402,23 @@ int outside_check(const Recommendation& recommendation, const Measurements& meas
     const bool consistent = ci.low <= t.uv_error_texels && a.wrong_surface_ci.low <= t.wrong_surface_rate;
     failed += !consistent;
     text += string_format("  %s, %s: %s: %s %.3g (%.3g-%.3g) texel, wrong surface %.3g%% (%.3g-%.3g%%): %s\n",
-                          k.backend.c_str(), k.heightfield.c_str(), k.setting.c_str(), to_string(t.percentile).c_str(),
-                          value, ci.low, ci.high, 100 * a.wrong_surface_rate, 100 * a.wrong_surface_ci.low,
-                          100 * a.wrong_surface_ci.high,
-                          meets ? "meets the target" : consistent ? "on the bound (within the 95% interval)"
-                                                                   : "misses the target");
-    json.begin_object().value("backend", k.backend).value("heightfield", k.heightfield).value("setting", k.setting);
+                          k.backend.c_str(), k.heightfield.c_str(), k.setting.c_str(),
+                          to_string(t.percentile).c_str(), value, ci.low, ci.high, 100 * a.wrong_surface_rate,
+                          100 * a.wrong_surface_ci.low, 100 * a.wrong_surface_ci.high,
+                          meets        ? "meets the target"
+                          : consistent ? "on the bound (within the 95% interval)"
+                                       : "misses the target");
+    json.begin_object()
+        .value("backend", k.backend)
+        .value("heightfield", k.heightfield)
+        .value("setting", k.setting);
     json.value("view", describe(m.config.view)).value(measure_name(t.percentile), value);
     json.begin_array(measure_name(t.percentile) + "_ci").value("", ci.low).value("", ci.high).end_array();
     json.value("wrong_surface_rate", a.wrong_surface_rate);
-    json.begin_array("wrong_surface_ci").value("", a.wrong_surface_ci.low).value("", a.wrong_surface_ci.high).end_array();
+    json.begin_array("wrong_surface_ci")
+        .value("", a.wrong_surface_ci.low)
+        .value("", a.wrong_surface_ci.high)
+        .end_array();
     json.value("meets", meets).value("within_interval", consistent).end_object();
   }
   json.end_array().value("missed", failed).end_object();
@@ -423,11 +451,12 @@ Command add_recommend_command(CLI::App& app) {
                       "recommendation, or any other)");
   command->add_flag("--json", o->json, "print recommendation.json instead of the summary");
   command
-      ->add_option("--outside-check", o->outside_rays,
-                   "also trace each choice on this many fresh rays per map (every azimuth and entry point uniform, "
-                   "the view angles drawn from the run's window) against the exact intersection, and say whether it "
-                   "meets the target within its 95% interval (exit 1 where one misses); with --out, "
-                   "outside-check.json")
+      ->add_option(
+          "--outside-check", o->outside_rays,
+          "also trace each choice on this many fresh rays per map (every azimuth and entry point uniform, "
+          "the view angles drawn from the run's window) against the exact intersection, and say whether it "
+          "meets the target within its 95% interval (exit 1 where one misses); with --out, "
+          "outside-check.json")
       ->check(CLI::Range(std::size_t(1000), std::size_t(64) << 20));
   command->add_option("--outside-seed", o->outside_seed, "the seed of the outside check's rays")
       ->check(CLI::Range(1, 1 << 30))
@@ -447,7 +476,8 @@ Command add_recommend_command(CLI::App& app) {
     std::printf(
         "%s", (o->json ? recommendation_json(recommendation) : recommendation_text(recommendation)).c_str());
     if (o->outside_rays)
-      return outside_check(recommendation, measurements, o->outside_rays, o->outside_seed, out ? out->path() : "");
+      return outside_check(recommendation, measurements, o->outside_rays, o->outside_seed,
+                           out ? out->path() : "");
     return 0;
   };
 }

@@ -37,8 +37,9 @@ std::string tools_directory() {
                                  exe.parent_path() / "share/heightmarch/python"};
   for (const fs::path& dir : candidates)
     if (fs::is_regular_file(dir / "heightmarch_tools/report.py", ec)) return dir.string();
-  throw std::runtime_error("the report's Python package heightmarch_tools is not installed beside " + exe.string() +
-                           " (looked in " + candidates[0].string() + " and " + candidates[1].string() + ")");
+  throw std::runtime_error("the report's Python package heightmarch_tools is not installed beside " +
+                           exe.string() + " (looked in " + candidates[0].string() + " and " +
+                           candidates[1].string() + ")");
 }
 
 // The report's process group while it runs, and the first signal this process was sent meanwhile.
@@ -68,10 +69,12 @@ void write_report(const std::string& run_dir, const std::string& history) {
   args.insert(args.end(), {"--", run_dir});  // a directory named like an option is still the run
   std::vector<std::string> env = {"PYTHONPATH=" + tools_directory()};
   for (char** e = environ; *e; ++e)
-    if (std::strncmp(*e, "PYTHONPATH=", 11) != 0 && std::strncmp(*e, "PYTHONHOME=", 11) != 0) env.emplace_back(*e);
+    if (std::strncmp(*e, "PYTHONPATH=", 11) != 0 && std::strncmp(*e, "PYTHONHOME=", 11) != 0)
+      env.emplace_back(*e);
   std::vector<char*> argv = pointers(args), envp = pointers(env);  // made before fork: the child only execs
 
-  struct sigaction pass {}, previous[std::size(kPassedOn)];
+  struct sigaction pass {
+  }, previous[std::size(kPassedOn)];
   pass.sa_handler = pass_on;
   sigemptyset(&pass.sa_mask);
   g_signal = 0;
@@ -97,14 +100,16 @@ void write_report(const std::string& run_dir, const std::string& history) {
     g_child = 0;
   }
   for (std::size_t i = 0; i < std::size(kPassedOn); ++i) ::sigaction(kPassedOn[i], &previous[i], nullptr);
-  if (child < 0) throw std::runtime_error(std::string("cannot start the report: ") + std::strerror(fork_errno));
+  if (child < 0)
+    throw std::runtime_error(std::string("cannot start the report: ") + std::strerror(fork_errno));
   if (g_signal) {  // the report has ended (it said so); this process ends by the same signal
     ::signal(g_signal, SIG_DFL);
     ::raise(g_signal);
   }
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
   if (WIFEXITED(status) && WEXITSTATUS(status) == 127)
-    throw std::runtime_error(std::string("cannot run ") + kPython + " for the report (Debian: python3-matplotlib)");
+    throw std::runtime_error(std::string("cannot run ") + kPython +
+                             " for the report (Debian: python3-matplotlib)");
   if (WIFEXITED(status) && (WEXITSTATUS(status) == 1 || WEXITSTATUS(status) == 2))
     throw ChildFailed(WEXITSTATUS(status));  // it said why in one line (heightmarch_tools.cli)
   throw std::runtime_error("the report of " + run_dir + " failed (" +
@@ -114,8 +119,9 @@ void write_report(const std::string& run_dir, const std::string& history) {
 }
 
 Command add_report_command(CLI::App& app) {
-  CLI::App* command = app.add_subcommand(
-      "report", "a run's report (report.md, tables.md, plots, measurements.csv, report.html) from its measurements.json");
+  CLI::App* command = app.add_subcommand("report",
+                                         "a run's report (report.md, tables.md, plots, measurements.csv, "
+                                         "report.html) from its measurements.json");
   auto run_dir = std::make_shared<std::string>();
   auto history = std::make_shared<std::string>();
   command->add_option("run", *run_dir, "the run's directory")->required();

@@ -22,17 +22,17 @@ namespace fs = std::filesystem;
 namespace {
 
 // The files a command writes at the top of its directory: trace and glsl (metrics.json and the
-// images), claims (claims.md, claims.json, measurements.json, recommendation.json), suite (all of these but trace's,
-// bench.json, report.md) and the marker of a run under way. Any of them means the directory
-// holds a run's results. Not rays.csv: a name the user's own rays file may have (trace --rays
-// rewrites it whole).
-const char* const kRunFiles[] = {"INCOMPLETE", "measurements.json", "metrics.json", "claims.json", "claims.md",
-                                 "recommendation.json", "bench.json",  "report.md",         "hits.exr",     "error.png",   "render.png",
-                                 "cost.png"};
+// images), claims (claims.md, claims.json, measurements.json, recommendation.json), suite (all of these but
+// trace's, bench.json, report.md) and the marker of a run under way. Any of them means the directory holds a
+// run's results. Not rays.csv: a name the user's own rays file may have (trace --rays rewrites it whole).
+const char* const kRunFiles[] = {"INCOMPLETE", "measurements.json",   "metrics.json", "claims.json",
+                                 "claims.md",  "recommendation.json", "bench.json",   "report.md",
+                                 "hits.exr",   "error.png",           "render.png",   "cost.png"};
 
 }  // namespace
 
-RunDirectory::RunDirectory(std::string path, Existing existing, const std::vector<std::string>& subdirectories)
+RunDirectory::RunDirectory(std::string path, Existing existing,
+                           const std::vector<std::string>& subdirectories)
     : path_(std::move(path)) {
   std::error_code ec;
   fs::create_directories(path_, ec);
@@ -70,7 +70,8 @@ RunDirectory::RunDirectory(std::string path, Existing existing, const std::vecto
     struct stat sub {};
     const bool there = (::mkdir(at.c_str(), 0755) == 0 || errno == EEXIST) && ::lstat(at.c_str(), &sub) == 0;
     if (!there || !S_ISDIR(sub.st_mode)) {
-      const std::string why = there ? "is " + file_kind(sub.st_mode) : std::string("cannot create it (") + std::strerror(errno) + ")";
+      const std::string why = there ? "is " + file_kind(sub.st_mode)
+                                    : std::string("cannot create it (") + std::strerror(errno) + ")";
       ::close(lock_fd_);
       lock_fd_ = -1;
       throw InputError(at + ": " + why + ", not a directory of the run's own to write into");
@@ -98,7 +99,8 @@ std::string fresh_run_name(bool quick, const std::string& kind) {
   const std::time_t now = std::time(nullptr);
   char time[16];
   std::strftime(time, sizeof time, "%H%M%S", std::gmtime(&now));
-  return p.date.substr(0, 10) + "-" + p.commit + "-" + time + (kind.empty() ? "" : "-" + kind) + (quick ? "-quick" : "");
+  return p.date.substr(0, 10) + "-" + p.commit + "-" + time + (kind.empty() ? "" : "-" + kind) +
+         (quick ? "-quick" : "");
 }
 
 }  // namespace heightmarch::cli

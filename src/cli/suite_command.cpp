@@ -77,7 +77,8 @@ void add_candidate_options(CLI::App& command, PlanFilters& o) {
   command
       .add_option("--isas", o.isas,
                   "the ISAs to measure, comma-separated (default: every one the CPU runs; the widest is "
-                  "the matrix's): " + joined(isa_name_list()))
+                  "the matrix's): " +
+                      joined(isa_name_list()))
       ->delimiter(',')
       ->check(CLI::IsMember(isa_name_list()));
   command
@@ -100,10 +101,13 @@ GalleryNames gallery_names(const std::vector<Configuration>& plan) {
     if (names.count(label)) continue;
     std::string name;
     for (char ch : label.substr(0, 80))
-      name += std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '_' || ch == '+' || ch == '-' ? ch : '_';
+      name += std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '_' || ch == '+' || ch == '-'
+                  ? ch
+                  : '_';
     if (name.empty() || name[0] == '.' || name[0] == '-') name = "_" + name;
     std::string unique = name;
-    for (std::size_t i = 2; taken.count(unique); ++i) unique = name + "-" + std::to_string(i);  // ends by taken.size() + 2
+    for (std::size_t i = 2; taken.count(unique); ++i)
+      unique = name + "-" + std::to_string(i);  // ends by taken.size() + 2
     taken.insert(unique);
     names[label] = unique;
   }
@@ -112,7 +116,8 @@ GalleryNames gallery_names(const std::vector<Configuration>& plan) {
 
 // gallery/<heightfield>-<technique>[-<layers>]: the stem of a gallery row's images.
 std::string gallery_stem(const Configuration& c, const GalleryNames& names) {
-  const std::string what = c.kind == RunKind::exact ? "exact" : to_string(c.params.technique) + "-" + to_string(c.params.layers);
+  const std::string what =
+      c.kind == RunKind::exact ? "exact" : to_string(c.params.technique) + "-" + to_string(c.params.layers);
   return "gallery/" + names.at(c.heightfield.label()) + "-" + what;
 }
 
@@ -121,7 +126,8 @@ std::string gallery_stem(const Configuration& c, const GalleryNames& names) {
 void write_gallery_images(const std::string& dir, const TracedRow& traced, const GalleryNames& names) {
   const std::string stem = dir + "/" + gallery_stem(traced.row.config, names);
   std::string tmp = stem + ".tmp-XXXXXX";
-  if (!::mkdtemp(tmp.data())) throw std::runtime_error(stem + ": cannot write (" + std::strerror(errno) + ")");
+  if (!::mkdtemp(tmp.data()))
+    throw std::runtime_error(stem + ": cannot write (" + std::strerror(errno) + ")");
   try {
     write_run_outputs(tmp, traced);
     fs::rename(tmp + "/render.png", stem + "-render.png");
@@ -138,9 +144,11 @@ void write_gallery_images(const std::string& dir, const TracedRow& traced, const
 }  // namespace
 
 Command add_suite_command(CLI::App& app) {
-  CLI::App* command = app.add_subcommand("suite", "the main job: the measured plan, gallery, claims and report into results/");
+  CLI::App* command = app.add_subcommand(
+      "suite", "the main job: the measured plan, gallery, claims and report into results/");
   auto o = std::make_shared<SuiteOptions>();
-  add_plan_options(*command, o->plan, "a smoke run of under a minute on 2 cores: two heightfields, small views");
+  add_plan_options(*command, o->plan,
+                   "a smoke run of under a minute on 2 cores: two heightfields, small views");
   add_out_options(*command, o->out, "run directory (default: a fresh results/<date>-<commit>-<time>)");
   command->add_flag("--no-glsl", o->no_glsl, "skip the GLSL rows");
   add_gl_options(*command, o->gl);
@@ -151,7 +159,8 @@ Command add_suite_command(CLI::App& app) {
   command->add_flag(
       "--dry-run", o->dry_run,
       "list the configurations the run would measure (heightfield, kind, technique, layers, backend, "
-      "threads, view, filter (- for the exact reference and the calibration loop), timed or accuracy only, purposes; tab-separated) and "
+      "threads, view, filter (- for the exact reference and the calibration loop), timed or accuracy only, "
+      "purposes; tab-separated) and "
       "measure nothing");
   return [o] {
     PlanSettings settings = plan_settings(o->plan, !o->no_glsl);
@@ -173,8 +182,8 @@ Command add_suite_command(CLI::App& app) {
     Progress progress("suite");
     std::size_t timed = 0;
     for (const Configuration& c : plan) timed += c.timed;
-    progress.stage("measuring " + std::to_string(plan.size()) + " configurations (" + std::to_string(timed) + " timed, " +
-                   std::to_string(settings.repetitions) + " interleaved repetitions each: " +
+    progress.stage("measuring " + std::to_string(plan.size()) + " configurations (" + std::to_string(timed) +
+                   " timed, " + std::to_string(settings.repetitions) + " interleaved repetitions each: " +
                    std::to_string(plan_runs(plan, settings.repetitions)) + " runs) into " + dir.path());
     ClaimsCollector claims;
     const GalleryNames names = gallery_names(plan);
@@ -223,7 +232,8 @@ Command add_suite_command(CLI::App& app) {
       fs::remove("results/latest", ec);
       fs::create_directory_symlink(run_name, "results/latest");
     }
-    std::fprintf(stderr, "suite: done in %.0f s: %s/report.md\n", progress.total_seconds(), dir.path().c_str());
+    std::fprintf(stderr, "suite: done in %.0f s: %s/report.md\n", progress.total_seconds(),
+                 dir.path().c_str());
     return 0;
   };
 }

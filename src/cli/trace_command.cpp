@@ -12,13 +12,15 @@
 namespace heightmarch::cli {
 
 Command add_trace_command(CLI::App& app) {
-  CLI::App* command = app.add_subcommand("trace", "run one technique with the CPU packet kernels and measure it against the exact hits");
+  CLI::App* command = app.add_subcommand(
+      "trace", "run one technique with the CPU packet kernels and measure it against the exact hits");
   auto options = std::make_shared<TraceOptions>();
   auto isa = std::make_shared<std::string>();
   add_trace_options(*command, *options, true);
   command->add_option("--isa", *isa, isa_names() + " or auto (default: auto, or $HEIGHTMARCH_ISA)");
   return [options, isa] {
-    Configuration config = trace_configuration(*options, options->technique == "exact" ? RunKind::exact : RunKind::trace);
+    Configuration config =
+        trace_configuration(*options, options->technique == "exact" ? RunKind::exact : RunKind::trace);
     config.isa = select_isa(*isa);
     std::optional<RunDirectory> dir;  // checked and locked before the run
     if (!options->out.out.empty()) dir.emplace(options->out.out, options->out.existing());

@@ -28,14 +28,16 @@ vfloat<W> exact_margin(const TexelPath<W>& path) {
 
 // The conservative walk of each ray of the packet, queued.
 template <int W, Addressing ADDRESSING>
-void queue_exact_bound(const KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray, WalkQueue& queue, int i) {
+void queue_exact_bound(const KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray, WalkQueue& queue,
+                       int i) {
   const TexelPath<W> path = texel_path(k, ray);
   queue_walk(k, path.x0, path.y0, path.dx, path.dy, exact_margin(path), queue, i);
 }
 
 // The packet's outcome from its conservative walks.
 template <int W, Addressing ADDRESSING>
-HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray, const PyramidWalk<W>& walk) {
+HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket<W>& ray,
+                                const PyramidWalk<W>& walk) {
   using F = vfloat<W>;
   const TexelPath<W> path = texel_path(k, ray);
   const F &dx = path.dx, &dy = path.dy;
@@ -152,8 +154,8 @@ HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket
     ci = clamp_cell(select((ci == xt) & (p.pdx < zero), ci - one, ci), w);
     cj = clamp_cell(select((cj == yt) & (p.pdy < zero), cj - one, cj), h);
     const CellStep step = solve_cell(p, ci, cj, t0, t00, t10, t01, t11, l);
-    const Dm same_cell = (Dv::load(lane_reached + l) != zero) & (ci == Dv::load(lane_cx + l)) &
-                         (cj == Dv::load(lane_cy + l));
+    const Dm same_cell =
+        (Dv::load(lane_reached + l) != zero) & (ci == Dv::load(lane_cx + l)) & (cj == Dv::load(lane_cy + l));
     settle(p, same_cell & step.crosses, t0 + step.s, l);
     // Clear through the cell, and not at depth 1 on leaving it: across the side(s) it leaves by.
     const Dm go_on = same_cell & !(step.crosses | step.hidden) & (step.te < one);

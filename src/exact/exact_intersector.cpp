@@ -3,8 +3,8 @@
 #include <cmath>
 #include <limits>
 
-#include "heightmarch/exact.hpp"
 #include "exact/cell_quadratic.hpp"
+#include "heightmarch/exact.hpp"
 
 namespace heightmarch {
 namespace {
@@ -25,7 +25,8 @@ long long wrap_index(long long i, long long n) {
 
 }  // namespace
 
-ExactIntersector::ExactIntersector(const DepthMap& map, Wrap wrap) : map_(&map), wrap_(wrap), pyramid_(map, wrap) {}
+ExactIntersector::ExactIntersector(const DepthMap& map, Wrap wrap)
+    : map_(&map), wrap_(wrap), pyramid_(map, wrap) {}
 
 double ExactIntersector::texel(long long i, long long j) const {
   const long long w = map_->width, h = map_->height;
@@ -50,8 +51,8 @@ double ExactIntersector::depth_at(double x, double y) const {
 
 // Depth minus surface depth along the path inside cell (ci, cj) is a quadratic in t;
 // finds its first zero crossing into >= 0 within [t0, t1].
-bool ExactIntersector::cell_first_root(long long ci, long long cj, const HeightfieldPath& p,
-                                       double t0, double t1, double& t_hit) const {
+bool ExactIntersector::cell_first_root(long long ci, long long cj, const HeightfieldPath& p, double t0,
+                                       double t1, double& t_hit) const {
   const CellQuadratic<double> q =
       cell_quadratic(texel(ci, cj), texel(ci + 1, cj), texel(ci, cj + 1), texel(ci + 1, cj + 1), double(ci),
                      double(cj), p.x0, p.y0, p.dx, p.dy, p.depth0, p.ddepth, t0);
@@ -177,8 +178,8 @@ PathHit ExactIntersector::intersect(double tx, double ty, double vx, double vy, 
                                     double from) const {
   const double w = map_->width, h = map_->height;
   const double offset_per_depth = scale / vz;  // s / V.z: one division for both axes
-  const HeightfieldPath path{tx * w - 0.5, ty * h - 0.5, -(offset_per_depth * vx) * w,
-                             -(offset_per_depth * vy) * h, 0.0, 1.0, 1.0};
+  const HeightfieldPath path{
+      tx * w - 0.5, ty * h - 0.5, -(offset_per_depth * vx) * w, -(offset_per_depth * vy) * h, 0.0, 1.0, 1.0};
   PathHit hit = first_hit(path, from);
   if (!hit.found) {  // only rounding can get here: D <= 1 guarantees a hit by depth 1
     hit.found = true;
@@ -187,15 +188,19 @@ PathHit ExactIntersector::intersect(double tx, double ty, double vx, double vy, 
   return hit;
 }
 
-bool ExactIntersector::visible(double u, double v, double depth, const float light[3],
-                               double scale) const {
+bool ExactIntersector::visible(double u, double v, double depth, const float light[3], double scale) const {
   // From just above the hit towards the light, until the path reaches the top plane.
   constexpr double kLift = 1e-6;
   const double start = depth - kLift;
   if (start <= 0.0) return true;
   const double w = map_->width, h = map_->height;
-  const HeightfieldPath path{u * w - 0.5, v * h - 0.5, scale * light[0] / light[2] * w,
-                             scale * light[1] / light[2] * h, start, -1.0, start * (1.0 - 1e-9)};
+  const HeightfieldPath path{u * w - 0.5,
+                             v * h - 0.5,
+                             scale * light[0] / light[2] * w,
+                             scale * light[1] / light[2] * h,
+                             start,
+                             -1.0,
+                             start * (1.0 - 1e-9)};
   return !first_hit(path).found;
 }
 

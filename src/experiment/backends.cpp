@@ -55,7 +55,8 @@ class TracerBackend : public Backend {
     if (c.isa == Isa::scalar || c.purposes == kPurposeHeldOut) return;
     const long long i = first_difference(scene.rays, hits, scene.reference(c.kind, params(c), run_));
     if (i >= 0)
-      row.failure = to_string(c.kind) + " output differs from the scalar reference at ray " + std::to_string(i);
+      row.failure =
+          to_string(c.kind) + " output differs from the scalar reference at ray " + std::to_string(i);
   }
 
   bool has_accuracy() const override { return has_accuracy_; }
@@ -101,8 +102,9 @@ void check_finite(const Configuration& c, const RayBatch& rays, const HitBuffers
   }
   if (not_finite)
     throw InputError((c.shader_path().empty() ? "GLSL " + to_string(c.params.technique) : c.shader_path()) +
-                     ": returned a non-finite uv or depth (or a uv beyond 1e6) for " + std::to_string(not_finite) + " of " +
-                     std::to_string(rays.ray_count) + " rays (first: T = " + std::to_string(rays.tx[first]) + "," +
+                     ": returned a non-finite uv or depth (or a uv beyond 1e6) for " +
+                     std::to_string(not_finite) + " of " + std::to_string(rays.ray_count) +
+                     " rays (first: T = " + std::to_string(rays.tx[first]) + "," +
                      std::to_string(rays.ty[first]) + "); an endless loop ends this way in llvmpipe");
 }
 
@@ -124,8 +126,10 @@ class GlslBackend : public Backend {
     runner.draw();
     runner.read(again, known);
     if (const long long i = first_difference(scene.rays, hits, again); i >= 0)
-      throw InputError(c.shader_path() + ": returned different hits on two draws of the same rays (first at ray " +
-                       std::to_string(i) + "): not deterministic, as a non-finite uv or an endless loop cut off by llvmpipe");
+      throw InputError(c.shader_path() +
+                       ": returned different hits on two draws of the same rays (first at ray " +
+                       std::to_string(i) +
+                       "): not deterministic, as a non-finite uv or an endless loop cut off by llvmpipe");
   }
 
   std::function<TraceTime()> timer(const Configuration& c, Scene& scene) override {
@@ -154,7 +158,8 @@ class PortBackend : public Backend {
         row.failure = (c.kind == RunKind::naive     ? std::string("naive port")
                        : c.kind == RunKind::autovec ? c.backend() + " auto-vectorised port"
                                                     : c.backend() + " Highway port") +
-                      " differs from the reference by " + std::to_string(d) + " texel at ray " + std::to_string(i);
+                      " differs from the reference by " + std::to_string(d) + " texel at ray " +
+                      std::to_string(i);
     }
     hits.depth = reference.depth;  // the port returns uv only
   }
@@ -181,9 +186,11 @@ class StructuredBackend : public Backend {
  public:
   void trace(const Configuration& c, Scene& scene, HitBuffers& hits, Measurement& row) override {
     kernel(c, scene).run(scene.rays, hits);
-    const long long i = first_difference(scene.rays, hits, scene.reference(RunKind::trace, c.params, &Tracer::run));
+    const long long i =
+        first_difference(scene.rays, hits, scene.reference(RunKind::trace, c.params, &Tracer::run));
     if (i >= 0)
-      row.failure = "the structured Highway POM differs from the scalar reference at ray " + std::to_string(i);
+      row.failure =
+          "the structured Highway POM differs from the scalar reference at ray " + std::to_string(i);
   }
 
   std::function<TraceTime()> timer(const Configuration& c, Scene& scene) override {
@@ -215,8 +222,9 @@ class ExactBackend : public Backend {
     auto& slot = references_[&c];
     if (!slot) slot = std::make_unique<ExactReference>(scene.map, c.params, c.isa);
     const ExactReference& r = *slot;
-    return wall_timed(
-        [&r, &scene, visibility = visibility_for(c.params.technique)] { r.run(scene.rays, visibility, scene.scratch); });
+    return wall_timed([&r, &scene, visibility = visibility_for(c.params.technique)] {
+      r.run(scene.rays, visibility, scene.scratch);
+    });
   }
 
   void forget() override { references_.clear(); }
@@ -247,14 +255,16 @@ class CalibrationBackend : public Backend {
   static constexpr std::size_t kStepsPerRay = 16, kBlockRays = 4096;
 
   void run(std::size_t rays) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays, kBlockRays), [this](const tbb::blocked_range<std::size_t>& r) {
-      std::uint64_t x = r.begin() | 1;
-      for (std::size_t i = 0; i < r.size() * kStepsPerRay; ++i) {
-        x ^= x >> 29;
-        x *= 0xbf58476d1ce4e5b9ull;
-      }
-      sink_.fetch_xor(x, std::memory_order_relaxed);  // the chain's result is used: never optimised away
-    });
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, rays, kBlockRays),
+        [this](const tbb::blocked_range<std::size_t>& r) {
+          std::uint64_t x = r.begin() | 1;
+          for (std::size_t i = 0; i < r.size() * kStepsPerRay; ++i) {
+            x ^= x >> 29;
+            x *= 0xbf58476d1ce4e5b9ull;
+          }
+          sink_.fetch_xor(x, std::memory_order_relaxed);  // the chain's result is used: never optimised away
+        });
   }
 
   std::atomic<std::uint64_t> sink_{0};
@@ -264,16 +274,24 @@ class CalibrationBackend : public Backend {
 
 std::unique_ptr<Backend> make_backend(RunKind kind) {
   switch (kind) {
-    case RunKind::trace: return std::make_unique<TracerBackend>(&Tracer::run, true);
-    case RunKind::roofline: return std::make_unique<TracerBackend>(&Tracer::run_sampler_roofline, false);
-    case RunKind::ceiling: return std::make_unique<TracerBackend>(&Tracer::run_compute_ceiling, false);
-    case RunKind::glsl: return std::make_unique<GlslBackend>();
+    case RunKind::trace:
+      return std::make_unique<TracerBackend>(&Tracer::run, true);
+    case RunKind::roofline:
+      return std::make_unique<TracerBackend>(&Tracer::run_sampler_roofline, false);
+    case RunKind::ceiling:
+      return std::make_unique<TracerBackend>(&Tracer::run_compute_ceiling, false);
+    case RunKind::glsl:
+      return std::make_unique<GlslBackend>();
     case RunKind::naive:
     case RunKind::autovec:
-    case RunKind::highway: return std::make_unique<PortBackend>();
-    case RunKind::highway_structured: return std::make_unique<StructuredBackend>();
-    case RunKind::exact: return std::make_unique<ExactBackend>();
-    case RunKind::calibration: return std::make_unique<CalibrationBackend>();
+    case RunKind::highway:
+      return std::make_unique<PortBackend>();
+    case RunKind::highway_structured:
+      return std::make_unique<StructuredBackend>();
+    case RunKind::exact:
+      return std::make_unique<ExactBackend>();
+    case RunKind::calibration:
+      return std::make_unique<CalibrationBackend>();
   }
   throw std::logic_error("no backend for run kind " + to_string(kind));
 }

@@ -14,8 +14,12 @@ namespace {
 constexpr double kThinDepth = 1.0 / 8.0;  // thinner than one layer at 8 layers
 constexpr int kMaxThicknessSteps = 4096;
 
-bool is_claims_trace(const Configuration& c) { return (c.purposes & kPurposeClaims) && c.kind == RunKind::trace; }
-bool is_large_map_trace(const Configuration& c) { return (c.purposes & kPurposeLargeMaps) && c.kind == RunKind::trace; }
+bool is_claims_trace(const Configuration& c) {
+  return (c.purposes & kPurposeClaims) && c.kind == RunKind::trace;
+}
+bool is_large_map_trace(const Configuration& c) {
+  return (c.purposes & kPurposeLargeMaps) && c.kind == RunKind::trace;
+}
 
 // |grad D| at (u, v) in depth per texel, by central differences one texel apart: a step between
 // two texels reads as 0.5 per texel, a smooth slope as its slope.
@@ -29,8 +33,8 @@ double depth_gradient(const DepthMap& map, Wrap wrap, float u, float v) {
 // Whether the ray leaves the solid again within kThinDepth of the depth range after its exact hit:
 // it passes through a feature thinner than one layer at 8 layers. Marched in steps of at most half
 // a texel along the ray and 1/512 of the depth range.
-bool hits_thin_feature(const DepthMap& map, const TechniqueParams& p, float tx, float ty, float vx, float vy, float vz,
-                       float hit_depth) {
+bool hits_thin_feature(const DepthMap& map, const TechniqueParams& p, float tx, float ty, float vx, float vy,
+                       float vz, float hit_depth) {
   const double du = p.scale * vx / vz, dv = p.scale * vy / vz;  // uv per unit depth
   const double texels_per_depth = std::hypot(du * map.width, dv * map.height);
   const double step = std::min(1.0 / 512.0, texels_per_depth > 0 ? 0.5 / texels_per_depth : 1.0);
@@ -56,7 +60,8 @@ void ClaimsCollector::observe(const TracedRow& traced) {
   // The features of a scene (one heightfield, view, scale and wrap) are the same for all of its
   // rows, which the plan measures one after another: computed once per scene.
   const bool same_scene = features_.heightfield == c.heightfield && features_.view == c.view &&
-                          features_.scale == c.params.scale && features_.wrap == c.params.wrap && features_.sharp.size() == n;
+                          features_.scale == c.params.scale && features_.wrap == c.params.wrap &&
+                          features_.sharp.size() == n;
   if (!same_scene) {
     features_ = SceneFeatures{c.heightfield, c.view, c.params.scale, c.params.wrap, {}, {}, {}, false};
     std::vector<double> gradient(n, 0.0);
@@ -65,12 +70,13 @@ void ClaimsCollector::observe(const TracedRow& traced) {
     for (std::size_t i = 0; i < n; ++i) {
       if (rays.is_padding(i)) continue;
       gradient[i] = depth_gradient(map, c.params.wrap, exact.u[i], exact.v[i]);
-      features_.thin[i] = hits_thin_feature(map, c.params, rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i],
-                                            exact.depth[i]);
+      features_.thin[i] = hits_thin_feature(map, c.params, rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i],
+                                            rays.vz[i], exact.depth[i]);
       order.push_back(i);
     }
     // By rank (ties by ray order, so the split is deterministic): top decile sharp, bottom half smooth.
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return gradient[a] < gradient[b]; });
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return gradient[a] < gradient[b]; });
     features_.sharp.assign(n, 0);
     features_.smooth.assign(n, 0);
     const std::size_t half = order.size() / 2, decile = order.size() - order.size() / 10;
@@ -88,17 +94,20 @@ void ClaimsCollector::observe(const TracedRow& traced) {
     double error = 0;
     void add(double e, bool b) { ++rays, error += e, beyond += b; }
     double error_mean() const { return rays ? error / double(rays) : 0.0; }
-    double beyond_share() const { return rays >= std::size_t(kMinFeatureRays) ? double(beyond) / double(rays) : -1.0; }
+    double beyond_share() const {
+      return rays >= std::size_t(kMinFeatureRays) ? double(beyond) / double(rays) : -1.0;
+    }
   } all, sharp, smooth, thin;
   double offset = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (rays.is_padding(i) || hits.discarded[i]) continue;
-    offset += std::hypot((double(rays.tx[i]) - exact.u[i]) * map.width, (double(rays.ty[i]) - exact.v[i]) * map.height);
+    offset += std::hypot((double(rays.tx[i]) - exact.u[i]) * map.width,
+                         (double(rays.ty[i]) - exact.v[i]) * map.height);
     const double e = traced.uv_error[i];
     bool beyond = false;
     if (layered)
-      beyond = beyond_one_layer_step(
-          e, layer_step_texels(layers, c.params.scale, rays.vx[i], rays.vy[i], rays.vz[i], map.width, map.height));
+      beyond = beyond_one_layer_step(e, layer_step_texels(layers, c.params.scale, rays.vx[i], rays.vy[i],
+                                                          rays.vz[i], map.width, map.height));
     all.add(e, beyond);
     if (features_.sharp[i]) sharp.add(e, beyond);
     if (features_.smooth[i]) smooth.add(e, beyond);
@@ -124,7 +133,8 @@ ClaimsData ClaimsCollector::data(const std::vector<Measurement>& rows) const {
     ClaimFigure f;
     f.heightfield = c.heightfield.label();
     f.row = {c.params.technique, c.params.layers, ClaimView::default_view, 0.0};
-    if (c.view.kind == ViewSpec::Kind::sweep) f.row = {c.params.technique, c.params.layers, ClaimView::sweep, c.view.theta_degrees};
+    if (c.view.kind == ViewSpec::Kind::sweep)
+      f.row = {c.params.technique, c.params.layers, ClaimView::sweep, c.view.theta_degrees};
     f.uv_error_mean = m.errors->mean;
     f.uv_error_p95 = m.errors->p95;
     f.uv_error_p99 = m.errors->p99;

@@ -18,9 +18,9 @@ const RunKindInfo& info(RunKind kind) {
 std::string to_string(RunKind kind) { return std::string(info(kind).name); }
 
 std::string purpose_name(unsigned bit) {
-  static const char* const names[kPurposeCount] = {"matrix", "isa",     "glsl",   "roofline", "naive",
-                                                   "sweep",  "gallery", "claims", "command", "large-maps",
-                                                   "exact",  "held-out", "calibration", "filters"};
+  static const char* const names[kPurposeCount] = {
+      "matrix", "isa",     "glsl",       "roofline", "naive",    "sweep",       "gallery",
+      "claims", "command", "large-maps", "exact",    "held-out", "calibration", "filters"};
   for (unsigned i = 0; i < kPurposeCount; ++i)
     if (bit == (1u << i)) return names[i];
   return "?";
@@ -44,7 +44,8 @@ bool Configuration::same_measurement(const Configuration& o) const {
   const TechniqueParams &a = params, &b = o.params;
   const bool same_params = (!has_technique() || a.technique == b.technique) && a.layers == b.layers &&
                            a.refine_steps() == b.refine_steps() && a.scale == b.scale && a.wrap == b.wrap &&
-                           (!takes_filter(kind) || a.filter == b.filter) && a.discard == b.discard && std::memcmp(a.light, b.light, sizeof a.light) == 0;
+                           (!takes_filter(kind) || a.filter == b.filter) && a.discard == b.discard &&
+                           std::memcmp(a.light, b.light, sizeof a.light) == 0;
   const bool same_isa = !on_isa() || isa == o.isa;
   const bool same_gl = kind != RunKind::glsl || gl == o.gl;
   return kind == o.kind && heightfield == o.heightfield && view == o.view && same_params && same_isa &&
@@ -57,9 +58,10 @@ std::string plan_line(const Configuration& c) {
     if (c.purposes & (1u << i)) purposes += (purposes.empty() ? "" : ",") + purpose_name(1u << i);
   const std::string layers = c.has_layers() ? to_string(c.params.layers) : "";
   // a line for a terminal: names from the user's files (map, shader, rays) through printable()
-  return printable(c.heightfield.label()) + "\t" + to_string(c.kind) + "\t" + printable(c.label()) + "\t" + layers + "\t" +
-         c.backend() + "\t" + std::to_string(c.threads) + "\t" + printable(describe(c.view)) + "\t" +
-         (c.has_filter() ? to_string(c.params.filter) : "-") + "\t" + (c.timed ? "timed" : "accuracy") + "\t" + purposes;
+  return printable(c.heightfield.label()) + "\t" + to_string(c.kind) + "\t" + printable(c.label()) + "\t" +
+         layers + "\t" + c.backend() + "\t" + std::to_string(c.threads) + "\t" + printable(describe(c.view)) +
+         "\t" + (c.has_filter() ? to_string(c.params.filter) : "-") + "\t" +
+         (c.timed ? "timed" : "accuracy") + "\t" + purposes;
 }
 
 void add_to_plan(std::vector<Configuration>& plan, const Configuration& config) {
@@ -90,7 +92,8 @@ std::string benchmark_name(const Configuration& c, int map_width, int map_height
   name += "/view:" + benchmark_view(c.view) + "/depth_map:" + std::to_string(map_width) + "x" +
           std::to_string(map_height);
   // Bilinear by no segment, as names have always read.
-  if (takes_filter(c.kind) && c.params.filter != Filter::bilinear) name += "/filter:" + to_string(c.params.filter);
+  if (takes_filter(c.kind) && c.params.filter != Filter::bilinear)
+    name += "/filter:" + to_string(c.params.filter);
   return name;
 }
 
@@ -101,7 +104,8 @@ std::string benchmark_view(const ViewSpec& view) {
     return std::to_string(view.width) + "x" + std::to_string(view.height);
   // Others as described, in one field: "around:1024x1024", "tutorial:16:566x425".
   std::string segment;
-  for (char ch : describe(view)) segment += ch == ' ' ? std::string(":") : ch == '/' ? std::string("%2F") : std::string(1, ch);
+  for (char ch : describe(view))
+    segment += ch == ' ' ? std::string(":") : ch == '/' ? std::string("%2F") : std::string(1, ch);
   return segment;
 }
 

@@ -23,17 +23,19 @@ namespace heightmarch {
 // - traces a technique: the configuration's technique is part of it (its name, its parameters);
 // - runs at an ISA: code compiled for the configuration's ISA runs;
 // - backend label: what results call the backend, "" for the ISA's name.
-#define HEIGHTMARCH_RUN_KINDS(X)                                                                  \
-  X(trace, "trace", "BM_Trace", true, true, "", "")          /* a technique's packet kernel */   \
-  X(glsl, "glsl", "BM_GLSL", true, false, "glsl", "glsl")    /* the same as GLSL (a GL path) */   \
-  X(roofline, "roofline", "BM_SamplerRoofline", false, true, "", "") /* the sampler alone */     \
-  X(ceiling, "ceiling", "BM_ComputeCeiling", false, true, "", "") /* POM on register taps */     \
-  X(naive, "naive", "BM_NaivePort", true, false, "naive", "scalar-naive") /* the tutorial's POM in C++ */ \
-  X(autovec, "autovec", "BM_AutoVecPort", true, true, "", "") /* that port vectorised by the compiler */ \
-  X(highway, "highway", "BM_HighwayPort", true, true, "", "") /* that port written with Google Highway */ \
-  X(highway_structured, "highway-structured", "BM_HighwayStructured", true, true, "", "") /* POM's kernel on Highway's ops */ \
-  X(exact, "exact", "BM_Exact", false, true, "exact", "exact") /* the exact reference */      \
-  X(calibration, "calibration", "BM_Calibration", false, false, "calibration", "calibration") /* a fixed loop */
+#define HEIGHTMARCH_RUN_KINDS(X)                                                                             \
+  X(trace, "trace", "BM_Trace", true, true, "", "")                       /* a technique's packet kernel */  \
+  X(glsl, "glsl", "BM_GLSL", true, false, "glsl", "glsl")                 /* the same as GLSL (a GL path) */ \
+  X(roofline, "roofline", "BM_SamplerRoofline", false, true, "", "")      /* the sampler alone */            \
+  X(ceiling, "ceiling", "BM_ComputeCeiling", false, true, "", "")         /* POM on register taps */         \
+  X(naive, "naive", "BM_NaivePort", true, false, "naive", "scalar-naive") /* the tutorial's POM in C++ */    \
+  X(autovec, "autovec", "BM_AutoVecPort", true, true, "", "") /* that port vectorised by the compiler */     \
+  X(highway, "highway", "BM_HighwayPort", true, true, "", "") /* that port written with Google Highway */    \
+  X(highway_structured, "highway-structured", "BM_HighwayStructured", true, true, "",                        \
+    "")                                                        /* POM's kernel on Highway's ops */           \
+  X(exact, "exact", "BM_Exact", false, true, "exact", "exact") /* the exact reference */                     \
+  X(calibration, "calibration", "BM_Calibration", false, false, "calibration",                               \
+    "calibration") /* a fixed loop */
 
 #define HEIGHTMARCH_RUN_KIND_ENUM(id, ...) id,
 enum class RunKind { HEIGHTMARCH_RUN_KINDS(HEIGHTMARCH_RUN_KIND_ENUM) };
@@ -57,25 +59,26 @@ std::string to_string(RunKind kind);
 // code as written (level 0), and the exact reference intersects the level-0 surface whatever the
 // filter.
 constexpr bool takes_filter(RunKind kind) {
-  return kind == RunKind::trace || kind == RunKind::glsl || kind == RunKind::roofline || kind == RunKind::ceiling;
+  return kind == RunKind::trace || kind == RunKind::glsl || kind == RunKind::roofline ||
+         kind == RunKind::ceiling;
 }
 
 // Which consumers of a run asked for a configuration; one configuration serves all of them.
 enum Purpose : unsigned {
-  kPurposeMatrix = 1u << 0,    // technique x layers per heightfield
-  kPurposeIsa = 1u << 1,       // the searches at 32 layers at every ISA and thread count
-  kPurposeGlsl = 1u << 2,      // the same techniques as GLSL
-  kPurposeRoofline = 1u << 3,  // the sampler alone
-  kPurposeNaive = 1u << 4,     // the naive port of the tutorial's shader
-  kPurposeSweep = 1u << 5,     // error against view angle
-  kPurposeGallery = 1u << 6,   // renders and error maps
-  kPurposeClaims = 1u << 7,    // the tutorials' claims
-  kPurposeCommand = 1u << 8,   // asked for on the command line (trace, glsl)
-  kPurposeLargeMaps = 1u << 9, // the papers' claim on large depth maps (P2)
-  kPurposeExact = 1u << 10,    // the exact reference's own speed
-  kPurposeHeldOut = 1u << 11,  // a candidate's accuracy on the held-out view set (recommendation.hpp)
+  kPurposeMatrix = 1u << 0,        // technique x layers per heightfield
+  kPurposeIsa = 1u << 1,           // the searches at 32 layers at every ISA and thread count
+  kPurposeGlsl = 1u << 2,          // the same techniques as GLSL
+  kPurposeRoofline = 1u << 3,      // the sampler alone
+  kPurposeNaive = 1u << 4,         // the naive port of the tutorial's shader
+  kPurposeSweep = 1u << 5,         // error against view angle
+  kPurposeGallery = 1u << 6,       // renders and error maps
+  kPurposeClaims = 1u << 7,        // the tutorials' claims
+  kPurposeCommand = 1u << 8,       // asked for on the command line (trace, glsl)
+  kPurposeLargeMaps = 1u << 9,     // the papers' claim on large depth maps (P2)
+  kPurposeExact = 1u << 10,        // the exact reference's own speed
+  kPurposeHeldOut = 1u << 11,      // a candidate's accuracy on the held-out view set (recommendation.hpp)
   kPurposeCalibration = 1u << 12,  // the machine's own speed: the control of scripts/compare
-  kPurposeFilters = 1u << 13,  // the matrix's accuracy under the other filters asked for
+  kPurposeFilters = 1u << 13,      // the matrix's accuracy under the other filters asked for
 };
 inline constexpr unsigned kPurposeCount = 14;
 inline constexpr unsigned kAllPurposes = (1u << kPurposeCount) - 1;
@@ -95,13 +98,14 @@ struct Configuration {
   RunKind kind = RunKind::trace;
   HeightfieldSource heightfield;
   ViewSpec view;
-  TechniqueParams params;    // the technique is ignored by roofline, ceiling, exact and brought-in shader runs, the
-                             // filter by the kinds that do not take one (takes_filter)
-  Isa isa = Isa::scalar;     // trace, roofline, ceiling, autovec and highway runs; exact runs: the ISA of its float pass
-  int threads = 1;           // worker threads (never 0: resolved by the plan)
+  TechniqueParams params;  // the technique is ignored by roofline, ceiling, exact and brought-in shader runs,
+                           // the filter by the kinds that do not take one (takes_filter)
+  Isa isa = Isa::scalar;  // trace, roofline, ceiling, autovec and highway runs; exact runs: the ISA of its
+                          // float pass
+  int threads = 1;        // worker threads (never 0: resolved by the plan)
   std::optional<BroughtInShader> shader;  // glsl runs: a brought-in shader instead of the technique
-  GlTarget gl;               // glsl runs: the GL path and device (no path: the worker's default)
-  bool timed = true;         // false: accuracy only (sweeps, gallery)
+  GlTarget gl;                            // glsl runs: the GL path and device (no path: the worker's default)
+  bool timed = true;                      // false: accuracy only (sweeps, gallery)
   unsigned purposes = 0;
 
   // "avx512", "glsl", "naive", "exact"

@@ -48,12 +48,14 @@ void assess_load(MachineLoad& load, double other_ticks, double timed_seconds) {
   load.other_cpu_share = timed_seconds > 0 ? other_ticks / ticks_per_second / (timed_seconds * cores) : 0.0;
   char buf[160];
   if (load.other_cpu_share > 0.10) {
-    std::snprintf(buf, sizeof buf, "other processes used %.0f%% of the machine's CPU time while CPU work was timed",
+    std::snprintf(buf, sizeof buf,
+                  "other processes used %.0f%% of the machine's CPU time while CPU work was timed",
                   100 * load.other_cpu_share);
     load.busy_reasons.push_back(buf);
   }
   if (load.before[0] > 0.5 * cores) {
-    std::snprintf(buf, sizeof buf, "the 1-minute load average was %.2f on %g cores before the run", load.before[0], cores);
+    std::snprintf(buf, sizeof buf, "the 1-minute load average was %.2f on %g cores before the run",
+                  load.before[0], cores);
     load.busy_reasons.push_back(buf);
   }
   load.busy = !load.busy_reasons.empty();

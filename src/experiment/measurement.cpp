@@ -1,7 +1,7 @@
 // The statistics of a row's repetitions: rates per repetition and their median and spread.
-#include <algorithm>
-
 #include "experiment/measurement.hpp"
+
+#include <algorithm>
 
 namespace heightmarch {
 

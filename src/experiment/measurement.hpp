@@ -15,11 +15,11 @@ namespace heightmarch {
 
 struct Measurement {
   Configuration config;
-  int id = 0;                  // position in the plan
+  int id = 0;  // position in the plan
   int depth_map_width = 0, depth_map_height = 0;
-  std::size_t rays = 0;        // real rays (padding excluded)
-  std::uint64_t samples = 0;   // height samples of one trace (deterministic)
-  bool samples_known = true;   // false for a brought-in shader
+  std::size_t rays = 0;       // real rays (padding excluded)
+  std::uint64_t samples = 0;  // height samples of one trace (deterministic)
+  bool samples_known = true;  // false for a brought-in shader
   double simd_utilization = 1.0;
   // Seconds the precomputed textures of the row's technique (its registry row's needs: the cone
   // map, the min-depth pyramid) took to build, once per depth map and wrap: apart from the
@@ -32,8 +32,8 @@ struct Measurement {
   // GlDrawTime::seconds() picks, the wall time on a software renderer, the timer query on a GPU.
   std::optional<GlRenderer> gl;
   std::vector<double> gl_wall_seconds, gl_timer_seconds;  // timer: empty where the driver answered none
-  std::string render_image, error_image, cost_image;  // gallery rows: paths relative to the run directory
-  std::string failure;         // non-empty: not measured (e.g. differs from the scalar reference)
+  std::string render_image, error_image, cost_image;      // gallery rows: paths relative to the run directory
+  std::string failure;  // non-empty: not measured (e.g. differs from the scalar reference)
 
   // Per repetition, and their median, min and max.
   std::vector<double> rays_per_second() const;

@@ -1,10 +1,11 @@
 // MeasurementSession: one configuration's accuracy (through its run kind's backend, against the
 // exact reference) and its timer. The one place that joins tracing, the exact reference and the
 // error measures.
+#include "experiment/measurement_session.hpp"
+
 #include <array>
 
 #include "experiment/backends.hpp"
-#include "experiment/measurement_session.hpp"
 #include "experiment/scene.hpp"
 #include "heightmarch/metrics.hpp"
 #include "heightmarch/precomputed.hpp"
@@ -55,8 +56,9 @@ Measurement MeasurementSession::measure(const Configuration& c, int id,
   row.samples = total_samples(scene.rays, hits);
   if (!row.failure.empty() || !backend.has_accuracy()) return row;
   std::vector<float> uv_error;
-  ErrorSummary errors = summarize_errors(scene.rays, hits, exact, scene.map.width, scene.map.height,
-                                         c.has_technique() ? info(c.params.technique).writes : Writes::hit, &uv_error);
+  ErrorSummary errors =
+      summarize_errors(scene.rays, hits, exact, scene.map.width, scene.map.height,
+                       c.has_technique() ? info(c.params.technique).writes : Writes::hit, &uv_error);
   if (c.has_technique() && info(c.params.technique).layered)
     errors.within_one_layer_step =
         share_within_one_layer_step(scene.rays, hits, uv_error, c.params, scene.map.width, scene.map.height);

@@ -1,11 +1,12 @@
 // The scheduler of the measurement pass: each scene's configurations once for their accuracy,
 // then every timed one in interleaved rounds, with progress and the machine's load.
+#include "experiment/plan_runner.hpp"
+
 #include <algorithm>
 #include <chrono>
 
 #include "experiment/machine_load.hpp"
 #include "experiment/measurement_session.hpp"
-#include "experiment/plan_runner.hpp"
 #include "heightmarch/error.hpp"
 #include "heightmarch/tracer.hpp"
 
@@ -16,8 +17,12 @@ using Clock = std::chrono::steady_clock;
 
 class PlanRunner {
  public:
-  PlanRunner(const std::vector<Configuration>& plan, const MeasureOptions& options, MeasurementSession& session)
-      : plan_(plan), options_(options), session_(session), total_steps_(plan_runs(plan, options.repetitions)) {}
+  PlanRunner(const std::vector<Configuration>& plan, const MeasureOptions& options,
+             MeasurementSession& session)
+      : plan_(plan),
+        options_(options),
+        session_(session),
+        total_steps_(plan_runs(plan, options.repetitions)) {}
 
   MeasuredPlan run() {
     MeasuredPlan result;
@@ -31,8 +36,10 @@ class PlanRunner {
       auto it = std::find_if(scenes.begin(), scenes.end(), [&](const std::vector<std::size_t>& s) {
         return plan_[s.front()].heightfield == plan_[i].heightfield && plan_[s.front()].view == plan_[i].view;
       });
-      if (it == scenes.end()) scenes.push_back({i});
-      else it->push_back(i);
+      if (it == scenes.end())
+        scenes.push_back({i});
+      else
+        it->push_back(i);
     }
     for (const auto& members : scenes) run_scene(members, result.rows);
     read_load_average(result.load.after);

@@ -13,8 +13,8 @@
 namespace heightmarch {
 
 struct MeasureOptions {
-  int repetitions = 5;              // timed rounds (at least one)
-  double min_seconds = 0.04;        // per repetition: traces repeat until this much time passed
+  int repetitions = 5;        // timed rounds (at least one)
+  double min_seconds = 0.04;  // per repetition: traces repeat until this much time passed
   std::function<void(const TracedRow&)> on_traced;  // after a row's accuracy is measured
   // Progress: what runs, how many of the plan_runs() runs are done.
   std::function<void(const std::string& what, std::size_t done, std::size_t total)> progress;

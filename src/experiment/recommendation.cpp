@@ -47,7 +47,8 @@ std::string describe(const RecommendationTarget& t) {
 std::string RecommendationBackend::backend() const { return kind == RunKind::glsl ? "glsl" : to_string(isa); }
 
 std::string RecommendationBackend::name() const {
-  return (gl.empty() ? backend() : gl) + ", " + std::to_string(threads) + (threads == 1 ? " thread" : " threads");
+  return (gl.empty() ? backend() : gl) + ", " + std::to_string(threads) +
+         (threads == 1 ? " thread" : " threads");
 }
 
 Accuracy accuracy_of(const ErrorSummary& e) {
@@ -79,7 +80,8 @@ std::vector<Candidate> candidates(const std::vector<Measurement>& rows) {
     k.heightfield = c.heightfield.label();
     k.depth_map_width = m.depth_map_width;
     k.depth_map_height = m.depth_map_height;
-    k.backend = {c.kind, c.kind == RunKind::trace ? c.isa : Isa::scalar, c.threads, m.gl ? m.gl->label() : ""};
+    k.backend = {c.kind, c.kind == RunKind::trace ? c.isa : Isa::scalar, c.threads,
+                 m.gl ? m.gl->label() : ""};
     k.grid = c.purposes & (kPurposeMatrix | kPurposeClaims);
     k.technique = c.params.technique;
     k.layers = c.params.layers;
@@ -88,7 +90,8 @@ std::vector<Candidate> candidates(const std::vector<Measurement>& rows) {
     Configuration twin = c;
     twin.view = held_out_view(c.view);
     for (const Measurement& h : rows)
-      if ((h.config.purposes & kPurposeHeldOut) && h.config.same_measurement(twin) && h.errors && h.failure.empty()) {
+      if ((h.config.purposes & kPurposeHeldOut) && h.config.same_measurement(twin) && h.errors &&
+          h.failure.empty()) {
         k.held_out = accuracy_of(*h.errors);
         k.held_out_id = h.id;
       }
@@ -121,7 +124,8 @@ std::pair<double, std::string> shortfall(const Candidate& c, const Recommendatio
   for (const Accuracy* a : {&c.selection, c.held_out ? &*c.held_out : nullptr}) {
     if (!a) continue;
     worst = std::max(worst, {over(a->error(t.percentile), t.uv_error_texels), to_string(t.percentile)});
-    worst = std::max(worst, {over(a->wrong_surface_rate, t.wrong_surface_rate), std::string("wrong surface")});
+    worst =
+        std::max(worst, {over(a->wrong_surface_rate, t.wrong_surface_rate), std::string("wrong surface")});
   }
   return worst;
 }
@@ -282,7 +286,8 @@ void write_interval(JsonWriter& json, const std::string& key, const Interval& i)
 
 // A row's figures on one view set: the target's percentile and the wrong-surface rate, each with
 // its 95% interval.
-void write_accuracy(JsonWriter& json, const std::string& key, const Accuracy& a, const RecommendationTarget& t) {
+void write_accuracy(JsonWriter& json, const std::string& key, const Accuracy& a,
+                    const RecommendationTarget& t) {
   json.begin_object(key).value(measure_name(t.percentile), a.error(t.percentile));
   write_interval(json, measure_name(t.percentile) + "_ci", a.error_ci(t.percentile));
   json.value("wrong_surface_rate", a.wrong_surface_rate);
@@ -331,7 +336,9 @@ void write_answer(JsonWriter& json, const std::string& key, const Answer& a,
                   const RecommendationTarget& target) {
   json.begin_object(key);
   a.heightfield.empty() ? json.null("heightfield") : json.value("heightfield", a.heightfield);
-  json.value("settings", a.settings).value("meeting", a.meeting).value("held_out_checked", a.held_out_checked);
+  json.value("settings", a.settings)
+      .value("meeting", a.meeting)
+      .value("held_out_checked", a.held_out_checked);
   a.choice ? write_pick(json, "choice", *a.choice, target) : (void)json.null("choice");
   a.runner_up ? write_pick(json, "runner_up", *a.runner_up, target) : (void)json.null("runner_up");
   if (a.runner_up_ratio) {
@@ -345,7 +352,9 @@ void write_answer(JsonWriter& json, const std::string& key, const Answer& a,
   for (const Pick& p : a.failed_held_out) write_pick(json, "", p, target);
   json.end_array();
   if (a.near_miss) {
-    json.begin_object("near_miss").value("margin", a.near_miss->margin).value("measure", a.near_miss->measure);
+    json.begin_object("near_miss")
+        .value("margin", a.near_miss->margin)
+        .value("measure", a.near_miss->measure);
     write_pick(json, "setting", a.near_miss->pick, target);
     json.end_object();
   } else {
@@ -368,17 +377,20 @@ std::string figures_text(const Pick& p, const RecommendationTarget& t, bool held
   }
   const Interval e = worst_error->error_ci(t.percentile), w = worst_wrong->wrong_surface_ci;
   return to_string(t.percentile) +
-         string_format(" %.3g (%.3g-%.3g) texel, wrong surface %.3g%% (%.3g-%.3g%%)", worst_error->error(t.percentile),
-                       e.low, e.high, 100 * worst_wrong->wrong_surface_rate, 100 * w.low, 100 * w.high);
+         string_format(" %.3g (%.3g-%.3g) texel, wrong surface %.3g%% (%.3g-%.3g%%)",
+                       worst_error->error(t.percentile), e.low, e.high, 100 * worst_wrong->wrong_surface_rate,
+                       100 * w.low, 100 * w.high);
 }
 
 // "cone 32: 12.5 (11.7-13) ns/ray; held-out p99 0.43 (0.41-0.45) texel, wrong surface 0.38%
 // (0.33-0.42%); window p99 ...; preprocessing 0.5 s (0.139 ms a frame over 3600 frames)"
 std::string pick_line(const Pick& p, const RecommendationTarget& t) {
   const Spread time = p.time();
-  std::string line = p.label() + ": " +
-                     string_format("%.3g (%.3g-%.3g) ns/ray", time.median * 1e9, time.min * 1e9, time.max * 1e9);
-  const bool held_out = std::all_of(p.rows.begin(), p.rows.end(), [](const Candidate& r) { return r.held_out; });
+  std::string line =
+      p.label() + ": " +
+      string_format("%.3g (%.3g-%.3g) ns/ray", time.median * 1e9, time.min * 1e9, time.max * 1e9);
+  const bool held_out =
+      std::all_of(p.rows.begin(), p.rows.end(), [](const Candidate& r) { return r.held_out; });
   if (held_out) line += "; held-out " + figures_text(p, t, true);
   line += "; " + std::string(held_out ? "window " : "") + figures_text(p, t, false) +
           (p.rows.size() > 1 ? " (worst heightfield)" : "");
@@ -408,14 +420,16 @@ std::string answer_line(const Answer& a, const RecommendationTarget& t) {
     line += pick_line(*a.choice, t);
     if (a.runner_up && a.runner_up_ratio) {
       const TimeRatio& r = *a.runner_up_ratio;
-      line += "; next fastest " + a.runner_up->label() +
-              string_format(": %.2fx the time (per round %.2f-%.2f)", r.ratio, r.per_round.min, r.per_round.max) +
-              (r.distinguishable() ? "" : ", not distinguishable");
+      line +=
+          "; next fastest " + a.runner_up->label() +
+          string_format(": %.2fx the time (per round %.2f-%.2f)", r.ratio, r.per_round.min, r.per_round.max) +
+          (r.distinguishable() ? "" : ", not distinguishable");
     }
   }
   if (a.near_miss && (!a.closest || a.near_miss->pick.label() != a.closest->label()))
     line += "; near miss " + a.near_miss->pick.label() +
-            string_format(": %.2fx faster, %s %.0f%% over its bound", a.choice ? a.choice->time().median / a.near_miss->pick.time().median : 1.0,
+            string_format(": %.2fx faster, %s %.0f%% over its bound",
+                          a.choice ? a.choice->time().median / a.near_miss->pick.time().median : 1.0,
                           a.near_miss->measure.c_str(), 100 * (a.near_miss->margin - 1));
   if (!a.held_out_checked) line += " (not checked on held-out views)";
   return line;
@@ -467,8 +481,8 @@ std::string recommendation_markdown(const Recommendation& r) {
 }
 
 std::string recommendation_text(const Recommendation& r) {
-  std::string text =
-      "Recommendation at " + describe(r.target) + ", " + to_string(r.filter) + " filtering, fastest by time per ray:\n";
+  std::string text = "Recommendation at " + describe(r.target) + ", " + to_string(r.filter) +
+                     " filtering, fastest by time per ray:\n";
   for (const BackendRecommendation& b : r.backends) {
     text +=
         "  " + b.backend.name() + ", every heightfield: " + answer_line(b.all_heightfields, r.target) + "\n";

@@ -41,7 +41,8 @@ struct RecommendationBackend {
   // for a run from before rows recorded it.
   std::string gl;
   std::string backend() const;  // "avx512", "glsl": as rows name it
-  std::string name() const;     // "avx512, 2 threads", "glsl (llvmpipe, LLVM 15.0.6, 256 bits; OSMesa), 2 threads"
+  std::string name()
+      const;  // "avx512, 2 threads", "glsl (llvmpipe, LLVM 15.0.6, 256 bits; OSMesa), 2 threads"
   friend bool operator==(const RecommendationBackend&, const RecommendationBackend&) = default;
 };
 
@@ -70,7 +71,7 @@ struct Candidate {
   Technique technique = Technique::pom;
   LayerSpec layers;
   Filter filter = Filter::bilinear;  // the run's: one filter per recommendation
-  Accuracy selection;               // on the window, where the choice is made
+  Accuracy selection;                // on the window, where the choice is made
   std::optional<Accuracy> held_out;  // on the held-out set, where it is checked
   int held_out_id = -1;
   double samples_per_ray = 0;
@@ -117,14 +118,14 @@ inline constexpr double kNearMissShare = 0.2;
 // setting meets the target where its figures on the window do and, where its held-out twins were
 // measured, theirs do too.
 struct Answer {
-  std::string heightfield;                // empty: one setting for every heightfield
-  int settings = 0, meeting = 0;          // configurations measured on it (on all), and meeting the target
-  bool held_out_checked = false;          // every setting's rows had their held-out twins
-  std::optional<Pick> choice, runner_up;  // the fastest meeting the target, and the next
+  std::string heightfield;                   // empty: one setting for every heightfield
+  int settings = 0, meeting = 0;             // configurations measured on it (on all), and meeting the target
+  bool held_out_checked = false;             // every setting's rows had their held-out twins
+  std::optional<Pick> choice, runner_up;     // the fastest meeting the target, and the next
   std::optional<TimeRatio> runner_up_ratio;  // the runner-up's time over the choice's
-  std::vector<Pick> failed_held_out;      // faster than the choice, met the target on the window only
-  std::optional<NearMiss> near_miss;      // the fastest that misses by less than kNearMissShare, if faster
-  std::optional<Pick> closest;            // none meets: the one nearest to meeting it
+  std::vector<Pick> failed_held_out;         // faster than the choice, met the target on the window only
+  std::optional<NearMiss> near_miss;         // the fastest that misses by less than kNearMissShare, if faster
+  std::optional<Pick> closest;               // none meets: the one nearest to meeting it
 };
 
 struct BackendRecommendation {

@@ -100,7 +100,8 @@ void write_row(JsonWriter& json, const Measurement& m) {
       .value("width", m.depth_map_width)
       .value("height", m.depth_map_height);
   if (c.heightfield.builtin.empty())  // how the file was read (its wrap is the row's)
-    json.value("convention", to_string(c.heightfield.reading.convention)).value("channel", c.heightfield.reading.channel);
+    json.value("convention", to_string(c.heightfield.reading.convention))
+        .value("channel", c.heightfield.reading.channel);
   else
     json.null("convention").null("channel");
   json.end_object();
@@ -147,12 +148,10 @@ void write_row(JsonWriter& json, const Measurement& m) {
   else
     json.null("near_angle").null("far_angle");
   json.value("description", describe(view)).end_object();
-  json.value("scale", double(c.params.scale))
-      .value("wrap", to_string(c.params.wrap));
+  json.value("scale", double(c.params.scale)).value("wrap", to_string(c.params.wrap));
   // The ports read level 0 (bilinear); the exact reference is every filter's.
   c.has_filter() ? json.value("filter", to_string(c.params.filter)) : json.null("filter");
-  json.value("discard", c.params.discard)
-      .value("rays", m.rays);
+  json.value("discard", c.params.discard).value("rays", m.rays);
   if (m.samples_known)
     json.value("samples", (long long)m.samples)
         .value("samples_known", true)
@@ -161,7 +160,8 @@ void write_row(JsonWriter& json, const Measurement& m) {
     json.null("samples").value("samples_known", false).null("samples_per_ray");
   c.kind == RunKind::trace ? json.value("simd_utilization", m.simd_utilization)
                            : json.null("simd_utilization");
-  m.precompute_seconds ? json.value("precompute_seconds", *m.precompute_seconds) : json.null("precompute_seconds");
+  m.precompute_seconds ? json.value("precompute_seconds", *m.precompute_seconds)
+                       : json.null("precompute_seconds");
   write_errors(json, m.errors, is_view_set(c.view));
   if (m.seconds.empty()) {
     json.null("speed");
@@ -292,10 +292,12 @@ std::string summary_text(const Measurement& m) {
   }
   const std::string simd = c.kind == RunKind::trace
                                ? ", SIMD use " + std::to_string(int(100.0 * m.simd_utilization + 0.5)) + "%"
-                           : c.kind == RunKind::glsl || c.kind == RunKind::naive || c.kind == RunKind::autovec ? ", SIMD use unknown"
-                                                                                 : "";
-  std::snprintf(buf, sizeof buf, "  %s, %d thread%s: %s, %s%s\n", printable(m.gl ? m.gl->label() : c.backend()).c_str(),
-                c.threads, c.threads == 1 ? "" : "s", speed.c_str(), per_ray.c_str(), simd.c_str());
+                           : c.kind == RunKind::glsl || c.kind == RunKind::naive || c.kind == RunKind::autovec
+                               ? ", SIMD use unknown"
+                               : "";
+  std::snprintf(buf, sizeof buf, "  %s, %d thread%s: %s, %s%s\n",
+                printable(m.gl ? m.gl->label() : c.backend()).c_str(), c.threads, c.threads == 1 ? "" : "s",
+                speed.c_str(), per_ray.c_str(), simd.c_str());
   text += buf;
   if (!m.gl_wall_seconds.empty()) {
     // Both clocks of the draws, medians of the repetitions: which one the speed above is.
@@ -327,17 +329,20 @@ std::string summary_text(const Measurement& m) {
                 e.mean, e.rms, e.p50, e.p95, e.p99, e.max, 100.0 * e.wrong_surface_rate, e.depth_error_mean,
                 e.discarded);
   text += buf;
-  std::snprintf(buf, sizeof buf,
-                "  95%% intervals: p95 %.4g-%.4g, p99 %.4g-%.4g texels, wrong surface %.3g-%.3g%% (%.0f effective "
-                "rays of %zu)\n",
-                e.p95_ci.low, e.p95_ci.high, e.p99_ci.low, e.p99_ci.high, 100.0 * e.wrong_surface_ci.low,
-                100.0 * e.wrong_surface_ci.high, e.effective_rays, e.rays);
+  std::snprintf(
+      buf, sizeof buf,
+      "  95%% intervals: p95 %.4g-%.4g, p99 %.4g-%.4g texels, wrong surface %.3g-%.3g%% (%.0f effective "
+      "rays of %zu)\n",
+      e.p95_ci.low, e.p95_ci.high, e.p99_ci.low, e.p99_ci.high, 100.0 * e.wrong_surface_ci.low,
+      100.0 * e.wrong_surface_ci.high, e.effective_rays, e.rays);
   text += buf;
   if (is_view_set(c.view))
-    for (const auto& [what, groups] : {std::pair{"azimuth of V", &e.by_azimuth}, std::pair{"view angle", &e.by_view_angle}}) {
+    for (const auto& [what, groups] :
+         {std::pair{"azimuth of V", &e.by_azimuth}, std::pair{"view angle", &e.by_view_angle}}) {
       text += std::string("  by ") + what + " (degrees: p99, wrong surface):";
       for (const ErrorGroup& g : *groups) {
-        std::snprintf(buf, sizeof buf, " %g-%g: %.3g, %.2f%%;", g.from, g.to, g.p99, 100.0 * g.wrong_surface_rate);
+        std::snprintf(buf, sizeof buf, " %g-%g: %.3g, %.2f%%;", g.from, g.to, g.p99,
+                      100.0 * g.wrong_surface_rate);
         text += buf;
       }
       text.back() = '\n';
@@ -448,7 +453,8 @@ std::vector<std::string> measured_backends(const std::vector<Measurement>& rows)
   std::vector<std::string> order;
   for (Isa isa : all_isas()) order.push_back(to_string(isa));
   for (int k = 0; k < kRunKindCount; ++k)
-    if (const std::string_view label = info(RunKind(k)).backend_label; !label.empty()) order.emplace_back(label);
+    if (const std::string_view label = info(RunKind(k)).backend_label; !label.empty())
+      order.emplace_back(label);
   std::vector<std::string> measured;
   for (const std::string& b : order)
     if (std::find(measured.begin(), measured.end(), b) == measured.end() &&
@@ -538,7 +544,8 @@ std::string benchmark_json(const MeasuredPlan& run) {
   for (const Measurement& m : run.rows)
     if (!m.seconds.empty() && m.gl && gl.find(m.gl->label()) == std::string::npos)
       gl += (gl.empty() ? "" : "; ") + m.gl->label();
-  json.value("heightmarch_view", one_view ? view : "mixed").value("heightmarch_depth_map", one_map ? map : "mixed");
+  json.value("heightmarch_view", one_view ? view : "mixed")
+      .value("heightmarch_depth_map", one_map ? map : "mixed");
   if (!gl.empty()) json.value("heightmarch_gl", gl);
   json.end_object();
   json.begin_array("benchmarks");

@@ -21,7 +21,8 @@ Scene::Scene(const DepthMap& map, const ViewSpec& view) : map(map), rays(make_vi
 
 const HitBuffers& Scene::exact(const TechniqueParams& params) {
   const LightVisibility visibility = visibility_for(params.technique);
-  auto& slot = exact_[params_key(params, false, false) + (visibility == LightVisibility::compute ? "/visibility" : "")];
+  auto& slot = exact_[params_key(params, false, false) +
+                      (visibility == LightVisibility::compute ? "/visibility" : "")];
   if (!slot) slot = std::make_unique<HitBuffers>(exact_hits(map, rays, params, visibility));
   return *slot;
 }

@@ -147,18 +147,21 @@ std::vector<Configuration> benchmark_plan(const PlanSettings& settings) {
 
 ViewSpec gallery_view(const PlanSettings& s) {
   ViewSpec view = parse_view("default", s.gallery_width, s.gallery_height);
-  view.near_degrees = s.window.kind == ViewSpec::Kind::perspective ? s.window.near_degrees : kDefaultNearDegrees;
+  view.near_degrees =
+      s.window.kind == ViewSpec::Kind::perspective ? s.window.near_degrees : kDefaultNearDegrees;
   view.far_degrees = s.window.kind == ViewSpec::Kind::perspective ? s.window.far_degrees : kDefaultFarDegrees;
   return view;
 }
 
-std::vector<Configuration> recommended_gallery_plan(const Recommendation& recommendation, const PlanSettings& s,
+std::vector<Configuration> recommended_gallery_plan(const Recommendation& recommendation,
+                                                    const PlanSettings& s,
                                                     const std::vector<Configuration>& measured) {
   std::vector<Configuration> out;
   const auto add = [&](Configuration c) {
     c.view = gallery_view(s);
     c.timed = false;
-    if (std::none_of(measured.begin(), measured.end(), [&](const Configuration& m) { return m.same_measurement(c); }))
+    if (std::none_of(measured.begin(), measured.end(),
+                     [&](const Configuration& m) { return m.same_measurement(c); }))
       add_to_plan(out, c);
   };
   for (const BackendRecommendation& b : recommendation.backends)
@@ -168,7 +171,8 @@ std::vector<Configuration> recommended_gallery_plan(const Recommendation& recomm
                                    [&](const HeightfieldSource& h) { return h.label() == a.heightfield; });
       if (hf == s.heightfields.end()) continue;
       add(with_technique(on_view(s, *hf, RunKind::exact, kPurposeGallery), Technique::pom, kThirtyTwo));
-      add(with_technique(on_view(s, *hf, RunKind::trace, kPurposeGallery), a.choice->technique, a.choice->layers));
+      add(with_technique(on_view(s, *hf, RunKind::trace, kPurposeGallery), a.choice->technique,
+                         a.choice->layers));
     }
   return out;
 }
@@ -198,7 +202,8 @@ std::vector<Configuration> claims_plan(const PlanSettings& s) {
     for (const Claim& claim : claims())
       for (const ClaimRow& row : claim.rows) {
         if (row.view != view) continue;
-        Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeClaims), row.technique, row.layers);
+        Configuration c =
+            with_technique(on_view(s, hf, RunKind::trace, kPurposeClaims), row.technique, row.layers);
         if (view == ClaimView::sweep) {
           c.view = sweep_for(s, row.theta);
           c.timed = false;
@@ -232,7 +237,8 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
            info(technique).layered ? s.layer_specs : std::vector<LayerSpec>{LayerSpec::fixed(1)}) {
         const TechniqueInfo& t = info(technique);
         add_to_plan(plan, with_technique(on_view(s, hf, RunKind::trace, kPurposeMatrix), t.id, layers));
-        if (s.glsl) add_to_plan(plan, with_technique(on_view(s, hf, RunKind::glsl, kPurposeGlsl), t.id, layers));
+        if (s.glsl)
+          add_to_plan(plan, with_technique(on_view(s, hf, RunKind::glsl, kPurposeGlsl), t.id, layers));
         for (Filter filter : s.compared_filters) {
           Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeFilters), t.id, layers);
           c.params.filter = filter;
@@ -278,11 +284,13 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
           add_to_plan(plan, c);
         }
       }
-      Configuration exact = with_technique(on_view(s, hf, RunKind::exact, kPurposeExact), Technique::pom, kThirtyTwo);
+      Configuration exact =
+          with_technique(on_view(s, hf, RunKind::exact, kPurposeExact), Technique::pom, kThirtyTwo);
       exact.threads = threads;
       add_to_plan(plan, exact);
       for (const LayerSpec& layers : {kThirtyTwo, kEightToThirtyTwo}) {
-        Configuration naive = with_technique(on_view(s, hf, RunKind::naive, kPurposeNaive), Technique::pom, layers);
+        Configuration naive =
+            with_technique(on_view(s, hf, RunKind::naive, kPurposeNaive), Technique::pom, layers);
         naive.threads = threads;
         add_to_plan(plan, naive);
       }

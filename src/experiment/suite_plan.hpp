@@ -14,14 +14,14 @@ namespace heightmarch {
 ViewSpec around_window(int side);
 
 struct PlanSettings {
-  std::string name;                            // "default", "quick"
+  std::string name;  // "default", "quick"
   std::vector<HeightfieldSource> heightfields;
   // The candidates: the techniques and layer specs of the matrix (and GLSL); the techniques of the
   // searches timed at every ISA, the sweeps and the gallery too. The claims read their own rows.
   std::vector<Technique> techniques;
   std::vector<LayerSpec> layer_specs;
-  std::vector<LayerSpec> few_layer_specs;    // the sweeps' and GLSL's at fewer threads: 8, 32, 8-32
-  float scale = 0.1f;                        // height scale of every configuration
+  std::vector<LayerSpec> few_layer_specs;  // the sweeps' and GLSL's at fewer threads: 8, 32, 8-32
+  float scale = 0.1f;                      // height scale of every configuration
   // The filter every configuration that takes one reads with (takes_filter); and others whose
   // effect the run shows: the technique x layers matrix under each, accuracy only (kPurposeFilters).
   Filter filter = Filter::bilinear;
@@ -31,19 +31,19 @@ struct PlanSettings {
   // (--views), at its span of view angles; its held-out set checks the recommendation's candidates
   // (docs/measures.md#view-sets). Sweeps are turned around too, unless the window is single.
   ViewSpec window = around_window(1024);
-  int sweep_size = 128;                        // sweep views: side, pixels
-  std::vector<double> sweep_angles;            // degrees
+  int sweep_size = 128;              // sweep views: side, pixels
+  std::vector<double> sweep_angles;  // degrees
   int gallery_width = 512, gallery_height = 384;
   Isa best_isa = Isa::scalar;         // the matrix's: the widest of isas
   std::vector<Isa> isas;              // every ISA the CPU runs, or those asked for
   int threads = 1;                    // the most of thread_counts: the matrix's
   std::vector<int> thread_counts{1};  // timed side by side: one and all cores, or those asked for
   bool glsl = true;
-  GlTarget gl;                        // the GLSL rows' GL path and device
+  GlTarget gl;                    // the GLSL rows' GL path and device
   unsigned parts = kAllPurposes;  // the purposes measured (--parts)
   int repetitions = 5;
-  double min_seconds = 0.04;                   // per repetition
-  bool large_maps = true;                      // P2's rows on the builtins at kLargeMapSide
+  double min_seconds = 0.04;  // per repetition
+  bool large_maps = true;     // P2's rows on the builtins at kLargeMapSide
   // heightmarch-bench's: POM-32 written with Google Highway (the naive port beside its
   // auto-vectorised form, and the hand-written kernel's structure), at every ISA it runs at
   // (naive_port.hpp, structured_pom.hpp; the suite's report and history do not tell
@@ -95,7 +95,8 @@ ViewSpec gallery_view(const PlanSettings& settings);
 // What to ship, seen: on every heightfield with a recommendation, its exact render and each declared
 // backend's recommended configuration there (by the CPU kernel at the plan's best ISA), on the
 // gallery's view, for their images; none that `measured` already holds.
-std::vector<Configuration> recommended_gallery_plan(const Recommendation& recommendation, const PlanSettings& settings,
+std::vector<Configuration> recommended_gallery_plan(const Recommendation& recommendation,
+                                                    const PlanSettings& settings,
                                                     const std::vector<Configuration>& measured);
 
 // The claims' rows alone (what `heightmarch claims` runs, with_held_out): every row each claim

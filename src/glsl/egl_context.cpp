@@ -42,10 +42,12 @@ struct DeviceApi {
 const DeviceApi& device_api() {
   static const DeviceApi api = [] {
     const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-    for (const char* needed : {"EGL_EXT_device_enumeration", "EGL_EXT_device_query", "EGL_EXT_platform_device"})
+    for (const char* needed :
+         {"EGL_EXT_device_enumeration", "EGL_EXT_device_query", "EGL_EXT_platform_device"})
       if (!has_extension(client, needed))
-        throw std::runtime_error(std::string("EGL: the EGL library lacks ") + needed +
-                                 " (is libEGL from libglvnd with a vendor library, such as libegl-mesa0, installed?)");
+        throw std::runtime_error(
+            std::string("EGL: the EGL library lacks ") + needed +
+            " (is libEGL from libglvnd with a vendor library, such as libegl-mesa0, installed?)");
     DeviceApi a;
     a.query_devices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
     a.query_device_string =
@@ -89,8 +91,10 @@ std::vector<EglDevice> egl_devices() {
       file = api.query_device_string(handles[i], EGL_DRM_RENDER_NODE_FILE_EXT);
     if (!file && has_extension(extensions, "EGL_EXT_device_drm"))
       file = api.query_device_string(handles[i], EGL_DRM_DEVICE_FILE_EXT);
-    if (d.software) d.name = "software";
-    else if (file && *file) d.name = base_name(file);
+    if (d.software)
+      d.name = "software";
+    else if (file && *file)
+      d.name = base_name(file);
     devices.push_back(d);
   }
   return devices;
@@ -132,11 +136,15 @@ class EglContext : public GlContext {
       const EGLint config_attributes[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, 0, EGL_NONE};
       EGLConfig config = nullptr;
       EGLint configs = 0;
-      if (!eglBindAPI(EGL_OPENGL_API) || !eglChooseConfig(display_, config_attributes, &config, 1, &configs) ||
-          configs < 1)
+      if (!eglBindAPI(EGL_OPENGL_API) ||
+          !eglChooseConfig(display_, config_attributes, &config, 1, &configs) || configs < 1)
         throw std::runtime_error(where + "no desktop OpenGL (" + egl_error() + ")");
-      const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
-                                           EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+      const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                           3,
+                                           EGL_CONTEXT_MINOR_VERSION,
+                                           3,
+                                           EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                           EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
                                            EGL_NONE};
       context_ = eglCreateContext(display_, config, EGL_NO_CONTEXT, context_attributes);
       if (context_ == EGL_NO_CONTEXT || !eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
@@ -148,7 +156,9 @@ class EglContext : public GlContext {
   }
   ~EglContext() override { release(); }
 
-  void* proc_address(const char* name) const override { return reinterpret_cast<void*>(eglGetProcAddress(name)); }
+  void* proc_address(const char* name) const override {
+    return reinterpret_cast<void*>(eglGetProcAddress(name));
+  }
 
  private:
   void release() {

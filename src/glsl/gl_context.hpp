@@ -17,7 +17,7 @@ class GlContext {
   virtual void* proc_address(const char* name) const = 0;
   GlPath path() const { return path_; }
   const std::string& device() const { return device_; }  // "software", "renderD128", ...
-  bool software() const { return software_; }              // a CPU rasteriser (llvmpipe)
+  bool software() const { return software_; }            // a CPU rasteriser (llvmpipe)
 
  protected:
   GlContext(GlPath path, std::string device, bool software)

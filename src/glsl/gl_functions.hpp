@@ -9,49 +9,49 @@
 #include <functional>
 
 // X(pointer type, name): every GL function the draw path calls, and only those.
-#define HEIGHTMARCH_GL_FUNCTIONS(X) \
-  X(PFNGLACTIVETEXTUREPROC, glActiveTexture) \
-  X(PFNGLATTACHSHADERPROC, glAttachShader) \
-  X(PFNGLBEGINQUERYPROC, glBeginQuery) \
-  X(PFNGLBINDFRAMEBUFFERPROC, glBindFramebuffer) \
-  X(PFNGLBINDTEXTUREPROC, glBindTexture) \
-  X(PFNGLBINDVERTEXARRAYPROC, glBindVertexArray) \
+#define HEIGHTMARCH_GL_FUNCTIONS(X)                            \
+  X(PFNGLACTIVETEXTUREPROC, glActiveTexture)                   \
+  X(PFNGLATTACHSHADERPROC, glAttachShader)                     \
+  X(PFNGLBEGINQUERYPROC, glBeginQuery)                         \
+  X(PFNGLBINDFRAMEBUFFERPROC, glBindFramebuffer)               \
+  X(PFNGLBINDTEXTUREPROC, glBindTexture)                       \
+  X(PFNGLBINDVERTEXARRAYPROC, glBindVertexArray)               \
   X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, glCheckFramebufferStatus) \
-  X(PFNGLCLEARBUFFERFVPROC, glClearBufferfv) \
-  X(PFNGLCOMPILESHADERPROC, glCompileShader) \
-  X(PFNGLCREATEPROGRAMPROC, glCreateProgram) \
-  X(PFNGLCREATESHADERPROC, glCreateShader) \
-  X(PFNGLDELETEPROGRAMPROC, glDeleteProgram) \
-  X(PFNGLDELETESHADERPROC, glDeleteShader) \
-  X(PFNGLDRAWARRAYSPROC, glDrawArrays) \
-  X(PFNGLDRAWBUFFERSPROC, glDrawBuffers) \
-  X(PFNGLENDQUERYPROC, glEndQuery) \
-  X(PFNGLFINISHPROC, glFinish) \
-  X(PFNGLFRAMEBUFFERTEXTURE2DPROC, glFramebufferTexture2D) \
-  X(PFNGLGENFRAMEBUFFERSPROC, glGenFramebuffers) \
-  X(PFNGLGENQUERIESPROC, glGenQueries) \
-  X(PFNGLGENTEXTURESPROC, glGenTextures) \
-  X(PFNGLGENVERTEXARRAYSPROC, glGenVertexArrays) \
-  X(PFNGLGETERRORPROC, glGetError) \
-  X(PFNGLGETINTEGERVPROC, glGetIntegerv) \
-  X(PFNGLGETPROGRAMINFOLOGPROC, glGetProgramInfoLog) \
-  X(PFNGLGETPROGRAMIVPROC, glGetProgramiv) \
-  X(PFNGLGETQUERYOBJECTUI64VPROC, glGetQueryObjectui64v) \
-  X(PFNGLGETSHADERINFOLOGPROC, glGetShaderInfoLog) \
-  X(PFNGLGETSHADERIVPROC, glGetShaderiv) \
-  X(PFNGLGETSTRINGPROC, glGetString) \
-  X(PFNGLGETUNIFORMLOCATIONPROC, glGetUniformLocation) \
-  X(PFNGLLINKPROGRAMPROC, glLinkProgram) \
-  X(PFNGLREADBUFFERPROC, glReadBuffer) \
-  X(PFNGLREADPIXELSPROC, glReadPixels) \
-  X(PFNGLSHADERSOURCEPROC, glShaderSource) \
-  X(PFNGLTEXIMAGE2DPROC, glTexImage2D) \
-  X(PFNGLTEXPARAMETERIPROC, glTexParameteri) \
-  X(PFNGLUNIFORM1FPROC, glUniform1f) \
-  X(PFNGLUNIFORM1IPROC, glUniform1i) \
-  X(PFNGLUNIFORM1IVPROC, glUniform1iv) \
-  X(PFNGLUNIFORM3FPROC, glUniform3f) \
-  X(PFNGLUSEPROGRAMPROC, glUseProgram) \
+  X(PFNGLCLEARBUFFERFVPROC, glClearBufferfv)                   \
+  X(PFNGLCOMPILESHADERPROC, glCompileShader)                   \
+  X(PFNGLCREATEPROGRAMPROC, glCreateProgram)                   \
+  X(PFNGLCREATESHADERPROC, glCreateShader)                     \
+  X(PFNGLDELETEPROGRAMPROC, glDeleteProgram)                   \
+  X(PFNGLDELETESHADERPROC, glDeleteShader)                     \
+  X(PFNGLDRAWARRAYSPROC, glDrawArrays)                         \
+  X(PFNGLDRAWBUFFERSPROC, glDrawBuffers)                       \
+  X(PFNGLENDQUERYPROC, glEndQuery)                             \
+  X(PFNGLFINISHPROC, glFinish)                                 \
+  X(PFNGLFRAMEBUFFERTEXTURE2DPROC, glFramebufferTexture2D)     \
+  X(PFNGLGENFRAMEBUFFERSPROC, glGenFramebuffers)               \
+  X(PFNGLGENQUERIESPROC, glGenQueries)                         \
+  X(PFNGLGENTEXTURESPROC, glGenTextures)                       \
+  X(PFNGLGENVERTEXARRAYSPROC, glGenVertexArrays)               \
+  X(PFNGLGETERRORPROC, glGetError)                             \
+  X(PFNGLGETINTEGERVPROC, glGetIntegerv)                       \
+  X(PFNGLGETPROGRAMINFOLOGPROC, glGetProgramInfoLog)           \
+  X(PFNGLGETPROGRAMIVPROC, glGetProgramiv)                     \
+  X(PFNGLGETQUERYOBJECTUI64VPROC, glGetQueryObjectui64v)       \
+  X(PFNGLGETSHADERINFOLOGPROC, glGetShaderInfoLog)             \
+  X(PFNGLGETSHADERIVPROC, glGetShaderiv)                       \
+  X(PFNGLGETSTRINGPROC, glGetString)                           \
+  X(PFNGLGETUNIFORMLOCATIONPROC, glGetUniformLocation)         \
+  X(PFNGLLINKPROGRAMPROC, glLinkProgram)                       \
+  X(PFNGLREADBUFFERPROC, glReadBuffer)                         \
+  X(PFNGLREADPIXELSPROC, glReadPixels)                         \
+  X(PFNGLSHADERSOURCEPROC, glShaderSource)                     \
+  X(PFNGLTEXIMAGE2DPROC, glTexImage2D)                         \
+  X(PFNGLTEXPARAMETERIPROC, glTexParameteri)                   \
+  X(PFNGLUNIFORM1FPROC, glUniform1f)                           \
+  X(PFNGLUNIFORM1IPROC, glUniform1i)                           \
+  X(PFNGLUNIFORM1IVPROC, glUniform1iv)                         \
+  X(PFNGLUNIFORM3FPROC, glUniform3f)                           \
+  X(PFNGLUSEPROGRAMPROC, glUseProgram)                         \
   X(PFNGLVIEWPORTPROC, glViewport)
 
 namespace heightmarch::gl {

@@ -47,9 +47,11 @@ const std::string& glsl(const std::string& name) {
 
 std::string info_log(GLuint object, bool program) {
   GLint length = 0;
-  program ? glGetProgramiv(object, GL_INFO_LOG_LENGTH, &length) : glGetShaderiv(object, GL_INFO_LOG_LENGTH, &length);
+  program ? glGetProgramiv(object, GL_INFO_LOG_LENGTH, &length)
+          : glGetShaderiv(object, GL_INFO_LOG_LENGTH, &length);
   std::string log(std::size_t(std::max(length, 1)), '\0');
-  program ? glGetProgramInfoLog(object, length, nullptr, log.data()) : glGetShaderInfoLog(object, length, nullptr, log.data());
+  program ? glGetProgramInfoLog(object, length, nullptr, log.data())
+          : glGetShaderInfoLog(object, length, nullptr, log.data());
   while (!log.empty() && (log.back() == '\0' || log.back() == '\n')) log.pop_back();
   return log;
 }
@@ -91,7 +93,7 @@ struct GlRunner::State {
     int last_level = 0;
   };
   Precomputed uploaded[kPrecomputedKindCount];
-  DepthMap map;              // kept for the textures derived from it
+  DepthMap map;  // kept for the textures derived from it
   // The last level of the depth map's mip chain uploaded to its texture (on the first trilinear
   // prepare of the map); 0: level 0 alone.
   int depth_last_level = 0;
@@ -103,8 +105,8 @@ struct GlRunner::State {
   int width = 0, height = 0;
   std::size_t rays = 0;
   bool has_map = false, has_rays = false;
-  bool prepared = false;  // a whole prepare succeeded since the last compile: draws and reads need it
-  bool discard = false;  // the tutorial's discard of a uv outside [0,1]^2, applied on read-back
+  bool prepared = false;    // a whole prepare succeeded since the last compile: draws and reads need it
+  bool discard = false;     // the tutorial's discard of a uv outside [0,1]^2, applied on read-back
   std::string shader_path;  // of the program prepared: a brought-in one when not empty
   // Linked programs by fragment source, oldest first: the suite's interleaved rounds switch back
   // to every technique at each repetition, and a kept program keeps llvmpipe's compiled code too.
@@ -119,8 +121,8 @@ GlRunner::GlRunner(std::unique_ptr<GlContext> context)
     if (!value) throw std::runtime_error("GL: the context answers no glGetString");
     return std::string(reinterpret_cast<const char*>(value));
   };
-  renderer_ = {context_->path(), context_->device(), text(GL_RENDERER), text(GL_VERSION), text(GL_VENDOR),
-               context_->software()};
+  renderer_ = {context_->path(), context_->device(), text(GL_RENDERER),
+               text(GL_VERSION), text(GL_VENDOR),    context_->software()};
   glGenVertexArrays(1, &state_->vao);  // the core profile draws nothing without a bound VAO
   glBindVertexArray(state_->vao);
   glGenFramebuffers(1, &state_->framebuffer);
@@ -152,7 +154,8 @@ int upload_mip_levels(int width, int height, int channels, const std::vector<flo
   std::vector<std::vector<DepthMap>> chains;
   for (int c = 0; c < channels; ++c) {
     DepthMap channel{width, height, std::vector<float>(texels.size() / std::size_t(channels))};
-    for (std::size_t i = 0; i < channel.texels.size(); ++i) channel.texels[i] = texels[i * std::size_t(channels) + std::size_t(c)];
+    for (std::size_t i = 0; i < channel.texels.size(); ++i)
+      channel.texels[i] = texels[i * std::size_t(channels) + std::size_t(c)];
     chains.push_back(build_mip_chain(channel));
   }
   const std::vector<DepthMap>& first = chains.front();
@@ -161,7 +164,8 @@ int upload_mip_levels(int width, int height, int channels, const std::vector<flo
     const std::size_t count = first[level].texels.size();
     level_texels.resize(count * std::size_t(channels));
     for (std::size_t c = 0; c < chains.size(); ++c)
-      for (std::size_t i = 0; i < count; ++i) level_texels[i * chains.size() + c] = chains[c][level].texels[i];
+      for (std::size_t i = 0; i < count; ++i)
+        level_texels[i * chains.size() + c] = chains[c][level].texels[i];
     glTexImage2D(GL_TEXTURE_2D, GLint(level), channels == 2 ? GL_RG32F : GL_R32F, first[level].width,
                  first[level].height, 0, channels == 2 ? GL_RG : GL_RED, GL_FLOAT, level_texels.data());
   }
@@ -181,7 +185,8 @@ void check_side(int side) {
   GLint max_size = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
   if (side > max_size)
-    throw InputError("the GL context's textures are limited to " + std::to_string(max_size) + " texels a side");
+    throw InputError("the GL context's textures are limited to " + std::to_string(max_size) +
+                     " texels a side");
 }
 
 // Compiles and links the program of a fragment source; InputError for a brought-in shader's errors.
@@ -210,10 +215,11 @@ void GlRunner::set_depth_map(const DepthMap& map) {
   s.prepared = false;
   check_side(std::max(map.width, map.height));
   check_memory_budget(kWorkerBytesPerTexel * double(map.texels.size()),
-                      "the GLSL textures of a " + std::to_string(map.width) + "x" + std::to_string(map.height) +
-                          " depth map");
+                      "the GLSL textures of a " + std::to_string(map.width) + "x" +
+                          std::to_string(map.height) + " depth map");
   // R32F, GL_LINEAR on level 0; prepare() sets the run's wrap mode.
-  s.depth_texture = float_texture(s.depth_texture, GL_R32F, GL_RED, map.width, map.height, map.texels.data(), GL_LINEAR, GL_REPEAT);
+  s.depth_texture = float_texture(s.depth_texture, GL_R32F, GL_RED, map.width, map.height, map.texels.data(),
+                                  GL_LINEAR, GL_REPEAT);
   s.depth_last_level = 0;
   s.map = map;
   s.precomputed = {};
@@ -227,7 +233,8 @@ void GlRunner::set_rays(const RayBatch& rays) {
   s.prepared = false;
   const int height = int((rays.size() + kRowWidth - 1) / kRowWidth);
   check_side(height);
-  check_memory_budget(kWorkerBytesPerRay * double(rays.size()), "the GLSL textures of " + std::to_string(rays.size()) + " rays");
+  check_memory_budget(kWorkerBytesPerRay * double(rays.size()),
+                      "the GLSL textures of " + std::to_string(rays.size()) + " rays");
   s.rays = rays.size();
   s.width = kRowWidth;
   s.height = height;
@@ -246,14 +253,18 @@ void GlRunner::set_rays(const RayBatch& rays) {
     footprints[4 * i + 2] = rays.du_dy[i];
     footprints[4 * i + 3] = rays.dv_dy[i];
   }
-  s.origin_texture = float_texture(s.origin_texture, GL_RGBA32F, GL_RGBA, s.width, s.height, origins.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
-  s.direction_texture = float_texture(s.direction_texture, GL_RGBA32F, GL_RGBA, s.width, s.height, directions.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
-  s.footprint_texture = float_texture(s.footprint_texture, GL_RGBA32F, GL_RGBA, s.width, s.height, footprints.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
+  s.origin_texture = float_texture(s.origin_texture, GL_RGBA32F, GL_RGBA, s.width, s.height, origins.data(),
+                                   GL_NEAREST, GL_CLAMP_TO_EDGE);
+  s.direction_texture = float_texture(s.direction_texture, GL_RGBA32F, GL_RGBA, s.width, s.height,
+                                      directions.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
+  s.footprint_texture = float_texture(s.footprint_texture, GL_RGBA32F, GL_RGBA, s.width, s.height,
+                                      footprints.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
   s.output_textures.resize(std::size_t(hit_output_attachments()));
   glBindFramebuffer(GL_FRAMEBUFFER, s.framebuffer);
   std::vector<GLenum> buffers;
   for (GLuint& texture : s.output_textures) {
-    texture = float_texture(texture, GL_RGBA32F, GL_RGBA, s.width, s.height, nullptr, GL_NEAREST, GL_CLAMP_TO_EDGE);
+    texture =
+        float_texture(texture, GL_RGBA32F, GL_RGBA, s.width, s.height, nullptr, GL_NEAREST, GL_CLAMP_TO_EDGE);
     buffers.push_back(GLenum(GL_COLOR_ATTACHMENT0 + buffers.size()));
     glFramebufferTexture2D(GL_FRAMEBUFFER, buffers.back(), GL_TEXTURE_2D, texture, 0);
   }
@@ -274,17 +285,20 @@ void GlRunner::compile(const TechniqueParams& params, const std::string& shader_
   std::string fragment = "#version 330 core\n";
   if (params.filter == Filter::trilinear) fragment += "#define TRILINEAR\n";
   if (shader_path.empty()) {
-    fragment += glsl("prelude.glsl") + hit_outputs_glsl() + glsl("steep.glsl") + glsl("techniques.glsl") + "#define TECHNIQUE(T, V) " +
-                std::string(info(params.technique).glsl_call) + "\n" + glsl("main.glsl");
+    fragment += glsl("prelude.glsl") + hit_outputs_glsl() + glsl("steep.glsl") + glsl("techniques.glsl") +
+                "#define TECHNIQUE(T, V) " + std::string(info(params.technique).glsl_call) + "\n" +
+                glsl("main.glsl");
   } else {
     const std::string text = read_input_file(shader_path, "shader file", kMaxShaderBytes);
-    fragment += "#line " + std::to_string(kHarnessFirstLine) + " 0\n" + glsl("prelude.glsl") + hit_outputs_glsl() +
+    fragment += "#line " + std::to_string(kHarnessFirstLine) + " 0\n" + glsl("prelude.glsl") +
+                hit_outputs_glsl() +
                 "#define height_scale heightScale\nfloat numLayers = maxLayers;\n"
                 "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir);\n" +
                 glsl("user_shader.glsl") + "#define TECHNIQUE(T, V) userShader(T, V)\n" + glsl("main.glsl") +
                 "#line 1 1\n" + user_source(text, shader_path);
   }
-  const auto cached = std::find_if(s.programs.begin(), s.programs.end(), [&](const auto& p) { return p.first == fragment; });
+  const auto cached =
+      std::find_if(s.programs.begin(), s.programs.end(), [&](const auto& p) { return p.first == fragment; });
   if (cached != s.programs.end()) {
     s.program = cached->second;
   } else {
@@ -311,8 +325,8 @@ void GlRunner::prepare(const TechniqueParams& params) {
   glBindTexture(GL_TEXTURE_2D, s.depth_texture);
   if (trilinear && s.depth_last_level == 0 && mip_level_count(s.map.width, s.map.height) > 1) {
     check_memory_budget(kWorkerBytesPerMipTexel * double(s.map.texels.size()) / 3.0,
-                        "the mip chain of a " + std::to_string(s.map.width) + "x" + std::to_string(s.map.height) +
-                            " depth map");
+                        "the mip chain of a " + std::to_string(s.map.width) + "x" +
+                            std::to_string(s.map.height) + " depth map");
     s.depth_last_level = upload_mip_levels(s.map.width, s.map.height, 1, s.map.texels);
   }
   set_filter(s.depth_texture, params.filter, s.depth_last_level);
@@ -351,32 +365,33 @@ void GlRunner::prepare(const TechniqueParams& params) {
   if ((needs | s.precomputed_needs) != s.precomputed_needs || !same_wrap) {
     s.precomputed_needs = needs | (same_wrap ? s.precomputed_needs : Needs::nothing);
     s.precomputed = build_precomputed(s.map, params.wrap, s.precomputed_needs);
-#define HEIGHTMARCH_UPLOAD_PRECOMPUTED(id, type, builder, unit, sampler)                                          \
-  if (const type* texture = s.precomputed.id.get()) {                                                              \
-    State::Precomputed& slot = s.uploaded[int(PrecomputedKind::id)];                                               \
-    GlImage image = texture->gl_image();                                                                           \
-    glActiveTexture(GL_TEXTURE0 + unit);                                                                           \
-    slot.texture = float_texture(slot.texture, image.channels == 2 ? GL_RG32F : GL_R32F,                           \
-                                 image.channels == 2 ? GL_RG : GL_RED, image.width, image.height,                   \
-                                 image.texels.data(), image.linear ? GL_LINEAR : GL_NEAREST,                        \
-                                 image.run_wrap ? wrap : GL_CLAMP_TO_EDGE);                                         \
-    slot.linear = image.linear;                                                                                    \
-    slot.last_level = image.linear ? upload_mip_levels(image.width, image.height, image.channels, image.texels) : 0; \
-    slot.uniforms = std::move(image.uniforms);                                                                     \
+#define HEIGHTMARCH_UPLOAD_PRECOMPUTED(id, type, builder, unit, sampler)                                    \
+  if (const type* texture = s.precomputed.id.get()) {                                                       \
+    State::Precomputed& slot = s.uploaded[int(PrecomputedKind::id)];                                        \
+    GlImage image = texture->gl_image();                                                                    \
+    glActiveTexture(GL_TEXTURE0 + unit);                                                                    \
+    slot.texture =                                                                                          \
+        float_texture(slot.texture, image.channels == 2 ? GL_RG32F : GL_R32F,                               \
+                      image.channels == 2 ? GL_RG : GL_RED, image.width, image.height, image.texels.data(), \
+                      image.linear ? GL_LINEAR : GL_NEAREST, image.run_wrap ? wrap : GL_CLAMP_TO_EDGE);     \
+    slot.linear = image.linear;                                                                             \
+    slot.last_level =                                                                                       \
+        image.linear ? upload_mip_levels(image.width, image.height, image.channels, image.texels) : 0;      \
+    slot.uniforms = std::move(image.uniforms);                                                              \
   }
     HEIGHTMARCH_PRECOMPUTED_TEXTURES(HEIGHTMARCH_UPLOAD_PRECOMPUTED)
 #undef HEIGHTMARCH_UPLOAD_PRECOMPUTED
     s.precomputed_wrap = int(params.wrap);
   }
-#define HEIGHTMARCH_BIND_PRECOMPUTED(id, type, builder, unit, sampler)                          \
-  if (has(needs, Needs::id)) {                                                                   \
-    const State::Precomputed& slot = s.uploaded[int(PrecomputedKind::id)];                      \
-    glActiveTexture(GL_TEXTURE0 + unit);                                                         \
-    glBindTexture(GL_TEXTURE_2D, slot.texture);                                                  \
-    if (slot.linear) set_filter(slot.texture, params.filter, slot.last_level);                   \
-    glUniform1i(uniform(sampler), unit);                                                         \
-    for (const auto& [name, values] : slot.uniforms)                                             \
-      glUniform1iv(uniform(name.c_str()), GLsizei(values.size()), values.data());                \
+#define HEIGHTMARCH_BIND_PRECOMPUTED(id, type, builder, unit, sampler)            \
+  if (has(needs, Needs::id)) {                                                    \
+    const State::Precomputed& slot = s.uploaded[int(PrecomputedKind::id)];        \
+    glActiveTexture(GL_TEXTURE0 + unit);                                          \
+    glBindTexture(GL_TEXTURE_2D, slot.texture);                                   \
+    if (slot.linear) set_filter(slot.texture, params.filter, slot.last_level);    \
+    glUniform1i(uniform(sampler), unit);                                          \
+    for (const auto& [name, values] : slot.uniforms)                              \
+      glUniform1iv(uniform(name.c_str()), GLsizei(values.size()), values.data()); \
   }
   HEIGHTMARCH_PRECOMPUTED_TEXTURES(HEIGHTMARCH_BIND_PRECOMPUTED)
 #undef HEIGHTMARCH_BIND_PRECOMPUTED
@@ -419,11 +434,13 @@ void GlRunner::read(HitBuffers& hits, bool& samples_known) const {
   }
   const auto [attachment, component] = samples_output();
   std::size_t undrawn = 0;
-  for (std::size_t i = 0; i < s.rays; ++i) undrawn += std::isnan(attachments[std::size_t(attachment)][4 * i + std::size_t(component)]);
+  for (std::size_t i = 0; i < s.rays; ++i)
+    undrawn += std::isnan(attachments[std::size_t(attachment)][4 * i + std::size_t(component)]);
   if (undrawn && !s.shader_path.empty())
     throw InputError(s.shader_path + ": left " + std::to_string(undrawn) + " of " + std::to_string(s.rays) +
                      " rays without a hit (does it call discard?); every ray must return a uv");
-  if (undrawn) throw std::logic_error("built-in shader left " + std::to_string(undrawn) + " rays without a hit");
+  if (undrawn)
+    throw std::logic_error("built-in shader left " + std::to_string(undrawn) + " rays without a hit");
   read_hit_outputs(attachments, s.rays, s.discard, hits, samples_known);
 }
 

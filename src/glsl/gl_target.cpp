@@ -65,7 +65,8 @@ GlTarget parse_gl_target(const std::string& path, const std::string& device) {
 }
 
 std::string GlRenderer::label() const {
-  // "llvmpipe (LLVM 15.0.6, 256 bits)" reads "llvmpipe, LLVM 15.0.6, 256 bits" inside the label's own parentheses.
+  // "llvmpipe (LLVM 15.0.6, 256 bits)" reads "llvmpipe, LLVM 15.0.6, 256 bits" inside the label's own
+  // parentheses.
   std::string name = renderer;
   const std::size_t open = name.find(" (");
   if (open != std::string::npos && name.back() == ')' && name.find(')') == name.size() - 1)

@@ -1,6 +1,8 @@
 // GlslRunner as a client of heightmarch-glsl-worker (src/glsl/worker_main.cpp): one worker
 // process per GL target and llvmpipe thread count, spoken to over a socket pair
 // (src/glsl/protocol.hpp); every wait on it bounded by its step's own deadline.
+#include "heightmarch/glsl_runner.hpp"
+
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/prctl.h>
@@ -25,7 +27,6 @@
 
 #include "glsl/protocol.hpp"
 #include "heightmarch/error.hpp"
-#include "heightmarch/glsl_runner.hpp"
 #include "heightmarch/memory_budget.hpp"
 #include "util/sanitizers.hpp"
 
@@ -97,7 +98,8 @@ std::string worker_path() {
 
 // Bit for bit, so a NaN or a -0 that changed is sent again.
 bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0);
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0);
 }
 
 std::string describe_status(int status) {
@@ -120,10 +122,10 @@ struct WorkerProcess {
   std::string name;  // "GLSL worker PATH (N threads)" or "(EGL, N threads)", for every error
   pid_t pid = -1;
   int fd = -1;
-  std::string failure;  // why the last worker is gone; empty while one runs
+  std::string failure;           // why the last worker is gone; empty while one runs
   std::size_t memory_limit = 0;  // the budget it was given when it started
-  std::string how_it_ended;      // of the last worker: "exited with status 1", "was killed by signal 9 (Killed)"
-  bool out_of_memory = false;    // the last worker exited for an allocation that failed
+  std::string how_it_ended;  // of the last worker: "exited with status 1", "was killed by signal 9 (Killed)"
+  bool out_of_memory = false;  // the last worker exited for an allocation that failed
   GlRenderer renderer;
   // Copies of the depth map and rays the worker holds, as last sent (none: unknown, send them):
   // the suite prepares every configuration on the same scene, and these are 20+ MB at 1024x1024.
@@ -150,8 +152,9 @@ struct WorkerProcess {
 
   // The worker's arguments for its draw loop.
   std::vector<std::string> arguments() const {
-    std::vector<std::string> args = {"--threads", std::to_string(threads), "--memory-limit",
-                                     std::to_string(memory_budget()), "--gl", to_string(*target.path)};
+    std::vector<std::string> args = {"--threads",      std::to_string(threads),
+                                     "--memory-limit", std::to_string(memory_budget()),
+                                     "--gl",           to_string(*target.path)};
     if (!target.device.empty()) args.insert(args.end(), {"--gl-device", target.device});
     return args;
   }
@@ -206,7 +209,8 @@ struct WorkerProcess {
     fd = fds[0];
     int exec_error = fork_error;
     // Reads the child's report: nothing (EOF) once exec succeeded; EINTR repeats.
-    while (pid > 0 && ::read(exec_report[0], &exec_error, sizeof exec_error) < 0 && errno == EINTR) {}
+    while (pid > 0 && ::read(exec_report[0], &exec_error, sizeof exec_error) < 0 && errno == EINTR) {
+    }
     ::close(exec_report[0]);
     if (exec_error != 0) {
       if (pid > 0) ::waitpid(pid, nullptr, 0);
@@ -221,8 +225,8 @@ struct WorkerProcess {
   // Checks the protocol version an answer began with.
   void check_version(std::uint32_t version) {
     if (version != protocol::kVersion)
-      fail("speaks protocol " + std::to_string(version) + ", this build " + std::to_string(protocol::kVersion) +
-               " (a stale build?); killed",
+      fail("speaks protocol " + std::to_string(version) + ", this build " +
+               std::to_string(protocol::kVersion) + " (a stale build?); killed",
            true);
   }
 
@@ -235,8 +239,10 @@ struct WorkerProcess {
     std::uint32_t protocol_version = 0;
     call(std::nullopt, {}, Message::ready, "start-up", kStartupTimeout, [&](protocol::Reader& reader) {
       reader.value(protocol_version);
-      if (protocol_version == protocol::kVersion) protocol::read(reader, renderer);
-      else reader.text(renderer.renderer);  // what a stale worker sends: not read as this build's
+      if (protocol_version == protocol::kVersion)
+        protocol::read(reader, renderer);
+      else
+        reader.text(renderer.renderer);  // what a stale worker sends: not read as this build's
     });
     check_version(protocol_version);
   }
@@ -244,13 +250,14 @@ struct WorkerProcess {
   // Starts the worker to answer one question (--paths; --list-devices, which makes a context on
   // each device, a GPU's among them) and reads its answer within `timeout`; the worker exits
   // after it.
-  void ask(const std::vector<std::string>& args, bool gpu_driver, Message answer, const char* what, Seconds timeout,
-           const std::function<void(protocol::Reader&)>& parse) {
+  void ask(const std::vector<std::string>& args, bool gpu_driver, Message answer, const char* what,
+           Seconds timeout, const std::function<void(protocol::Reader&)>& parse) {
     spawn(args, gpu_driver);
     std::uint32_t protocol_version = 0;
     call(std::nullopt, {}, answer, what, timeout, [&](protocol::Reader& reader) {
       reader.value(protocol_version);
-      if (protocol_version != protocol::kVersion) throw protocol::BadMessage("protocol " + std::to_string(protocol_version));
+      if (protocol_version != protocol::kVersion)
+        throw protocol::BadMessage("protocol " + std::to_string(protocol_version));
       parse(reader);
     });
     end("asked", false);
@@ -288,8 +295,8 @@ struct WorkerProcess {
   // naming it. A worker that is gone is started again (revive()) before anything else is asked
   // of it.
   void call(std::optional<Message> request, const protocol::Writer& payload, Message answer, const char* what,
-            Seconds timeout, const std::function<void(protocol::Reader&)>& parse, const std::string& shader = "",
-            Seconds send_timeout = Seconds(kStepFloorSeconds)) {
+            Seconds timeout, const std::function<void(protocol::Reader&)>& parse,
+            const std::string& shader = "", Seconds send_timeout = Seconds(kStepFloorSeconds)) {
     if (!failure.empty()) {
       const std::string why = failure;
       start();
@@ -298,15 +305,16 @@ struct WorkerProcess {
     Message type = Message::error;
     std::string text;
     const auto after = [](Seconds wait) {
-      return std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(wait);
+      return std::chrono::steady_clock::now() +
+             std::chrono::duration_cast<std::chrono::steady_clock::duration>(wait);
     };
     try {
       if (request) {
         try {
           protocol::send(fd, *request, payload, after(send_timeout));
         } catch (const protocol::ChannelTimeout&) {
-          fail("did not take the " + std::string(what) + " request within " + seconds_text(send_timeout.count()) +
-                   " s; killed",
+          fail("did not take the " + std::string(what) + " request within " +
+                   seconds_text(send_timeout.count()) + " s; killed",
                true);
         }
       }
@@ -325,7 +333,8 @@ struct WorkerProcess {
     } catch (const protocol::ChannelTimeout&) {
       if (answer == Message::drawn) draw_timeout();
       if (answer == Message::compiled) compile_timeout(shader);
-      fail("no answer to " + std::string(what) + " within " + seconds_text(timeout.count()) + " s; killed", true);
+      fail("no answer to " + std::string(what) + " within " + seconds_text(timeout.count()) + " s; killed",
+           true);
     } catch (const protocol::ChannelClosed& e) {
       lost(std::string(e.what()) + " during " + what, shader, what);
     } catch (const protocol::BadMessage& e) {
@@ -346,8 +355,9 @@ struct WorkerProcess {
     const std::string budget = bytes_text(double(memory_limit)) + " (" + memory_budget_source() + ")";
     const std::string after = "; it restarts for the next request";
     if (out_of_memory)
-      throw InputError((shader.empty() ? "" : shader + ": ") + "the GLSL worker ran out of memory within its budget of " +
-                       budget + " during its " + doing + after);
+      throw InputError((shader.empty() ? "" : shader + ": ") +
+                       "the GLSL worker ran out of memory within its budget of " + budget + " during its " +
+                       doing + after);
     if (shader.empty()) throw std::runtime_error(name + ": " + failure);
     throw InputError(shader + ": the GLSL worker " + how_it_ended + " during its " + doing +
                      " (a crash, or its memory limit of " + budget + " reached)" + after);
@@ -360,7 +370,8 @@ struct WorkerProcess {
     const std::string what = "compiling it ran past " + bound;
     end("a compile ran past " + bound + "; killed", true);
     const std::string after = "; the GLSL worker was killed and restarts for the next request";
-    if (!shader.empty()) throw InputError(shader + ": " + what + " (does the preprocessor or the compiler run away?)" + after);
+    if (!shader.empty())
+      throw InputError(shader + ": " + what + " (does the preprocessor or the compiler run away?)" + after);
     throw std::runtime_error(name + ": the built-in program's " + what + after);
   }
 
@@ -458,8 +469,9 @@ std::vector<GlDevice> list_gl_devices() {
   ask_only(w, "asked for EGL's devices");
   std::vector<GlDevice> devices;
   // Each device gets a context, as at a start-up.
-  w.ask({"--list-devices", "--memory-limit", std::to_string(memory_budget())}, true, Message::devices, "--list-devices",
-        Seconds(kStartupTimeout.count() * 4), [&](protocol::Reader& reader) { protocol::read(reader, devices); });
+  w.ask({"--list-devices", "--memory-limit", std::to_string(memory_budget())}, true, Message::devices,
+        "--list-devices", Seconds(kStartupTimeout.count() * 4),
+        [&](protocol::Reader& reader) { protocol::read(reader, devices); });
   return devices;
 }
 
@@ -475,16 +487,19 @@ GlslRunner& GlslRunner::instance(int threads, const GlTarget& target) {
   return *runner;
 }
 
-GlslRunner::GlslRunner(int threads, const GlTarget& target) : worker_(std::make_unique<Worker>()), threads_(threads) {
+GlslRunner::GlslRunner(int threads, const GlTarget& target)
+    : worker_(std::make_unique<Worker>()), threads_(threads) {
   Worker& w = *worker_;
   w.path = worker_path();
   w.threads = threads;
   w.target = target;
   // The path is named where it is not the worker's first (OSMesa where built).
-  const std::string gl = *target.path == gl_paths_built().front() && target.device.empty()
-                             ? ""
-                             : display_name(*target.path) + (target.device.empty() ? "" : " " + target.device) + ", ";
-  w.name = "GLSL worker " + w.path + " (" + gl + std::to_string(threads) + (threads == 1 ? " thread)" : " threads)");
+  const std::string gl =
+      *target.path == gl_paths_built().front() && target.device.empty()
+          ? ""
+          : display_name(*target.path) + (target.device.empty() ? "" : " " + target.device) + ", ";
+  w.name = "GLSL worker " + w.path + " (" + gl + std::to_string(threads) +
+           (threads == 1 ? " thread)" : " threads)");
   w.start();
   renderer_ = w.renderer;
 }
@@ -508,8 +523,9 @@ void GlslRunner::prepare(const DepthMap& map, const TechniqueParams& params, con
   try {
     // The request sent and the program compiled, each under its own bound; then the uploads and
     // precomputed textures under theirs.
-    w.call(Message::prepare, request, Message::compiled, "compile", kCompileTimeout, [](protocol::Reader&) {},
-           shader_path, upload);
+    w.call(
+        Message::prepare, request, Message::compiled, "compile", kCompileTimeout, [](protocol::Reader&) {},
+        shader_path, upload);
     w.call(std::nullopt, {}, Message::done, "upload", upload, [](protocol::Reader&) {});
   } catch (...) {
     // A prepare that failed may have replaced either or neither: the next one sends both.
@@ -532,14 +548,17 @@ void GlslRunner::prepare(const DepthMap& map, const TechniqueParams& params, con
 GlDrawTime GlslRunner::draw() {
   Worker& w = *worker_;
   GlDrawTime time;
-  w.call(Message::draw, {}, Message::drawn, "draw", Seconds(w.draw_bound), [&](protocol::Reader& reader) {
-    std::uint8_t timed = 0;
-    double timer = 0;
-    reader.value(time.wall_seconds);
-    reader.value(timed);
-    reader.value(timer);
-    if (timed) time.timer_seconds = timer;
-  }, w.shader_path);
+  w.call(
+      Message::draw, {}, Message::drawn, "draw", Seconds(w.draw_bound),
+      [&](protocol::Reader& reader) {
+        std::uint8_t timed = 0;
+        double timer = 0;
+        reader.value(time.wall_seconds);
+        reader.value(timed);
+        reader.value(timer);
+        if (timed) time.timer_seconds = timer;
+      },
+      w.shader_path);
   return time;
 }
 

@@ -7,7 +7,9 @@
 namespace heightmarch {
 namespace {
 
-bool drawn(const HitChannelInfo& c) { return c.writer == ChannelWriter::hit || c.writer == ChannelWriter::optional; }
+bool drawn(const HitChannelInfo& c) {
+  return c.writer == ChannelWriter::hit || c.writer == ChannelWriter::optional;
+}
 
 // The drawn outputs in the list's order: output k is component k % 4 of attachment k / 4.
 std::vector<HitChannelInfo> drawn_outputs() {
@@ -61,7 +63,8 @@ std::string hit_outputs_glsl() {
   for (int a = 0; a < attachments; ++a) {
     glsl += "  hitOutputs" + std::to_string(a) + " = vec4(";
     for (std::size_t k = std::size_t(4 * a); k < std::size_t(4 * a + 4); ++k)
-      glsl += (k % 4 ? ", " : "") + (k < outputs.size() ? "hit." + std::string(outputs[k].name) : std::string("0.0"));
+      glsl += (k % 4 ? ", " : "") +
+              (k < outputs.size() ? "hit." + std::string(outputs[k].name) : std::string("0.0"));
     glsl += ");\n";
   }
   return glsl + "}\n";
@@ -86,9 +89,11 @@ void read_hit_outputs(const std::vector<std::vector<float>>& attachments, std::s
   const auto [attachment, component] = samples_output();
   samples_known = true;
   for (std::size_t i = 0; i < rays; ++i)
-    samples_known = samples_known && attachments[std::size_t(attachment)][4 * i + std::size_t(component)] >= 0.0f;
+    samples_known =
+        samples_known && attachments[std::size_t(attachment)][4 * i + std::size_t(component)] >= 0.0f;
   for (std::size_t i = 0; i < rays; ++i)
-    hits.discarded[i] = discard && (hits.u[i] < 0.0f || hits.u[i] > 1.0f || hits.v[i] < 0.0f || hits.v[i] > 1.0f);
+    hits.discarded[i] =
+        discard && (hits.u[i] < 0.0f || hits.u[i] > 1.0f || hits.v[i] < 0.0f || hits.v[i] > 1.0f);
 }
 
 }  // namespace heightmarch

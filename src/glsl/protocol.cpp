@@ -80,11 +80,13 @@ constexpr std::size_t kMaxPathBytes = 4096;  // PATH_MAX
 }  // namespace
 
 std::array<const std::vector<float>*, kRayArrays> ray_arrays(const RayBatch& rays) {
-  return {&rays.tx, &rays.ty, &rays.vx, &rays.vy, &rays.vz, &rays.du_dx, &rays.dv_dx, &rays.du_dy, &rays.dv_dy};
+  return {&rays.tx,    &rays.ty,    &rays.vx,    &rays.vy,   &rays.vz,
+          &rays.du_dx, &rays.dv_dx, &rays.du_dy, &rays.dv_dy};
 }
 
 std::array<std::vector<float>*, kRayArrays> ray_arrays(RayBatch& rays) {
-  return {&rays.tx, &rays.ty, &rays.vx, &rays.vy, &rays.vz, &rays.du_dx, &rays.dv_dx, &rays.du_dy, &rays.dv_dy};
+  return {&rays.tx,    &rays.ty,    &rays.vx,    &rays.vy,   &rays.vz,
+          &rays.du_dx, &rays.dv_dx, &rays.du_dy, &rays.dv_dy};
 }
 
 void write(Writer& w, const TechniqueParams& params) {
@@ -119,8 +121,8 @@ void read(Reader& r, HitBuffers& hits, std::size_t rays) {
   hits.for_each([&](HitChannel channel, auto& values) {
     r.array(values);
     if (values.size() != rays)
-      throw BadMessage(std::string(info(channel).name) + " array of " + std::to_string(values.size()) + " for " +
-                       std::to_string(rays) + " rays");
+      throw BadMessage(std::string(info(channel).name) + " array of " + std::to_string(values.size()) +
+                       " for " + std::to_string(rays) + " rays");
   });
 }
 
@@ -129,7 +131,8 @@ namespace {
 GlPath read_path(Reader& r) {
   std::uint32_t path = 0;
   r.value(path);
-#define HEIGHTMARCH_GL_PATH_KNOWN(id, ...) if (path == std::uint32_t(GlPath::id)) return GlPath::id;
+#define HEIGHTMARCH_GL_PATH_KNOWN(id, ...) \
+  if (path == std::uint32_t(GlPath::id)) return GlPath::id;
   HEIGHTMARCH_GL_PATHS(HEIGHTMARCH_GL_PATH_KNOWN)
 #undef HEIGHTMARCH_GL_PATH_KNOWN
   throw BadMessage("GL path " + std::to_string(path) + " is none of the list's");
@@ -139,13 +142,15 @@ GlPath read_path(Reader& r) {
 
 void write(Writer& w, const GlRenderer& renderer) {
   w.value(std::uint32_t(renderer.path));
-  for (const std::string* s : {&renderer.device, &renderer.renderer, &renderer.version, &renderer.driver}) w.text(*s);
+  for (const std::string* s : {&renderer.device, &renderer.renderer, &renderer.version, &renderer.driver})
+    w.text(*s);
   w.value(std::uint8_t(renderer.software));
 }
 
 void read(Reader& r, GlRenderer& renderer) {
   renderer.path = read_path(r);
-  for (std::string* s : {&renderer.device, &renderer.renderer, &renderer.version, &renderer.driver}) r.text(*s);
+  for (std::string* s : {&renderer.device, &renderer.renderer, &renderer.version, &renderer.driver})
+    r.text(*s);
   std::uint8_t software = 0;
   r.value(software);
   renderer.software = software != 0;
@@ -163,7 +168,8 @@ void read(Reader& r, std::vector<GlDevice>& devices) {
   std::uint64_t count = 0;
   r.value(count);
   constexpr std::uint64_t kMaxDevices = 64;  // what the worker lists at most (egl_context.cpp)
-  if (count > kMaxDevices) throw BadMessage(std::to_string(count) + " devices, more than " + std::to_string(kMaxDevices));
+  if (count > kMaxDevices)
+    throw BadMessage(std::to_string(count) + " devices, more than " + std::to_string(kMaxDevices));
   devices.resize(count);
   for (GlDevice& d : devices) {
     std::int32_t index = 0;

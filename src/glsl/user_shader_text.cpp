@@ -31,8 +31,10 @@ bool harness_declaration(const std::string& line) {
   if (word() != "uniform" || !skip_spaces() || word().empty() || !skip_spaces()) return false;
   const std::string name = word();
   skip_spaces();
-  static const char* const names[] = {"depthMap", "heightScale", "height_scale", "numLayers", "minLayers", "maxLayers"};
-  return i < line.size() && line[i] == ';' && std::find(std::begin(names), std::end(names), name) != std::end(names);
+  static const char* const names[] = {"depthMap",  "heightScale", "height_scale",
+                                      "numLayers", "minLayers",   "maxLayers"};
+  return i < line.size() && line[i] == ';' &&
+         std::find(std::begin(names), std::end(names), name) != std::end(names);
 }
 
 // Reads the digits at `at` (at most 15, so no overflow) into `value`; false if there are none.
@@ -50,12 +52,13 @@ std::string map_locations(const std::string& line, const std::string& path) {
   std::size_t i = 0;
   // Each pass consumes at least one character.
   while (i < line.size()) {
-    const bool starts = std::isdigit(static_cast<unsigned char>(line[i])) && (i == 0 || !is_word(line[i - 1]));
+    const bool starts =
+        std::isdigit(static_cast<unsigned char>(line[i])) && (i == 0 || !is_word(line[i - 1]));
     std::size_t at = i;
     long long source = 0, row = 0, column = 0;
     if (starts && read_number(line, at, source) && at < line.size() && line[at] == ':' &&
-        read_number(line, ++at, row) && at < line.size() && line[at] == '(' && read_number(line, ++at, column) &&
-        at < line.size() && line[at] == ')') {
+        read_number(line, ++at, row) && at < line.size() && line[at] == '(' &&
+        read_number(line, ++at, column) && at < line.size() && line[at] == ')') {
       const bool harness = row >= kHarnessFirstLine;
       out += (harness ? std::string("harness") : path) + ":" +
              std::to_string(harness ? row - kHarnessFirstLine + 1 : row) + ":" + std::to_string(column);
@@ -81,9 +84,10 @@ std::size_t main_definition_line(const std::string& text) {
       std::size_t after = at + 4, before = at;
       while (after < code.size() && (code[after] == ' ' || code[after] == '\t')) ++after;
       while (before > 0 && (code[before - 1] == ' ' || code[before - 1] == '\t')) --before;
-      const bool word = (at == 0 || !is_word(code[at - 1])) && (at + 4 == code.size() || !is_word(code[at + 4]));
-      if (word && after < code.size() && code[after] == '(' && before >= 4 && code.compare(before - 4, 4, "void") == 0 &&
-          (before == 4 || !is_word(code[before - 5])))
+      const bool word =
+          (at == 0 || !is_word(code[at - 1])) && (at + 4 == code.size() || !is_word(code[at + 4]));
+      if (word && after < code.size() && code[after] == '(' && before >= 4 &&
+          code.compare(before - 4, 4, "void") == 0 && (before == 4 || !is_word(code[before - 5])))
         return line;
     }
     start = end + 1;
@@ -98,12 +102,14 @@ std::string user_source(const std::string& text, const std::string& path) {
   if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw InputError(path + ": empty shader file");
   // The source reaches GL as a C string: the compiler would stop at a NUL byte and run the rest unread.
   if (const std::size_t nul = text.find('\0'); nul != std::string::npos)
-    throw InputError(path + ": holds a NUL byte (line " + std::to_string(1 + std::count(text.begin(), text.begin() + nul, '\n')) +
+    throw InputError(path + ": holds a NUL byte (line " +
+                     std::to_string(1 + std::count(text.begin(), text.begin() + nul, '\n')) +
                      "): not a GLSL text file");
   if (const std::size_t line = main_definition_line(text))
-    throw InputError(path + ":" + std::to_string(line) +
-                     ": defines main(): a function vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) is expected, not a "
-                     "whole shader (give the function, and what it calls, in a file of its own)");
+    throw InputError(
+        path + ":" + std::to_string(line) +
+        ": defines main(): a function vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) is expected, not a "
+        "whole shader (give the function, and what it calls, in a file of its own)");
   if (text.find("ParallaxMapping") == std::string::npos)
     throw InputError(path + ": does not define vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)");
   std::string out;
@@ -133,7 +139,8 @@ std::string user_log(const std::string& log, const std::string& path) {
     if (joined.size() > kMaxQuotedLogBytes) break;
   }
   if (joined.size() <= kMaxQuotedLogBytes) return joined;
-  return joined.substr(0, kMaxQuotedLogBytes) + " ... (the log goes on for " + std::to_string(log.size()) + " bytes)";
+  return joined.substr(0, kMaxQuotedLogBytes) + " ... (the log goes on for " + std::to_string(log.size()) +
+         " bytes)";
 }
 
 }  // namespace heightmarch

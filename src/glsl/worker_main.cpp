@@ -90,7 +90,8 @@ void exit_when_the_client_hangs_up(int in) {
   std::thread([in] {
     pollfd p{in, POLLRDHUP, 0};
     // Each pass sleeps in poll until the hang-up; EINTR repeats it.
-    while (::poll(&p, 1, -1) < 0 && errno == EINTR) {}
+    while (::poll(&p, 1, -1) < 0 && errno == EINTR) {
+    }
     ::_exit(0);
   }).detach();
 }
@@ -193,9 +194,10 @@ int run(const GlTarget& target, int threads) {
 
 int main(int argc, char** argv) {
   using namespace heightmarch;
-  const std::string usage =
-      "usage: heightmarch-glsl-worker --threads N --memory-limit BYTES [--gl " + gl_path_names() +
-      "] [--gl-device DEVICE], --paths, or --list-devices --memory-limit BYTES (started by heightmarch, not by hand)\n";
+  const std::string usage = "usage: heightmarch-glsl-worker --threads N --memory-limit BYTES [--gl " +
+                            gl_path_names() +
+                            "] [--gl-device DEVICE], --paths, or --list-devices --memory-limit BYTES "
+                            "(started by heightmarch, not by hand)\n";
   if (argc == 2 && std::string(argv[1]) == "--paths") {
     protocol::Writer paths;
     paths.value(protocol::kVersion);
@@ -209,7 +211,8 @@ int main(int argc, char** argv) {
   const bool list = argc >= 2 && std::string(argv[1]) == "--list-devices";
   for (int i = list ? 2 : 1; i < argc; i += 2) {
     const std::string name = argv[i];
-    const bool known = name == "--memory-limit" || (!list && (name == "--threads" || name == "--gl" || name == "--gl-device"));
+    const bool known = name == "--memory-limit" ||
+                       (!list && (name == "--threads" || name == "--gl" || name == "--gl-device"));
     if (!known || i + 1 >= argc || !options.emplace(name, argv[i + 1]).second) {
       std::fputs(usage.c_str(), stderr);
       return 2;

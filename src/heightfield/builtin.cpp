@@ -40,7 +40,8 @@ double smoothstep(double e0, double e1, double x) {
 double lattice(int i, int j, int period, std::uint64_t seed) {
   i = ((i % period) + period) % period;
   j = ((j % period) + period) % period;
-  std::uint64_t h = seed ^ (std::uint64_t(i) * 0x9e3779b97f4a7c15ull) ^ (std::uint64_t(j) * 0xc2b2ae3d27d4eb4full);
+  std::uint64_t h =
+      seed ^ (std::uint64_t(i) * 0x9e3779b97f4a7c15ull) ^ (std::uint64_t(j) * 0xc2b2ae3d27d4eb4full);
   h = (h ^ (h >> 31)) * 0xbf58476d1ce4e5b9ull;
   h = (h ^ (h >> 29)) * 0x94d049bb133111ebull;
   return double((h ^ (h >> 32)) >> 11) * 0x1.0p-53;
@@ -64,7 +65,8 @@ DepthMap sample_function(int res, const DepthFunction& depth) {
   DepthMap map{res, res, std::vector<float>(std::size_t(res) * std::size_t(res))};
   for (int j = 0; j < res; ++j)
     for (int i = 0; i < res; ++i)
-      map.texels[std::size_t(j) * res + i] = float(std::clamp(depth((i + 0.5) / res, (j + 0.5) / res), 0.0, 1.0));
+      map.texels[std::size_t(j) * res + i] =
+          float(std::clamp(depth((i + 0.5) / res, (j + 0.5) / res), 0.0, 1.0));
   return map;
 }
 
@@ -77,7 +79,10 @@ void normalize(DepthMap& map, float lo, float hi) {
 
 DepthMap waves(int res, std::uint64_t seed) {
   Random rng(seed);
-  struct Wave { int fx, fy; double phase, amplitude; };
+  struct Wave {
+    int fx, fy;
+    double phase, amplitude;
+  };
   std::vector<Wave> list;
   for (int k = 0; k < 4; ++k)
     list.push_back({1 + rng.below(4), rng.below(5) - 2, rng.uniform() * kTau, 0.5 / (k + 1)});
@@ -140,7 +145,8 @@ DepthMap toybox(int res, std::uint64_t seed) {
 
 // Thin deep pits a few texels wide scattered on a shallow base.
 DepthMap spikes(int res, std::uint64_t seed) {
-  DepthMap map = sample_function(res, [&](double u, double v) { return 0.1 + 0.05 * value_noise(u, v, 8, seed); });
+  DepthMap map =
+      sample_function(res, [&](double u, double v) { return 0.1 + 0.05 * value_noise(u, v, 8, seed); });
   Random rng(seed + 99);
   const int pits = std::max(1, res * res / 1024);
   const int radius = std::max(1, res / 256);  // 2-4 texels wide at 512
@@ -158,8 +164,12 @@ DepthMap spikes(int res, std::uint64_t seed) {
 }
 
 // flat sits at half depth, so a flat map still shows a parallax shift.
-DepthMap flat(int res, std::uint64_t) { return DepthMap{res, res, std::vector<float>(std::size_t(res) * res, 0.5f)}; }
-DepthMap ramp(int res, std::uint64_t) { return sample_function(res, [](double u, double) { return u; }); }
+DepthMap flat(int res, std::uint64_t) {
+  return DepthMap{res, res, std::vector<float>(std::size_t(res) * res, 0.5f)};
+}
+DepthMap ramp(int res, std::uint64_t) {
+  return sample_function(res, [](double u, double) { return u; });
+}
 
 }  // namespace
 
@@ -187,7 +197,8 @@ DepthMap make_builtin_heightfield(const std::string& name, int resolution, std::
   if (resolution < 1 || resolution > kMaxDepthMapSide)
     throw InputError("builtin:" + name + ": resolution " + std::to_string(resolution) + " out of range [1, " +
                      std::to_string(kMaxDepthMapSide) + "]");
-  check_memory_budget(kBytesPerDepthTexel * resolution * resolution, "builtin:" + name + " at " + std::to_string(resolution));
+  check_memory_budget(kBytesPerDepthTexel * resolution * resolution,
+                      "builtin:" + name + " at " + std::to_string(resolution));
   for (const BuiltinHeightfield& b : builtin_heightfields())
     if (name == b.name) return b.make(resolution, seed);
   std::string names;

@@ -1,6 +1,5 @@
 // Depth maps from image files through OpenImageIO (docs/conventions.md).
 #include <OpenImageIO/imageio.h>
-
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -48,7 +47,8 @@ class SilencedStderr {
 };
 
 // The largest depth map file: an uncompressed float RGBA image at the largest side, and headers.
-constexpr std::uintmax_t kMaxDepthMapFileBytes = std::uintmax_t(kMaxDepthMapSide) * kMaxDepthMapSide * 16 + (64u << 20);
+constexpr std::uintmax_t kMaxDepthMapFileBytes =
+    std::uintmax_t(kMaxDepthMapSide) * kMaxDepthMapSide * 16 + (64u << 20);
 // Pixels a byte of an image file may declare: beyond deflate's 1,032:1 on a 1-bit PNG (8 pixels a
 // byte) and far beyond JPEG's; more is a corrupt or hostile header (333 bytes declaring
 // 16000 x 16000), refused before any pixel is allocated.
@@ -57,7 +57,8 @@ constexpr double kMaxPixelsPerFileByte = 16384.0;
 std::string channel_list(const OIIO::ImageSpec& spec) {
   std::string names;
   for (int c = 0; c < spec.nchannels; ++c)
-    names += (c ? ", " : "") + std::to_string(c) + (c < int(spec.channelnames.size()) ? " " + spec.channelnames[c] : "");
+    names += (c ? ", " : "") + std::to_string(c) +
+             (c < int(spec.channelnames.size()) ? " " + spec.channelnames[c] : "");
   return names;
 }
 
@@ -124,13 +125,15 @@ ChannelRead read_channel(const std::string& path, std::uintmax_t file_bytes, int
     throw InputError(path + ": declares " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
                      " pixels in only " + std::to_string(file_bytes) + " bytes (corrupt or truncated)");
   if (channel >= spec.nchannels)
-    throw InputError(path + ": has no channel " + std::to_string(channel) + " (--channel; its channels: " +
-                     channel_list(spec) + ")");
+    throw InputError(path + ": has no channel " + std::to_string(channel) +
+                     " (--channel; its channels: " + channel_list(spec) + ")");
   check_memory_budget(kBytesPerDepthTexel * pixels + decoder_bytes(in->format_name(), spec),
                       path + " (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) + ", " +
-                          std::to_string(spec.nchannels) + (spec.nchannels == 1 ? " channel of " : " channels of ") +
-                          spec.format.c_str() + ")");
-  DepthMap map{spec.width, spec.height, std::vector<float>(std::size_t(spec.width) * std::size_t(spec.height))};
+                          std::to_string(spec.nchannels) +
+                          (spec.nchannels == 1 ? " channel of " : " channels of ") + spec.format.c_str() +
+                          ")");
+  DepthMap map{spec.width, spec.height,
+               std::vector<float>(std::size_t(spec.width) * std::size_t(spec.height))};
   // A band of rows (a row of tiles) per pass, from the data window's first row; has_error too:
   // some readers (libjpeg on a truncated scan) fill the rest grey and return true.
   const int band = spec.tile_width > 0 ? std::max(1, spec.tile_height) : kRowsPerRead;
@@ -139,11 +142,12 @@ ChannelRead read_channel(const std::string& path, std::uintmax_t file_bytes, int
     float* rows = map.texels.data() + std::size_t(y) * std::size_t(spec.width);
     const bool read =
         spec.tile_width > 0
-            ? in->read_tiles(0, 0, spec.x, spec.x + spec.width, spec.y + y, spec.y + end, spec.z, spec.z + 1, channel,
-                             channel + 1, OIIO::TypeDesc::FLOAT, rows)
-            : in->read_scanlines(0, 0, spec.y + y, spec.y + end, spec.z, channel, channel + 1, OIIO::TypeDesc::FLOAT,
-                                 rows);
-    if (!read || in->has_error()) throw InputError(path + ": cannot read pixels (" + one_line(in->geterror()) + ")");
+            ? in->read_tiles(0, 0, spec.x, spec.x + spec.width, spec.y + y, spec.y + end, spec.z, spec.z + 1,
+                             channel, channel + 1, OIIO::TypeDesc::FLOAT, rows)
+            : in->read_scanlines(0, 0, spec.y + y, spec.y + end, spec.z, channel, channel + 1,
+                                 OIIO::TypeDesc::FLOAT, rows);
+    if (!read || in->has_error())
+      throw InputError(path + ": cannot read pixels (" + one_line(in->geterror()) + ")");
   }
   return {std::move(map), spec};
 }
@@ -168,11 +172,13 @@ void check_flat_channel(const std::string& path, std::uintmax_t file_bytes, cons
   std::vector<float>().swap(map.texels);
   for (int other = 0; other < read.spec.nchannels; ++other) {
     if (other == reading.channel || constant(read_channel(path, file_bytes, other).map.texels)) continue;
-    const std::string what = path + ": " + channel_name(read.spec, reading.channel) + ", read as the depth, is constant (" +
-                             std::to_string(value) + ") while " + channel_name(read.spec, other) + " varies";
+    const std::string what = path + ": " + channel_name(read.spec, reading.channel) +
+                             ", read as the depth, is constant (" + std::to_string(value) + ") while " +
+                             channel_name(read.spec, other) + " varies";
     if (!reading.allow_flat)
-      throw InputError(what + ": choose the depth's channel with --channel " + std::to_string(other) + " (in a map list, " +
-                       path + ":channel=" + std::to_string(other) + "), or measure the flat map with --allow-flat");
+      throw InputError(what + ": choose the depth's channel with --channel " + std::to_string(other) +
+                       " (in a map list, " + path + ":channel=" + std::to_string(other) +
+                       "), or measure the flat map with --allow-flat");
     std::fprintf(stderr, "heightmarch: warning: %s; measured flat (--allow-flat)\n", printable(what).c_str());
     break;
   }
@@ -196,10 +202,11 @@ DepthMap load_depth_map(const std::string& path, const MapReading& reading) {
     if (reading.convention == Convention::height) d = 1.0f - d;
   }
   check_depth_map(map, path);
-  if (read.spec.nchannels > 1 && constant(map.texels)) check_flat_channel(path, file_bytes, read, reading, map);
+  if (read.spec.nchannels > 1 && constant(map.texels))
+    check_flat_channel(path, file_bytes, read, reading, map);
   if (outside)
-    std::fprintf(stderr, "heightmarch: warning: %s: %zu texels outside [0, 1] clamped\n", printable(path).c_str(),
-                 outside);
+    std::fprintf(stderr, "heightmarch: warning: %s: %zu texels outside [0, 1] clamped\n",
+                 printable(path).c_str(), outside);
   return std::move(map);
 }
 
@@ -218,7 +225,8 @@ void give_unique_labels(std::vector<HeightfieldSource>& sources) {
   for (const HeightfieldSource& s : unique) labels.push_back(s.label());
   // A file's name shared: its path; its path shared too (one file read two ways): its entry.
   const auto path_shared = [&](const HeightfieldSource& s) {
-    return std::count_if(unique.begin(), unique.end(), [&](const HeightfieldSource& o) { return o.path == s.path; }) > 1;
+    return std::count_if(unique.begin(), unique.end(),
+                         [&](const HeightfieldSource& o) { return o.path == s.path; }) > 1;
   };
   for (std::size_t i = 0; i < unique.size(); ++i) {
     const bool shared = std::count(labels.begin(), labels.end(), labels[i]) > 1;
@@ -230,8 +238,9 @@ void give_unique_labels(std::vector<HeightfieldSource>& sources) {
   for (std::size_t i = 0; i < unique.size(); ++i)
     for (std::size_t j = i + 1; j < unique.size(); ++j)
       if (unique[i].name == unique[j].name)
-        throw InputError("two heightfields would share the label '" + unique[i].name + "' (" + unique[i].describe() +
-                         " and " + unique[j].describe() + "); give a file by another path (./NAME)");
+        throw InputError("two heightfields would share the label '" + unique[i].name + "' (" +
+                         unique[i].describe() + " and " + unique[j].describe() +
+                         "); give a file by another path (./NAME)");
   sources = std::move(unique);
 }
 
@@ -246,11 +255,13 @@ std::string HeightfieldSource::describe() const {
 
 int parse_channel(const std::string& text, const std::string& what) {
   static const std::string names = "rgba";
-  if (text.size() == 1 && names.find(char(std::tolower(static_cast<unsigned char>(text[0])))) != std::string::npos)
+  if (text.size() == 1 &&
+      names.find(char(std::tolower(static_cast<unsigned char>(text[0])))) != std::string::npos)
     return int(names.find(char(std::tolower(static_cast<unsigned char>(text[0])))));
   int channel = -1;
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), channel);
-  if (text.empty() || error != std::errc() || end != text.data() + text.size() || channel < 0 || channel > 1023)
+  if (text.empty() || error != std::errc() || end != text.data() + text.size() || channel < 0 ||
+      channel > 1023)
     throw InputError(what + " '" + text + "': a channel index from 0, or r, g, b, a");
   return channel;
 }
@@ -277,7 +288,8 @@ namespace {
 void take_entry_options(const std::string& entry, std::string& text, MapReading& reading) {
   std::vector<std::string> seen;
   // Each pass shortens text by a segment, or stops.
-  for (std::size_t colon = text.rfind(':'); colon != std::string::npos && colon > 0; colon = text.rfind(':')) {
+  for (std::size_t colon = text.rfind(':'); colon != std::string::npos && colon > 0;
+       colon = text.rfind(':')) {
     const std::string segment = text.substr(colon + 1);
     const std::size_t equals = segment.find('=');
     if (equals == std::string::npos) return;
@@ -292,12 +304,12 @@ void take_entry_options(const std::string& entry, std::string& text, MapReading&
     else if (key == "wrap")
       reading.wrap = parse_wrap(value, what);
     else
-      throw InputError("map list entry '" + entry + "': unknown option '" + key + "' (convention, channel, wrap)");
+      throw InputError("map list entry '" + entry + "': unknown option '" + key +
+                       "' (convention, channel, wrap)");
     seen.push_back(key);
     text.erase(colon);
   }
 }
-
 
 void check_resolution(int resolution) {
   if (resolution < 1 || resolution > kMaxDepthMapSide)
@@ -307,7 +319,8 @@ void check_resolution(int resolution) {
 
 }  // namespace
 
-HeightfieldSource HeightfieldSource::of(const BuiltinHeightfield& builtin, int resolution, std::uint64_t seed) {
+HeightfieldSource HeightfieldSource::of(const BuiltinHeightfield& builtin, int resolution,
+                                        std::uint64_t seed) {
   check_resolution(resolution);
   HeightfieldSource source;
   source.builtin = builtin.name;
@@ -340,8 +353,9 @@ HeightfieldSource parse_heightfield(const std::string& entry, int resolution, st
     if (source.reading.channel != 0)
       throw InputError("a channel (--channel, :channel=) applies to a depth map file, not builtin:" + name);
     if (source.reading.convention != Convention::depth)
-      throw InputError("the height convention (--convention, :convention=) applies to a depth map file, not builtin:" +
-                       name + ", a depth map");
+      throw InputError(
+          "the height convention (--convention, :convention=) applies to a depth map file, not builtin:" +
+          name + ", a depth map");
   } else {
     if (text.empty()) throw InputError("empty heightfield name");
     if (!std::filesystem::exists(text)) {
@@ -355,7 +369,8 @@ HeightfieldSource parse_heightfield(const std::string& entry, int resolution, st
 }
 
 DepthMap load_heightfield(const HeightfieldSource& source) {
-  if (!source.builtin.empty()) return make_builtin_heightfield(source.builtin, source.resolution, source.seed);
+  if (!source.builtin.empty())
+    return make_builtin_heightfield(source.builtin, source.resolution, source.seed);
   return load_depth_map(source.path, source.reading);
 }
 

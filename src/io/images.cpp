@@ -20,7 +20,8 @@ namespace {
 
 // The encoder writes through the atomic writer's temporary (OIIO's IOFile over its descriptor), so
 // it never opens a path itself; OIIO chooses it by the final name's extension.
-void write_image(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc type, const void* pixels) {
+void write_image(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
+                 const void* pixels) {
   AtomicFile file(path);
   const int fd = ::dup(file.descriptor());
   std::FILE* stream = fd >= 0 ? ::fdopen(fd, "wb") : nullptr;
@@ -33,7 +34,8 @@ void write_image(const std::string& path, const OIIO::ImageSpec& spec, OIIO::Typ
   {
     OIIO::Filesystem::IOFile proxy(stream, OIIO::Filesystem::IOProxy::Write);
     auto out = OIIO::ImageOutput::create(path);
-    if (!out || !out->set_ioproxy(&proxy) || !out->open(path, spec) || !out->write_image(type, pixels) || !out->close())
+    if (!out || !out->set_ioproxy(&proxy) || !out->open(path, spec) || !out->write_image(type, pixels) ||
+        !out->close())
       why = out ? out->geterror() : OIIO::geterror();
   }
   const bool write_failed = std::ferror(stream) != 0;
@@ -53,10 +55,24 @@ using Palette = std::array<std::array<float, 3>, 9>;  // 9 anchors from dark to 
 
 // matplotlib's inferno (the error map) and viridis (the cost map): perceptually uniform, and
 // distinct, so the two maps are not read for each other.
-constexpr Palette kInferno = {{{0, 0, 4},      {31, 12, 72},  {85, 15, 109},  {136, 34, 106}, {186, 54, 85},
-                               {227, 89, 51},  {249, 140, 10}, {249, 201, 50}, {252, 255, 164}}};
-constexpr Palette kViridis = {{{68, 1, 84},     {71, 44, 122},  {59, 81, 139},  {44, 113, 142}, {33, 144, 141},
-                               {39, 173, 129},  {92, 200, 99},  {170, 220, 50}, {253, 231, 37}}};
+constexpr Palette kInferno = {{{0, 0, 4},
+                               {31, 12, 72},
+                               {85, 15, 109},
+                               {136, 34, 106},
+                               {186, 54, 85},
+                               {227, 89, 51},
+                               {249, 140, 10},
+                               {249, 201, 50},
+                               {252, 255, 164}}};
+constexpr Palette kViridis = {{{68, 1, 84},
+                               {71, 44, 122},
+                               {59, 81, 139},
+                               {44, 113, 142},
+                               {33, 144, 141},
+                               {39, 173, 129},
+                               {92, 200, 99},
+                               {170, 220, 50},
+                               {253, 231, 37}}};
 constexpr Colour kNoRay = {96, 96, 96};
 
 Colour colour_at(const Palette& palette, double t) {
@@ -64,7 +80,8 @@ Colour colour_at(const Palette& palette, double t) {
   const std::size_t i = std::min<std::size_t>(std::size_t(t), palette.size() - 2);
   const double f = t - double(i);
   Colour c;
-  for (int k = 0; k < 3; ++k) c[k] = std::uint8_t(std::lround(palette[i][k] + f * (palette[i + 1][k] - palette[i][k])));
+  for (int k = 0; k < 3; ++k)
+    c[k] = std::uint8_t(std::lround(palette[i][k] + f * (palette[i + 1][k] - palette[i][k])));
   return c;
 }
 
@@ -77,31 +94,53 @@ double heat_position(double texels) {
 // "cells".
 const char* glyph(char c) {
   switch (c) {
-    case '0': return "111101101101111";
-    case '1': return "010110010010111";
-    case '2': return "111001111100111";
-    case '3': return "111001111001111";
-    case '4': return "101101111001001";
-    case '5': return "111100111001111";
-    case '6': return "111100111101111";
-    case '7': return "111001001001001";
-    case '8': return "111101111101111";
-    case '9': return "111101111001111";
-    case '.': return "000000000000010";
-    case 'a': return "000110011101111";
-    case 'c': return "000011100100011";
-    case 'e': return "000111111100111";
-    case 'l': return "110010010010111";
-    case 'm': return "000111111101101";
-    case 'p': return "000110101110100";
-    case 's': return "000011110001110";
-    case 't': return "010111010010011";
-    case 'x': return "000101010010101";
-    default: return "000000000000000";
+    case '0':
+      return "111101101101111";
+    case '1':
+      return "010110010010111";
+    case '2':
+      return "111001111100111";
+    case '3':
+      return "111001111001111";
+    case '4':
+      return "101101111001001";
+    case '5':
+      return "111100111001111";
+    case '6':
+      return "111100111101111";
+    case '7':
+      return "111001001001001";
+    case '8':
+      return "111101111101111";
+    case '9':
+      return "111101111001111";
+    case '.':
+      return "000000000000010";
+    case 'a':
+      return "000110011101111";
+    case 'c':
+      return "000011100100011";
+    case 'e':
+      return "000111111100111";
+    case 'l':
+      return "110010010010111";
+    case 'm':
+      return "000111111101101";
+    case 'p':
+      return "000110101110100";
+    case 's':
+      return "000011110001110";
+    case 't':
+      return "010111010010011";
+    case 'x':
+      return "000101010010101";
+    default:
+      return "000000000000000";
   }
 }
 
-void draw_text(std::vector<std::uint8_t>& rgb, int width, int height, int x, int y, int scale, const std::string& text) {
+void draw_text(std::vector<std::uint8_t>& rgb, int width, int height, int x, int y, int scale,
+               const std::string& text) {
   for (char c : text) {
     const char* g = glyph(c);
     for (int gy = 0; gy < 5; ++gy)
@@ -143,7 +182,8 @@ std::vector<std::uint8_t> image_with_legend(int width, int height, const Palette
   const int bar_x0 = width / 20, bar_x1 = bar_x0 + width * 7 / 10, bar_y = height + scale, bar_h = 3 * scale;
   for (int x = bar_x0; x < bar_x1; ++x) {
     const Colour c = colour_at(palette, double(x - bar_x0) / double(std::max(1, bar_x1 - bar_x0 - 1)));
-    for (int y = bar_y; y < bar_y + bar_h; ++y) std::copy(c.begin(), c.end(), &rgb[3 * (std::size_t(y) * width + x)]);
+    for (int y = bar_y; y < bar_y + bar_h; ++y)
+      std::copy(c.begin(), c.end(), &rgb[3 * (std::size_t(y) * width + x)]);
   }
   for (const LegendTick& tick : ticks) {
     const int x = bar_x0 + int(std::lround((bar_x1 - 1 - bar_x0) * tick.position));
@@ -163,7 +203,8 @@ std::vector<std::uint8_t> image_with_legend(int width, int height, const Palette
 }  // namespace
 
 void write_png_rgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb) {
-  write_image(path, OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8), OIIO::TypeDesc::UINT8, rgb.data());
+  write_image(path, OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8), OIIO::TypeDesc::UINT8,
+              rgb.data());
 }
 
 void write_exr(const std::string& path, int width, int height, const std::vector<std::string>& channel_names,
@@ -174,17 +215,22 @@ void write_exr(const std::string& path, int width, int height, const std::vector
   write_image(path, spec, OIIO::TypeDesc::FLOAT, interleaved.data());
 }
 
-std::vector<std::uint8_t> error_heat_map(const std::vector<float>& error_texels, const std::vector<std::uint8_t>& has_ray,
-                                         int width, int height, int& out_height) {
+std::vector<std::uint8_t> error_heat_map(const std::vector<float>& error_texels,
+                                         const std::vector<std::uint8_t>& has_ray, int width, int height,
+                                         int& out_height) {
   // A tick at each decade of the fixed scale.
   const std::vector<LegendTick> ticks = {{0.0, "0.01"}, {1.0 / 3.0, "0.1"}, {2.0 / 3.0, "1"}, {1.0, "10"}};
-  return image_with_legend(width, height, kInferno, ticks, "texels", [&](std::size_t p) {
-    return has_ray[p] ? colour_at(kInferno, heat_position(error_texels[p])) : kNoRay;
-  }, out_height);
+  return image_with_legend(
+      width, height, kInferno, ticks, "texels",
+      [&](std::size_t p) {
+        return has_ray[p] ? colour_at(kInferno, heat_position(error_texels[p])) : kNoRay;
+      },
+      out_height);
 }
 
-std::vector<std::uint8_t> cost_map(const std::vector<std::uint32_t>& samples, const std::vector<std::uint8_t>& has_ray,
-                                   int width, int height, const std::string& unit, int& out_height) {
+std::vector<std::uint8_t> cost_map(const std::vector<std::uint32_t>& samples,
+                                   const std::vector<std::uint8_t>& has_ray, int width, int height,
+                                   const std::string& unit, int& out_height) {
   // One log2 scale for every cost map, 1 to kCostMapMaxSamples: maps side by side (the gallery's
   // column, a report's images) compare by colour. A tick every factor of 4.
   const double top = std::log2(double(kCostMapMaxSamples));
@@ -200,8 +246,9 @@ std::vector<std::uint8_t> cost_map(const std::vector<std::uint32_t>& samples, co
       out_height);
 }
 
-std::vector<std::uint8_t> shade_render(const DepthMap& map, Wrap wrap, float scale, const std::vector<float>& u,
-                                       const std::vector<float>& v, const std::vector<float>& shadow,
+std::vector<std::uint8_t> shade_render(const DepthMap& map, Wrap wrap, float scale,
+                                       const std::vector<float>& u, const std::vector<float>& v,
+                                       const std::vector<float>& shadow,
                                        const std::vector<std::uint8_t>& has_ray, int width, int height,
                                        const float light[3]) {
   std::vector<std::uint8_t> rgb(3 * std::size_t(width) * std::size_t(height), 16);
@@ -209,8 +256,10 @@ std::vector<std::uint8_t> shade_render(const DepthMap& map, Wrap wrap, float sca
   for (std::size_t p = 0; p < std::size_t(width) * std::size_t(height); ++p) {
     if (!has_ray[p]) continue;
     // Surface height is -depth * scale; its slopes per uv give the normal.
-    const float sx = (sample_depth(map, wrap, u[p] + du, v[p]) - sample_depth(map, wrap, u[p] - du, v[p])) / (2 * du);
-    const float sy = (sample_depth(map, wrap, u[p], v[p] + dv) - sample_depth(map, wrap, u[p], v[p] - dv)) / (2 * dv);
+    const float sx =
+        (sample_depth(map, wrap, u[p] + du, v[p]) - sample_depth(map, wrap, u[p] - du, v[p])) / (2 * du);
+    const float sy =
+        (sample_depth(map, wrap, u[p], v[p] + dv) - sample_depth(map, wrap, u[p], v[p] - dv)) / (2 * dv);
     float n[3] = {sx * scale, sy * scale, 1.0f};
     const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     const float diffuse = std::max(0.0f, (n[0] * light[0] + n[1] * light[1] + n[2] * light[2]) / len);
@@ -219,7 +268,8 @@ std::vector<std::uint8_t> shade_render(const DepthMap& map, Wrap wrap, float sca
     const bool line = gu < 0.03f || gv < 0.03f;
     const float depth = sample_depth(map, wrap, u[p], v[p]);
     const float tint = 1.0f - 0.35f * depth;
-    const float base[3] = {line ? 0.25f : 0.85f * tint, line ? 0.25f : 0.62f * tint, line ? 0.3f : 0.45f * tint};
+    const float base[3] = {line ? 0.25f : 0.85f * tint, line ? 0.25f : 0.62f * tint,
+                           line ? 0.3f : 0.45f * tint};
     const float s = shadow[p] * shadow[p] * shadow[p] * shadow[p];
     const float light_amount = 0.25f + 0.75f * diffuse * s;
     for (int k = 0; k < 3; ++k)

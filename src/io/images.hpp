@@ -21,8 +21,9 @@ inline constexpr double kHeatMapMaxTexels = 10.0;
 
 // Per-pixel uv error (texels) as RGB (inferno colours on the fixed scale; grey where a pixel has
 // no ray), with a legend strip below: the colour bar and its ticks. out_height includes it.
-std::vector<std::uint8_t> error_heat_map(const std::vector<float>& error_texels, const std::vector<std::uint8_t>& has_ray,
-                                         int width, int height, int& out_height);
+std::vector<std::uint8_t> error_heat_map(const std::vector<float>& error_texels,
+                                         const std::vector<std::uint8_t>& has_ray, int width, int height,
+                                         int& out_height);
 
 // The cost map's fixed scale: log2 of the samples a pixel's ray took, from 1 to this many (more
 // are drawn as this many), the same for every cost map.
@@ -31,14 +32,17 @@ inline constexpr std::uint32_t kCostMapMaxSamples = 1024;
 // Per-pixel cost, the samples a pixel's ray took (exact: texel cells solved), as RGB (viridis on
 // the fixed log scale; grey where a pixel has no ray), with the same legend strip as the heat
 // map: ticks at 1, 4, 16, ..., 1024 and `unit` ("samples", "cells") after the bar.
-std::vector<std::uint8_t> cost_map(const std::vector<std::uint32_t>& samples, const std::vector<std::uint8_t>& has_ray,
-                                   int width, int height, const std::string& unit, int& out_height);
+std::vector<std::uint8_t> cost_map(const std::vector<std::uint32_t>& samples,
+                                   const std::vector<std::uint8_t>& has_ray, int width, int height,
+                                   const std::string& unit, int& out_height);
 
 // The surface at each pixel's uv, lit by diffuse light along `light` (normals from the depth map's
 // slopes at that uv), on a gridded albedo that makes the parallax shift visible, times the soft
-// shadow factor to the 4th power as the "Parallax Occlusion Mapping in GLSL" tutorial does. Dark where a pixel has no ray.
-std::vector<std::uint8_t> shade_render(const DepthMap& map, Wrap wrap, float scale, const std::vector<float>& u,
-                                       const std::vector<float>& v, const std::vector<float>& shadow,
+// shadow factor to the 4th power as the "Parallax Occlusion Mapping in GLSL" tutorial does. Dark where a
+// pixel has no ray.
+std::vector<std::uint8_t> shade_render(const DepthMap& map, Wrap wrap, float scale,
+                                       const std::vector<float>& u, const std::vector<float>& v,
+                                       const std::vector<float>& shadow,
                                        const std::vector<std::uint8_t>& has_ray, int width, int height,
                                        const float light[3]);
 

@@ -17,13 +17,17 @@ Provenance provenance() {
   std::string family, model;
   auto value = [](const std::string& line) {
     const auto colon = line.find(':');
-    const auto start = colon == std::string::npos ? std::string::npos : line.find_first_not_of(' ', colon + 1);
+    const auto start =
+        colon == std::string::npos ? std::string::npos : line.find_first_not_of(' ', colon + 1);
     return start == std::string::npos ? std::string() : line.substr(start);
   };
   for (std::string line; std::getline(cpuinfo, line) && !line.empty();) {
-    if (line.rfind("model name", 0) == 0) p.cpu = value(line);
-    else if (line.rfind("cpu family", 0) == 0) family = value(line);
-    else if (line.rfind("model\t", 0) == 0 || line.rfind("model :", 0) == 0) model = value(line);
+    if (line.rfind("model name", 0) == 0)
+      p.cpu = value(line);
+    else if (line.rfind("cpu family", 0) == 0)
+      family = value(line);
+    else if (line.rfind("model\t", 0) == 0 || line.rfind("model :", 0) == 0)
+      model = value(line);
   }
   if (p.cpu.empty()) p.cpu = "unknown CPU";
   if (!family.empty() && !model.empty()) p.cpu += " (family " + family + ", model " + model + ")";

@@ -5,11 +5,11 @@
 namespace heightmarch {
 
 struct Provenance {
-  std::string commit;    // short hash, "+dirty" when built from a modified tree
-  std::string cpu;       // model name from /proc/cpuinfo
+  std::string commit;  // short hash, "+dirty" when built from a modified tree
+  std::string cpu;     // model name from /proc/cpuinfo
   int cores = 0;
   std::string compiler;
-  std::string date;      // UTC, ISO 8601
+  std::string date;        // UTC, ISO 8601
   std::string build_type;  // CMAKE_BUILD_TYPE of the binaries
 };
 

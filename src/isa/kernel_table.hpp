@@ -1,7 +1,7 @@
 #pragma once
 // One ISA's kernel table: every technique of the registry (technique_list.hpp) x every filter x
-// every addressing mode, each the packet loop below around the technique's kernel (its row's), beside the exact
-// reference's float pass and the benchmarks' anchors. Included once per ISA by its generated
+// every addressing mode, each the packet loop below around the technique's kernel (its row's), beside the
+// exact reference's float pass and the benchmarks' anchors. Included once per ISA by its generated
 // translation unit (src/isa/kernels.cpp.in).
 #include "all_techniques.hpp"  // generated: every header of src/kernels/techniques/
 #include "exact/exact_bound.hpp"
@@ -17,12 +17,12 @@ namespace heightmarch::HEIGHTMARCH_ISA_NS {
 template <Technique T>
 struct TechniqueKernel;
 #define HEIGHTMARCH_TECHNIQUE_KERNEL(id, name, layered, refine, needs, writes, search, shape, kernel, ...) \
-  template <>                                                                                               \
-  struct TechniqueKernel<Technique::id> : WalkSteps<Technique::id> {                                        \
-    template <class Context, class Ray, class... Walk>                                                      \
-    auto operator()(Context& k, const Ray& ray, const Walk&... walk) const {                                \
-      return kernel(k, ray, walk...);                                                                       \
-    }                                                                                                       \
+  template <>                                                                                              \
+  struct TechniqueKernel<Technique::id> : WalkSteps<Technique::id> {                                       \
+    template <class Context, class Ray, class... Walk>                                                     \
+    auto operator()(Context& k, const Ray& ray, const Walk&... walk) const {                               \
+      return kernel(k, ray, walk...);                                                                      \
+    }                                                                                                      \
   };
 HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_KERNEL)
 #undef HEIGHTMARCH_TECHNIQUE_KERNEL
@@ -62,25 +62,30 @@ void store_channel(vint<W> value, std::uint8_t* to) {
 // output but the exact pass's; the exact reference's float pass its own too.
 template <class Kernel>
 inline constexpr bool kStoresExactPass = false;
-constexpr bool stores(ChannelWriter writer, bool exact_pass) { return writer != ChannelWriter::exact_pass || exact_pass; }
+constexpr bool stores(ChannelWriter writer, bool exact_pass) {
+  return writer != ChannelWriter::exact_pass || exact_pass;
+}
 
 // Rays i .. i + W - 1's outputs, the discard flags set here, and their samples counted.
 template <class Kernel, int W>
-void store_hits(HitPacket<W> hit, const KernelHits& out, std::size_t i, vint<W> discard, KernelCounters& local) {
+void store_hits(HitPacket<W> hit, const KernelHits& out, std::size_t i, vint<W> discard,
+                KernelCounters& local) {
   using F = vfloat<W>;
   local.lane_samples += reduce_add(hit.samples);  // see KernelContext::count()
   const auto outside = (hit.u < F(0.0f)) | (hit.u > F(1.0f)) | (hit.v < F(0.0f)) | (hit.v > F(1.0f));
   hit.discarded = select(outside, discard, vint<W>(0));
-#define HEIGHTMARCH_STORE_CHANNEL(name, type, initial, writer, ...) \
-  if constexpr (stores(ChannelWriter::writer, kStoresExactPass<Kernel>)) store_channel(hit.name, out.name + i);
+#define HEIGHTMARCH_STORE_CHANNEL(name, type, initial, writer, ...)      \
+  if constexpr (stores(ChannelWriter::writer, kStoresExactPass<Kernel>)) \
+    store_channel(hit.name, out.name + i);
   HEIGHTMARCH_HIT_CHANNELS(HEIGHTMARCH_STORE_CHANNEL)
 #undef HEIGHTMARCH_STORE_CHANNEL
 }
 
-template <int W, Addressing ADDRESSING, class Kernel, Taps TAPS = Taps::memory, Filter FILTER = Filter::bilinear>
-HEIGHTMARCH_FLATTEN void trace_packets(const KernelTexture& texture, const KernelParams& params, const KernelRays& rays,
-                   const KernelHits& hits, std::size_t begin, std::size_t end,
-                   KernelCounters& counters) {
+template <int W, Addressing ADDRESSING, class Kernel, Taps TAPS = Taps::memory,
+          Filter FILTER = Filter::bilinear>
+HEIGHTMARCH_FLATTEN void trace_packets(const KernelTexture& texture, const KernelParams& params,
+                                       const KernelRays& rays, const KernelHits& hits, std::size_t begin,
+                                       std::size_t end, KernelCounters& counters) {
   KernelCounters local;  // not behind the output pointers (char aliases all)
   // Copies: the discard flags' char stores could alias the caller's structs, whose pointers
   // would then be reloaded after every store.
@@ -105,9 +110,9 @@ HEIGHTMARCH_FLATTEN void trace_packets(const KernelTexture& texture, const Kerne
 // rays are queued up to kWalkQueueRays at a time and walked as SCHEDULE says
 // (kernels/pyramid_walk.hpp); then each packet's hits are made from its rays' walks.
 template <int W, Addressing ADDRESSING, class Kernel, WalkSchedule SCHEDULE>
-HEIGHTMARCH_FLATTEN void trace_walks(const KernelTexture& texture, const KernelParams& params, const KernelRays& rays,
-                                     const KernelHits& hits, std::size_t begin, std::size_t end,
-                                     KernelCounters& counters) {
+HEIGHTMARCH_FLATTEN void trace_walks(const KernelTexture& texture, const KernelParams& params,
+                                     const KernelRays& rays, const KernelHits& hits, std::size_t begin,
+                                     std::size_t end, KernelCounters& counters) {
   KernelCounters local;  // as trace_packets
   const KernelRays in = rays;
   const KernelHits out = hits;
@@ -187,9 +192,9 @@ constexpr KernelTable make_kernel_table() {
   static_assert(W % MARCH_W == 0 && W % WALK_W == 0, "tiles are padded to the wider packet");
   KernelTable table{};
   table.packet_width = W;
-#define HEIGHTMARCH_TECHNIQUE_ROW(id, name, layered, refine, needs, writes, search, shape, ...)       \
+#define HEIGHTMARCH_TECHNIQUE_ROW(id, name, layered, refine, needs, writes, search, shape, ...)             \
   fill_filters<shape == KernelShape::walk ? WALK_W : MARCH_W, TechniqueKernel<Technique::id>, Taps::memory, \
-                  shape, SCHEDULE>(table.technique[int(Technique::id)]);
+               shape, SCHEDULE>(table.technique[int(Technique::id)]);
   HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_ROW)
 #undef HEIGHTMARCH_TECHNIQUE_ROW
   fill_filters<MARCH_W, SamplerRooflineKernel>(table.sampler_roofline);

@@ -51,7 +51,8 @@ struct KernelHits {
 // The arrays of a batch's hits (the exact pass's outputs, which no HitBuffers holds, left null).
 inline KernelHits kernel_hits(HitBuffers& hits) {
   KernelHits out;
-#define HEIGHTMARCH_KERNEL_HIT_OF(name, type, initial, writer, ...) HEIGHTMARCH_IN_HITS_##writer(out.name = hits.name.data();)
+#define HEIGHTMARCH_KERNEL_HIT_OF(name, type, initial, writer, ...) \
+  HEIGHTMARCH_IN_HITS_##writer(out.name = hits.name.data();)
   HEIGHTMARCH_HIT_CHANNELS(HEIGHTMARCH_KERNEL_HIT_OF)
 #undef HEIGHTMARCH_KERNEL_HIT_OF
   return out;
@@ -64,9 +65,8 @@ struct KernelCounters {
 
 // Traces rays [begin, end) (end - begin a multiple of the packet width) with one technique of one
 // ISA, for one addressing mode of the texture.
-using TraceRangeFn = void (*)(const KernelTexture&, const KernelParams&, const KernelRays&,
-                              const KernelHits&, std::size_t begin, std::size_t end,
-                              KernelCounters&);
+using TraceRangeFn = void (*)(const KernelTexture&, const KernelParams&, const KernelRays&, const KernelHits&,
+                              std::size_t begin, std::size_t end, KernelCounters&);
 
 // How the sampler finds texel indices: REPEAT on power-of-two sides is a mask of the integer
 // index, other REPEAT sizes wrap in float, CLAMP clamps the coordinate.
@@ -95,11 +95,11 @@ struct KernelTable {
   TraceRangeFn autovec_pom;
 };
 
-#define HEIGHTMARCH_ISA_KERNEL_TABLE(id, ...)                                                        \
-  namespace isa_##id {                                                                               \
-  const KernelTable& kernel_table();                                                                 \
-  void autovec_pom(const KernelTexture&, const KernelParams&, const KernelRays&, const KernelHits&, \
-                   std::size_t, std::size_t, KernelCounters&); /* src/isa/autovec_<id>.cpp */        \
+#define HEIGHTMARCH_ISA_KERNEL_TABLE(id, ...)                                                         \
+  namespace isa_##id {                                                                                \
+    const KernelTable& kernel_table();                                                                \
+    void autovec_pom(const KernelTexture&, const KernelParams&, const KernelRays&, const KernelHits&, \
+                     std::size_t, std::size_t, KernelCounters&); /* src/isa/autovec_<id>.cpp */       \
   }
 HEIGHTMARCH_ISAS(HEIGHTMARCH_ISA_KERNEL_TABLE)
 #undef HEIGHTMARCH_ISA_KERNEL_TABLE

@@ -54,7 +54,9 @@ class KernelContext {
   F read(const float* texels, F u, F v) const { return sampler_(texels, u, v); }
 
   // Trilinear: the levels of the packet's rays, from their gradients, before its first sample.
-  void set_footprint(F du_dx, F dv_dx, F du_dy, F dv_dy) { sampler_.set_footprint(du_dx, dv_dx, du_dy, dv_dy); }
+  void set_footprint(F du_dx, F dv_dx, F du_dy, F dv_dy) {
+    sampler_.set_footprint(du_dx, dv_dx, du_dy, dv_dy);
+  }
 
   // Counts n texel reads for the active lanes, for kernels that read texels themselves.
   // `samples` must be the lane counts the kernel returns in HitPacket::samples: the packet loop

@@ -8,9 +8,9 @@ namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
 template <int W>
 struct LayerMarch {
-  vfloat<W> u, v;            // current texture coordinates
+  vfloat<W> u, v;              // current texture coordinates
   vfloat<W> delta_u, delta_v;  // texture step per layer
-  vfloat<W> layer_depth;     // 1 / N
+  vfloat<W> layer_depth;       // 1 / N
   vfloat<W> current_layer_depth;
   vfloat<W> depth_map_value;  // D at (u, v)
   vint<W> samples;

@@ -30,8 +30,13 @@ class PacketSampler {
   using B = vbool<W>;
 
   explicit PacketSampler(const KernelTexture& t)
-      : texels_(t.texels), chain_(t.levels), last_level_(t.level_count - 1), width0_(float(t.width)),
-        height0_(float(t.height)), first_(uniform_level(0, t.width, t.height, t.stride)), second_(first_) {
+      : texels_(t.texels),
+        chain_(t.levels),
+        last_level_(t.level_count - 1),
+        width0_(float(t.width)),
+        height0_(float(t.height)),
+        first_(uniform_level(0, t.width, t.height, t.stride)),
+        second_(first_) {
     if constexpr (FILTER == Filter::trilinear)
       for (int l = 0; l < t.level_count; ++l) {
         const SamplerLevel& level = t.levels[l];
@@ -80,8 +85,18 @@ class PacketSampler {
   };
 
   static Level uniform_level(std::int32_t offset, int width, int height, int stride) {
-    return {F(float(width)), F(float(height)), F(1.0f / float(width)), F(1.0f / float(height)),
-            I(width - 1), I(height - 1), I(stride), I(offset), true, offset, stride, height + 1};
+    return {F(float(width)),
+            F(float(height)),
+            F(1.0f / float(width)),
+            F(1.0f / float(height)),
+            I(width - 1),
+            I(height - 1),
+            I(stride),
+            I(offset),
+            true,
+            offset,
+            stride,
+            height + 1};
   }
 
   // The constants of each lane's level d, as one level's where every lane reads the same.
@@ -92,8 +107,18 @@ class PacketSampler {
       return uniform_level(l.offset, l.width, l.height, l.width + 1);
     }
     const F width = lookup(tables_.widths, d), height = lookup(tables_.heights, d);
-    return {width, height, F(1.0f) / width, F(1.0f) / height, lookup(tables_.last_x, d), lookup(tables_.last_y, d),
-            lookup(tables_.strides, d), lookup(tables_.offsets, d), false, 0, 0, 0};
+    return {width,
+            height,
+            F(1.0f) / width,
+            F(1.0f) / height,
+            lookup(tables_.last_x, d),
+            lookup(tables_.last_y, d),
+            lookup(tables_.strides, d),
+            lookup(tables_.offsets, d),
+            false,
+            0,
+            0,
+            0};
   }
 
   F bilinear(const float* texels, const Level& l, F u, F v) const {

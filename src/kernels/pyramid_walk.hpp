@@ -133,7 +133,7 @@ TexelPath<W> texel_path(const KernelContext<W, ADDRESSING>& k, const RayPacket<W
 // The queues hold rays as the lanes do, a field a column.
 enum class WalkSchedule { refill, packet };
 
-inline constexpr int kWalkQueueRays = 1024;  // a tile of the default 32 x 32 pixels
+inline constexpr int kWalkQueueRays = 1024;   // a tile of the default 32 x 32 pixels
 inline constexpr int kWalkQueuePadding = 32;  // the widest packet: a pair of 16
 inline constexpr int kWalkQueueSize = kWalkQueueRays + kWalkQueuePadding;
 
@@ -188,8 +188,8 @@ struct PyramidWalk {
   vfloat<W> cx, cy;              // the cell it stopped in
   vfloat<W> c0, c1, c2, span;    // its quadratic (the walk that is not conservative)
   vfloat<W> t00, t10, t01, t11;  // its texels (the conservative walk)
-  vbool<W> reached;  // stopped in a cell it may touch
-  vbool<W> cut_off;  // stopped by the bound on passes
+  vbool<W> reached;              // stopped in a cell it may touch
+  vbool<W> cut_off;              // stopped by the bound on passes
   vint<W> samples;
 
   // Rays i .. i + W - 1.
@@ -271,9 +271,14 @@ class PyramidWalker {
   static constexpr bool kRepeat = ADDRESSING != Addressing::clamp;
 
   explicit PyramidWalker(KernelContext<W, ADDRESSING>& k)
-      : k_(k), texture_(k.texture), width_(float(k.texture.width)), height_(float(k.texture.height)),
-        inv_width_(1.0f / float(k.texture.width)), inv_height_(1.0f / float(k.texture.height)),
-        top_(k.texture.min_depth_pyramid.levels - 1), top_level_(top_ < 0 ? 0 : top_) {
+      : k_(k),
+        texture_(k.texture),
+        width_(float(k.texture.width)),
+        height_(float(k.texture.height)),
+        inv_width_(1.0f / float(k.texture.width)),
+        inv_height_(1.0f / float(k.texture.height)),
+        top_(k.texture.min_depth_pyramid.levels - 1),
+        top_level_(top_ < 0 ? 0 : top_) {
     // Per level: where its entries start (MinDepthPyramid's layout) and its blocks a side
     // (ceil(cells / 2^L)), looked up by each lane's level (register permutes where the ISA has
     // them) rather than carried along in selects at every change of level.
@@ -381,7 +386,8 @@ class PyramidWalker {
     b.high_y = !(l.dy < F(0.0f));
     b.interior = B::all_true();
     if constexpr (!kRepeat)
-      b.interior = (l.cx >= F(0.0f)) & (l.cx < width_ - F(1.0f)) & (l.cy >= F(0.0f)) & (l.cy < height_ - F(1.0f));
+      b.interior =
+          (l.cx >= F(0.0f)) & (l.cx < width_ - F(1.0f)) & (l.cy >= F(0.0f)) & (l.cy < height_ - F(1.0f));
     b.size = pow2(l.level);
     b.inv_size = pow2(I(0) - l.level);
     b.bx = floor(l.cx * b.inv_size);
@@ -418,12 +424,14 @@ class PyramidWalker {
     const B exit_x = move & !(b.tx > b.ty), exit_y = move & !(b.ty > b.tx);
     const B step = move | reach;
     l.t = select(step, t_next, l.t);
-    l.cx = select(step,
-                  clamp_cell<ADDRESSING>(select(exit_x, select(b.high_x, b.x_hi, b.x_lo - F(1.0f)), at_x), width_),
-                  l.cx);
-    l.cy = select(step,
-                  clamp_cell<ADDRESSING>(select(exit_y, select(b.high_y, b.y_hi, b.y_lo - F(1.0f)), at_y), height_),
-                  l.cy);
+    l.cx = select(
+        step,
+        clamp_cell<ADDRESSING>(select(exit_x, select(b.high_x, b.x_hi, b.x_lo - F(1.0f)), at_x), width_),
+        l.cx);
+    l.cy = select(
+        step,
+        clamp_cell<ADDRESSING>(select(exit_y, select(b.high_y, b.y_hi, b.y_lo - F(1.0f)), at_y), height_),
+        l.cy);
     // Up a level only out of the block's parent: inside it the parent would be descended again.
     // The parent changes where the crossed side lies on a multiple of twice the block's side.
     const F half_inv = b.inv_size * F(0.5f);
@@ -490,7 +498,8 @@ class PyramidWalker {
     field(out.end, end);
     for (int c = 0; c < 4; ++c) field(out.cell[c], cell[c]);
     compress_store(out.samples + out.count, ending, l.samples);
-    scatter(out.where, l.ray, ending, to_int(expand_load(kWalkQueuePositions.values + out.count, ending, F(0.0f))));
+    scatter(out.where, l.ray, ending,
+            to_int(expand_load(kWalkQueuePositions.values + out.count, ending, F(0.0f))));
     out.count += std::popcount(mask_bits(ending));
   }
 
@@ -522,9 +531,11 @@ class PyramidWalker {
           by = wrap_cell(by, nby, inv_height_ * b.size);
         }
       }
-      const I entry = lookup(level_offset_, l.level) + to_int(by) * lookup(level_blocks_x_, l.level) + to_int(bx);
+      const I entry =
+          lookup(level_offset_, l.level) + to_int(by) * lookup(level_blocks_x_, l.level) + to_int(bx);
       if constexpr (!CONSERVATIVE) k_.count(in_pyramid, l.samples, 1);
-      shallowest = select(in_pyramid, gather(texture_.min_depth_pyramid.texels, select(in_pyramid, entry, I(0))), F(-kInf));
+      shallowest = select(
+          in_pyramid, gather(texture_.min_depth_pyramid.texels, select(in_pyramid, entry, I(0))), F(-kInf));
     }
     s.clear_above = shallowest;
     if constexpr (CONSERVATIVE) s.clear_above = s.clear_above - l.eta;
@@ -578,7 +589,8 @@ class PyramidWalker {
       if (any(ended | s.solve)) {
         if (any(ended)) {
           const F no_cell[4] = {F(0.0f), F(0.0f), F(0.0f), F(0.0f)};
-          leave_outcome(l, ended, select(over, F(float(WalkEnd::cut_off)), F(float(WalkEnd::clear))), no_cell, out);
+          leave_outcome(l, ended, select(over, F(float(WalkEnd::cut_off)), F(float(WalkEnd::clear))), no_cell,
+                        out);
         }
         hand_over<false>(l, s.solve, list, listed);
         live = live & !(ended | s.solve);
@@ -605,7 +617,8 @@ class PyramidWalker {
       F cell[4];
       const B hit = test_cell(l, b, solving, cell);
       const B beyond = advance(l, b, solving & !hit, !B::all_true(), F(0.0f));
-      leave_outcome(l, hit | beyond, select(hit, F(float(WalkEnd::reached)), F(float(WalkEnd::clear))), cell, out);
+      leave_outcome(l, hit | beyond, select(hit, F(float(WalkEnd::reached)), F(float(WalkEnd::clear))), cell,
+                    out);
       hand_over<true>(l, solving & !hit & !beyond, again, kept);
     }
     return kept;

@@ -7,7 +7,8 @@
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
 template <int W, Addressing ADDRESSING, Filter FILTER>
-HitPacket<W> sampler_roofline(KernelContext<W, ADDRESSING, Taps::memory, FILTER>& k, const RayPacket<W>& ray) {
+HitPacket<W> sampler_roofline(KernelContext<W, ADDRESSING, Taps::memory, FILTER>& k,
+                              const RayPacket<W>& ray) {
   using F = vfloat<W>;
   HitPacket<W> hit;
   const F num_layers(k.params.max_layers);

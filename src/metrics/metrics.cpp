@@ -158,7 +158,8 @@ ErrorSummary summarize_errors(const RayBatch& rays, const HitBuffers& hits, cons
     // Sector k spans 45 k +- 22.5 degrees of V's azimuth; band b, 15 b to 15 (b + 1) degrees from the normal.
     const double azimuth = std::atan2(double(rays.vy[i]), double(rays.vx[i])) * 180.0 / kPi;
     const double sector_width = 360.0 / kAzimuthSectors;
-    const int sector = int(std::floor((azimuth + 360.0 + 0.5 * sector_width) / sector_width)) % kAzimuthSectors;
+    const int sector =
+        int(std::floor((azimuth + 360.0 + 0.5 * sector_width) / sector_width)) % kAzimuthSectors;
     const double angle = std::acos(std::clamp(double(rays.vz[i]), -1.0, 1.0)) * 180.0 / kPi;
     const int band = std::min(int(angle / kViewAngleBand), kAngleBands - 1);
     measured.push_back({e, rays.view[i], std::uint8_t(sector), std::uint8_t(band)});
@@ -202,7 +203,8 @@ ErrorSummary summarize_errors(const RayBatch& rays, const HitBuffers& hits, cons
   const double design = design_effect(measured, rays.views, 1.0f);
   s.effective_rays = n / design;
   s.wrong_surface_ci = clopper_pearson(double(wrong) / design, s.effective_rays);
-  s.by_azimuth = group_errors(measured, true, kAzimuthSectors, 360.0 / kAzimuthSectors, -180.0 / kAzimuthSectors, design);
+  s.by_azimuth = group_errors(measured, true, kAzimuthSectors, 360.0 / kAzimuthSectors,
+                              -180.0 / kAzimuthSectors, design);
   s.by_view_angle = group_errors(measured, false, kAngleBands, kViewAngleBand, 0.0, design);
   return s;
 }
@@ -241,7 +243,8 @@ std::vector<std::pair<std::string, double>> error_measures(const ErrorSummary& e
     if (c.against == MeasuredAgainst::visibility) {
       const ErrorSummary::VisibilityError& v = e.visibility[std::size_t(c.id)];
       measures.emplace_back(std::string(c.name) + "_error_mean", v.measured ? v.error_mean : std::nan(""));
-      measures.emplace_back(std::string(c.name) + "_mismatch_rate", v.measured ? v.mismatch_rate : std::nan(""));
+      measures.emplace_back(std::string(c.name) + "_mismatch_rate",
+                            v.measured ? v.mismatch_rate : std::nan(""));
     }
   return measures;
 }
@@ -265,8 +268,9 @@ double share_within_one_layer_step(const RayBatch& rays, const HitBuffers& hits,
   std::size_t within = 0, measured = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     if (rays.is_padding(i) || hits.discarded[i]) continue;
-    within += !beyond_one_layer_step(uv_error[i], layer_step_texels(params.layers, params.scale, rays.vx[i], rays.vy[i],
-                                                                    rays.vz[i], map_width, map_height));
+    within +=
+        !beyond_one_layer_step(uv_error[i], layer_step_texels(params.layers, params.scale, rays.vx[i],
+                                                              rays.vy[i], rays.vz[i], map_width, map_height));
     ++measured;
   }
   return measured ? double(within) / double(measured) : 0.0;

@@ -71,7 +71,7 @@ class LineReader {
       return true;
     }
   }
-  std::size_t number() const { return number_; }        // of the last line returned, from 1
+  std::size_t number() const { return number_; }         // of the last line returned, from 1
   std::uintmax_t consumed() const { return consumed_; }  // bytes of the lines returned
 
  private:
@@ -97,7 +97,8 @@ double parse_number(const std::string& field, const std::string& what) {
 }
 
 // The first line of a CSV file (after a UTF-8 byte order mark, as spreadsheets export): the header.
-void read_header(LineReader& lines, const std::string& path, const std::string& what, const std::string& expected) {
+void read_header(LineReader& lines, const std::string& path, const std::string& what,
+                 const std::string& expected) {
   std::string line;
   if (!lines.next(line)) throw InputError(path + ": empty " + what + " (expected header " + expected + ")");
   if (line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
@@ -189,7 +190,8 @@ std::vector<CameraPose> load_camera_poses(const std::string& path) {
     if (!(f_len > 0)) throw InputError(where + "the target is at the eye");
     if (!(std::hypot(cross[0], cross[1], cross[2]) > 1e-9 * f_len * up_len))
       throw InputError(where + "up is zero or along the view direction");
-    if (!(p.fov_degrees > 0 && p.fov_degrees < 180)) throw InputError(where + "fov must be in (0, 180) degrees");
+    if (!(p.fov_degrees > 0 && p.fov_degrees < 180))
+      throw InputError(where + "fov must be in (0, 180) degrees");
     for (int c : {10, 11}) {
       if (!(v[c] >= 1 && v[c] <= kMaxViewSide && v[c] == std::floor(v[c])))
         throw InputError(where + columns[c] + " must be a whole number of pixels in [1, " +

@@ -1,12 +1,12 @@
 #include <algorithm>
 #include <charconv>
-#include <numeric>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
 #include <stdexcept>
 #include <string>
-#include <vector>
 #include <utility>
+#include <vector>
 
 #include "heightmarch/error.hpp"
 #include "heightmarch/memory_budget.hpp"
@@ -18,7 +18,7 @@ namespace heightmarch {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kMinViewZ = 5e-7;  // V.z below this is a grazing ray: rejected
+constexpr double kMinViewZ = 5e-7;     // V.z below this is a grazing ray: rejected
 constexpr float kMaxRayOrigin = 1e6f;  // |T.x|, |T.y|
 // LearnOpenGL's parallax scene: the quad turns at 10 degrees a second (glfwGetTime() * -10.0f)
 // about normalize(1, 0, 1), seen from (0, 0, 3) with a 45 degree field of view at 800 x 600.
@@ -30,7 +30,9 @@ struct Vec3 {
 };
 Vec3 operator-(const Vec3& a, const Vec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-Vec3 cross(const Vec3& a, const Vec3& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
 Vec3 normalized(const Vec3& a) {
   const double len = std::sqrt(dot(a, a));
   return {a.x / len, a.y / len, a.z / len};
@@ -104,8 +106,12 @@ Ray camera_ray(const Camera& cam, const PlaneMap& plane, int px, int py, int wid
   const double ex = cam.eye.x - x, ey = cam.eye.y - y, ez = cam.eye.z;
   const double len = std::sqrt(ex * ex + ey * ey + ez * ez);
   if (ez / len < plane.min_view_z) return {false, 0, 0, 0, 0, 0};
-  return {true, float(plane.u0 + plane.scale * x), float(plane.v0 + plane.scale * y), float(ex / len),
-          float(ey / len), float(ez / len)};
+  return {true,
+          float(plane.u0 + plane.scale * x),
+          float(plane.v0 + plane.scale * y),
+          float(ex / len),
+          float(ey / len),
+          float(ez / len)};
 }
 
 // A camera given in world space, seen from a surface frame (origin o, orthonormal tangent,
@@ -187,12 +193,11 @@ void place_rays(RayBatch& batch, const PlacementOf& placement_of) {
       placement_of(i)(batch, i);
       continue;
     }
-    for (auto* a : {&batch.tx, &batch.ty, &batch.vx, &batch.vy, &batch.vz, &batch.du_dx, &batch.dv_dx, &batch.du_dy,
-                    &batch.dv_dy})
+    for (auto* a : {&batch.tx, &batch.ty, &batch.vx, &batch.vy, &batch.vz, &batch.du_dx, &batch.dv_dx,
+                    &batch.du_dy, &batch.dv_dy})
       (*a)[i] = (*a)[i - 1];
   }
 }
-
 
 // Appends one tile's rays, padded with copies of its last ray to a multiple of kRayAlignment.
 class BatchBuilder {
@@ -226,7 +231,6 @@ class BatchBuilder {
  private:
   RayBatch& batch_;
 };
-
 
 void check_tile_size(int tile_size) {
   if (tile_size < 1 || tile_size > 4096)
@@ -340,7 +344,8 @@ void apply_views(const std::string& text, ViewSpec& view) {
       view.kind = ViewSpec::Kind::poses;
       view.path = text;
     } else {
-      throw InputError("unknown --views '" + text + "' (single, around, tutorial[:N] or a camera-pose FILE.csv)");
+      throw InputError("unknown --views '" + text +
+                       "' (single, around, tutorial[:N] or a camera-pose FILE.csv)");
     }
   }
   view.seed = selection_seed(view);
@@ -368,7 +373,8 @@ void size_views_for_rays(ViewSpec& view, double rays) {
   probe.width = kTutorialWidth / 10;
   probe.height = kTutorialHeight / 10;
   probe.fresh_rays = 0;
-  const double share = double(make_view_rays(probe).ray_count) / (double(probe.width) * probe.height * view.views);
+  const double share =
+      double(make_view_rays(probe).ray_count) / (double(probe.width) * probe.height * view.views);
   const double pixels = rays / view.views / std::max(share, 1e-3);
   view.width = std::clamp(int(std::lround(std::sqrt(pixels * 4.0 / 3.0))), 1, kMaxViewSide);
   view.height = std::clamp(int(std::lround(view.width * 0.75)), 1, kMaxViewSide);
@@ -385,7 +391,8 @@ std::string describe(const ViewSpec& view) {
   if (view.kind == ViewSpec::Kind::poses) return "poses:" + view.path + seed;
   const std::string size = std::to_string(view.width) + "x" + std::to_string(view.height);
   char buf[64];
-  if (view.kind == ViewSpec::Kind::tutorial) return "tutorial:" + std::to_string(view.views) + " " + size + seed;
+  if (view.kind == ViewSpec::Kind::tutorial)
+    return "tutorial:" + std::to_string(view.views) + " " + size + seed;
   if (view.kind == ViewSpec::Kind::perspective) {
     const std::string name = view.around ? "around" : "default";
     if (view.near_degrees == kDefaultNearDegrees && view.far_degrees == kDefaultFarDegrees)
@@ -415,7 +422,8 @@ void add_tile(BatchBuilder& builder, const RayBatch& batch, int x0, int y0, int 
       for (int py = by; py < std::min(by + kBlockHeight, y1); ++py)
         for (int px = bx; px < std::min(bx + kBlockWidth, x1); ++px)
           if (const Ray r = ray_of(px, py); r.hit)
-            builder.add(r, std::uint32_t(top + py) * std::uint32_t(batch.image_width) + std::uint32_t(left + px));
+            builder.add(
+                r, std::uint32_t(top + py) * std::uint32_t(batch.image_width) + std::uint32_t(left + px));
   builder.end_tile();
 }
 
@@ -435,8 +443,8 @@ RayBatch make_set(int views, int width, int height, int tile_size, const std::ve
                   const RayOf& ray_of) {
   const int cols = std::min(views, int(std::ceil(std::sqrt(2.0 * views)))), rows = (views + cols - 1) / cols;
   check_set(views, double(cols) * width * rows * height, tile_size,
-            (views > 1 ? std::to_string(views) + " views of " : std::string("a ")) + std::to_string(width) + "x" +
-                std::to_string(height) + (views > 1 ? "" : " view"));
+            (views > 1 ? std::to_string(views) + " views of " : std::string("a ")) + std::to_string(width) +
+                "x" + std::to_string(height) + (views > 1 ? "" : " view"));
   RayBatch batch;
   batch.image_width = cols * width;
   batch.image_height = rows * height;
@@ -475,12 +483,17 @@ RayBatch frame_rays(const ViewSpec& view) {
                             float(std::cos(theta))};
   const bool sweep = view.kind == ViewSpec::Kind::sweep;
   const auto ray_of = [&](int px, int py) {
-    return sweep ? Ray{true, float((px + 0.5) / view.width), float((py + 0.5) / view.height), sweep_v[0], sweep_v[1],
+    return sweep ? Ray{true,
+                       float((px + 0.5) / view.width),
+                       float((py + 0.5) / view.height),
+                       sweep_v[0],
+                       sweep_v[1],
                        sweep_v[2]}
                  : camera_ray(camera, square, px, py, view.width, view.height);
   };
   const int tile = view.tile_size, tiles_x = (view.width + tile - 1) / tile;
-  const int cells_x = (view.width + kViewCell - 1) / kViewCell, cells_y = (view.height + kViewCell - 1) / kViewCell;
+  const int cells_x = (view.width + kViewCell - 1) / kViewCell,
+            cells_y = (view.height + kViewCell - 1) / kViewCell;
   std::vector<Placement> cells(view.around ? std::size_t(cells_x) * std::size_t(cells_y) : 1);
   std::vector<std::uint32_t> cell_view(cells.size(), 0);
   if (!view.around && view.seed != 0) {  // a single view's held-out set: the same frame at another offset
@@ -495,7 +508,8 @@ RayBatch frame_rays(const ViewSpec& view) {
       std::vector<int> order(cells_x);
       std::iota(order.begin(), order.end(), 0);
       if (view.seed != 0)
-        for (int j = cells_x - 1; j > 0; --j) std::swap(order[j], order[std::min(j, int(draws.next() * (j + 1)))]);
+        for (int j = cells_x - 1; j > 0; --j)
+          std::swap(order[j], order[std::min(j, int(draws.next() * (j + 1)))]);
       return order;
     };
     const std::vector<int> order = shuffled(), across = shuffled(), along = shuffled();
@@ -524,12 +538,14 @@ RayBatch frame_rays(const ViewSpec& view) {
       add_tile(builder, batch, x, y, std::min(x + tile, view.width), std::min(y + tile, view.height), 0, 0,
                [&](int px, int py) {
                  Ray r = ray_of(px, py);
-                 r.view = view.around ? cell_view[cell_of(px, py)] : std::uint32_t((y / tile) * tiles_x + x / tile);
+                 r.view = view.around ? cell_view[cell_of(px, py)]
+                                      : std::uint32_t((y / tile) * tiles_x + x / tile);
                  return r;
                });
   set_pixel_gradients(batch, view.width, view.height);
   place_rays(batch, [&](std::size_t i) {
-    return cells[cell_of(int(batch.origin[i] % std::uint32_t(view.width)), int(batch.origin[i] / std::uint32_t(view.width)))];
+    return cells[cell_of(int(batch.origin[i] % std::uint32_t(view.width)),
+                         int(batch.origin[i] / std::uint32_t(view.width)))];
   });
   return batch;
 }
@@ -572,10 +588,11 @@ RayBatch poses_rays(const ViewSpec& view) {
   }
   const double inf = HUGE_VAL;
   const PlaneMap plane{0, 0, 1, -inf, inf, -inf, inf, std::cos(kMaxViewDegrees * kPi / 180.0)};
-  RayBatch batch = make_set(int(poses.size()), width, height, view.tile_size, offsets, [&](int k, int px, int py) {
-    if (px >= poses[k].width || py >= poses[k].height) return Ray{false, 0, 0, 0, 0, 0};
-    return camera_ray(cameras[k], plane, px, py, poses[k].width, poses[k].height);
-  });
+  RayBatch batch =
+      make_set(int(poses.size()), width, height, view.tile_size, offsets, [&](int k, int px, int py) {
+        if (px >= poses[k].width || py >= poses[k].height) return Ray{false, 0, 0, 0, 0, 0};
+        return camera_ray(cameras[k], plane, px, py, poses[k].width, poses[k].height);
+      });
   if (batch.ray_count == 0)
     throw InputError(view.path + ": no pose sees the surface within " + std::to_string(int(kMaxViewDegrees)) +
                      " degrees of its normal");
@@ -616,11 +633,15 @@ RayBatch fresh_rays(const ViewSpec& view) {
 RayBatch make_view_rays(const ViewSpec& view) {
   if (view.fresh_rays > 0) return fresh_rays(view);
   switch (view.kind) {
-    case ViewSpec::Kind::rays_file: return load_rays_csv(view.path, view.tile_size);
-    case ViewSpec::Kind::tutorial: return tutorial_rays(view);
-    case ViewSpec::Kind::poses: return poses_rays(view);
+    case ViewSpec::Kind::rays_file:
+      return load_rays_csv(view.path, view.tile_size);
+    case ViewSpec::Kind::tutorial:
+      return tutorial_rays(view);
+    case ViewSpec::Kind::poses:
+      return poses_rays(view);
     case ViewSpec::Kind::perspective:
-    case ViewSpec::Kind::sweep: break;
+    case ViewSpec::Kind::sweep:
+      break;
   }
   return frame_rays(view);
 }
@@ -632,14 +653,15 @@ void set_pixel_gradients(RayBatch& rays, int frame_width, int frame_height) {
   std::vector<std::uint32_t> ray_at(width * height, kNone);  // the ray of each pixel
   for (std::size_t i = 0; i < rays.size(); ++i) {
     if (rays.is_padding(i)) continue;
-    if (rays.origin[i] >= width * height) throw std::logic_error("a ray's pixel lies outside its view's grid");
+    if (rays.origin[i] >= width * height)
+      throw std::logic_error("a ray's pixel lies outside its view's grid");
     ray_at[rays.origin[i]] = std::uint32_t(i);
   }
   // T's change to the next pixel along one axis (step: 1 pixel in x, or a row in y) at pixel p,
   // its coordinate c along that axis of n pixels in frames of f: towards the quad partner (quads
   // start at the frame's edge), else the other side; never into another frame.
-  const auto gradient = [&](std::size_t p, std::size_t c, std::size_t n, std::size_t f, std::size_t step, float& du,
-                            float& dv) {
+  const auto gradient = [&](std::size_t p, std::size_t c, std::size_t n, std::size_t f, std::size_t step,
+                            float& du, float& dv) {
     const std::size_t self = ray_at[p], local = c % f;
     for (const bool up : {local % 2 == 0, local % 2 != 0}) {
       if (up ? c + 1 >= n || local + 1 >= f : local == 0) continue;
@@ -668,7 +690,8 @@ void set_pixel_gradients(RayBatch& rays, int frame_width, int frame_height) {
 
 void check_rays(const RayBatch& rays) {
   const std::size_t n = rays.tx.size();
-  for (const auto* a : {&rays.ty, &rays.vx, &rays.vy, &rays.vz, &rays.du_dx, &rays.dv_dx, &rays.du_dy, &rays.dv_dy})
+  for (const auto* a :
+       {&rays.ty, &rays.vx, &rays.vy, &rays.vz, &rays.du_dx, &rays.dv_dx, &rays.du_dy, &rays.dv_dy})
     if (a->size() != n) throw InputError("a ray batch whose arrays differ in length");
   const auto within = [](float x) { return std::isfinite(x) && std::fabs(x) <= kMaxRayOrigin; };
   for (std::size_t i = 0; i < n; ++i) {
@@ -706,7 +729,8 @@ RayBatch make_ray_list(const std::vector<float>& tx, const std::vector<float>& t
       throw InputError(ray() + ": V.z = " + value +
                        " after normalisation, must be >= 5e-7 (a ray from below or grazing the plane)");
     }
-    if (std::fabs(tx[i]) > kMaxRayOrigin || std::fabs(ty[i]) > kMaxRayOrigin) throw InputError(ray() + ": |T| beyond 1e6");
+    if (std::fabs(tx[i]) > kMaxRayOrigin || std::fabs(ty[i]) > kMaxRayOrigin)
+      throw InputError(ray() + ": |T| beyond 1e6");
     builder.add({true, tx[i], ty[i], float(vx[i] / len), float(vy[i] / len), z, std::uint32_t(i / per_tile)},
                 std::uint32_t(i));
     if ((i + 1) % per_tile == 0) builder.end_tile();

@@ -122,7 +122,8 @@ Isa isa_named(const std::string& name) {
 
 void check_cpu_supports(Isa isa, const std::string& where) {
   if (!cpu_supports(isa))
-    throw InputError(where + ": this CPU does not run " + to_string(isa) + "; it runs " + runnable_isa_names());
+    throw InputError(where + ": this CPU does not run " + to_string(isa) + "; it runs " +
+                     runnable_isa_names());
 }
 
 std::string runnable_isa_names() {

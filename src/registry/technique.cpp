@@ -8,10 +8,10 @@
 namespace heightmarch {
 
 const std::array<TechniqueInfo, kTechniqueCount>& techniques() {
-#define HEIGHTMARCH_TECHNIQUE_INFO(id, name, layered, refine, needs, writes, search, shape, kernel, glsl_call, \
-                                   color, marker, description)                                                 \
-  TechniqueInfo{Technique::id, name, layered, refine, needs, writes, search, shape, glsl_call, color, marker, \
-                description},
+#define HEIGHTMARCH_TECHNIQUE_INFO(id, name, layered, refine, needs, writes, search, shape, kernel, \
+                                   glsl_call, color, marker, description)                           \
+  TechniqueInfo{Technique::id, name,  layered,   refine, needs,  writes,                            \
+                search,        shape, glsl_call, color,  marker, description},
   static const std::array<TechniqueInfo, kTechniqueCount> rows = {
       HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_INFO)};
 #undef HEIGHTMARCH_TECHNIQUE_INFO
@@ -35,7 +35,8 @@ constexpr bool writes_optional_only(Writes writes) {
   return true;
 }
 #define HEIGHTMARCH_CHECK_WRITES(id, name, layered, refine, needs, writes, ...) \
-  static_assert(writes_optional_only(writes), "technique " name ": writes names an output that is not optional");
+  static_assert(writes_optional_only(writes),                                   \
+                "technique " name ": writes names an output that is not optional");
 HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_CHECK_WRITES)
 #undef HEIGHTMARCH_CHECK_WRITES
 
@@ -52,7 +53,8 @@ std::string technique_names() {
 Technique parse_technique(const std::string& name, const std::string& extra) {
   for (const TechniqueInfo& t : techniques())
     if (t.name == name) return t.id;
-  throw InputError("unknown technique '" + name + "' (" + technique_names() + (extra.empty() ? "" : ", " + extra) + ")");
+  throw InputError("unknown technique '" + name + "' (" + technique_names() +
+                   (extra.empty() ? "" : ", " + extra) + ")");
 }
 
 namespace {
@@ -76,7 +78,9 @@ LayerSpec parse_layer_spec(const std::string& text) {
   if (dash == std::string::npos || dash == 0) return LayerSpec::fixed(parse_layer_count(text, text));
   const int a = parse_layer_count(text.substr(0, dash), text);
   const int b = parse_layer_count(text.substr(dash + 1), text);
-  if (a > b) throw InputError("layer spec '" + text + "': minimum " + std::to_string(a) + " exceeds maximum " + std::to_string(b));
+  if (a > b)
+    throw InputError("layer spec '" + text + "': minimum " + std::to_string(a) + " exceeds maximum " +
+                     std::to_string(b));
   return LayerSpec::range(a, b);
 }
 

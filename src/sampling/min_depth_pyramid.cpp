@@ -26,7 +26,7 @@ MinDepthPyramid::MinDepthPyramid(const DepthMap& map, Wrap wrap) {
   const std::size_t entries = std::size_t(cells_x) * std::size_t(cells_y) * 4 / 3 +
                               2 * (std::size_t(cells_x) + std::size_t(cells_y) + kMaxLevels);
   check_memory_budget(4.0 * double(entries), "the min-depth pyramid of a " + std::to_string(map.width) + "x" +
-                                                  std::to_string(map.height) + " depth map");
+                                                 std::to_string(map.height) + " depth map");
   min_depth_.reserve(entries);
   add_level(cells_x, cells_y);
   for (int j = 0; j < cells_y; ++j)

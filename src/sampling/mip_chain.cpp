@@ -15,9 +15,9 @@ int mip_level_count(int width, int height) {
 
 std::vector<DepthMap> build_mip_chain(const DepthMap& map) {
   // Levels 1 and up hold a third of level 0 at most.
-  check_memory_budget(4.0 * (1.0 + 1.0 / 3.0) * double(map.texels.size()),
-                      "the mip chain of a " + std::to_string(map.width) + "x" + std::to_string(map.height) +
-                          " depth map");
+  check_memory_budget(
+      4.0 * (1.0 + 1.0 / 3.0) * double(map.texels.size()),
+      "the mip chain of a " + std::to_string(map.width) + "x" + std::to_string(map.height) + " depth map");
   const int levels = mip_level_count(map.width, map.height);
   std::vector<DepthMap> chain;
   chain.reserve(std::size_t(levels));

@@ -5,7 +5,8 @@
 // (HEIGHTMARCH_PAIR_OF: its native width) their pair, packet_pair.hpp. Each ISA's unit is
 // generated from src/isa/kernels.cpp.in.
 #ifndef HEIGHTMARCH_ISA_HEADER
-#error "define HEIGHTMARCH_ISA_HEADER (the ISA's packet header, e.g. \"simd/vfloat8_avx2.hpp\") before including a kernel header"
+#error \
+    "define HEIGHTMARCH_ISA_HEADER (the ISA's packet header, e.g. \"simd/vfloat8_avx2.hpp\") before including a kernel header"
 #endif
 #include HEIGHTMARCH_ISA_HEADER
 #ifdef HEIGHTMARCH_PAIR_OF

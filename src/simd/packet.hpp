@@ -30,9 +30,9 @@
 // - mask_bits(m) has bit l set for each true lane l. expand_load(p, m, old) gives the true lanes
 //   p[0], p[1], ... in lane order and keeps old in the others; p[0 .. W - 1] must be readable.
 //   compress_store(p, m, value) stores the true lanes' values to p[0], p[1], ... in lane order
-//   and may write anything to the rest of p[0 .. W - 1]. Both move float and int32 lanes. scatter(base, index, m, value) stores
-//   each true lane's value to base[index] (the true lanes' indices distinct) and nothing else.
-//   These move rays in and out of a walk's lanes (src/kernels/pyramid_walk.hpp). pow2(n) is 2^n
+//   and may write anything to the rest of p[0 .. W - 1]. Both move float and int32 lanes. scatter(base,
+//   index, m, value) stores each true lane's value to base[index] (the true lanes' indices distinct) and
+//   nothing else. These move rays in and out of a walk's lanes (src/kernels/pyramid_walk.hpp). pow2(n) is 2^n
 //   exactly for n in -126 .. 127.
 //
 // Every header of this folder opens namespace heightmarch::HEIGHTMARCH_ISA_NS, which the
@@ -47,11 +47,16 @@
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
-template <int W> struct vfloat;
-template <int W> struct vint;
-template <int W> struct vbool;
-template <int D> struct vdouble;
-template <int D> struct vboold;
+template <int W>
+struct vfloat;
+template <int W>
+struct vint;
+template <int W>
+struct vbool;
+template <int D>
+struct vdouble;
+template <int D>
+struct vboold;
 
 // The four bilinear taps of each lane from a texture of `rows` rows of `stride` texels: t00 at
 // (ix, iy), t10 one texel right, t01 one row down, t11 both. This default reads them with two

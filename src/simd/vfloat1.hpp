@@ -7,7 +7,8 @@
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
-template <> struct vbool<1> {
+template <>
+struct vbool<1> {
   bool b;
   friend vbool operator&(vbool a, vbool c) { return {a.b && c.b}; }
   friend vbool operator|(vbool a, vbool c) { return {a.b || c.b}; }
@@ -18,7 +19,8 @@ template <> struct vbool<1> {
   static vbool all_true() { return {true}; }
 };
 
-template <> struct vint<1> {
+template <>
+struct vint<1> {
   std::int32_t i;
   vint() = default;
   vint(std::int32_t x) : i(x) {}
@@ -35,7 +37,8 @@ template <> struct vint<1> {
   void store(std::int32_t* p) const { *p = i; }
 };
 
-template <> struct vfloat<1> {
+template <>
+struct vfloat<1> {
   float f;
   static constexpr int width = 1;
   vfloat() = default;
@@ -59,15 +62,15 @@ template <> struct vfloat<1> {
   friend vfloat select(vbool<1> m, vfloat a, vfloat c) { return m.b ? a : c; }
   // Truncation; out of range and NaN give INT32_MIN, as cvttps2dq does.
   friend vint<1> to_int(vfloat a) {
-    return {a.f >= -2147483648.0f && a.f < 2147483648.0f ? static_cast<std::int32_t>(a.f)
-                                                          : INT32_MIN};
+    return {a.f >= -2147483648.0f && a.f < 2147483648.0f ? static_cast<std::int32_t>(a.f) : INT32_MIN};
   }
   friend vfloat to_float(vint<1> a) { return {static_cast<float>(a.i)}; }
 };
 
 inline constexpr int kDoubleWidth = 1;
 
-template <> struct vboold<1> {
+template <>
+struct vboold<1> {
   bool b;
   friend vboold operator&(vboold a, vboold c) { return {a.b && c.b}; }
   friend vboold operator|(vboold a, vboold c) { return {a.b || c.b}; }
@@ -75,7 +78,8 @@ template <> struct vboold<1> {
   friend bool any(vboold a) { return a.b; }
 };
 
-template <> struct vdouble<1> {
+template <>
+struct vdouble<1> {
   double d;
   vdouble() = default;
   vdouble(double x) : d(x) {}

@@ -6,7 +6,8 @@
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
-template <> struct vbool<16> {
+template <>
+struct vbool<16> {
   __mmask16 m;
   friend vbool operator&(vbool a, vbool c) { return {__mmask16(a.m & c.m)}; }
   friend vbool operator|(vbool a, vbool c) { return {__mmask16(a.m | c.m)}; }
@@ -17,7 +18,8 @@ template <> struct vbool<16> {
   static vbool all_true() { return {__mmask16(0xffff)}; }
 };
 
-template <> struct vint<16> {
+template <>
+struct vint<16> {
   __m512i i;
   vint() = default;
   vint(__m512i x) : i(x) {}
@@ -34,7 +36,8 @@ template <> struct vint<16> {
   void store(std::int32_t* p) const { _mm512_storeu_si512(p, i); }
 };
 
-template <> struct vfloat<16> {
+template <>
+struct vfloat<16> {
   __m512 f;
   static constexpr int width = 16;
   vfloat() = default;
@@ -53,8 +56,12 @@ template <> struct vfloat<16> {
   friend vfloat min(vfloat a, vfloat c) { return _mm512_min_ps(a.f, c.f); }
   friend vfloat max(vfloat a, vfloat c) { return _mm512_max_ps(a.f, c.f); }
   friend vfloat abs(vfloat a) { return _mm512_abs_ps(a.f); }
-  friend vfloat floor(vfloat a) { return _mm512_roundscale_ps(a.f, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
-  friend vfloat ceil(vfloat a) { return _mm512_roundscale_ps(a.f, _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC); }
+  friend vfloat floor(vfloat a) {
+    return _mm512_roundscale_ps(a.f, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+  }
+  friend vfloat ceil(vfloat a) {
+    return _mm512_roundscale_ps(a.f, _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC);
+  }
   friend vfloat select(vbool<16> m, vfloat a, vfloat c) { return _mm512_mask_blend_ps(m.m, c.f, a.f); }
   friend vint<16> to_int(vfloat a) { return _mm512_cvttps_epi32(a.f); }
   friend vfloat to_float(vint<16> a) { return _mm512_cvtepi32_ps(a.i); }
@@ -62,7 +69,8 @@ template <> struct vfloat<16> {
 
 inline constexpr int kDoubleWidth = 8;
 
-template <> struct vboold<8> {
+template <>
+struct vboold<8> {
   __mmask8 m;
   friend vboold operator&(vboold a, vboold c) { return {__mmask8(a.m & c.m)}; }
   friend vboold operator|(vboold a, vboold c) { return {__mmask8(a.m | c.m)}; }
@@ -70,7 +78,8 @@ template <> struct vboold<8> {
   friend bool any(vboold a) { return a.m != 0; }
 };
 
-template <> struct vdouble<8> {
+template <>
+struct vdouble<8> {
   __m512d d;
   vdouble() = default;
   vdouble(__m512d x) : d(x) {}
@@ -110,7 +119,8 @@ template <> struct vdouble<8> {
 // the sampler keeps every index inside the texture.
 inline void gather_pairs(const float* base, vint<16> index, vfloat<16>& first, vfloat<16>& second) {
   const __m512 lo = _mm512_castsi512_ps(_mm512_i32gather_epi64(_mm512_castsi512_si256(index.i), base, 4));
-  const __m512 hi = _mm512_castsi512_ps(_mm512_i32gather_epi64(_mm512_extracti64x4_epi64(index.i, 1), base, 4));
+  const __m512 hi =
+      _mm512_castsi512_ps(_mm512_i32gather_epi64(_mm512_extracti64x4_epi64(index.i, 1), base, 4));
   const __m512i even = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
   const __m512i odd = _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31);
   first = _mm512_permutex2var_ps(lo, even, hi);
@@ -168,7 +178,9 @@ inline vint<16> lookup(const Table16<std::int32_t>& table, vint<16> index) {
 
 // base[index] per lane.
 inline vfloat<16> gather(const float* base, vint<16> index) { return _mm512_i32gather_ps(index.i, base, 4); }
-inline vint<16> gather(const std::int32_t* base, vint<16> index) { return _mm512_i32gather_epi32(index.i, base, 4); }
+inline vint<16> gather(const std::int32_t* base, vint<16> index) {
+  return _mm512_i32gather_epi32(index.i, base, 4);
+}
 inline vfloat<16> sqrt(vfloat<16> a) { return _mm512_sqrt_ps(a.f); }
 // The sum of the lanes (non-negative counts whose sum fits 32 bits).
 inline std::uint32_t reduce_add(vint<16> a) { return std::uint32_t(_mm512_reduce_add_epi32(a.i)); }

@@ -8,7 +8,8 @@
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
-template <> struct vbool<4> {
+template <>
+struct vbool<4> {
   __m128 m;  // all-ones lanes are true
   friend vbool operator&(vbool a, vbool c) { return {_mm_and_ps(a.m, c.m)}; }
   friend vbool operator|(vbool a, vbool c) { return {_mm_or_ps(a.m, c.m)}; }
@@ -19,7 +20,8 @@ template <> struct vbool<4> {
   static vbool all_true() { return {_mm_castsi128_ps(_mm_set1_epi32(-1))}; }
 };
 
-template <> struct vint<4> {
+template <>
+struct vint<4> {
   __m128i i;
   vint() = default;
   vint(__m128i x) : i(x) {}
@@ -38,7 +40,8 @@ template <> struct vint<4> {
   void store(std::int32_t* p) const { _mm_storeu_si128(reinterpret_cast<__m128i*>(p), i); }
 };
 
-template <> struct vfloat<4> {
+template <>
+struct vfloat<4> {
   __m128 f;
   static constexpr int width = 4;
   vfloat() = default;
@@ -66,7 +69,8 @@ template <> struct vfloat<4> {
 
 inline constexpr int kDoubleWidth = 2;
 
-template <> struct vboold<2> {
+template <>
+struct vboold<2> {
   __m128d m;  // all-ones lanes are true
   friend vboold operator&(vboold a, vboold c) { return {_mm_and_pd(a.m, c.m)}; }
   friend vboold operator|(vboold a, vboold c) { return {_mm_or_pd(a.m, c.m)}; }
@@ -74,7 +78,8 @@ template <> struct vboold<2> {
   friend bool any(vboold a) { return _mm_movemask_pd(a.m) != 0; }
 };
 
-template <> struct vdouble<2> {
+template <>
+struct vdouble<2> {
   __m128d d;
   vdouble() = default;
   vdouble(__m128d x) : d(x) {}
@@ -147,7 +152,8 @@ inline vint<4> gather(const std::int32_t* base, vint<4> index) {
 // The sum of the lanes (non-negative counts whose sum fits 32 bits).
 inline std::uint32_t reduce_add(vint<4> a) {
   const __m128i pairs = _mm_add_epi32(a.i, _mm_shuffle_epi32(a.i, _MM_SHUFFLE(1, 0, 3, 2)));
-  return std::uint32_t(_mm_cvtsi128_si32(_mm_add_epi32(pairs, _mm_shuffle_epi32(pairs, _MM_SHUFFLE(2, 3, 0, 1)))));
+  return std::uint32_t(
+      _mm_cvtsi128_si32(_mm_add_epi32(pairs, _mm_shuffle_epi32(pairs, _MM_SHUFFLE(2, 3, 0, 1)))));
 }
 // The smallest lane.
 inline std::int32_t reduce_min(vint<4> a) {
@@ -163,7 +169,9 @@ inline void store_bytes(vint<4> a, std::uint8_t* p) {
 inline vfloat<4> sqrt(vfloat<4> a) { return _mm_sqrt_ps(a.f); }
 
 // 2^n built from its exponent bits.
-inline vfloat<4> pow2(vint<4> n) { return _mm_castsi128_ps(_mm_slli_epi32(_mm_add_epi32(n.i, _mm_set1_epi32(127)), 23)); }
+inline vfloat<4> pow2(vint<4> n) {
+  return _mm_castsi128_ps(_mm_slli_epi32(_mm_add_epi32(n.i, _mm_set1_epi32(127)), 23));
+}
 inline std::uint32_t mask_bits(vbool<4> m) { return std::uint32_t(_mm_movemask_ps(m.m)); }
 
 // For each mask of 4 lanes, the pshufb controls that move element k of a load to the k-th true

@@ -8,20 +8,20 @@
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
 
-template <> struct vbool<8> {
+template <>
+struct vbool<8> {
   __m256 m;  // all-ones lanes are true
   friend vbool operator&(vbool a, vbool c) { return {_mm256_and_ps(a.m, c.m)}; }
   friend vbool operator|(vbool a, vbool c) { return {_mm256_or_ps(a.m, c.m)}; }
-  friend vbool operator!(vbool a) {
-    return {_mm256_xor_ps(a.m, _mm256_castsi256_ps(_mm256_set1_epi32(-1)))};
-  }
+  friend vbool operator!(vbool a) { return {_mm256_xor_ps(a.m, _mm256_castsi256_ps(_mm256_set1_epi32(-1)))}; }
   friend bool any(vbool a) { return _mm256_movemask_ps(a.m) != 0; }
   friend bool all(vbool a) { return _mm256_movemask_ps(a.m) == 0xff; }
   friend bool none(vbool a) { return _mm256_movemask_ps(a.m) == 0; }
   static vbool all_true() { return {_mm256_castsi256_ps(_mm256_set1_epi32(-1))}; }
 };
 
-template <> struct vint<8> {
+template <>
+struct vint<8> {
   __m256i i;
   vint() = default;
   vint(__m256i x) : i(x) {}
@@ -30,20 +30,18 @@ template <> struct vint<8> {
   friend vint operator-(vint a, vint c) { return _mm256_sub_epi32(a.i, c.i); }
   friend vint operator*(vint a, vint c) { return _mm256_mullo_epi32(a.i, c.i); }
   friend vint operator&(vint a, vint c) { return _mm256_and_si256(a.i, c.i); }
-  friend vbool<8> operator<(vint a, vint c) {
-    return {_mm256_castsi256_ps(_mm256_cmpgt_epi32(c.i, a.i))};
-  }
+  friend vbool<8> operator<(vint a, vint c) { return {_mm256_castsi256_ps(_mm256_cmpgt_epi32(c.i, a.i))}; }
   friend vint min(vint a, vint c) { return _mm256_min_epi32(a.i, c.i); }
   friend vint max(vint a, vint c) { return _mm256_max_epi32(a.i, c.i); }
   friend vint select(vbool<8> m, vint a, vint c) {
-    return _mm256_castps_si256(
-        _mm256_blendv_ps(_mm256_castsi256_ps(c.i), _mm256_castsi256_ps(a.i), m.m));
+    return _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(c.i), _mm256_castsi256_ps(a.i), m.m));
   }
   static vint load(const std::int32_t* p) { return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p)); }
   void store(std::int32_t* p) const { _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), i); }
 };
 
-template <> struct vfloat<8> {
+template <>
+struct vfloat<8> {
   __m256 f;
   static constexpr int width = 8;
   vfloat() = default;
@@ -71,7 +69,8 @@ template <> struct vfloat<8> {
 
 inline constexpr int kDoubleWidth = 4;
 
-template <> struct vboold<4> {
+template <>
+struct vboold<4> {
   __m256d m;  // all-ones lanes are true
   friend vboold operator&(vboold a, vboold c) { return {_mm256_and_pd(a.m, c.m)}; }
   friend vboold operator|(vboold a, vboold c) { return {_mm256_or_pd(a.m, c.m)}; }
@@ -81,7 +80,8 @@ template <> struct vboold<4> {
   friend bool any(vboold a) { return _mm256_movemask_pd(a.m) != 0; }
 };
 
-template <> struct vdouble<4> {
+template <>
+struct vdouble<4> {
   __m256d d;
   vdouble() = default;
   vdouble(__m256d x) : d(x) {}
@@ -147,8 +147,10 @@ inline void fetch_taps(const float* texels, std::int32_t stride, std::int32_t ro
   const std::int32_t y0 = _mm256_cvtsi256_si32(iy.i);
   const __m256i dx = _mm256_sub_epi32(ix.i, _mm256_set1_epi32(x0));
   const __m256i same_row = _mm256_cmpeq_epi32(iy.i, _mm256_set1_epi32(y0));
-  const __m256i in_columns = _mm256_cmpeq_epi32(_mm256_min_epu32(dx, _mm256_set1_epi32(6)), dx);  // 0 <= dx <= 6
-  if (_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_and_si256(same_row, in_columns))) == 0xff && stride >= 8) {
+  const __m256i in_columns =
+      _mm256_cmpeq_epi32(_mm256_min_epu32(dx, _mm256_set1_epi32(6)), dx);  // 0 <= dx <= 6
+  if (_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_and_si256(same_row, in_columns))) == 0xff &&
+      stride >= 8) {
     const float* row = texels + std::ptrdiff_t(y0) * stride + x0;
     const __m256 row0 = _mm256_loadu_ps(row), row1 = _mm256_loadu_ps(row + stride);
     const __m256i right = _mm256_add_epi32(dx, _mm256_set1_epi32(1));
@@ -222,7 +224,9 @@ struct LanePermutes8 {
 };
 inline constexpr LanePermutes8 kLanePermutes8{};
 
-inline __m256i lane_permute(std::uint64_t bytes) { return _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(std::int64_t(bytes))); }
+inline __m256i lane_permute(std::uint64_t bytes) {
+  return _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(std::int64_t(bytes)));
+}
 
 // expand_load() and compress_store() (packet.hpp) with one permute.
 inline vfloat<8> expand_load(const float* p, vbool<8> m, vfloat<8> old) {
@@ -231,15 +235,18 @@ inline vfloat<8> expand_load(const float* p, vbool<8> m, vfloat<8> old) {
 }
 inline vint<8> expand_load(const std::int32_t* p, vbool<8> m, vint<8> old) {
   const __m256i rank = lane_permute(kLanePermutes8.expand[_mm256_movemask_ps(m.m)]);
-  const __m256i spread = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(p)), rank);
+  const __m256i spread =
+      _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(p)), rank);
   return _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(old.i), _mm256_castsi256_ps(spread), m.m));
 }
 inline void compress_store(float* p, vbool<8> m, vfloat<8> value) {
-  _mm256_storeu_ps(p, _mm256_permutevar8x32_ps(value.f, lane_permute(kLanePermutes8.compress[_mm256_movemask_ps(m.m)])));
+  _mm256_storeu_ps(
+      p, _mm256_permutevar8x32_ps(value.f, lane_permute(kLanePermutes8.compress[_mm256_movemask_ps(m.m)])));
 }
 inline void compress_store(std::int32_t* p, vbool<8> m, vint<8> value) {
-  _mm256_storeu_si256(reinterpret_cast<__m256i*>(p),
-                      _mm256_permutevar8x32_epi32(value.i, lane_permute(kLanePermutes8.compress[_mm256_movemask_ps(m.m)])));
+  _mm256_storeu_si256(
+      reinterpret_cast<__m256i*>(p),
+      _mm256_permutevar8x32_epi32(value.i, lane_permute(kLanePermutes8.compress[_mm256_movemask_ps(m.m)])));
 }
 
 }  // namespace heightmarch::HEIGHTMARCH_ISA_NS

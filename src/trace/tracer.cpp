@@ -1,3 +1,5 @@
+#include "heightmarch/tracer.hpp"
+
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
 #include <tbb/global_control.h>
@@ -5,7 +7,6 @@
 #include <tbb/parallel_for.h>
 
 #include "heightmarch/error.hpp"
-#include "heightmarch/tracer.hpp"
 #include "kernels/kernel_abi.hpp"
 
 namespace heightmarch {
@@ -25,7 +26,8 @@ Tracer::Tracer(const DepthMap& map, const TechniqueParams& params, Isa isa)
   precomputed_ = build_precomputed(map, params.wrap, info(params.technique).needs);
   // Trilinear cone stepping reads the ratios' mip chain too, as a mipmapped (depth, ratio) texture.
   if (const ConeMap* cone = precomputed_.cone_map.get(); cone && params.filter == Filter::trilinear)
-    cone_ratios_ = SamplerTexture(DepthMap{cone->width, cone->height, cone->ratio}, params.wrap, params.filter);
+    cone_ratios_ =
+        SamplerTexture(DepthMap{cone->width, cone->height, cone->ratio}, params.wrap, params.filter);
   const KernelTable& table = kernel_table(isa);
   technique_kernel_ = pick(table.technique[int(params.technique)], texture_, params.filter);
   roofline_kernel_ = pick(table.sampler_roofline, texture_, params.filter);
@@ -56,12 +58,13 @@ TraceStats Tracer::run_kernel(TraceRangeFn kernel, const RayBatch& rays, HitBuff
   texture.levels = texture_.levels.data();
   texture.level_count = int(texture_.levels.size());
   if (!cone_ratios_.texels.empty()) texture.cone_map.texels = cone_ratios_.texels.data();
-  const KernelParams params{params_.layers.min_layers, params_.layers.max_layers, params_.refine_steps(),
-                            params_.scale, params_.discard,
-                            {params_.light[0], params_.light[1], params_.light[2]}};
-  const KernelRays kernel_rays{rays.tx.data(),    rays.ty.data(),    rays.vx.data(),    rays.vy.data(),
-                               rays.vz.data(),    rays.du_dx.data(), rays.dv_dx.data(), rays.du_dy.data(),
-                               rays.dv_dy.data()};
+  const KernelParams params{
+      params_.layers.min_layers, params_.layers.max_layers,
+      params_.refine_steps(),    params_.scale,
+      params_.discard,           {params_.light[0], params_.light[1], params_.light[2]}};
+  const KernelRays kernel_rays{rays.tx.data(),    rays.ty.data(),    rays.vx.data(),
+                               rays.vy.data(),    rays.vz.data(),    rays.du_dx.data(),
+                               rays.dv_dx.data(), rays.du_dy.data(), rays.dv_dy.data()};
   const KernelHits out = kernel_hits(hits);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.tile_count(), 1),
                     [&](const tbb::blocked_range<std::size_t>& tiles) {

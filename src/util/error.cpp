@@ -1,7 +1,7 @@
+#include "heightmarch/error.hpp"
+
 #include <cstdint>
 #include <cstdio>
-
-#include "heightmarch/error.hpp"
 
 namespace heightmarch {
 namespace {

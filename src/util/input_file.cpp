@@ -23,8 +23,8 @@ std::uintmax_t check_stat(const struct stat& st, const std::string& path, const 
     throw InputError(path + ": is " + file_kind(st.st_mode) + ", not a regular file (" + what + ")");
   const std::uintmax_t size = std::uintmax_t(st.st_size);
   if (size > max_bytes)
-    throw InputError(path + ": " + size_text(size) + ", more than the " + size_text(max_bytes) + " a " + what +
-                     " may have");
+    throw InputError(path + ": " + size_text(size) + ", more than the " + size_text(max_bytes) + " a " +
+                     what + " may have");
   return size;
 }
 
@@ -55,7 +55,8 @@ InputFile::InputFile(const std::string& path, const std::string& what, std::uint
   if (fd_ < 0) throw InputError(path + ": cannot open " + what + " (" + std::strerror(errno) + ")");
   struct stat st {};
   try {
-    if (::fstat(fd_, &st) != 0) throw InputError(path + ": cannot stat " + what + " (" + std::strerror(errno) + ")");
+    if (::fstat(fd_, &st) != 0)
+      throw InputError(path + ": cannot stat " + what + " (" + std::strerror(errno) + ")");
     size_ = check_stat(st, path, what, max_bytes);
   } catch (...) {
     ::close(fd_);
@@ -70,7 +71,8 @@ std::size_t InputFile::read(char* data, std::size_t bytes) {
   for (;;) {
     const ssize_t n = ::read(fd_, data, bytes);
     if (n >= 0) return std::size_t(n);
-    if (errno != EINTR) throw InputError(path_ + ": cannot read " + what_ + " (" + std::strerror(errno) + ")");
+    if (errno != EINTR)
+      throw InputError(path_ + ": cannot read " + what_ + " (" + std::strerror(errno) + ")");
   }
 }
 

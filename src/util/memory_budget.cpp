@@ -31,7 +31,8 @@ std::size_t parse_memory_limit(const std::string& text, const std::string& name)
   }
   if (i < text.size() && text[i] == '.') {
     double unit = 0.1;
-    for (++i; i < text.size() && std::isdigit(static_cast<unsigned char>(text[i])) && digits < 40; ++i, ++digits) {
+    for (++i; i < text.size() && std::isdigit(static_cast<unsigned char>(text[i])) && digits < 40;
+         ++i, ++digits) {
       value += (text[i] - '0') * unit;
       unit /= 10.0;
     }
@@ -71,14 +72,16 @@ void set_memory_budget(std::size_t bytes, const std::string& source) {
 std::size_t memory_budget() {
   if (g_set_budget) return g_set_budget;
   // Set but empty is unset, as a shell's `HEIGHTMARCH_MEMORY_LIMIT=` means.
-  if (const char* limit = std::getenv("HEIGHTMARCH_MEMORY_LIMIT"); limit && *limit) return parse_memory_limit(limit);
+  if (const char* limit = std::getenv("HEIGHTMARCH_MEMORY_LIMIT"); limit && *limit)
+    return parse_memory_limit(limit);
   const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
   return pages > 0 && page > 0 ? std::size_t(pages) * std::size_t(page) / 2 : std::size_t(4) << 30;
 }
 
 std::string memory_budget_source() {
   if (g_set_budget) return g_set_source;
-  if (const char* limit = std::getenv("HEIGHTMARCH_MEMORY_LIMIT"); limit && *limit) return "HEIGHTMARCH_MEMORY_LIMIT";
+  if (const char* limit = std::getenv("HEIGHTMARCH_MEMORY_LIMIT"); limit && *limit)
+    return "HEIGHTMARCH_MEMORY_LIMIT";
   return "half the RAM";
 }
 
@@ -87,8 +90,8 @@ ProcessMemory process_memory() {
   std::FILE* statm = std::fopen("/proc/self/statm", "r");
   if (!statm) return {};
   unsigned long long pages[6] = {};
-  const bool read = std::fscanf(statm, "%llu %llu %llu %llu %llu %llu", &pages[0], &pages[1], &pages[2], &pages[3],
-                                &pages[4], &pages[5]) == 6;
+  const bool read = std::fscanf(statm, "%llu %llu %llu %llu %llu %llu", &pages[0], &pages[1], &pages[2],
+                                &pages[3], &pages[4], &pages[5]) == 6;
   std::fclose(statm);
   const long page = sysconf(_SC_PAGE_SIZE);
   if (!read || page <= 0) return {};
@@ -113,16 +116,16 @@ std::string bytes_text(double bytes) {
 void check_memory_budget(double bytes, const std::string& what) {
   const double budget = double(memory_budget()), held = double(resident_bytes());
   if (held + bytes <= budget) return;
-  throw InputError(what + " needs " + bytes_text(bytes) + ", more than the " + bytes_text(std::max(0.0, budget - held)) +
-                   " left of the " + bytes_text(budget) + " budget (" + memory_budget_source() + "; " +
-                   bytes_text(held) + " already in use)");
+  throw InputError(what + " needs " + bytes_text(bytes) + ", more than the " +
+                   bytes_text(std::max(0.0, budget - held)) + " left of the " + bytes_text(budget) +
+                   " budget (" + memory_budget_source() + "; " + bytes_text(held) + " already in use)");
 }
 
 void check_memory_budget_covers_footprint(const std::string& program) {
   const double budget = double(memory_budget()), held = double(resident_bytes());
   if (held < budget) return;
-  throw InputError("a memory budget of " + bytes_text(budget) + " (" + memory_budget_source() + ") is below " +
-                   program + "'s own footprint of " + bytes_text(held) +
+  throw InputError("a memory budget of " + bytes_text(budget) + " (" + memory_budget_source() +
+                   ") is below " + program + "'s own footprint of " + bytes_text(held) +
                    " (its code and the libraries it loads, resident before any input)");
 }
 

@@ -24,9 +24,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 parses a reversed vector
     app.parse(reversed);
-    const Configuration c = cli::trace_configuration(options, options.technique == "exact" ? RunKind::exact : RunKind::trace);
+    const Configuration c =
+        cli::trace_configuration(options, options.technique == "exact" ? RunKind::exact : RunKind::trace);
     if (!(c.params.scale >= 0.0f && c.params.scale <= 1.0f) || !(c.params.light[2] > 0.0f)) __builtin_trap();
-    if (c.view.kind == ViewSpec::Kind::sweep && !(c.view.theta_degrees >= 0.0f && c.view.theta_degrees <= 89.0f))
+    if (c.view.kind == ViewSpec::Kind::sweep &&
+        !(c.view.theta_degrees >= 0.0f && c.view.theta_degrees <= 89.0f))
       __builtin_trap();
     if (c.threads < 1) __builtin_trap();
   } catch (const CLI::Error&) {

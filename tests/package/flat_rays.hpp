@@ -1,13 +1,12 @@
 #pragma once
 // A few rays over the builtin `flat` heightfield (depth 0.5 everywhere), whose exact hit is
 // T - 0.5 s V.xy / V.z, and a check of a technique's hits against it.
+#include <cmath>
+#include <cstdio>
 #include <heightmarch/heightfield.hpp>
 #include <heightmarch/hits.hpp>
 #include <heightmarch/rays.hpp>
 #include <heightmarch/technique.hpp>
-
-#include <cmath>
-#include <cstdio>
 
 inline heightmarch::RayBatch flat_rays() {
   const float s = std::sqrt(0.5f);  // 45 degrees from the normal

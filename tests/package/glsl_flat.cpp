@@ -1,8 +1,7 @@
 // heightmarch::glsl: POM-32 as GLSL in the worker process over the builtin `flat` heightfield.
-#include <heightmarch/glsl_runner.hpp>
-
 #include <cstdlib>
 #include <exception>
+#include <heightmarch/glsl_runner.hpp>
 
 #include "flat_rays.hpp"
 

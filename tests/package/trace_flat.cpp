@@ -1,8 +1,7 @@
 // heightmarch::core: POM-32 on the CPU's widest ISA over the builtin `flat` heightfield.
+#include <exception>
 #include <heightmarch/isa.hpp>
 #include <heightmarch/tracer.hpp>
-
-#include <exception>
 
 #include "flat_rays.hpp"
 

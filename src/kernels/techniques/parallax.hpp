@@ -1,5 +1,6 @@
 #pragma once
-// Plain parallax and parallax with offset limiting: one sample at T (LearnOpenGL, the "Parallax Occlusion Mapping in GLSL" tutorial).
+// Plain parallax and parallax with offset limiting: one sample at T (LearnOpenGL, the "Parallax Occlusion
+// Mapping in GLSL" tutorial).
 #include "kernels/kernel_context.hpp"
 #include "simd/isa_packets.hpp"
 

@@ -14,8 +14,8 @@ HitPacket<W> pom(KernelContext<W, ADDRESSING, TAPS, FILTER>& k, const RayPacket<
   const F prev_u = m.u + m.delta_u;
   const F prev_v = m.v + m.delta_v;
   const F after_depth = m.depth_map_value - m.current_layer_depth;
-  const F before_depth = k.sample(prev_u, prev_v, vbool<W>::all_true(), m.samples) -
-                         m.current_layer_depth + m.layer_depth;
+  const F before_depth =
+      k.sample(prev_u, prev_v, vbool<W>::all_true(), m.samples) - m.current_layer_depth + m.layer_depth;
   // The tutorial divides 0 by 0 when both differences vanish; such a lane keeps its layer.
   const F denominator = after_depth - before_depth;
   const F weight = select(denominator != F(0.0f), after_depth / denominator, F(0.0f));

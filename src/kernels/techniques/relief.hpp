@@ -1,6 +1,7 @@
 #pragma once
 // Relief mapping: steep parallax, then a binary search between the last two layers
-// (the "Parallax Occlusion Mapping in GLSL" tutorial's loop: the step halves before each sample, the last sample only moves the point).
+// (the "Parallax Occlusion Mapping in GLSL" tutorial's loop: the step halves before each sample, the last
+// sample only moves the point).
 #include "kernels/layer_march.hpp"
 #include "simd/isa_packets.hpp"
 

@@ -1,8 +1,8 @@
 #pragma once
-// Soft self-shadowing (the "Parallax Occlusion Mapping in GLSL" tutorial's parallaxSoftShadowMultiplier) from the POM hit, with the
-// layer spec evaluated at L.z. Kept as the tutorial wrote it, including its texture step of
-// s L.xy / L.z / N while the layer height is the hit depth / N: the samples run ahead of the
-// light ray by a factor 1 / depth. The exact reference shows what that costs.
+// Soft self-shadowing (the "Parallax Occlusion Mapping in GLSL" tutorial's parallaxSoftShadowMultiplier) from
+// the POM hit, with the layer spec evaluated at L.z. Kept as the tutorial wrote it, including its texture
+// step of s L.xy / L.z / N while the layer height is the hit depth / N: the samples run ahead of the light
+// ray by a factor 1 / depth. The exact reference shows what that costs.
 #include "kernels/techniques/pom.hpp"
 #include "simd/isa_packets.hpp"
 
@@ -30,8 +30,8 @@ void soft_shadow(KernelContext<W, ADDRESSING, Taps::memory, FILTER>& k, HitPacke
   B active = current_layer_height > F(0.0f);
   for (int step_index = 1; step_index <= k.max_step_bound() && any(active); ++step_index) {
     const B below = active & (height_from_texture < current_layer_height);
-    const F new_multiplier = (current_layer_height - height_from_texture) *
-                             (F(1.0f) - F(float(step_index)) / num_layers);
+    const F new_multiplier =
+        (current_layer_height - height_from_texture) * (F(1.0f) - F(float(step_index)) / num_layers);
     shadow_multiplier = select(below, max(shadow_multiplier, new_multiplier), shadow_multiplier);
     under_surface = under_surface | below;
     // Every lane moves on (see march_layers); only active lanes record what they find.
