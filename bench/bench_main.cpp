@@ -21,6 +21,7 @@
 #include <map>
 #include <optional>
 
+#include "cli/typed_option.hpp"
 #include "experiment/measurement_session.hpp"
 #include "experiment/suite_plan.hpp"
 #include "heightmarch/error.hpp"
@@ -37,7 +38,7 @@ struct BenchOptions {
   std::string size = "1024";  // the default view: N (N x N) or WxH pixels
   // The window (--views of the tool): single by default, so that scripts/regress and bisect time
   // a build of today and one from before view sets on the same rays.
-  std::string views = "single";
+  ViewSet views = ViewSet::single();
   int res = 512;
   std::vector<std::string> heightfields = {"bricks", "terrain"};
   PlanFilters filters;                                  // empty lists: the suite's default
@@ -128,8 +129,7 @@ std::vector<Configuration> bench_plan(const BenchOptions& o) {
   settings.thread_counts = threads;
   int width = 0, height = 0;
   view_size(o.size, width, height);
-  settings.window = parse_view("default", width, height);
-  apply_views(o.views, settings.window);
+  settings.window = seen_as(default_view(width, height), o.views);
   settings.heightfields.clear();
   for (const std::string& name : o.heightfields)
     settings.heightfields.push_back(parse_heightfield(name, o.res));
@@ -194,11 +194,9 @@ int main(int argc, char** argv) {
   app.allow_extras();
   app.set_help_flag("-h,--help", "this text, then Google Benchmark's flags");
   app.add_option("--hm_size", o.size, "the view: N (N x N) or WxH pixels")->capture_default_str();
-  app.add_option(
-         "--hm_views", o.views,
-         "the window: single (default), around, tutorial[:N] (frames of --hm_size), or a camera-pose CSV "
-         "(docs/measures.md#view-sets)")
-      ->capture_default_str();
+  cli::add_typed_option(app, "--hm_views", o.views, parse_view_set,
+                        "the window: single (default), around, tutorial[:N] (frames of --hm_size), or a "
+                        "camera-pose CSV (docs/measures.md#view-sets)");
   app.add_option("--hm_res", o.res, "builtin depth map side")
       ->check(CLI::Range(1, kMaxDepthMapSide))
       ->capture_default_str();

@@ -55,7 +55,7 @@ TEST(ShaderLabel, LabelAndBenchmarkNameAreTheShaders) {
   Configuration c;
   c.kind = RunKind::glsl;
   c.heightfield = parse_heightfield("builtin:bricks", 64);
-  c.view = parse_view("default", 48, 40);
+  c.view = default_view(48, 40);
   c.params.technique = Technique::pom;
   c.params.layers = parse_layer_spec("32");
   EXPECT_EQ(c.label(), "pom");

@@ -43,7 +43,7 @@ TEST(GlslPaths, OsmesaAndEglGiveBitIdenticalHits) {
   EXPECT_TRUE(egl.renderer().software);
   EXPECT_EQ(egl.renderer().renderer, osmesa.renderer().renderer) << "the same llvmpipe through both paths";
   EXPECT_NE(egl.renderer().label(), osmesa.renderer().label()) << "named apart by their paths";
-  const RayBatch rays = make_view_rays(parse_view("default", 96, 64));
+  const RayBatch rays = make_view_rays(default_view(96, 64));
   std::size_t compared = 0;
   for (const std::string& name : builtin_heightfield_names()) {
     const DepthMap map = make_builtin_heightfield(name, 128, 1);

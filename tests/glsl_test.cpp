@@ -72,7 +72,7 @@ class GlslConformance : public ::testing::TestWithParam<Technique> {};
 TEST_P(GlslConformance, MatchesTheScalarReference) {
   const Technique technique = GetParam();
   const DepthMap map = make_builtin_heightfield("bricks", 128, 3);
-  const RayBatch rays = make_view_rays(parse_view("default", 128, 96));
+  const RayBatch rays = make_view_rays(default_view(128, 96));
   // Every layer spec and wrap bilinear, two of them trilinear too (the view reads levels 0 to 2).
   std::vector<std::pair<std::string, TechniqueParams>> cases = test::layer_specs_and_wraps(technique);
   for (auto [label, params] : test::layer_specs_and_wraps(technique))
@@ -155,7 +155,7 @@ TEST(GlslRunner, OneAndTwoThreadsInOneProcessGiveIdenticalHits) {
   TechniqueParams params;
   params.technique = Technique::shadow;  // POM's hit and the shadow march: every output is written
   const DepthMap map = make_builtin_heightfield("bricks", 128, 3);
-  const RayBatch rays = make_view_rays(parse_view("default", 128, 96));
+  const RayBatch rays = make_view_rays(default_view(128, 96));
   HitBuffers hits[2];
   GlslRunner* runners[2] = {&GlslRunner::instance(1), &GlslRunner::instance(2)};
   ASSERT_NE(runners[0], runners[1]);
@@ -207,14 +207,14 @@ void expect_same_hits(const HitBuffers& a, const HitBuffers& b, const std::strin
 TEST(GlslRunner, RepeatedPreparesOnOneSceneGiveTheHitsOfFreshOnes) {
   const DepthMap map = make_builtin_heightfield("bricks", 128, 3);
   const DepthMap other_map = make_builtin_heightfield("bricks", 128, 4);
-  const RayBatch rays = make_view_rays(parse_view("default", 128, 96));
+  const RayBatch rays = make_view_rays(default_view(128, 96));
   RayBatch other_rays = rays;  // the view transposed: the same sizes, other rays
   other_rays.tx = rays.ty;
   other_rays.ty = rays.tx;
   other_rays.vx = rays.vy;
   other_rays.vy = rays.vx;
   const DepthMap decoy_map = make_builtin_heightfield("bricks", 16, 1);
-  const RayBatch decoy_rays = make_view_rays(parse_view("default", 8, 8));
+  const RayBatch decoy_rays = make_view_rays(default_view(8, 8));
   GlslRunner& fresh_runner = GlslRunner::instance(3);
   auto fresh = [&](const DepthMap& m, const TechniqueParams& p, const RayBatch& r) {
     fresh_runner.prepare(decoy_map, p, decoy_rays);
@@ -273,7 +273,7 @@ TEST(GlslRunner, ShaderSyntaxErrorIsAnInputErrorAndTheWorkerLives) {
   const std::string path = dir + "/bad.glsl";
   std::ofstream(path) << "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir)\n{\n  return texCoords +;\n}\n";
   const DepthMap map = make_builtin_heightfield("bricks", 32, 1);
-  const RayBatch rays = make_view_rays(parse_view("default", 8, 8));
+  const RayBatch rays = make_view_rays(default_view(8, 8));
   GlslRunner& runner = GlslRunner::instance(1);
   try {
     runner.prepare(map, TechniqueParams(), rays, path);

@@ -36,7 +36,7 @@ TEST(GlslWatchdog, KillsAnEndlessDrawAndRestarts) {
   const std::string path = test::temp_dir("watchdog") + "/endless.glsl";
   std::ofstream(path) << kEndless;
   const DepthMap map = make_builtin_heightfield("bricks", 64, 1);
-  const RayBatch rays = make_view_rays(parse_view("default", 256, 256));
+  const RayBatch rays = make_view_rays(default_view(256, 256));
   TechniqueParams params;
   GlslRunner& runner = GlslRunner::instance(1);
   runner.prepare(map, params, rays, path);
@@ -51,7 +51,7 @@ TEST(GlslWatchdog, KillsAnEndlessDrawAndRestarts) {
     EXPECT_NE(message.find("restarts"), std::string::npos) << message;
   }
   // A new worker serves the next request as the first did.
-  const RayBatch few = make_view_rays(parse_view("default", 32, 32));
+  const RayBatch few = make_view_rays(default_view(32, 32));
   runner.prepare(map, params, few);
   runner.draw();
   HitBuffers glsl, reference;
@@ -110,7 +110,7 @@ TEST(GlslWatchdog, AWorkerThatHangsIsNoticedAtItsStepsBound) {
   GlslRunner& upload = GlslRunner::instance(8);
   GlslRunner& read_back = GlslRunner::instance(9);
   const DepthMap map = make_builtin_heightfield("bricks", 64, 1);
-  const RayBatch rays = make_view_rays(parse_view("default", 32, 32));
+  const RayBatch rays = make_view_rays(default_view(32, 32));
   const TechniqueParams params;
   auto start_up =
       std::async(std::launch::async, [&] { return outcome_of([&] { GlslRunner::instance(7); }); });

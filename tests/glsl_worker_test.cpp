@@ -268,7 +268,7 @@ TEST(GlslWorker, EndsWhenItsClientHangsUpEvenWhileDrawing) {
   const std::string request =
       message(Message::prepare,
               prepare_payload(TechniqueParams(), make_builtin_heightfield("bricks", 64, 1),
-                              make_view_rays(parse_view("default", 256, 256)), 1, dir + "/endless.glsl")) +
+                              make_view_rays(default_view(256, 256)), 1, dir + "/endless.glsl")) +
       header(Message::draw, 0);
   ASSERT_EQ(::write(fds[0], request.data(), request.size()), ssize_t(request.size()));
   ASSERT_EQ(protocol::receive(fds[0], reply, std::nullopt, 1 << 20), Message::compiled);

@@ -19,7 +19,7 @@ namespace {
 Configuration small(Technique technique, const char* layers, unsigned purposes) {
   Configuration c;
   c.heightfield = parse_heightfield("builtin:bricks", 64);
-  c.view = parse_view("default", 48, 40);
+  c.view = default_view(48, 40);
   c.params.technique = technique;
   c.params.layers = layers_for(technique, parse_layer_spec(layers));
   c.isa = best_isa();

@@ -121,10 +121,10 @@ TEST(PixelGradients, SweepViewStepsOnePixel) {
 // moved on the repeating map (its entry points wrapped modulo 1), keeps the lengths of the single
 // view's gradients at the same pixel; none jumps by the wrap or crosses into another view's cell.
 TEST(PixelGradients, AViewSetsAreItsCamerasTurnedWithThem) {
-  ViewSpec single = parse_view("default", 64, 64);
+  ViewSpec single = default_view(64, 64);
   ViewSpec around = single;
-  apply_views("single", single);
-  apply_views("around", around);
+  single = seen_as(single, ViewSet::single());
+  around = seen_as(around, ViewSet::around());
   const RayBatch a = make_view_rays(single), b = make_view_rays(around);
   std::map<std::uint32_t, std::size_t> at;
   for (std::size_t i = 0; i < a.size(); ++i)

@@ -408,7 +408,7 @@ TEST(SuiteFilters, ViewAnglesPlaceTheDefaultCamera) {
   const auto [lo, hi] = angles(make_view_rays(parse_view("default:45-85", 64, 64)));
   EXPECT_NEAR(lo, 45.0, 1.0);
   EXPECT_GE(hi, 85.0 - 1.0);
-  const RayBatch a = make_view_rays(parse_view("default", 64, 64)),
+  const RayBatch a = make_view_rays(default_view(64, 64)),
                  b = make_view_rays(parse_view("default:30-80", 64, 64));
   EXPECT_EQ(a.vz, b.vz);
   EXPECT_EQ(a.tx, b.tx);

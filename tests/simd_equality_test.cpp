@@ -42,7 +42,7 @@ TEST_P(PacketKernelTest, MatchesScalarReference) {
       SCOPED_TRACE(to_string(filter));
       params.filter = filter;
       const DepthMap map = make_builtin_heightfield(name, side, 4);
-      ViewSpec view = parse_view("default", 96, 80);
+      ViewSpec view = default_view(96, 80);
       view.tile_size = 16;
       const RayBatch rays = make_view_rays(view);
       HitBuffers reference, packet;
@@ -77,7 +77,7 @@ TEST(Determinism, SameHitsForAnyThreadCountAndTileSize) {
   TechniqueParams params;
   params.technique = Technique::shadow;
   params.layers = parse_layer_spec("8-32");
-  ViewSpec view = parse_view("default", 200, 150);
+  ViewSpec view = default_view(200, 150);
   std::vector<float> first;
   for (int threads : {1, 2})
     for (int tile : {7, 16, 64}) {

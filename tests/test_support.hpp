@@ -16,8 +16,8 @@
 #include <utility>
 #include <vector>
 
-#include "heightmarch/rays.hpp"
 #include "heightmarch/tracer.hpp"
+#include "heightmarch/views.hpp"
 
 namespace heightmarch::test {
 

@@ -40,16 +40,14 @@ std::vector<double> sector_shares(const RayBatch& rays) {
   return shares;
 }
 
-ViewSpec window(const std::string& views, int width, int height) {
-  ViewSpec view = parse_view("default", width, height);
-  apply_views(views, view);
-  return view;
+ViewSpec window(const ViewSet& views, int width, int height) {
+  return seen_as(default_view(width, height), views);
 }
 
 // LearnOpenGL's parallax scene over one turn sees its quad at 9, 35 and 77 degrees from the normal
 // (5th, 50th, 95th percentile), not at the default view's 30 to 80.
 TEST(Views, TheTutorialsSceneSeesItsQuadAtItsOwnAngles) {
-  const ViewSpec tutorial = window("tutorial", 200, 150);
+  const ViewSpec tutorial = window(ViewSet::tutorial(), 200, 150);
   EXPECT_EQ(tutorial.kind, ViewSpec::Kind::tutorial);
   EXPECT_EQ(tutorial.views, kTutorialFrames);
   EXPECT_EQ(describe(tutorial), "tutorial:16 200x150");
@@ -69,7 +67,7 @@ TEST(Views, TheTutorialsSceneSeesItsQuadAtItsOwnAngles) {
 // at its own offset. Every sector of azimuths gets its share in every band of view angles, the
 // frame's angles are the single view's, and the held-out set is another draw.
 TEST(Views, AroundTurnsTheDefaultViewToEveryAzimuth) {
-  ViewSpec single = window("single", 512, 512), around = window("around", 512, 512);
+  ViewSpec single = window(ViewSet::single(), 512, 512), around = window(ViewSet::around(), 512, 512);
   EXPECT_EQ(describe(single), "default 512x512");
   EXPECT_EQ(describe(around), "around 512x512");
   EXPECT_EQ(describe(held_out_view(around)), "around 512x512 seed 2");
@@ -114,14 +112,14 @@ TEST(Views, AroundTurnsTheDefaultViewToEveryAzimuth) {
 }
 
 TEST(Views, TheSingleViewIsTodaysRayForRay) {
-  const RayBatch a = make_view_rays(parse_view("default", 96, 64)),
-                 b = make_view_rays(window("single", 96, 64));
+  const RayBatch a = make_view_rays(default_view(96, 64)),
+                 b = make_view_rays(window(ViewSet::single(), 96, 64));
   EXPECT_EQ(a.tx, b.tx);
   EXPECT_EQ(a.vz, b.vz);
   ViewSpec sweep = parse_view("sweep:60,90", 64, 64);
   const RayBatch s = make_view_rays(sweep);
   for (std::size_t i = 0; i < s.size(); ++i) EXPECT_NEAR(degrees(std::acos(double(s.vz[i]))), 60.0, 1e-3);
-  apply_views("around", sweep);
+  sweep = seen_as(sweep, ViewSet::around());
   sweep.tile_size = 4;
   EXPECT_EQ(describe(sweep), "sweep:60,90 around 64x64");
   const RayBatch turned = make_view_rays(sweep);
@@ -131,11 +129,18 @@ TEST(Views, TheSingleViewIsTodaysRayForRay) {
 }
 
 TEST(Views, BadWindowsAreRefusedInOneLine) {
-  ViewSpec view = parse_view("default", 64, 64);
   for (const char* bad : {"bogus", "around:8", "tutorial:0", "tutorial:x", "tutorial:99999", "poses"})
-    EXPECT_THROW(apply_views(bad, view), InputError) << bad;
-  ViewSpec sweep = parse_view("sweep:30", 64, 64);
-  EXPECT_THROW(apply_views("tutorial", sweep), InputError);
+    EXPECT_THROW(parse_view_set(bad), InputError) << bad;
+  EXPECT_EQ(parse_view_set("tutorial"), ViewSet::tutorial());
+  EXPECT_EQ(parse_view_set("tutorial:3"), ViewSet::tutorial(3));
+  EXPECT_EQ(parse_view_set("around"), ViewSet::around());
+  EXPECT_EQ(parse_view_set("cam.csv"), ViewSet::poses("cam.csv"));
+  // The typed values are checked too: a sweep has no tutorial's scene, a scene has 1 to 4096 frames.
+  const ViewSpec sweep = parse_view("sweep:30", 64, 64);
+  EXPECT_THROW(seen_as(sweep, ViewSet::tutorial()), InputError);
+  EXPECT_THROW(seen_as(sweep, ViewSet::poses("cam.csv")), InputError);
+  EXPECT_THROW(seen_as(default_view(64, 64), ViewSet::tutorial(0)), InputError);
+  EXPECT_THROW(seen_as(rays_file_view("rays.csv"), ViewSet::around()), InputError);
 }
 
 // A user's camera: the surface is the plane z = 0 with uv = (x, y), repeating.
@@ -144,8 +149,7 @@ TEST(Views, CameraPosesFromACsv) {
   const std::string header = "eye_x,eye_y,eye_z,target_x,target_y,target_z,up_x,up_y,up_z,fov,width,height\n";
   std::ofstream(dir + "/down.csv") << header << "0.5,0.5,2,0.5,0.5,0,0,1,0,20,64,48\n"
                                    << "0,-3,1, 0,0,0, 0,0,1, 60, 80,60\n";
-  ViewSpec view = parse_view("default", 1, 1);
-  apply_views(dir + "/down.csv", view);
+  const ViewSpec view = seen_as(default_view(1, 1), ViewSet::poses(dir + "/down.csv"));
   EXPECT_EQ(view.kind, ViewSpec::Kind::poses);
   const RayBatch rays = make_view_rays(view);
   EXPECT_EQ(rays.views, 2u);
@@ -174,8 +178,7 @@ TEST(Views, CameraPosesFromACsv) {
       {header + "0,0,1,0,1,2,0,0,1,20,8,8\n", "no pose sees the surface"}};
   for (const auto& [text, message] : bad) {
     std::ofstream(dir + "/bad.csv") << text;
-    ViewSpec v = parse_view("default", 1, 1);
-    apply_views(dir + "/bad.csv", v);
+    const ViewSpec v = seen_as(default_view(1, 1), ViewSet::poses(dir + "/bad.csv"));
     try {
       make_view_rays(v);
       ADD_FAILURE() << "accepted: " << text;
@@ -188,14 +191,14 @@ TEST(Views, CameraPosesFromACsv) {
 
 // The outside check's rays: every azimuth and position uniform, the view angles the window's.
 TEST(Views, FreshRaysHaveTheWindowsAnglesAndEveryAzimuth) {
-  ViewSpec fresh = window("single", 128, 128);
+  ViewSpec fresh = window(ViewSet::single(), 128, 128);
   fresh.fresh_rays = 40000;
   fresh.seed = 7;
   EXPECT_EQ(describe(fresh), "fresh 40000 rays like default 128x128 seed 7");
   const RayBatch rays = make_view_rays(fresh);
   EXPECT_EQ(rays.ray_count, 40000u);
   const std::vector<double> drawn = view_angles(rays),
-                            own = view_angles(make_view_rays(window("single", 128, 128)));
+                            own = view_angles(make_view_rays(window(ViewSet::single(), 128, 128)));
   for (double p : {5.0, 50.0, 95.0}) EXPECT_NEAR(percentile(drawn, p), percentile(own, p), 1.0) << p;
   for (double share : sector_shares(rays)) EXPECT_NEAR(share, 1.0 / 8.0, 0.01);
 }

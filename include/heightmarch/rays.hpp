@@ -1,7 +1,7 @@
 #pragma once
-// Rays in tangent space (docs/conventions.md) and the views that make them, as structure-of-arrays
-// tile batches: the view is cut into tiles, each tile's rays are stored together, ordered in
-// blocks of 8 x 2 pixels (kBlockWidth x kBlockHeight).
+// Rays in tangent space (docs/conventions.md) as structure-of-arrays tile batches: a view
+// (views.hpp) is cut into tiles, each tile's rays are stored together, ordered in blocks of 8 x 2
+// pixels (kBlockWidth x kBlockHeight); a list of rays (a rays file) is cut into tiles in its order.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -24,9 +24,6 @@ inline constexpr std::uint32_t kPaddingRay = 0xffffffffu;
 // packets in AVX-512's window of 8 x 5 texels (83-89% with 4 x 4 blocks).
 inline constexpr int kBlockWidth = 8;
 inline constexpr int kBlockHeight = 2;
-// A view set around the surface turns each cell of kViewCell x kViewCell pixels to its own azimuth
-// (views.cpp): whole blocks, so no packet spans two azimuths.
-inline constexpr int kViewCell = 8;
 
 struct RayBatch {
   // T (entry point on the top plane) and V (unit, towards the eye, vz > 0).
@@ -39,7 +36,7 @@ struct RayBatch {
   std::vector<std::uint32_t> origin;
   // Tile t holds rays [tile_offsets[t], tile_offsets[t + 1]).
   std::vector<std::size_t> tile_offsets{0};
-  // For each ray, the view of its set it belongs to, from 0 (views.cpp): the rays that share one
+  // For each ray, the view of its set it belongs to, from 0 (views.hpp): the rays that share one
   // draw of azimuth and offset, or (a single view, a list of rays) a tile; numbered so that views
   // 2k and 2k + 1 are neighbours in azimuth and angle (metrics.cpp pairs them).
   std::vector<std::uint32_t> view;
@@ -52,44 +49,6 @@ struct RayBatch {
   std::size_t tile_count() const { return tile_offsets.size() - 1; }
   bool is_padding(std::size_t i) const { return origin[i] == kPaddingRay; }
 };
-
-// The default view's span of view angles, degrees from the normal.
-inline constexpr float kDefaultNearDegrees = 30.0f, kDefaultFarDegrees = 80.0f;
-inline constexpr float kMaxViewDegrees = 89.0f;
-
-// Where a batch's rays come from: the perspective benchmark view, a sweep of one V over a grid
-// of T, a CSV file of rays (width x height is then rows x 1, known once loaded), or a view set
-// (docs/measures.md#view-sets): the perspective view or a sweep seen around the surface (each
-// tile of its frame from its own azimuth), LearnOpenGL's rotating quad at `views` frames of one
-// turn, or a user's camera poses (frames and poses side by side in the batch's image). A tile
-// never spans two views.
-struct ViewSpec {
-  enum class Kind { perspective, sweep, rays_file, tutorial, poses };
-  Kind kind = Kind::perspective;
-  int width = 1024;  // of the frame; the tutorial: of each of its frames
-  int height = 1024;
-  float theta_degrees = 0.0f;  // sweep: angle of V from the normal
-  // perspective: the view angle from the normal at the near edge of the plane (v = 0) and at the
-  // far edge (v = 1), on the centre line: the span of angles a scene shows the surface at
-  float near_degrees = kDefaultNearDegrees, far_degrees = kDefaultFarDegrees;
-  float phi_degrees = 270.0f;  // sweep: azimuth of V (270: eye towards -v, as the default view)
-  // perspective and sweep: seen around the surface, every tile of the frame from an azimuth and
-  // at an offset of its own (views.cpp); else the single view
-  bool around = false;
-  int views = 1;  // tutorial: the frames of one turn
-  // What a set draws (each view's azimuth within its sector, its uv offset on the repeating map,
-  // the tutorial's phase of the turn): 0 draws nothing; a held-out set is its selection set at
-  // seed + 1 (held_out_view).
-  std::uint32_t seed = 0;
-  // Not the window's rays but this many fresh ones: every azimuth and position uniform, the view
-  // angles drawn from the window's own (the outside check's rays).
-  std::size_t fresh_rays = 0;
-  std::string path;    // rays_file: the rays CSV; poses: the camera poses CSV
-  int tile_size = 32;  // tile side in pixels (rays_file: tile_size^2 rays per tile)
-  friend bool operator==(const ViewSpec&, const ViewSpec&) = default;
-};
-
-inline constexpr int kMaxViewSide = 16384;
 
 // What a run holds per ray of its batch, for the memory budget: the ray (T, V, origin, view, gradients),
 // its hits, the exact and reference hits, the error and, with --out, the images' pixels
@@ -106,47 +65,8 @@ inline double padding_factor(int tile_size) {
   return std::ceil(per_tile / double(kRayAlignment)) * double(kRayAlignment) / per_tile;
 }
 inline constexpr int kDefaultTileSize = 32;
-
-// "default", "default:NEAR-FAR" (the perspective view's span of angles) or "sweep:THETA[,PHI]"
-// (degrees); throws InputError.
-ViewSpec parse_view(const std::string& text, int width, int height);
-// "NEAR-FAR" in degrees, 0 <= NEAR < FAR <= kMaxViewDegrees, into the view; throws InputError.
-void parse_view_angles(const std::string& text, ViewSpec& view);
-ViewSpec sweep_view(double theta_degrees, int width, int height);  // at the default azimuth
-ViewSpec rays_file_view(const std::string& path);
-
-// The windows `--views` names (docs/measures.md#view-sets), each with its selection seed: the
-// single default view (today's, seed 0), the set around the surface (seed 1), the tutorial's
-// scene (kTutorialFrames frames, seed 0: its own frames) and a CSV of camera poses (seed 0: as
-// given).
-inline constexpr int kTutorialFrames = 16;
-inline constexpr int kTutorialWidth = 800, kTutorialHeight = 600;  // the tutorial's window
-inline constexpr int kMaxSetViews = 4096;
-// "single", "around", "tutorial[:N]" or a camera-pose CSV file, applied to a perspective view
-// (its span and size kept) or a sweep ("single" and "around" only): sets its kind, around, views
-// and selection seed. Throws InputError.
-void apply_views(const std::string& text, ViewSpec& view);
-// The held-out set of a window: the same window drawn at seed + 1 (other azimuths within their
-// sectors in another order, other offsets, another phase of the tutorial's turn).
-ViewSpec held_out_view(const ViewSpec& view);
-// More than one view, or fresh rays: a figure over it is another series than a single view's.
-bool is_view_set(const ViewSpec& view);
-// Sizes a window so that it holds about `rays` rays: a square frame; the tutorial's frames at 4:3,
-// scaled by the share of their pixels that see the quad's front over the turn. A pose file keeps
-// its poses' sizes.
-void size_views_for_rays(ViewSpec& view, double rays);
-
-// "default 1024x1024", "default:45-85 1024x1024" (angles other than 30-80), "sweep:70,270 128x128",
-// "rays:FILE"; sets: "around 1024x1024", "around:45-85 1024x1024", "sweep:70 around 128x128",
-// "tutorial:16 800x600", "poses:FILE", then " seed N" where
-// the seed is not the window's selection seed, and "fresh 100000 rays like ..." for fresh rays
-std::string describe(const ViewSpec& view);
-
-// The default view: a perspective camera looking at the plane so view angles span near_degrees
-// (near edge) to far_degrees (far edge); at 30 and 80, from (0.5, -0.113, 0.196). The sweep view: one fixed V
-// over a width x height grid of T at pixel centres of [0,1]^2. A rays_file view loads its CSV
-// (load_rays_csv).
-RayBatch make_view_rays(const ViewSpec& view);
+// The largest side of a view's (or a camera pose's) image, in pixels.
+inline constexpr int kMaxViewSide = 16384;
 
 // Sets the batch's gradients from its pixel grid (origin = y * image_width + x), as a GPU's quad
 // derivatives (dFdxFine, dFdyFine) take them: the difference of T to the pixel's partner in its

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "cli/typed_option.hpp"
 #include "heightmarch/error.hpp"
 #include "heightmarch/glsl_runner.hpp"
 #include "util/string_format.hpp"
@@ -140,9 +141,9 @@ void parse_size(const std::string& text, int& width, int& height) {
 
 }  // namespace
 
-void add_views_option(CLI::App& command, std::string& views, const std::string& default_text) {
-  command.add_option(
-      "--views", views,
+void add_views_option(CLI::App& command, std::optional<ViewSet>& views, const std::string& default_text) {
+  add_typed_option(
+      command, "--views", views, parse_view_set,
       "the window measured: single (one perspective view, as before), around (the default view "
       "turned about the normal: each tile of its frame from an azimuth and at an offset on the map "
       "of its own), tutorial[:N] (LearnOpenGL's rotating quad at N frames of one "
@@ -185,13 +186,11 @@ Configuration trace_configuration(const TraceOptions& o, RunKind kind, LayerSpec
     c.view = rays_file_view(o.rays);
   } else {
     c.view = parse_view(o.view, 1024, 1024);
-    if (c.view.kind == ViewSpec::Kind::sweep && o.views.empty()) {
-      apply_views("single", c.view);
-    } else {
-      apply_views(o.views.empty() ? "around" : o.views, c.view);
-      if (c.view.kind == ViewSpec::Kind::tutorial)
-        c.view.width = kTutorialWidth, c.view.height = kTutorialHeight;
-    }
+    // A sweep is seen single unless asked, the default view around.
+    const ViewSet set =
+        o.views.value_or(c.view.kind == ViewSpec::Kind::sweep ? ViewSet::single() : ViewSet::around());
+    c.view = seen_as(c.view, set);
+    if (set.kind == ViewSet::Kind::tutorial) c.view.width = kTutorialWidth, c.view.height = kTutorialHeight;
     if (!o.size.empty()) {
       if (c.view.kind == ViewSpec::Kind::poses)
         throw InputError("--size: a camera-pose file gives each pose's size");

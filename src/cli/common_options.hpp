@@ -50,7 +50,7 @@ struct TraceOptions {
   int seed = 1;
   MapOptions map;  // its wrap is the technique's too
   std::string view = "default";
-  std::string views;                        // empty: around for the default view, single for a sweep
+  std::optional<ViewSet> views;             // none: around for the default view, single for a sweep
   std::optional<std::uint32_t> views_seed;  // none: the window's selection seed
   std::string size;                         // empty: the window's own (views_size_help)
   std::string rays;
@@ -71,7 +71,8 @@ struct TraceOptions {
 };
 
 // --views on a command (trace, glsl, suite, claims, heightmarch-bench): the window a run measures.
-void add_views_option(CLI::App& command, std::string& views, const std::string& default_text);
+// Its value typed as it is read; none where it is not given (`default_text` says what that means).
+void add_views_option(CLI::App& command, std::optional<ViewSet>& views, const std::string& default_text);
 
 // Declares the options on a command; `exact_allowed`: --technique also takes "exact".
 void add_trace_options(CLI::App& command, TraceOptions& options, bool exact_allowed);

@@ -70,15 +70,17 @@ PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
   }
   // The window holds as many rays as the plan's frame, whichever it is.
   const double rays = double(settings.window.width) * settings.window.height;
-  apply_views(o.views, settings.window);
+  const ViewSet views = o.views.value_or(ViewSet::around());
+  settings.window = seen_as(settings.window, views);
   size_views_for_rays(settings.window, rays);
   // The tutorial's scene is read as the tutorial reads its depth map, unless asked otherwise.
-  if (!o.filters.empty())
-    settings.filter = parse_filter(o.filters.front());
-  else if (settings.window.kind == ViewSpec::Kind::tutorial)
+  std::vector<Filter> filters;
+  for (const std::string& name : o.filters) filters.push_back(parse_filter(name));
+  if (!filters.empty())
+    settings.filter = filters.front();
+  else if (views.kind == ViewSet::Kind::tutorial)
     settings.filter = Filter::trilinear;
-  for (const std::string& name : o.filters) {
-    const Filter filter = parse_filter(name);
+  for (const Filter filter : filters) {
     if (filter != settings.filter &&
         std::find(settings.compared_filters.begin(), settings.compared_filters.end(), filter) ==
             settings.compared_filters.end())

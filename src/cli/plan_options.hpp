@@ -27,7 +27,7 @@ struct PlanOptions {
   int repetitions = 5;
   std::optional<double> scale;
   std::string view_angles;           // NEAR-FAR degrees; empty: the default view's
-  std::string views = "around";      // the window (common_options.hpp's --views)
+  std::optional<ViewSet> views;      // the window (common_options.hpp's --views); none: around
   std::vector<std::string> filters;  // the run's filter, then the compared ones; none: bilinear
 };
 

@@ -327,15 +327,14 @@ Configuration fresh_rays_configuration(const RowFields& f, std::size_t rays, std
   validate(p);
   const Json& view = f.at("view");
   const std::string kind = f.text(f.at(view, "kind", "view.kind"), "view.kind");
-  c.view =
-      parse_view("default", int(f.integer(f.at(view, "width", "view.width"), "view.width", 1, kMaxViewSide)),
-                 int(f.integer(f.at(view, "height", "view.height"), "view.height", 1, kMaxViewSide)));
+  c.view = default_view(int(f.integer(f.at(view, "width", "view.width"), "view.width", 1, kMaxViewSide)),
+                        int(f.integer(f.at(view, "height", "view.height"), "view.height", 1, kMaxViewSide)));
   if (kind == "tutorial") {
-    apply_views("tutorial:" + std::to_string(f.integer(f.at(view, "views", "view.views"), "view.views", 1,
-                                                       kMaxSetViews)),
-                c.view);
+    c.view = seen_as(
+        c.view,
+        ViewSet::tutorial(int(f.integer(f.at(view, "views", "view.views"), "view.views", 1, kMaxSetViews))));
   } else if (kind == "poses") {
-    apply_views(f.text(f.at(view, "file", "view.file"), "view.file"), c.view);
+    c.view = seen_as(c.view, ViewSet::poses(f.text(f.at(view, "file", "view.file"), "view.file")));
   } else if (kind == "default") {
     c.view.near_degrees =
         float(f.number(f.at(view, "near_angle", "view.near_angle"), "view.near_angle", 0.0, kMaxViewDegrees));

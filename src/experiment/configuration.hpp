@@ -12,8 +12,8 @@
 #include "heightmarch/gl_target.hpp"
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/isa.hpp"
-#include "heightmarch/rays.hpp"
 #include "heightmarch/technique.hpp"
+#include "heightmarch/views.hpp"
 
 namespace heightmarch {
 
@@ -100,9 +100,9 @@ struct Configuration {
   ViewSpec view;
   TechniqueParams params;  // the technique is ignored by roofline, ceiling, exact and brought-in shader runs,
                            // the filter by the kinds that do not take one (takes_filter)
-  Isa isa = Isa::scalar;  // trace, roofline, ceiling, autovec and highway runs; exact runs: the ISA of its
-                          // float pass
-  int threads = 1;        // worker threads (never 0: resolved by the plan)
+  Isa isa = Isa::scalar;   // trace, roofline, ceiling, autovec and highway runs; exact runs: the ISA of its
+                           // float pass
+  int threads = 1;         // worker threads (never 0: resolved by the plan)
   std::optional<BroughtInShader> shader;  // glsl runs: a brought-in shader instead of the technique
   GlTarget gl;                            // glsl runs: the GL path and device (no path: the worker's default)
   bool timed = true;                      // false: accuracy only (sweeps, gallery)

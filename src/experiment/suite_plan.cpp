@@ -51,18 +51,14 @@ bool wanted(const PlanSettings& s, Technique t) {
 ViewSpec sweep_for(const PlanSettings& s, double theta) {
   ViewSpec view = sweep_view(theta, s.sweep_size, s.sweep_size);
   if (s.window.kind == ViewSpec::Kind::perspective && !s.window.around) return view;
-  apply_views("around", view);
+  view = seen_as(view, ViewSet::around());
   view.tile_size = std::clamp(s.sweep_size / 16, 1, kDefaultTileSize);
   return view;
 }
 
 }  // namespace
 
-ViewSpec around_window(int side) {
-  ViewSpec view = parse_view("default", side, side);
-  apply_views("around", view);
-  return view;
-}
+ViewSpec around_window(int side) { return seen_as(default_view(side, side), ViewSet::around()); }
 
 PlanSettings suite_settings(bool quick, int threads) {
   PlanSettings s;
@@ -146,7 +142,7 @@ std::vector<Configuration> benchmark_plan(const PlanSettings& settings) {
 }
 
 ViewSpec gallery_view(const PlanSettings& s) {
-  ViewSpec view = parse_view("default", s.gallery_width, s.gallery_height);
+  ViewSpec view = default_view(s.gallery_width, s.gallery_height);
   view.near_degrees =
       s.window.kind == ViewSpec::Kind::perspective ? s.window.near_degrees : kDefaultNearDegrees;
   view.far_degrees = s.window.kind == ViewSpec::Kind::perspective ? s.window.far_degrees : kDefaultFarDegrees;

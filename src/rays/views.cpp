@@ -1,57 +1,21 @@
+#include "heightmarch/views.hpp"
+
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <numeric>
-#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "heightmarch/error.hpp"
 #include "heightmarch/memory_budget.hpp"
-#include "heightmarch/rays.hpp"
-#include "rays/camera_poses.hpp"
+#include "rays/batch_builder.hpp"
+#include "rays/camera.hpp"
 #include "util/string_format.hpp"
 
 namespace heightmarch {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kMinViewZ = 5e-7;     // V.z below this is a grazing ray: rejected
-constexpr float kMaxRayOrigin = 1e6f;  // |T.x|, |T.y|
-// LearnOpenGL's parallax scene: the quad turns at 10 degrees a second (glfwGetTime() * -10.0f)
-// about normalize(1, 0, 1), seen from (0, 0, 3) with a 45 degree field of view at 800 x 600.
-constexpr double kTutorialDegreesPerSecond = -10.0;
-constexpr double kTutorialEyeZ = 3.0, kTutorialFovDegrees = 45.0;
-
-struct Vec3 {
-  double x = 0, y = 0, z = 0;
-};
-Vec3 operator-(const Vec3& a, const Vec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-Vec3 normalized(const Vec3& a) {
-  const double len = std::sqrt(dot(a, a));
-  return {a.x / len, a.y / len, a.z / len};
-}
-
-// A pinhole camera in the surface's frame (the surface is the plane z = 0, its normal +z): the
-// eye, the image's unit axes and the forward direction, tan of half the vertical field of view.
-struct Camera {
-  Vec3 eye, right, up, forward;
-  double tan_half_fov = 1;
-};
-
-// Where the plane shows the map: within [x0, x1] x [y0, y1], uv = (u0, v0) + scale (x, y). The
-// pose files' plane is unbounded (every pixel that sees it, up to kMaxViewDegrees from the normal).
-struct PlaneMap {
-  double u0 = 0, v0 = 0, scale = 1;
-  double x0 = 0, x1 = 1, y0 = 0, y1 = 1;
-  double min_view_z = 0;  // rays more grazing than this are dropped
-};
 
 // Deterministic draws in [0, 1), the same on every platform and standard library: splitmix64 on
 // a state mixed from the seed and a stream (one stream per view), its top 53 bits.
@@ -69,93 +33,6 @@ class Draws {
  private:
   std::uint64_t state_;
 };
-
-// The default camera: the near edge of the plane (v = 0) seen at the near angle from the normal
-// (30 degrees unless asked), the far edge (v = 1) at the far angle (80), on the centre line; eye
-// height h and distance a before the near edge follow from tan near = a / h and tan far = (1 + a) / h.
-Camera default_camera(const ViewSpec& view) {
-  const double near_angle = view.near_degrees * kPi / 180.0, far_angle = view.far_degrees * kPi / 180.0;
-  const double height = 1.0 / (std::tan(far_angle) - std::tan(near_angle));
-  const double back = std::tan(near_angle) * height;
-  const double pitch = 0.5 * (far_angle + near_angle);  // forward, from straight down
-  Camera c;
-  c.eye = {0.5, -back, height};
-  c.right = {1, 0, 0};
-  c.up = {0, std::cos(pitch), std::sin(pitch)};
-  c.forward = {0, std::sin(pitch), -std::cos(pitch)};
-  c.tan_half_fov = std::tan(0.5 * (far_angle - near_angle));
-  return c;
-}
-
-struct Ray {
-  bool hit;
-  float tx, ty, vx, vy, vz;
-  std::uint32_t view = 0;  // of its set (RayBatch::view)
-};
-
-Ray camera_ray(const Camera& cam, const PlaneMap& plane, int px, int py, int width, int height) {
-  const double sx = (2.0 * (px + 0.5) / width - 1.0) * cam.tan_half_fov * double(width) / double(height);
-  const double sy = (1.0 - 2.0 * (py + 0.5) / height) * cam.tan_half_fov;  // row 0 = top of the image
-  const double dx = cam.forward.x + sx * cam.right.x + sy * cam.up.x;
-  const double dy = cam.forward.y + sx * cam.right.y + sy * cam.up.y;
-  const double dz = cam.forward.z + sx * cam.right.z + sy * cam.up.z;
-  if (dz >= 0.0) return {false, 0, 0, 0, 0, 0};
-  const double t = -cam.eye.z / dz;
-  const double x = cam.eye.x + t * dx, y = cam.eye.y + t * dy;
-  if (x < plane.x0 || x > plane.x1 || y < plane.y0 || y > plane.y1) return {false, 0, 0, 0, 0, 0};
-  const double ex = cam.eye.x - x, ey = cam.eye.y - y, ez = cam.eye.z;
-  const double len = std::sqrt(ex * ex + ey * ey + ez * ez);
-  if (ez / len < plane.min_view_z) return {false, 0, 0, 0, 0, 0};
-  return {true,
-          float(plane.u0 + plane.scale * x),
-          float(plane.v0 + plane.scale * y),
-          float(ex / len),
-          float(ey / len),
-          float(ez / len)};
-}
-
-// A camera given in world space, seen from a surface frame (origin o, orthonormal tangent,
-// bitangent and normal): the same camera in that frame's coordinates.
-Camera in_frame(const Camera& world, const Vec3& o, const Vec3& t, const Vec3& b, const Vec3& n) {
-  const auto axis = [&](const Vec3& v) { return Vec3{dot(v, t), dot(v, b), dot(v, n)}; };
-  Camera c = world;
-  c.eye = axis(world.eye - o);
-  c.right = axis(world.right);
-  c.up = axis(world.up);
-  c.forward = axis(world.forward);
-  return c;
-}
-
-// LearnOpenGL's scene at `seconds` into the turn, in the quad's frame: the quad spans [-1, 1]^2
-// with uv (x + 1) / 2, (y + 1) / 2, tangent +x and bitangent +y of its model matrix. An eye behind
-// the quad sees its back face, which is dropped (every ray then misses).
-Camera tutorial_camera(double seconds) {
-  const double angle = kTutorialDegreesPerSecond * seconds * kPi / 180.0;
-  const double k = 1.0 / std::sqrt(2.0);  // normalize(1, 0, 1)
-  const double c = std::cos(angle), s = std::sin(angle), C = 1.0 - c;
-  const double ax = k, ay = 0, az = k;
-  // Rodrigues' rotation matrix, its columns: the quad's tangent, bitangent and normal in the world.
-  const Vec3 t{c + ax * ax * C, ay * ax * C + az * s, az * ax * C - ay * s};
-  const Vec3 b{ax * ay * C - az * s, c + ay * ay * C, az * ay * C + ax * s};
-  const Vec3 n{ax * az * C + ay * s, ay * az * C - ax * s, c + az * az * C};
-  Camera world;
-  world.eye = {0, 0, kTutorialEyeZ};
-  world.right = {1, 0, 0};
-  world.up = {0, 1, 0};
-  world.forward = {0, 0, -1};
-  world.tan_half_fov = std::tan(0.5 * kTutorialFovDegrees * kPi / 180.0);
-  return in_frame(world, {0, 0, 0}, t, b, n);
-}
-
-Camera pose_camera(const CameraPose& p) {
-  Camera c;
-  c.eye = {p.eye[0], p.eye[1], p.eye[2]};
-  c.forward = normalized(Vec3{p.target[0], p.target[1], p.target[2]} - c.eye);
-  c.right = normalized(cross(c.forward, {p.up[0], p.up[1], p.up[2]}));
-  c.up = cross(c.right, c.forward);
-  c.tan_half_fov = std::tan(0.5 * p.fov_degrees * kPi / 180.0);
-  return c;
-}
 
 // Where a view of a set lies on the repeating map: turned by `turn` radians about the normal
 // through the map's centre, then moved by an offset, its entry points taken modulo 1. The
@@ -199,102 +76,16 @@ void place_rays(RayBatch& batch, const PlacementOf& placement_of) {
   }
 }
 
-// Appends one tile's rays, padded with copies of its last ray to a multiple of kRayAlignment.
-class BatchBuilder {
- public:
-  explicit BatchBuilder(RayBatch& batch) : batch_(batch) {}
-  void add(const Ray& r, std::uint32_t origin) {
-    batch_.tx.push_back(r.tx);
-    batch_.ty.push_back(r.ty);
-    batch_.vx.push_back(r.vx);
-    batch_.vy.push_back(r.vy);
-    batch_.vz.push_back(r.vz);
-    for (auto* g : {&batch_.du_dx, &batch_.dv_dx, &batch_.du_dy, &batch_.dv_dy}) g->push_back(0.0f);
-    batch_.origin.push_back(origin);
-    batch_.view.push_back(r.view);
-    batch_.views = std::max(batch_.views, r.view + 1);
-    ++batch_.ray_count;
-  }
-  void end_tile() {
-    const std::size_t begin = batch_.tile_offsets.back();
-    if (batch_.size() == begin) return;  // no ray in this tile
-    while (batch_.size() % kRayAlignment != 0) {
-      const std::size_t last = batch_.size() - 1;
-      add({true, batch_.tx[last], batch_.ty[last], batch_.vx[last], batch_.vy[last], batch_.vz[last],
-           batch_.view[last]},
-          kPaddingRay);
-      --batch_.ray_count;
-    }
-    batch_.tile_offsets.push_back(batch_.size());
-  }
-
- private:
-  RayBatch& batch_;
-};
-
-void check_tile_size(int tile_size) {
-  if (tile_size < 1 || tile_size > 4096)
-    throw InputError("tile size " + std::to_string(tile_size) + " outside [1, 4096]");
-}
-
 }  // namespace
 
-ViewSpec parse_view(const std::string& text, int width, int height) {
+ViewSpec default_view(int width, int height) {
   if (width < 1 || height < 1 || width > kMaxViewSide || height > kMaxViewSide)
     throw InputError("view size " + std::to_string(width) + "x" + std::to_string(height) + " outside [1, " +
                      std::to_string(kMaxViewSide) + "]");
   ViewSpec view;
   view.width = width;
   view.height = height;
-  if (text == "default") return view;
-  if (text.rfind("default:", 0) == 0) {
-    parse_view_angles(text.substr(8), view);
-    return view;
-  }
-  const std::string prefix = "sweep:";
-  if (text.rfind(prefix, 0) != 0)
-    throw InputError("unknown view '" + text + "' (default, default:NEAR-FAR or sweep:THETA[,PHI])");
-  view.kind = ViewSpec::Kind::sweep;
-  const std::string args = text.substr(prefix.size());
-  const auto comma = args.find(',');
-  try {
-    std::size_t used = 0;
-    const std::string theta = args.substr(0, comma);
-    view.theta_degrees = std::stof(theta, &used);
-    if (used != theta.size()) throw std::invalid_argument("trailing");
-    if (comma != std::string::npos) {
-      const std::string phi = args.substr(comma + 1);
-      view.phi_degrees = std::stof(phi, &used);
-      if (used != phi.size()) throw std::invalid_argument("trailing");
-    }
-  } catch (const std::logic_error&) {
-    throw InputError("view '" + text + "': THETA and PHI must be numbers in degrees");
-  }
-  if (!(view.theta_degrees >= 0.0f && view.theta_degrees <= 89.0f))
-    throw InputError("view '" + text + "': THETA must be in [0, 89] degrees");
-  if (!std::isfinite(view.phi_degrees))
-    throw InputError("view '" + text + "': PHI must be a finite number of degrees");
   return view;
-}
-
-void parse_view_angles(const std::string& text, ViewSpec& view) {
-  const auto dash = text.find('-', 1);
-  float near = 0, far = 0;
-  try {
-    if (dash == std::string::npos) throw std::invalid_argument("no dash");
-    std::size_t used_near = 0, used_far = 0;
-    const std::string a = text.substr(0, dash), b = text.substr(dash + 1);
-    near = std::stof(a, &used_near);
-    far = std::stof(b, &used_far);
-    if (used_near != a.size() || used_far != b.size()) throw std::invalid_argument("trailing");
-  } catch (const std::logic_error&) {
-    throw InputError("view angles '" + text + "' must be NEAR-FAR in degrees, e.g. 30-80");
-  }
-  if (!(near >= 0.0f && near < far && far <= kMaxViewDegrees))
-    throw InputError("view angles '" + text + "' must satisfy 0 <= NEAR < FAR <= " +
-                     std::to_string(int(kMaxViewDegrees)) + " degrees");
-  view.near_degrees = near;
-  view.far_degrees = far;
 }
 
 ViewSpec sweep_view(double theta_degrees, int width, int height) {
@@ -315,40 +106,47 @@ ViewSpec rays_file_view(const std::string& path) {
 
 namespace {
 
-// The seed a window is measured at (held_out_view adds one): the set around the surface draws its
-// azimuths and offsets; the single view, the tutorial's scene and a user's poses are taken as
-// they are.
-std::uint32_t selection_seed(const ViewSpec& view) { return view.around ? 1u : 0u; }
+// The set a window was made as (seen_as's inverse).
+ViewSet set_of(const ViewSpec& view) {
+  switch (view.kind) {
+    case ViewSpec::Kind::tutorial:
+      return ViewSet::tutorial(view.views);
+    case ViewSpec::Kind::poses:
+      return ViewSet::poses(view.path);
+    case ViewSpec::Kind::perspective:
+    case ViewSpec::Kind::sweep:
+    case ViewSpec::Kind::rays_file:
+      break;
+  }
+  return view.around ? ViewSet::around() : ViewSet::single();
+}
 
 }  // namespace
 
-void apply_views(const std::string& text, ViewSpec& view) {
+ViewSpec seen_as(ViewSpec view, const ViewSet& set) {
   const bool sweep = view.kind == ViewSpec::Kind::sweep;
   if (view.kind != ViewSpec::Kind::perspective && !sweep)
-    throw InputError("--views applies to the default view or a sweep");
-  view.around = text == "around";
+    throw InputError("a view set is made of the default view or a sweep, not " + describe(view));
+  view.around = set.kind == ViewSet::Kind::around;
   view.views = 1;
-  if (text != "single" && !view.around) {
-    if (sweep) throw InputError("--views '" + text + "': a sweep is seen single or around");
-    const std::string tutorial = "tutorial";
-    if (text == tutorial || text.rfind(tutorial + ":", 0) == 0) {
-      view.kind = ViewSpec::Kind::tutorial;
-      view.views = kTutorialFrames;
-      const std::string number = text.substr(std::min(text.size(), tutorial.size() + 1));
-      const auto [end, ec] = std::from_chars(number.data(), number.data() + number.size(), view.views);
-      if (text != tutorial && (number.empty() || ec != std::errc() || end != number.data() + number.size() ||
-                               view.views < 1 || view.views > kMaxSetViews))
-        throw InputError("--views '" + text + "': tutorial:N takes a whole number of frames N in [1, " +
-                         std::to_string(kMaxSetViews) + "]");
-    } else if (text.size() > 4 && text.compare(text.size() - 4, 4, ".csv") == 0) {
-      view.kind = ViewSpec::Kind::poses;
-      view.path = text;
-    } else {
-      throw InputError("unknown --views '" + text +
-                       "' (single, around, tutorial[:N] or a camera-pose FILE.csv)");
-    }
+  switch (set.kind) {
+    case ViewSet::Kind::single:
+    case ViewSet::Kind::around:
+      break;
+    case ViewSet::Kind::tutorial:
+      if (set.frames < 1 || set.frames > kMaxSetViews)
+        throw InputError("the tutorial's scene takes 1 to " + std::to_string(kMaxSetViews) + " frames, not " +
+                         std::to_string(set.frames));
+      [[fallthrough]];
+    case ViewSet::Kind::poses:
+      if (sweep) throw InputError("a sweep is seen single or around, not as the tutorial's scene or poses");
+      view.kind = set.kind == ViewSet::Kind::tutorial ? ViewSpec::Kind::tutorial : ViewSpec::Kind::poses;
+      view.views = set.kind == ViewSet::Kind::tutorial ? set.frames : 1;
+      if (set.kind == ViewSet::Kind::poses) view.path = set.poses_file;
+      break;
   }
-  view.seed = selection_seed(view);
+  view.seed = set.selection_seed();
+  return view;
 }
 
 ViewSpec held_out_view(const ViewSpec& view) {
@@ -387,7 +185,8 @@ std::string describe(const ViewSpec& view) {
     return "fresh " + std::to_string(view.fresh_rays) + " rays like " + describe(window);
   }
   if (view.kind == ViewSpec::Kind::rays_file) return "rays:" + view.path;
-  const std::string seed = view.seed != selection_seed(view) ? " seed " + std::to_string(view.seed) : "";
+  const std::string seed =
+      view.seed != set_of(view).selection_seed() ? " seed " + std::to_string(view.seed) : "";
   if (view.kind == ViewSpec::Kind::poses) return "poses:" + view.path + seed;
   const std::string size = std::to_string(view.width) + "x" + std::to_string(view.height);
   char buf[64];
@@ -476,7 +275,7 @@ RayBatch make_set(int views, int width, int height, int tile_size, const std::ve
 RayBatch frame_rays(const ViewSpec& view) {
   check_set(1, double(view.width) * view.height, view.tile_size,
             "a " + std::to_string(view.width) + "x" + std::to_string(view.height) + " view");
-  const Camera camera = default_camera(view);
+  const Camera camera = default_camera(view.near_degrees, view.far_degrees);
   const PlaneMap square;
   const double theta = view.theta_degrees * kPi / 180.0, phi = view.phi_degrees * kPi / 180.0;
   const float sweep_v[3] = {float(std::sin(theta) * std::cos(phi)), float(std::sin(theta) * std::sin(phi)),
@@ -644,99 +443,6 @@ RayBatch make_view_rays(const ViewSpec& view) {
       break;
   }
   return frame_rays(view);
-}
-
-void set_pixel_gradients(RayBatch& rays, int frame_width, int frame_height) {
-  const std::size_t width = std::size_t(rays.image_width), height = std::size_t(rays.image_height);
-  check_memory_budget(4.0 * double(width) * double(height), "the pixel grid of a view");
-  constexpr std::uint32_t kNone = 0xffffffffu;
-  std::vector<std::uint32_t> ray_at(width * height, kNone);  // the ray of each pixel
-  for (std::size_t i = 0; i < rays.size(); ++i) {
-    if (rays.is_padding(i)) continue;
-    if (rays.origin[i] >= width * height)
-      throw std::logic_error("a ray's pixel lies outside its view's grid");
-    ray_at[rays.origin[i]] = std::uint32_t(i);
-  }
-  // T's change to the next pixel along one axis (step: 1 pixel in x, or a row in y) at pixel p,
-  // its coordinate c along that axis of n pixels in frames of f: towards the quad partner (quads
-  // start at the frame's edge), else the other side; never into another frame.
-  const auto gradient = [&](std::size_t p, std::size_t c, std::size_t n, std::size_t f, std::size_t step,
-                            float& du, float& dv) {
-    const std::size_t self = ray_at[p], local = c % f;
-    for (const bool up : {local % 2 == 0, local % 2 != 0}) {
-      if (up ? c + 1 >= n || local + 1 >= f : local == 0) continue;
-      const std::size_t other = ray_at[up ? p + step : p - step];
-      if (other == kNone) continue;
-      const std::size_t from = up ? self : other, to = up ? other : self;
-      du = rays.tx[to] - rays.tx[from];
-      dv = rays.ty[to] - rays.ty[from];
-      return;
-    }
-    du = dv = 0.0f;
-  };
-  for (std::size_t i = 0; i < rays.size(); ++i) {
-    if (rays.is_padding(i)) {  // a copy of its tile's last ray (BatchBuilder)
-      rays.du_dx[i] = rays.du_dx[i - 1];
-      rays.dv_dx[i] = rays.dv_dx[i - 1];
-      rays.du_dy[i] = rays.du_dy[i - 1];
-      rays.dv_dy[i] = rays.dv_dy[i - 1];
-      continue;
-    }
-    const std::size_t p = rays.origin[i], x = p % width, y = p / width;
-    gradient(p, x, width, std::size_t(frame_width), 1, rays.du_dx[i], rays.dv_dx[i]);
-    gradient(p, y, height, std::size_t(frame_height), width, rays.du_dy[i], rays.dv_dy[i]);
-  }
-}
-
-void check_rays(const RayBatch& rays) {
-  const std::size_t n = rays.tx.size();
-  for (const auto* a :
-       {&rays.ty, &rays.vx, &rays.vy, &rays.vz, &rays.du_dx, &rays.dv_dx, &rays.du_dy, &rays.dv_dy})
-    if (a->size() != n) throw InputError("a ray batch whose arrays differ in length");
-  const auto within = [](float x) { return std::isfinite(x) && std::fabs(x) <= kMaxRayOrigin; };
-  for (std::size_t i = 0; i < n; ++i) {
-    const bool finite = within(rays.tx[i]) && within(rays.ty[i]) && std::isfinite(rays.vx[i]) &&
-                        std::isfinite(rays.vy[i]) && std::isfinite(rays.vz[i]) && within(rays.du_dx[i]) &&
-                        within(rays.dv_dx[i]) && within(rays.du_dy[i]) && within(rays.dv_dy[i]);
-    if (!finite || !(rays.vz[i] > 0.0f))
-      throw InputError("ray " + std::to_string(i + 1) +
-                       " of the batch: not finite, |T| or a gradient beyond 1e6, or V.z <= 0");
-  }
-}
-
-RayBatch make_ray_list(const std::vector<float>& tx, const std::vector<float>& ty,
-                       const std::vector<float>& vx, const std::vector<float>& vy,
-                       const std::vector<float>& vz, int tile_size) {
-  check_tile_size(tile_size);
-  check_memory_budget(kBytesPerRay * padding_factor(tile_size) * double(tx.size()),
-                      std::to_string(tx.size()) + " rays");
-  RayBatch batch;
-  batch.image_width = int(tx.size());
-  batch.image_height = 1;
-  BatchBuilder builder(batch);
-  const std::size_t per_tile = std::size_t(tile_size) * std::size_t(tile_size);
-  for (std::size_t i = 0; i < tx.size(); ++i) {
-    const auto ray = [i] { return "ray " + std::to_string(i + 1); };  // counted from 1, as every message does
-    const double len = std::sqrt(double(vx[i]) * vx[i] + double(vy[i]) * vy[i] + double(vz[i]) * vz[i]);
-    // Compared as stored (a float): V.z = 5e-7 exactly passes whatever the rounding of |V|.
-    const float z = float(vz[i] / len);
-    if (!std::isfinite(len) || !std::isfinite(tx[i]) || !std::isfinite(ty[i]))
-      throw InputError(ray() + ": not finite");
-    if (len == 0.0) throw InputError(ray() + ": V is the zero vector");
-    if (!(z >= float(kMinViewZ))) {
-      char value[32];
-      std::snprintf(value, sizeof value, "%.9g", double(z));
-      throw InputError(ray() + ": V.z = " + value +
-                       " after normalisation, must be >= 5e-7 (a ray from below or grazing the plane)");
-    }
-    if (std::fabs(tx[i]) > kMaxRayOrigin || std::fabs(ty[i]) > kMaxRayOrigin)
-      throw InputError(ray() + ": |T| beyond 1e6");
-    builder.add({true, tx[i], ty[i], float(vx[i] / len), float(vy[i] / len), z, std::uint32_t(i / per_tile)},
-                std::uint32_t(i));
-    if ((i + 1) % per_tile == 0) builder.end_tile();
-  }
-  builder.end_tile();
-  return batch;
 }
 
 }  // namespace heightmarch

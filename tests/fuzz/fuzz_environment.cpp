@@ -7,7 +7,7 @@
 #include "heightmarch/error.hpp"
 #include "heightmarch/isa.hpp"
 #include "heightmarch/memory_budget.hpp"
-#include "heightmarch/rays.hpp"
+#include "heightmarch/views.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
