@@ -46,8 +46,8 @@ Usage: scripts/compare OLD.json NEW.json [--threshold 0.05] [--small-threshold X
   CHANGE, reported apart from speed. They are not judged when view or depth-map sizes differ.
 
 Exits 0 with no regression or behaviour change, 1 with a speed regression (of benchmarks or of
-the whole run) and/or a behaviour change, 2 on unusable input (one line on stderr): a missing file, invalid JSON, JSON that is not Google
-Benchmark's shape (a "benchmarks" list of objects; names and units as strings; real and cpu times
+the whole run) and/or a behaviour change, 2 on unusable input (one line on stderr): a missing file, invalid JSON,
+JSON that is not Google Benchmark's shape (a "benchmarks" list of objects; names and units as strings; real and cpu times
 finite and positive in a unit of s, ms, us, ns; counters numbers or null), no shared benchmark,
 a threshold or level outside (0, 1).
 """
@@ -241,14 +241,15 @@ def run_verdict(run, threshold):
         return ("RUN-WIDE REGRESSION: the whole run (its median benchmark) is %+.1f%% against OLD%s (q %.4f): most of the "
                 "code is slower, beyond the machine (a lost compiler flag, a narrower ISA?)" % (code, controls, run["q"]))
     if run["cause"] == "machine":
-        return ("RUN-WIDE SHIFT: the whole run (its median benchmark) is %+.1f%% against OLD%s: the machine (or the build's compiler, flags, Mesa) "
-                "moved as much as the code; a change of every benchmark cannot be told from it: rerun both on a quiet "
-                "machine, or time both builds side by side with scripts/regress" % (code, controls))
+        return ("RUN-WIDE SHIFT: the whole run (its median benchmark) is %+.1f%% against OLD%s: the machine (or the "
+                "build's compiler, flags, Mesa) moved as much as the code; a change of every benchmark cannot be told "
+                "from it: rerun both on a quiet machine, or time both builds side by side with scripts/regress"
+                % (code, controls))
     if run["cause"] == "unknown":
         why = ("no control benchmark to tell the machine from the code" if run["control_shift"] is None else
                "the controls do not tell whether the machine or the code moved")
-        return ("RUN-WIDE SHIFT: the whole run (its median benchmark) is %+.1f%% against OLD%s, beyond %.0f%%: %s; time both builds side by side "
-                "with scripts/regress" % (code, controls, 100 * threshold, why))
+        return ("RUN-WIDE SHIFT: the whole run (its median benchmark) is %+.1f%% against OLD%s, beyond %.0f%%: %s; "
+                "time both builds side by side with scripts/regress" % (code, controls, 100 * threshold, why))
     return None
 
 
@@ -298,11 +299,13 @@ def compare(args):
         if not runs:
             raise Unusable("%s: holds no benchmark result" % path)
     if not shared:
-        raise Unusable("%s and %s share no benchmark: %s" % (args.old, args.new, why_nothing_shared(list(old_runs), list(new_runs))))
+        raise Unusable("%s and %s share no benchmark: %s"
+                       % (args.old, args.new, why_nothing_shared(list(old_runs), list(new_runs))))
     renamed = sum(old_raw[n] != new_raw[n] for n in shared)
     if renamed:
         how = ["/min_time: dropped"] if any("/min_time:" in r for r in list(old_raw.values()) + list(new_raw.values())) else []
-        how += ["view:/depth_map: from %s's context" % label for label, sizes in (("OLD", old_sizes), ("NEW", new_sizes)) if sizes]
+        how += ["view:/depth_map: from %s's context" % label
+                for label, sizes in (("OLD", old_sizes), ("NEW", new_sizes)) if sizes]
         print("note: %d benchmark(s) matched across name formats: %s" % (renamed, ", ".join(how)))
     changed = {}
     counters_one_side = {}
@@ -330,7 +333,8 @@ def compare(args):
         print(note)
 
     against = "vs OLD" if run["small"] or run["control_shift"] is None else "vs ctrl"
-    print("\n%8s %8s %8s  %-10s  %s" % ("time", against, "q-value", "", "benchmark (time, median NEW vs OLD: CPU time at 1 thread, else wall)"))
+    print("\n%8s %8s %8s  %-10s  %s" % ("time", against, "q-value", "",
+                                        "benchmark (time, median NEW vs OLD: CPU time at 1 thread, else wall)"))
     slower = []
     for name in shared:
         change, relative, q, is_slower, role = judgement["benchmarks"][name]

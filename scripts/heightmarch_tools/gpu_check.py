@@ -179,11 +179,13 @@ def report(device, listed, notes, records, bench, seconds, args, conformance_siz
                if software else "A GPU's texture unit filters with fixed-point weights (8 fractional bits on NVIDIA), "
                "the CPU in float: the differences are the GPU's, reported rather than failed "
                "(docs/techniques.md#the-gl-paths)."), "",
-           "| technique | identical sample counts | uv difference p99 | uv difference max | device's p99 error | CPU's p99 error |",
+           "| technique | identical sample counts | uv difference p99 | uv difference max | device's p99 error "
+           "| CPU's p99 error |",
            "|---|---|---|---|---|---|"]
     for technique in dict.fromkeys(r["technique"] for r in records):
         mine = [r for r in records if r["technique"] == technique]
-        worst = lambda key: max((r[key] for r in mine if r[key] is not None), default=None)
+        def worst(key, mine=mine):
+            return max((r[key] for r in mine if r[key] is not None), default=None)
         same = min((r["identical_sample_counts"] for r in mine if r["identical_sample_counts"] is not None), default=None)
         cells = ["-" if same is None else "%.2f%%" % (100 * same)] + [
             "-" if worst(k) is None else "%.3g" % worst(k)
@@ -199,7 +201,8 @@ def report(device, listed, notes, records, bench, seconds, args, conformance_siz
         if b.get("aggregate_name") != "median":
             continue
         f = fields(b["run_name"])
-        ms = lambda key: "%.3f" % (1e3 * b[key]) if key in b else "-"
+        def ms(key, b=b):
+            return "%.3f" % (1e3 * b[key]) if key in b else "-"
         md.append("| %s | %s | %s | %.3f | %s | %s | %.1f |" % (
             markdown(f.get("heightfield", "?")), f.get("technique", "?"), f.get("layers", "?"),
             b["real_time"] * UNIT_MS[b.get("time_unit", "ns")],

@@ -94,7 +94,9 @@ def validate(data, where):
     for key in ("before", "after"):
         where["load"][key].numbers(load.get(key) or [], 0, LARGEST)
     where["load"]["other_cpu_share"].number(load.get("other_cpu_share"), 0, LARGEST, none=True)
-    [where["load"]["busy_reasons"][i].text(r) for i, r in enumerate(where["load"]["busy_reasons"].list(load.get("busy_reasons") or []))]
+    reasons = where["load"]["busy_reasons"]
+    for i, r in enumerate(reasons.list(load.get("busy_reasons") or [])):
+        reasons[i].text(r)
     techniques = where["techniques"].list(data.get("techniques"))
     for i, t in enumerate(techniques):
         w = where["techniques"][i]
@@ -572,7 +574,9 @@ def machine_rows(run):
     """Where a run's figures come from, as (name, text) rows: the machine, the build, the plan, the
     views and depth maps, the load."""
     p, plan, load = run.provenance, run.plan, run.load
-    averages = lambda values: "/".join("%.2f" % x for x in values or []) or "?"
+
+    def averages(values):
+        return "/".join("%.2f" % x for x in values or []) or "?"
     views = sorted({view_name(r["view"], angles=False) for r in run.rows})
     maps = list(dict.fromkeys("%s %s" % (r["heightfield"]["label"], depth_map(r)) for r in run.rows))
     return [("CPU", p.get("cpu", "?")), ("cores", p.get("cores", "?")), ("best ISA", run.best_isa or "?"),

@@ -360,7 +360,8 @@ def section_gallery(run, recommendation):
         costs = [cost_image(run.dir, r["images"]) for r in group]
         with_cost = any(costs)
         body += ["%s, %s view. Shaded render at the technique's uv; uv error on one log scale (0.01 to 10 texels)%s." % (
-            md(hf), md(view), "; cost: height samples per pixel, on one log scale for every image (1 to 1024)" if with_cost else ""), ""]
+            md(hf), md(view),
+            "; cost: height samples per pixel, on one log scale for every image (1 to 1024)" if with_cost else ""), ""]
         body += md_table([("technique", False), ("render", False), ("error", False)] + ([("cost", False)] if with_cost else [])
                          + ERROR_COLUMNS,
                          [[run.label(r) + "".join(" (what to ship, %s)" % b for b in ships.get(
@@ -433,7 +434,8 @@ def write_report(run, claims, recommendation, alerts, recorded, history_drawn):
     rows when the run is being recorded (history_drawn: whether its plot was drawn)."""
     faults = []  # the tables find them, the warnings on the first screen name them
     tables = (section_matrix(run) + section_glsl(run) + section_every_backend(run, faults)
-              + section_searches_per_isa(run) + section_walks(run) + section_exact_speed(run) + section_threads(run) + section_gallery(run, recommendation))
+              + section_searches_per_isa(run) + section_walks(run) + section_exact_speed(run) + section_threads(run)
+              + section_gallery(run, recommendation))
     plots = section_plots(run, recommendation, history_drawn)
     p = run.provenance
     title = "%s run of %s, commit %s" % (run.plan.get("name", "?"), p.get("date", "?"), p.get("commit", "?"))

@@ -66,7 +66,9 @@ def walks_table(run):
     found = walks_per_isa(run)
     if not found:
         return None
-    simd_use = lambda row: fmt(row.get("simd_utilization"), 0, 100, "%")
+
+    def simd_use(row):
+        return fmt(row.get("simd_utilization"), 0, 100, "%")
     columns = [("heightfield", False), ("technique", False), ("threads", True)] + [
         column for isa in run.isas for column in (("%s Msamples/s" % isa, True), ("%s SIMD use" % isa, True))]
     rows = [[hf, technique, str(threads)] + [

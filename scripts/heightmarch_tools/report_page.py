@@ -180,7 +180,8 @@ def history_series(run, recorded):
     series = {}
     for r in recorded:
         if (r.get("technique"), r.get("layers"), r.get("threads"), r.get("heightfield"), r.get("filter")) != (
-                HEADLINE_TECHNIQUE, HEADLINE_LAYERS, "1", csv_cell(hf), run.filter) or not r.get("view", "").startswith("default"):
+                HEADLINE_TECHNIQUE, HEADLINE_LAYERS, "1", csv_cell(hf), run.filter) or \
+                not r.get("view", "").startswith("default"):
             continue
         machine = r.get("machine") or r.get("cpu") or "?"
         series.setdefault(machine, {}).setdefault(r["backend"], []).append(

@@ -93,8 +93,8 @@ def check_benchmarks(binary, flags, which):
     result = processes.run([binary, "--benchmark_list_tests=true"] + flags, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                            text=True)
     if result.returncode != 0:
-        raise Unusable("%s refuses the benchmark flags: %s" % (os.path.basename(binary),
-                                                                (result.stderr.strip().splitlines() or ["exit %d" % result.returncode])[0]))
+        first = (result.stderr.strip().splitlines() or ["exit %d" % result.returncode])[0]
+        raise Unusable("%s refuses the benchmark flags: %s" % (os.path.basename(binary), first))
     if not result.stdout.split():
         pattern = next(f for f in flags if f.startswith("--benchmark_filter="))
         raise Unusable("--filter %s names no benchmark of %s" % (pattern.split("=", 1)[1], which))

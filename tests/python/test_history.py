@@ -140,7 +140,8 @@ def test_glsl_series_are_kept_apart_by_their_renderer():
     def gl(renderer, path):
         return {"path": path.lower(), "device": "software", "renderer": renderer, "version": "4.5", "driver": "Mesa",
                 "label": "glsl (%s; %s)" % (renderer, path)}
-    osmesa, egl = glsl_row(gl("llvmpipe, LLVM 15.0.6, 256 bits", "OSMesa")), glsl_row(gl("llvmpipe, LLVM 15.0.6, 256 bits", "EGL"))
+    llvmpipe = "llvmpipe, LLVM 15.0.6, 256 bits"
+    osmesa, egl = glsl_row(gl(llvmpipe, "OSMesa")), glsl_row(gl(llvmpipe, "EGL"))
     gpu = glsl_row(gl("NVIDIA H100 80GB HBM3/PCIe/SSE2", "EGL"))
     keys = {history.series(history.series_fields(r)) for r in (osmesa, egl, gpu)}
     assert len(keys) == 3
@@ -151,7 +152,8 @@ def test_glsl_series_are_kept_apart_by_their_renderer():
 
 def row(**changes):
     """A timed measurements.json row as history reads it."""
-    return dict({"kind": "trace", "backend": "avx2", "threads": 1, "heightfield": {"label": "bricks", "width": 512, "height": 512},
+    return dict({"kind": "trace", "backend": "avx2", "threads": 1,
+                 "heightfield": {"label": "bricks", "width": 512, "height": 512},
                  "technique": "pom", "layers": "32", "view": {"kind": "default", "width": 64, "height": 64},
                  "filter": "bilinear"}, **changes)
 
