@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Sourced by test_bisect.sh and test_regress.sh: make_fake_repo DIR makes a git repository of 9
 # commits whose "heightmarch-bench" (a script CMake writes at build time) speaks heightmarch-bench's
 # flags and prints Google Benchmark JSON whose time per trace is 1000 / SPEED ms (SPEED from
@@ -9,7 +10,7 @@
 #   is FAKE_BENCH_HANG_AT (any commit when that is unset).
 # Sets planted to the commit of the slow-down.
 make_fake_repo() {
-  mkdir -p "$1" && cd "$1"
+  mkdir -p "$1" && cd "$1" || return
   git init -q && git config user.email test@example.com && git config user.name test
   echo "build/" > .gitignore  # as in heightmarch: the build cache lives under build/
   cat > CMakeLists.txt <<'CMAKE'
@@ -46,6 +47,7 @@ BENCH
     echo "$i" > step.txt
     git add -A && git commit -qm "commit $i"
   done
+  # shellcheck disable=SC2034  # planted is for the tests that source this
   planted="$(git rev-parse HEAD~3)"
 }
 

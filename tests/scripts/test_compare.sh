@@ -204,7 +204,7 @@ for bad in "fifo.json::is a FIFO, not a regular file" "zero.json::is a character
   rc=0
   HEIGHTMARCH_MEMORY_LIMIT=$([ "${bad%%::*}" = old.json ] && echo 64K || echo 1G) \
     timeout 20 "$root/scripts/compare" "$tmp/same.json" "$tmp/${bad%%::*}" > "$tmp/file.out" 2> "$tmp/file.err" || rc=$?
-  last=file
+  last="file"
   [ "$rc" = 2 ] && [ "$(wc -l < "$tmp/file.err")" = 1 ] && has "${bad##*::}" err || fail "NEW ${bad%%::*}: exit $rc"
 done
 echo "ok: a FIFO, /dev/zero and a file beyond the memory budget exit 2 with one line, at once"

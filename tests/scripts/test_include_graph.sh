@@ -24,7 +24,7 @@ if out="$("$graph" "$tmp")" || ! echo "$out" | grep -q "ambiguous: include/heigh
 fi
 echo "ok: an upward include through a public header and an ambiguous public header fail"
 
-if git -C "$root" cat-file -e d85ad05^{commit} 2> /dev/null; then
+if git -C "$root" cat-file -e "d85ad05^{commit}" 2> /dev/null; then
   if out="$(cd "$root" && "$graph" --rev d85ad05)"; then echo "$out"; echo "FAIL: the tree of d85ad05 passes"; exit 1; fi
   echo "ok: the tree of d85ad05 fails ($(echo "$out" | grep -c 'up a layer:') includes up a layer)"
 fi
