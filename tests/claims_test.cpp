@@ -448,9 +448,12 @@ namespace {
 // A map named with markup stays text in claims.md: no HTML, no live link, no split heading or
 // cut table row (markdown_text, the one rule for Markdown).
 TEST(Claims, MarkdownOfAMapNamedWithMarkupIsText) {
-  ClaimResult r{"C7",         "POM is much more accurate than steep parallax",
-                "a tutorial", "a rule",
-                {},           Verdict::holds_partly};
+  ClaimResult r;
+  r.id = "C7";
+  r.claim = "POM is much more accurate than steep parallax";
+  r.source = "a tutorial";
+  r.rule = "a rule";
+  r.verdict = Verdict::holds_partly;
   const std::string hostile =
       "<img src=x onerror=alert(1)> [x](javascript:alert(1)) a|b\n### heading \x1b]0;PWN\x07";
   r.checks = {{hostile, "32 layers", "1 | 2", true, "0.6x | 1"}, {hostile, "", "3", false, ""}};

@@ -67,7 +67,9 @@ void expect_refused_from_header(const std::string& image, double over_footprint_
                                      " --memory-limit " + limit_above_footprint(over_footprint_mib));
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
-  if (!kAddressSanitizer) EXPECT_LT(r.peak_mib, footprint_mib() + 16) << r.output;
+  if (!kAddressSanitizer) {
+    EXPECT_LT(r.peak_mib, footprint_mib() + 16) << r.output;
+  }
 }
 
 TEST(MemoryBudget, ImagesAreRefusedFromTheirHeader) {
@@ -104,7 +106,9 @@ TEST(MemoryBudget, HoldsAtThePeak) {
     EXPECT_TRUE(r.status == 0 ||
                 (r.status == 2 && r.output.find(" budget (--memory-limit; ") != std::string::npos))
         << limit << ": " << r.output;
-    if (!kAddressSanitizer) EXPECT_LE(r.peak_mib, std::stod(limit)) << limit << ": " << r.output;
+    if (!kAddressSanitizer) {
+      EXPECT_LE(r.peak_mib, std::stod(limit)) << limit << ": " << r.output;
+    }
     passed = passed || r.status == 0;
   }
   EXPECT_TRUE(passed);
@@ -123,7 +127,9 @@ TEST(MemoryBudget, RaysFilesAreBoundedFromTheirSize) {
                                      "/rays.csv --memory-limit " + limit_above_footprint(24));
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("rays.csv (about "), std::string::npos) << r.output;
-  if (!kAddressSanitizer) EXPECT_LT(r.peak_mib, footprint_mib() + 16) << r.output;
+  if (!kAddressSanitizer) {
+    EXPECT_LT(r.peak_mib, footprint_mib() + 16) << r.output;
+  }
   {
     std::ofstream csv(dir + "/huge.csv");
     csv << "tx,ty,vx,vy,vz\n";

@@ -215,7 +215,7 @@ std::optional<Candidate> candidate_of(const RowFields& f, int format_version) {
   const bool glsl = kind == "glsl";
   c.backend = {glsl ? RunKind::glsl : RunKind::trace,
                glsl ? Isa::scalar : isa_named(f.text(f.at("backend"), "backend")),
-               int(f.integer(f.at("threads"), "threads", 1, 1 << 20))};
+               int(f.integer(f.at("threads"), "threads", 1, 1 << 20)), ""};
   // Its renderer's label; a run from before rows recorded it names none.
   if (const Json& gl = f.optional("gl"); glsl && !gl.is_null())
     c.backend.gl = printable(f.text(f.at(gl, "label", "gl.label"), "gl.label"));

@@ -80,14 +80,14 @@ class JsonWriter {
     std::string q = "\"";
     for (std::size_t at = 0; at < text.size();) {
       const TextCharacter c = character_at(text, at);
-      char buf[8];
+      char buf[16];
       if (c.code == '"' || c.code == '\\') {
         q += '\\';
         q += char(c.code);
       } else if (c.printable) {
         q.append(text, at, c.length);
       } else if (c.code >= 0) {  // all of them in the Basic Multilingual Plane: one \u escape each
-        std::snprintf(buf, sizeof buf, "\\u%04lx", c.code);
+        std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(c.code));
         q += buf;
       } else {
         std::snprintf(buf, sizeof buf, "\\\\x%02x", static_cast<unsigned char>(text[at]));

@@ -204,7 +204,7 @@ class ConeGeometry {
   // The ends of the arc of directions (in uv) from (i, j) into the sub-patch, which spans less
   // than a half turn: the directions with every other one counter-clockwise (clockwise) of them.
   void arc(const SubPatch& s, double i, double j, double& ax, double& ay, double& bx, double& by) const {
-    double ux[4], uy[4];
+    double ux[4] = {}, uy[4] = {};
     int n = 0;
     for (double x : {s.x_lo, s.x_hi})
       for (double y : {s.y_lo, s.y_hi}) {
