@@ -15,7 +15,7 @@ foreach(line IN LISTS lines)
   if(line MATCHES "^([A-Za-z0-9_/]+)\\.")
     set(suite ${CMAKE_MATCH_1})
     string(APPEND content "add_test([=[${suite}]=] [=[${TEST_BINARY}]=] [=[--gtest_filter=${suite}.*]=] --gtest_brief=1)\n"
-           "set_tests_properties([=[${suite}]=] PROPERTIES TIMEOUT 1500)\n")
+           "set_tests_properties([=[${suite}]=] PROPERTIES TIMEOUT 1500 LABELS fast)\n")
   endif()
 endforeach()
 file(WRITE ${OUTPUT} "${content}")
