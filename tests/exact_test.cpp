@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
+#include "heightmarch/mip_chain.hpp"
 #include "test_support.hpp"
 
 namespace heightmarch {
@@ -30,15 +32,16 @@ double brute_depth(const DepthMap& map, Wrap wrap, double x, double y) {
          fy * ((1 - fx) * tap(i, j + 1) + fx * tap(i + 1, j + 1));
 }
 
-// Fine stepping (1/64 texel along the path, at most 1/8192 in depth), then bisection.
-double brute_force_depth(const DepthMap& map, Wrap wrap, double tx, double ty, double vx, double vy,
-                         double vz, double scale) {
-  const double kx = -scale * vx / vz * map.width, ky = -scale * vy / vz * map.height;
-  auto g = [&](double d) {
-    return d - brute_depth(map, wrap, tx * map.width - 0.5 + kx * d, ty * map.height - 0.5 + ky * d);
-  };
+// The first depth at or below a surface depth(u, v) along the ray, by fine stepping (1/64 of a
+// texel of a W x H grid along the path, at most 1/8192 in depth), then bisection.
+template <class Surface>
+double brute_force_depth(const Surface& depth, int width, int height, double tx, double ty, double vx,
+                         double vy, double vz, double scale) {
+  const double ku = -scale * vx / vz, kv = -scale * vy / vz;
+  auto g = [&](double d) { return d - depth(tx + ku * d, ty + kv * d); };
   if (g(0.0) >= 0.0) return 0.0;
-  const double step = std::min(1.0 / 8192.0, 1.0 / 64.0 / std::max(1e-9, std::fabs(kx) + std::fabs(ky)));
+  const double step =
+      std::min(1.0 / 8192.0, 1.0 / 64.0 / std::max(1e-9, std::fabs(ku) * width + std::fabs(kv) * height));
   double lo = 0.0;
   for (double hi = step;; hi += step) {
     hi = std::min(hi, 1.0);
@@ -52,6 +55,15 @@ double brute_force_depth(const DepthMap& map, Wrap wrap, double tx, double ty, d
     if (hi >= 1.0) return 1.0;
     lo = hi;
   }
+}
+
+// The same on the level-0 bilinear surface.
+double brute_force_depth(const DepthMap& map, Wrap wrap, double tx, double ty, double vx, double vy,
+                         double vz, double scale) {
+  const auto level0 = [&](double u, double v) {
+    return brute_depth(map, wrap, u * map.width - 0.5, v * map.height - 0.5);
+  };
+  return brute_force_depth(level0, map.width, map.height, tx, ty, vx, vy, vz, scale);
 }
 
 TEST(Exact, FlatIsItsDepth) {
@@ -262,6 +274,171 @@ TEST(Exact, GrazingPathsAreRefusedPastTheLimit) {
   params.light[2] = 1e-5f;
   EXPECT_THROW(check_exact_path_lengths(map, make_ray_list({0.5f}, {0.5f}, {0.0f}, {0.0f}, {1.0f}), params),
                InputError);
+}
+
+}  // namespace
+}  // namespace heightmarch
+
+// The exact hit on the surface a ray reads (FilteredExactReference): level 0 where it reads
+// level 0, a hand-solved blend of two levels, and the blend against a brute-force march on it.
+namespace heightmarch {
+namespace {
+
+// A ray batch with one footprint for every ray: gradients (du_dx, dv_dx, du_dy, dv_dy).
+RayBatch with_footprint(RayBatch rays, float du_dx, float dv_dx, float du_dy, float dv_dy) {
+  rays.du_dx.assign(rays.size(), du_dx);
+  rays.dv_dx.assign(rays.size(), dv_dx);
+  rays.du_dy.assign(rays.size(), du_dy);
+  rays.dv_dy.assign(rays.size(), dv_dy);
+  return rays;
+}
+
+// A ray that reads level 0 (a level of detail of 0, bilinear filtering, a technique that reads
+// texels) gets today's exact reference's hit, bit for bit: on every builtin, a perspective view
+// whose near rows magnify the map (level 0) and whose far rows minify it.
+TEST(FilteredExact, ReadsOfLevelZeroAreTheExactReferenceBitForBit) {
+  for (const std::string& name : builtin_heightfield_names()) {
+    const DepthMap map = make_builtin_heightfield(name, 128, 3);
+    const RayBatch rays = make_view_rays(default_view(192, 192));
+    const int last = mip_level_count(map.width, map.height) - 1;
+    for (Wrap wrap : {Wrap::repeat, Wrap::clamp}) {
+      TechniqueParams params;
+      params.wrap = wrap;
+      params.filter = Filter::trilinear;
+      const HitBuffers level0 = exact_hits(map, rays, params, LightVisibility::skip);
+      HitBuffers read;
+      FilteredExactReference(map, params).run(rays, level0, read);
+      const ExactIntersector intersector(map, wrap);
+      const FilteredExactReference reference(map, params);
+      std::size_t at_level0 = 0, above = 0;
+      for (std::size_t i = 0; i < rays.size(); ++i) {
+        if (rays.is_padding(i)) continue;
+        const float lod = level_of_detail(rays.du_dx[i], rays.dv_dx[i], rays.du_dy[i], rays.dv_dy[i],
+                                          float(map.width), float(map.height), last);
+        if (lod > 0.0f) {
+          ++above;
+          continue;
+        }
+        ++at_level0;
+        ASSERT_TRUE(read.u[i] == level0.u[i] && read.v[i] == level0.v[i] &&
+                    read.depth[i] == level0.depth[i] && read.samples[i] == level0.samples[i])
+            << name << " ray " << i;
+        // And a ray's level 0 in the reference's own chain is the map's double walk, bit for bit.
+        ASSERT_EQ(
+            reference.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], 0.0f).t,
+            intersector.intersect(rays.tx[i], rays.ty[i], rays.vx[i], rays.vy[i], rays.vz[i], params.scale).t)
+            << name << " ray " << i;
+      }
+      EXPECT_GT(at_level0, rays.ray_count / 10) << name;
+      EXPECT_GT(above, rays.ray_count / 10) << name;
+      // Under bilinear, and for maxmip (which reads texels) under trilinear, every ray reads level 0.
+      for (const auto& [technique, filter] :
+           {std::pair{Technique::pom, Filter::bilinear}, std::pair{Technique::maxmip, Filter::trilinear}}) {
+        TechniqueParams level0_read = params;
+        level0_read.technique = technique;
+        level0_read.filter = filter;
+        HitBuffers same;
+        FilteredExactReference(map, level0_read).run(rays, level0, same);
+        EXPECT_TRUE(same.u == level0.u && same.v == level0.v && same.depth == level0.depth) << name;
+      }
+    }
+  }
+}
+
+// A map of 2 x 2 texels, whose chain is two levels: 0.25 in column 0 and 0.75 in column 1, its
+// level 1 their mean 0.5 (CLAMP). Between the texel centres u = 1/4 and 3/4 level 0 is u, so at
+// level of detail 1/2 the surface is (1 - f) u + 0.5 f; a ray entering at u = 1/2 at 45 degrees,
+// travelling towards -u, at scale 1/2 is at u = 1/2 - d / 2 at depth d, which meets it at
+// d = 0.5 / (1 + 0.5 (1 - f)) = 0.4 (level 0 alone: 1/3).
+TEST(FilteredExact, HandSolvedOnATwoLevelChain) {
+  const DepthMap map{2, 2, {0.25f, 0.75f, 0.25f, 0.75f}};
+  ASSERT_EQ(build_mip_chain(map).size(), 2u);
+  TechniqueParams params;
+  params.wrap = Wrap::clamp;
+  params.filter = Filter::trilinear;
+  params.scale = 0.5f;
+  const float c = float(std::sqrt(0.5));
+  // rho = |(du/dx W, dv/dx H)| = sqrt(2): level of detail 1/2, exactly.
+  const RayBatch rays =
+      with_footprint(make_ray_list({0.5f}, {0.5f}, {c}, {0.0f}, {c}), 0.5f, 0.5f, 0.0f, 0.0f);
+  ASSERT_EQ(level_of_detail(rays.du_dx[0], rays.dv_dx[0], rays.du_dy[0], rays.dv_dy[0], 2.0f, 2.0f, 1), 0.5f);
+  const FilteredExactReference reference(map, params);
+  EXPECT_NEAR(reference.intersect(0.5, 0.5, c, 0.0, c, 0.5f).t, 0.4, 1e-12);
+  const HitBuffers level0 = exact_hits(map, rays, params, LightVisibility::skip);
+  HitBuffers read;
+  reference.run(rays, level0, read);
+  EXPECT_NEAR(read.depth[0], 0.4, 1e-7);
+  EXPECT_NEAR(read.u[0], 0.3, 1e-7);
+  EXPECT_NEAR(level0.depth[0], 1.0 / 3.0, 1e-7);
+}
+
+// Both levels varying, the hit past a side of level 1's cells inside a cell of level 0: texels
+// 0, 0.5, 0.25, 0.75 along u (CLAMP), level 1 0.25 and 0.5. At f = 1/2 the surface is
+// -0.4375 + 1.25 u on [0.625, 0.75] and -0.25 + u on [0.75, 0.875] (where level 1 is clamped flat);
+// a ray entering at u = 0.85 at 45 degrees, travelling towards -u, at scale 1/2 stays above it to
+// u = 0.75 (d = 0.2) and meets it at d = 0.625 / 1.625 = 5/13.
+TEST(FilteredExact, HandSolvedAcrossTheCoarserLevelsCells) {
+  DepthMap map{4, 4, {}};
+  for (int j = 0; j < 4; ++j)
+    for (float t : {0.0f, 0.5f, 0.25f, 0.75f}) map.texels.push_back(t);
+  TechniqueParams params;
+  params.wrap = Wrap::clamp;
+  params.filter = Filter::trilinear;
+  params.scale = 0.5f;
+  const double c = std::sqrt(0.5);
+  const FilteredExactReference reference(map, params);
+  EXPECT_NEAR(reference.intersect(0.85, 0.5, c, 0.0, c, 0.5f).t, 5.0 / 13.0, 1e-12);
+}
+
+// The blend against a brute-force march on it (written apart from the library, from the chain's
+// levels): every builtin, both wraps, power-of-two and odd sides, levels of detail over the whole
+// chain (whole ones too), rays to 85 degrees. The hits agree to 1e-4 texel of level 0.
+TEST(FilteredExact, AgreesWithABruteForceMarchOnTheBlend) {
+  std::size_t rays_checked = 0;
+  double worst = 0;
+  for (const std::string& name : builtin_heightfield_names())
+    for (int side : {45, 64}) {
+      const DepthMap map = make_builtin_heightfield(name, side, 9);
+      const std::vector<DepthMap> chain = build_mip_chain(map);
+      const int last = int(chain.size()) - 1;
+      for (Wrap wrap : {Wrap::repeat, Wrap::clamp}) {
+        TechniqueParams params;
+        params.wrap = wrap;
+        params.filter = Filter::trilinear;
+        params.scale = 0.2f;
+        const FilteredExactReference reference(map, params);
+        test::Random rng(std::hash<std::string>{}(name) + std::uint64_t(side) * 3 + std::uint64_t(wrap));
+        for (int k = 0; k < 40; ++k) {
+          const double theta = rng.uniform(0.0, 85.0) * M_PI / 180.0, phi = rng.uniform(0.0, 2.0 * M_PI);
+          const double tx = rng.uniform(-0.1, 1.1), ty = rng.uniform(-0.1, 1.1);
+          const double vx = std::sin(theta) * std::cos(phi), vy = std::sin(theta) * std::sin(phi),
+                       vz = std::cos(theta);
+          const float lod = k % 8 == 0 ? float(rng.next() % std::uint64_t(last + 1))
+                                       : float(rng.uniform(0.0, double(last)));
+          const int a = int(std::floor(lod)), b = std::min(a + 1, last);
+          const double f = double(lod) - a;
+          const auto blend = [&](double u, double v) {
+            const double da =
+                brute_depth(chain[a], wrap, u * chain[a].width - 0.5, v * chain[a].height - 0.5);
+            const double db =
+                brute_depth(chain[b], wrap, u * chain[b].width - 0.5, v * chain[b].height - 0.5);
+            return da + f * (db - da);
+          };
+          const double expected =
+              brute_force_depth(blend, map.width, map.height, tx, ty, vx, vy, vz, params.scale);
+          const double d = reference.intersect(tx, ty, vx, vy, vz, lod).t;
+          // The hits' distance in texels of level 0.
+          const double texels =
+              std::fabs(d - expected) * params.scale / vz * std::hypot(vx * map.width, vy * map.height);
+          worst = std::max(worst, texels);
+          ASSERT_LE(texels, 1e-4) << name << " " << side << (wrap == Wrap::repeat ? " repeat" : " clamp")
+                                  << " ray " << k << " lod " << lod << ": " << d << " vs " << expected;
+          ++rays_checked;
+        }
+      }
+    }
+  EXPECT_GE(rays_checked, 500u);
+  std::printf("blend vs brute force: %zu rays, worst %.3g texel\n", rays_checked, worst);
 }
 
 }  // namespace

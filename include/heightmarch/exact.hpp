@@ -1,6 +1,7 @@
 #pragma once
 // The exact ray/heightfield intersection (docs/conventions.md), in double precision.
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "heightmarch/error.hpp"
@@ -52,6 +53,7 @@ class ExactIntersector {
   const MinDepthPyramid& pyramid() const { return pyramid_; }
 
  private:
+  struct Cells;  // the walk's view of the surface (src/exact/cell_walk.hpp)
   double texel(long long i, long long j) const;
   bool cell_first_root(long long ci, long long cj, const HeightfieldPath& path, double t0, double t1,
                        double& t_hit) const;
@@ -113,5 +115,37 @@ class ExactReference {
 
 HitBuffers exact_hits(const DepthMap& map, const RayBatch& rays, const TechniqueParams& params,
                       LightVisibility visibility, Isa isa = best_isa());
+
+// The exact hit on the surface a ray reads (docs/conventions.md#filters): under trilinear
+// filtering, the blend a + f (b - a) of the two mip levels of its level of detail
+// (level_of_detail(), from its footprint, as the kernels take it), and level 0's bilinear surface
+// where that is what it reads (a level of detail of 0, bilinear filtering, a technique that reads
+// texels: TechniqueParams::filter_read()). Two bilinear levels blend into a surface that is
+// bilinear on each piece of the union of their cell grids, so each piece is solved exactly as the
+// exact reference solves a cell, and the walk skips blocks with the blend of the two levels'
+// min-depth pyramids over level a's cells. Built once per depth map and parameters (its mip
+// chain, one intersector per level, a pyramid per pair of levels); uses params' scale, wrap,
+// filter and discard, and which surface its technique reads.
+class FilteredExactReference {
+ public:
+  FilteredExactReference(const DepthMap& map, const TechniqueParams& params);
+  ~FilteredExactReference();
+
+  // Per ray in parallel over tiles: uv and depth on the surface it reads, the cells solved in
+  // `samples`, the discard flag as a technique would set it, and the light's visibility from
+  // `level0`. A ray that reads level 0 takes `level0`'s hit as it is (the exact reference's for the
+  // same rays and parameters: bit for bit today's reference there). Checks path lengths first.
+  void run(const RayBatch& rays, const HitBuffers& level0, HitBuffers& hits) const;
+
+  // d* of one ray on the trilinear surface at level of detail `lod` (level_of_detail()'s, in [0,
+  // the last level]), from depth 0, and the cells solved.
+  PathHit intersect(double tx, double ty, double vx, double vy, double vz, float lod) const;
+
+ private:
+  struct Levels;
+  const DepthMap* map_;
+  TechniqueParams params_;
+  std::unique_ptr<Levels> levels_;
+};
 
 }  // namespace heightmarch

@@ -9,6 +9,7 @@
 // the period. CLAMP: the interior cells 0..W-2; the half-infinite edge cells outside them (where
 // the sampler's clamp makes the surface constant along one axis) are left to the caller.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "heightmarch/heightfield.hpp"
@@ -21,6 +22,10 @@ class MinDepthPyramid {
   static constexpr int kMaxLevels = 16;  // sides up to kMaxDepthMapSide = 2^14 cells
 
   MinDepthPyramid(const DepthMap& map, Wrap wrap);
+  // Over a grid of cells_x x cells_y cells (a map's, as above) whose level 0 is given, `cells` row
+  // by row: a bound below some other surface over those cells (the exact reference's of a blend
+  // of mip levels, src/exact/filtered_exact.cpp), reduced as the map's is.
+  MinDepthPyramid(int cells_x, int cells_y, Wrap wrap, const std::vector<float>& cells);
 
   int levels() const { return int(offsets_.size()); }  // 0 when the map has no interior cell
   int blocks_x(int level) const { return blocks_x_[std::size_t(level)]; }
@@ -49,6 +54,10 @@ class MinDepthPyramid {
   double build_seconds = 0;  // set by its builder (build_min_depth_pyramid, precomputed.hpp)
 
  private:
+  void add_level(int blocks_x, int blocks_y);
+  void start(int cells_x, int cells_y, const std::string& what);  // level 0, room for the rest
+  void reduce(bool repeat);                                       // the levels above level 0
+
   std::vector<float> min_depth_;
   std::vector<std::int32_t> offsets_, blocks_x_, blocks_y_;
 };

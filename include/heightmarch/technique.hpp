@@ -54,6 +54,13 @@ constexpr bool writes(const TechniqueInfo& t, HitChannel channel) {
   return info(channel).writer == ChannelWriter::hit ||
          (info(channel).writer == ChannelWriter::optional && (unsigned(t.writes) >> unsigned(channel)) & 1u);
 }
+// The filter a technique's samples read under `filter`: a walk reads texels of level 0 whatever the
+// filter (maxmip solves the level-0 surface), a march the filter asked for. Each ISA's kernel
+// table (src/isa/kernel_table.hpp) and the exact hit on the surface a ray reads (exact.hpp) take it
+// from here.
+constexpr Filter filter_read(KernelShape shape, Filter filter) {
+  return shape == KernelShape::walk ? Filter::bilinear : filter;
+}
 // Whether it writes an output measured against the light's visibility (its own measure, beside the
 // hit's): the exact reference then walks towards the light too.
 bool writes_visibility(const TechniqueInfo& t);
@@ -109,6 +116,8 @@ struct TechniqueParams {
   // Not value_or, whose argument is always evaluated: a broken technique (a message) would index
   // the registry.
   int refine_steps() const { return refine ? *refine : info(technique).refine; }
+  // What its samples read (filter_read): the surface its search error is measured against.
+  Filter filter_read() const { return heightmarch::filter_read(info(technique).shape, filter); }
 };
 
 // The one check of a run's parameters, for the command line and every message the GLSL worker

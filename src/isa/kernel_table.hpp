@@ -179,8 +179,8 @@ template <int W, class Kernel, Taps TAPS = Taps::memory, KernelShape SHAPE = Ker
           WalkSchedule SCHEDULE = WalkSchedule::packet>
 constexpr void fill_filters(TraceRangeFn (&rows)[kFilterCount][kAddressingCount]) {
   fill_addressing<W, Kernel, TAPS, SHAPE, Filter::bilinear, SCHEDULE>(rows[int(Filter::bilinear)]);
-  fill_addressing<W, Kernel, TAPS, SHAPE, SHAPE == KernelShape::walk ? Filter::bilinear : Filter::trilinear,
-                  SCHEDULE>(rows[int(Filter::trilinear)]);
+  fill_addressing<W, Kernel, TAPS, SHAPE, filter_read(SHAPE, Filter::trilinear), SCHEDULE>(
+      rows[int(Filter::trilinear)]);
 }
 
 // MARCH_W and WALK_W: the packet widths of the ISA's list (cmake/isa_list.cmake) for each
