@@ -174,8 +174,6 @@ class EglContext : public GlContext {
   EGLContext context_ = EGL_NO_CONTEXT;
 };
 
-}  // namespace
-
 std::unique_ptr<GlContext> make_egl_context(const std::string& device) {
   return std::make_unique<EglContext>(pick(egl_devices(), device));
 }
@@ -200,4 +198,7 @@ std::vector<GlDevice> list_egl_devices() {
   return out;
 }
 
+[[maybe_unused]] const bool registered = register_gl_path({GlPath::egl, make_egl_context, list_egl_devices});
+
+}  // namespace
 }  // namespace heightmarch

@@ -5,15 +5,34 @@
 #include "heightmarch/error.hpp"
 
 namespace heightmarch {
+namespace {
+
+// The registered paths; a function's static, so that registering from another file's static
+// initialiser finds it made.
+std::vector<GlPathContexts>& registered() {
+  static std::vector<GlPathContexts> paths;
+  return paths;
+}
+
+const GlPathContexts* registered(GlPath path) {
+  for (const GlPathContexts& p : registered())
+    if (p.path == path) return &p;
+  return nullptr;
+}
+
+}  // namespace
+
+bool register_gl_path(const GlPathContexts& contexts) {
+  registered().push_back(contexts);
+  return true;
+}
 
 std::vector<GlPath> built_gl_paths() {
   std::vector<GlPath> paths;
-#ifdef HEIGHTMARCH_HAVE_OSMESA
-  paths.push_back(GlPath::osmesa);
-#endif
-#ifdef HEIGHTMARCH_HAVE_EGL
-  paths.push_back(GlPath::egl);
-#endif
+#define HEIGHTMARCH_GL_PATH_BUILT(id, ...) \
+  if (registered(GlPath::id)) paths.push_back(GlPath::id);
+  HEIGHTMARCH_GL_PATHS(HEIGHTMARCH_GL_PATH_BUILT)
+#undef HEIGHTMARCH_GL_PATH_BUILT
   return paths;
 }
 
@@ -30,18 +49,14 @@ std::unique_ptr<GlContext> make_gl_context(const GlTarget& target, int threads) 
   // (measured: the same hits with and without this); later ones take it once per 2 x 2 quad, from
   // its first fragment, unless told otherwise (read once, as LP_NUM_THREADS).
   setenv("GALLIVM_PERF", "no_quad_lod", 1);
-#ifdef HEIGHTMARCH_HAVE_OSMESA
-  if (path == GlPath::osmesa) return make_osmesa_context();
-#endif
-#ifdef HEIGHTMARCH_HAVE_EGL
-  if (path == GlPath::egl) return make_egl_context(target.device);
-#endif
+  if (const GlPathContexts* p = registered(path)) return p->make(target.device);
   throw InputError("--gl " + to_string(path) + ": this heightmarch's GLSL worker was built with " + with +
                    " alone (its library was not found when it was built)");
 }
 
-#ifndef HEIGHTMARCH_HAVE_EGL
-std::vector<GlDevice> list_egl_devices() { return {}; }
-#endif
+std::vector<GlDevice> list_gl_devices(GlPath path) {
+  const GlPathContexts* p = registered(path);
+  return p && p->devices ? p->devices() : std::vector<GlDevice>{};
+}
 
 }  // namespace heightmarch

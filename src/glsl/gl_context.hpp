@@ -29,8 +29,20 @@ class GlContext {
   bool software_;
 };
 
-// The paths this worker was built with (CMake's HEIGHTMARCH_WITH_OSMESA and HEIGHTMARCH_WITH_EGL,
-// the libraries it found), in the list's order; at least one.
+// What a GL path's file (osmesa_context.cpp, egl_context.cpp) gives the worker, which CMake
+// compiles in only where it found the path's library: its contexts and, for a path that offers a
+// choice, its devices. The file registers it, once, at namespace scope:
+//   [[maybe_unused]] const bool registered = register_gl_path({GlPath::egl, make_egl_context,
+//   list_egl_devices});
+struct GlPathContexts {
+  GlPath path;
+  std::unique_ptr<GlContext> (*make)(const std::string& device);
+  std::vector<GlDevice> (*devices)() = nullptr;  // null: the path has one device
+};
+bool register_gl_path(const GlPathContexts& contexts);
+
+// The paths this worker was built with (those registered: CMake's HEIGHTMARCH_WITH_OSMESA and
+// HEIGHTMARCH_WITH_EGL, the libraries it found), in HEIGHTMARCH_GL_PATHS's order; at least one.
 std::vector<GlPath> built_gl_paths();
 
 // A GL 3.3 core context of the target, current on the calling thread, with llvmpipe at `threads`
@@ -39,13 +51,9 @@ std::vector<GlPath> built_gl_paths();
 // list; std::runtime_error when the library makes no context.
 std::unique_ptr<GlContext> make_gl_context(const GlTarget& target, int threads);
 
-// EGL's devices, each tried with a context for its renderer string (one process lists them: a
-// context is made and destroyed per device). Empty when built without EGL.
-std::vector<GlDevice> list_egl_devices();
-
-// Each path's own context, in its own file (osmesa_context.cpp, egl_context.cpp), built only
-// where its library was found.
-std::unique_ptr<GlContext> make_osmesa_context();
-std::unique_ptr<GlContext> make_egl_context(const std::string& device);
+// A path's devices, each tried with a context for its renderer string (one process lists them: a
+// context is made and destroyed per device). Empty for a path the worker was built without or one
+// without a choice of device.
+std::vector<GlDevice> list_gl_devices(GlPath path);
 
 }  // namespace heightmarch

@@ -43,8 +43,13 @@ class OsmesaContext : public GlContext {
   std::vector<unsigned char> buffer_ = std::vector<unsigned char>(4 * 4 * 4);
 };
 
-}  // namespace
+// OSMesa has one device, its software rasteriser (check() refuses --gl-device with it).
+std::unique_ptr<GlContext> make_osmesa_context(const std::string&) {
+  return std::make_unique<OsmesaContext>();
+}
 
-std::unique_ptr<GlContext> make_osmesa_context() { return std::make_unique<OsmesaContext>(); }
+[[maybe_unused]] const bool registered = register_gl_path({GlPath::osmesa, make_osmesa_context});
+
+}  // namespace
 
 }  // namespace heightmarch

@@ -230,7 +230,7 @@ int main(int argc, char** argv) {
     if (list) {
       protocol::Writer devices;
       devices.value(protocol::kVersion);
-      protocol::write(devices, list_egl_devices());
+      protocol::write(devices, list_gl_devices(GlPath::egl));
       return answer(Message::devices, devices);
     }
     char* end = nullptr;
