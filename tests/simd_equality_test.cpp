@@ -1,6 +1,6 @@
 // Every packet kernel against the scalar reference (the same template at width 1): identical
-// sample counts and bit-identical uv, depth and shadow, since contraction is off everywhere, under
-// both filters. And the same output for any thread count and tile size.
+// sample counts and bit-identical uv, depth, shadow and every other output of the hit list, since
+// contraction is off everywhere, under both filters. And the same output for any thread count and tile size.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -48,14 +48,12 @@ TEST_P(PacketKernelTest, MatchesScalarReference) {
       HitBuffers reference, packet;
       Tracer(map, params, Isa::scalar).run(rays, reference);
       const TraceStats stats = Tracer(map, params, isa).run(rays, packet);
-      for (std::size_t i = 0; i < rays.size(); ++i) {
-        ASSERT_EQ(packet.samples[i], reference.samples[i]) << name << " ray " << i;
-        ASSERT_EQ(packet.u[i], reference.u[i]) << name << " ray " << i;
-        ASSERT_EQ(packet.v[i], reference.v[i]) << name << " ray " << i;
-        ASSERT_EQ(packet.depth[i], reference.depth[i]) << name << " ray " << i;
-        ASSERT_EQ(packet.shadow[i], reference.shadow[i]) << name << " ray " << i;
-        ASSERT_EQ(packet.discarded[i], reference.discarded[i]) << name << " ray " << i;
-      }
+      // Every output of the list (HEIGHTMARCH_HIT_CHANNELS) that HitBuffers holds, a new one too.
+      HitBuffers::for_each_pair(packet, reference, [&](HitChannel channel, const auto& x, const auto& y) {
+        ASSERT_EQ(x.size(), rays.size()) << info(channel).name;
+        for (std::size_t i = 0; i < rays.size(); ++i)
+          ASSERT_EQ(x[i], y[i]) << name << " ray " << i << ": " << info(channel).name;
+      });
       EXPECT_GT(stats.simd_utilization(), 0.0);
       EXPECT_LE(stats.simd_utilization(), 1.0);
     }
