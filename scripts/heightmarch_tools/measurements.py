@@ -12,7 +12,7 @@ import os
 import re
 
 from .escape import csv_cell, terminal
-from .readers import Where, quoted, read_json
+from .readers import Where, quoted, read_json, run_file
 from .spreads import per_round
 
 MEASUREMENTS_FORMAT = "heightmarch-measurements"
@@ -329,8 +329,9 @@ def read_optional(path, format_name, validate):
 
 
 def load_run(run_dir):
-    """The run of run_dir: its measurements.json read (readers.read_json) and checked (validate)."""
-    path = os.path.join(run_dir, "measurements.json")
+    """The run of run_dir: its measurements.json (or measurements.json.gz) read (readers.read_json)
+    and checked (validate)."""
+    path = run_file(run_dir, "measurements.json")
     where = Where(terminal(path))
     data = upgrade(where.object(read_json(path)))
     validate(data, where)

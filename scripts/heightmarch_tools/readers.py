@@ -21,6 +21,7 @@ import math
 import os
 import re
 import stat
+import zlib
 
 from .errors import Unusable
 from .escape import terminal
@@ -78,8 +79,34 @@ def size_text(n):
 # ---------------------------------------------------------------------------------------------
 # Files
 
+GZIP_MAGIC = b"\x1f\x8b"
+
+
+def run_file(run_dir, name):
+    """A run's file NAME, or NAME.gz where the run keeps it compressed (a committed run's large
+    files); NAME where neither is there, for the reader's one-line refusal."""
+    path = os.path.join(run_dir, name)
+    return path + ".gz" if not os.path.exists(path) and os.path.exists(path + ".gz") else path
+
+
+def gunzip(data, limit, shown):
+    """A gzip file's contents, refused once they pass limit bytes (a small file may unpack to any
+    size: the budget holds for what it unpacks to, not for its size)."""
+    inflater = zlib.decompressobj(wbits=31)
+    try:
+        out = inflater.decompress(data, limit + 1)
+    except zlib.error as e:
+        raise Unusable("%s: not a whole gzip file (%s)" % (shown, e))
+    if len(out) > limit:
+        raise Unusable("%s: unpacks to more than the %s the memory budget leaves" % (shown, size_text(limit)))
+    if not inflater.eof:
+        raise Unusable("%s: not a whole gzip file (it ends early)" % shown)
+    return out
+
+
 def read_bytes(path, factor=PARSE_FACTOR):
-    """The whole of a regular file whose size, times factor, fits in what the memory budget leaves."""
+    """The whole of a regular file whose size, times factor, fits in what the memory budget leaves;
+    a gzip file (by its first two bytes) unpacked, within the budget too."""
     shown = terminal(path)
     try:
         fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC)  # a FIFO opens without a writer
@@ -103,7 +130,8 @@ def read_bytes(path, factor=PARSE_FACTOR):
                 break
             chunks.append(chunk)
             remaining -= len(chunk)
-        return b"".join(chunks)
+        data = b"".join(chunks)
+        return gunzip(data, int(left / factor), shown) if data[:2] == GZIP_MAGIC else data
     except OSError as e:
         raise Unusable("%s: cannot read: %s" % (shown, e.strerror))
     finally:

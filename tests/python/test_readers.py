@@ -1,4 +1,5 @@
 """readers: files checked before they are read, values checked as they are taken."""
+import gzip
 import os
 
 import pytest
@@ -18,6 +19,25 @@ def test_reads_a_regular_file(tmp_path):
     path = tmp_path / "a.json"
     path.write_text('{"a": [1, 2.5, null]}')
     assert readers.read_json(str(path)) == {"a": [1, 2.5, None]}
+
+
+def test_reads_a_gzip_file_and_holds_what_it_unpacks_to_the_budget(tmp_path, monkeypatch):
+    path = tmp_path / "measurements.json.gz"
+    path.write_bytes(gzip.compress(b'{"a": [1, 2.5, null]}'))
+    assert readers.read_json(str(path)) == {"a": [1, 2.5, None]}
+    # A run's file found compressed or not, by its name.
+    assert readers.run_file(str(tmp_path), "measurements.json") == str(path)
+    (tmp_path / "measurements.json").write_text("{}")
+    assert readers.run_file(str(tmp_path), "measurements.json") == str(tmp_path / "measurements.json")
+    # 3 MB of zeros packs to a few KB: refused for what it unpacks to, not its size.
+    bomb = tmp_path / "bomb.json.gz"
+    bomb.write_bytes(gzip.compress(b"[" + b"0," * 1500000 + b"0]"))
+    monkeypatch.setenv("HEIGHTMARCH_MEMORY_LIMIT", str(readers.resident_bytes() + (4 << 20)))  # 4 MiB left
+    assert "unpacks to more than" in refused(readers.read_json, str(bomb))
+    monkeypatch.delenv("HEIGHTMARCH_MEMORY_LIMIT")
+    cut = tmp_path / "cut.json.gz"
+    cut.write_bytes(gzip.compress(b'{"a": 1}' * 100)[:30])
+    assert "not a whole gzip file" in refused(readers.read_json, str(cut))
 
 
 def test_refuses_what_is_not_a_regular_file(tmp_path):
