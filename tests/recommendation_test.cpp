@@ -25,7 +25,7 @@ Candidate row(int id, const std::string& hf, Technique t, const char* layers, do
   Candidate c;
   c.id = id;
   c.heightfield = hf;
-  c.backend = {kind, kind == RunKind::trace ? Isa::avx2 : Isa::scalar, threads};
+  c.backend = {kind, kind == RunKind::trace ? Isa::avx2 : Isa::scalar, threads, ""};
   c.grid = kind == RunKind::trace;
   c.technique = t;
   c.layers = layers_for(t, parse_layer_spec(layers));
@@ -324,9 +324,13 @@ TEST(SuiteFilters, TheUsersMapsTechniquesLayersIsasThreadsAndParts) {
     EXPECT_EQ(c.threads, 2);
     if (c.has_technique()) {
       EXPECT_TRUE(c.params.technique == Technique::pom || c.params.technique == Technique::cone);
-      if (c.purposes & kPurposeMatrix) EXPECT_EQ(to_string(c.params.layers), "16");
+      if (c.purposes & kPurposeMatrix) {
+        EXPECT_EQ(to_string(c.params.layers), "16");
+      }
     }
-    if (c.on_isa()) EXPECT_EQ(c.isa, Isa::scalar);
+    if (c.on_isa()) {
+      EXPECT_EQ(c.isa, Isa::scalar);
+    }
   }
   const auto dry = test::run_cli(
       "suite --quick --no-builtins --heightmap builtin:waves --techniques pom --layers 8 "
