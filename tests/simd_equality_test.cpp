@@ -49,10 +49,12 @@ TEST_P(PacketKernelTest, MatchesScalarReference) {
       Tracer(map, params, Isa::scalar).run(rays, reference);
       const TraceStats stats = Tracer(map, params, isa).run(rays, packet);
       // Every output of the list (HEIGHTMARCH_HIT_CHANNELS) that HitBuffers holds, a new one too.
+      // A structured binding is captured by name only from C++20's clang 16 on: a copy for clang 14.
+      const std::string map_name = name;
       HitBuffers::for_each_pair(packet, reference, [&](HitChannel channel, const auto& x, const auto& y) {
         ASSERT_EQ(x.size(), rays.size()) << info(channel).name;
         for (std::size_t i = 0; i < rays.size(); ++i)
-          ASSERT_EQ(x[i], y[i]) << name << " ray " << i << ": " << info(channel).name;
+          ASSERT_EQ(x[i], y[i]) << map_name << " ray " << i << ": " << info(channel).name;
       });
       EXPECT_GT(stats.simd_utilization(), 0.0);
       EXPECT_LE(stats.simd_utilization(), 1.0);

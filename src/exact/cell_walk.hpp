@@ -82,7 +82,6 @@ inline bool first_root(const CellQuadratic<double>& q, double span, double& s) {
 // starts in that cell, which it solves at once.
 template <class Surface>
 PathHit walk_cells(const Surface& surface, const HeightfieldPath& p, double from) {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   PathHit result;
   const bool repeat = surface.repeat();
   const long long w = surface.width(), h = surface.height();
@@ -95,7 +94,7 @@ PathHit walk_cells(const Surface& surface, const HeightfieldPath& p, double from
   auto exit_t = [](double origin, double rate, double inv_rate, long long lo, long long hi) {
     if (rate > 0.0) return (double(hi) - origin) * inv_rate;
     if (rate < 0.0) return (double(lo) - origin) * inv_rate;
-    return kInf;
+    return std::numeric_limits<double>::infinity();
   };
   // A clamp edge cell reaches to infinity on its outer side.
   auto cell_hi = [&](long long c, long long n) { return !repeat && c == n - 1 ? LLONG_MAX / 4 : c + 1; };

@@ -165,7 +165,7 @@ class PortBackend : public Backend {
   }
 
   std::function<TraceTime()> timer(const Configuration& c, Scene& scene) override {
-    return wall_timed([this, &scene, c] { run(c, scene, scene.scratch); });
+    return wall_timed([&scene, c] { run(c, scene, scene.scratch); });
   }
 
  private:

@@ -230,7 +230,6 @@ class ConeBuilder {
  public:
   ConeBuilder(const DepthMap& map, Wrap wrap)
       : geometry_(map, wrap),
-        map_(map),
         repeat_(wrap == Wrap::repeat),
         first_(repeat_ ? 0 : -1),
         cells_x_(repeat_ ? map.width : map.width + 1),
@@ -457,7 +456,6 @@ class ConeBuilder {
   }
 
   ConeGeometry geometry_;
-  const DepthMap& map_;
   bool repeat_;
   int first_;  // texel-centre coordinate of cell 0's left (top) edge: CLAMP's strips come first
   int cells_x_, cells_y_;
