@@ -3,20 +3,19 @@
 # (the generated heightmarch/isa_list.hpp: the Isa enum, names, CPU features, packet widths), one
 # kernel and one auto-vectorised translation unit per ISA compiled with its flags, and the tests.
 #
-# heightmarch_isa(ID NAME HEADER WIDTH MARCH_PACKETS WALK_PACKETS WALK_SCHEDULE HIGHWAY_TARGET
+# heightmarch_isa(ID NAME HEADER WIDTH MARCH_PACKETS WALK_PACKETS WALK_EVENT_LANES HIGHWAY_TARGET
 #                 CPU_FEATURES FLAGS [AUTOVEC_FLAGS])
 #   ID: a C++ identifier (its namespace is isa_ID); NAME: on the command line and in results.
 #   HEADER: its packet header in src/simd/, which defines vfloat<WIDTH> and friends.
 #   MARCH_PACKETS, WALK_PACKETS: native packets in flight per loop iteration (1 or 2, where 2
 #     uses src/simd/packet_pair.hpp) for the registry's two kernel shapes (technique_list.hpp).
-#     A walk's pass waits on its pyramid read, so two packets in flight pay for their spills even
-#     on 16 registers: 1.25-1.4x one packet at SSE4.2 and AVX2 (docs/performance.md).
-#   WALK_SCHEDULE: how the walks keep their lanes (WalkSchedule, src/kernels/pyramid_walk.hpp):
-#     refill (a lane takes the next ray as its own ends) or packet (each packet's rays in their
-#     own lanes, every lane's state in registers), whichever is faster on the suite's window of
-#     views. On an Intel Xeon packet ran 1.06-1.11x refill at width 1, where nothing idles, and
-#     0.85-1.13x at AVX-512 (0.95-1.02x at AVX2) on the window, though 1.0-1.25x on the single
-#     default view, whose packets diverge less (docs/performance.md). The outputs are the same.
+#     A walk's pass keeps five values a lane in registers: on 16 registers a pair spills and its
+#     instructions grow by a fifth, and it walked no faster than one packet on an AMD Zen 3 at
+#     AVX2 (docs/performance.md); 32 registers hold a pair.
+#   WALK_EVENT_LANES: how many of a walk's lanes (of WIDTH x WALK_PACKETS) wait, their rays
+#     ended or their cells to be solved, before the walk solves those cells and refills its free
+#     lanes (src/kernels/pyramid_walk.hpp): fewer keeps more lanes busy, more spreads the solves
+#     and refills over more lanes. 1 at width 1. The outcomes are the same for any.
 #   HIGHWAY_TARGET: the Google Highway target of the same instructions (HWY_AVX2, ...; for scalar
 #     code Highway's portable one, which it compiles as HWY_EMU128 or HWY_SCALAR): where the
 #     Highway port of the tutorial's POM runs at this ISA (src/baselines/highway_port.cpp).
@@ -25,10 +24,10 @@
 #   FLAGS, AUTOVEC_FLAGS: ;-lists for the kernels, and added for the auto-vectorised naive port.
 set(HEIGHTMARCH_ISA_IDS "")
 
-function(heightmarch_isa id name header width march_packets walk_packets walk_schedule highway_target cpu_features
+function(heightmarch_isa id name header width march_packets walk_packets walk_event_lanes highway_target cpu_features
          flags)
   set(HEIGHTMARCH_ISA_IDS ${HEIGHTMARCH_ISA_IDS} ${id} PARENT_SCOPE)
-  foreach(field name header width march_packets walk_packets walk_schedule highway_target cpu_features flags)
+  foreach(field name header width march_packets walk_packets walk_event_lanes highway_target cpu_features flags)
     set(HEIGHTMARCH_ISA_${id}_${field} "${${field}}" PARENT_SCOPE)
   endforeach()
   set(HEIGHTMARCH_ISA_${id}_autovec_flags "${ARGN}" PARENT_SCOPE)
@@ -38,27 +37,27 @@ if(CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$")
   # GCC's generic tuning emulates gathers with scalar loads (2.5x slower measured on an AMD EPYC)
   # unless told to use the ISA's (-mtune-ctrl); it changes no result.
   set(gathers "$<$<CXX_COMPILER_ID:GNU>:-mtune-ctrl=use_gather_2parts,use_gather_4parts,use_gather>")
-  heightmarch_isa(scalar "scalar" vfloat1.hpp 1 1 1 packet "HWY_EMU128|HWY_SCALAR" "" "")
-  heightmarch_isa(sse42 "sse4.2" vfloat4_sse.hpp 4 2 2 refill HWY_SSE4 "sse4.2" "-msse4.2")
-  heightmarch_isa(avx2 "avx2" vfloat8_avx2.hpp 8 2 2 refill HWY_AVX2 "avx2;fma;bmi2" "-mavx2;-mfma;-mbmi2" ${gathers})
+  heightmarch_isa(scalar "scalar" vfloat1.hpp 1 1 1 1 "HWY_EMU128|HWY_SCALAR" "" "")
+  heightmarch_isa(sse42 "sse4.2" vfloat4_sse.hpp 4 2 1 2 HWY_SSE4 "sse4.2" "-msse4.2")
+  heightmarch_isa(avx2 "avx2" vfloat8_avx2.hpp 8 2 1 4 HWY_AVX2 "avx2;fma;bmi2" "-mavx2;-mfma;-mbmi2" ${gathers})
   # GCC 12's AVX-512 headers warn about their own _mm512_undefined_* values.
-  heightmarch_isa(avx512 "avx512" vfloat16_avx512.hpp 16 2 2 refill HWY_AVX3
+  heightmarch_isa(avx512 "avx512" vfloat16_avx512.hpp 16 2 2 16 HWY_AVX3
     "avx2;fma;bmi2;avx512f;avx512bw;avx512dq;avx512vl"
     "-mavx512f;-mavx512bw;-mavx512dq;-mavx512vl;-mfma;-mbmi2;-Wno-maybe-uninitialized;-Wno-uninitialized" ${gathers})
 else()
   # Elsewhere (arm64, ...) the packet kernels run at width 1: the scalar reference.
-  heightmarch_isa(scalar "scalar" vfloat1.hpp 1 1 1 packet "HWY_EMU128|HWY_SCALAR" "" "")
+  heightmarch_isa(scalar "scalar" vfloat1.hpp 1 1 1 1 "HWY_EMU128|HWY_SCALAR" "" "")
 endif()
 
 # Sets what a per-ISA template (src/isa/*.cpp.in, tests/*.cpp.in) is configured with for the ISA
-# ID: ISA_ID, ISA_HEADER, ISA_WIDTH, ISA_MARCH_WIDTH, ISA_WALK_WIDTH, ISA_WALK_SCHEDULE, ISA_PAIRED.
+# ID: ISA_ID, ISA_HEADER, ISA_WIDTH, ISA_MARCH_WIDTH, ISA_WALK_WIDTH, ISA_WALK_EVENT_LANES, ISA_PAIRED.
 macro(heightmarch_isa_fields id)
   set(ISA_ID ${id})
   set(ISA_HEADER ${HEIGHTMARCH_ISA_${id}_header})
   set(ISA_WIDTH ${HEIGHTMARCH_ISA_${id}_width})
   math(EXPR ISA_MARCH_WIDTH "${ISA_WIDTH} * ${HEIGHTMARCH_ISA_${id}_march_packets}")
   math(EXPR ISA_WALK_WIDTH "${ISA_WIDTH} * ${HEIGHTMARCH_ISA_${id}_walk_packets}")
-  set(ISA_WALK_SCHEDULE ${HEIGHTMARCH_ISA_${id}_walk_schedule})
+  set(ISA_WALK_EVENT_LANES ${HEIGHTMARCH_ISA_${id}_walk_event_lanes})
   if(HEIGHTMARCH_ISA_${id}_march_packets GREATER 1 OR HEIGHTMARCH_ISA_${id}_walk_packets GREATER 1)
     set(ISA_PAIRED 1)
   else()

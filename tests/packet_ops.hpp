@@ -55,35 +55,44 @@ using OpFn = void (*)(const OpInputs&, OpOutputs&);
 // The ops of vfloat<W>, vint<W>, vbool<W> that act lane by lane:
 // X(name, NaN results: exact bits or any NaN, the packet op, the scalar op of the contract).
 // Inputs a, b (float), i, j (int32), m, n (mask); the packet side reads them as packets.
-#define HEIGHTMARCH_TEST_LANE_OPS(X)                                                       \
-  X(identity, exact, a, a)                                                                 \
-  X(add, any_nan, a + b, a + b)                                                            \
-  X(sub, any_nan, a - b, a - b)                                                            \
-  X(mul, any_nan, a* b, a* b)                                                              \
-  X(div, any_nan, a / b, a / b)                                                            \
-  X(min, exact, min(a, b), a < b ? a : b)                                                  \
-  X(max, exact, max(a, b), a > b ? a : b)                                                  \
-  X(abs, exact, abs(a), std::fabs(a))                                                      \
-  X(floor, any_nan, floor(a), std::floor(a))                                               \
-  X(ceil, any_nan, ceil(a), std::ceil(a))                                                  \
-  X(sqrt, any_nan, sqrt(a), std::sqrt(a))                                                  \
-  X(less, exact, a < b, a < b)                                                             \
-  X(greater, exact, a > b, a > b)                                                          \
-  X(greater_equal, exact, a >= b, a >= b)                                                  \
-  X(not_equal, exact, a != b, a != b)                                                      \
-  X(select, exact, select(m, a, b), m ? a : b)                                             \
-  X(to_int, exact, to_int(a), truncate_or_int32_min(a))                                    \
-  X(int_add, exact, i + j, std::int32_t(std::uint32_t(i) + std::uint32_t(j)))              \
-  X(int_sub, exact, i - j, std::int32_t(std::uint32_t(i) - std::uint32_t(j)))              \
-  X(int_mul, exact, i* j, std::int32_t(std::uint32_t(i) * std::uint32_t(j)))               \
-  X(int_and, exact, i& j, i& j)                                                            \
-  X(int_less, exact, i < j, i < j)                                                         \
-  X(int_min, exact, min(i, j), i < j ? i : j)                                              \
-  X(int_max, exact, max(i, j), i > j ? i : j)                                              \
-  X(int_select, exact, select(m, i, j), m ? i : j)                                         \
-  X(pow2, exact, pow2((i & vint<W>(127)) - vint<W>(63)), std::ldexp(1.0f, (i & 127) - 63)) \
-  X(mask_and, exact, m& n, m&& n)                                                          \
-  X(mask_or, exact, m | n, m || n)                                                         \
+#define HEIGHTMARCH_TEST_LANE_OPS(X)                                                           \
+  X(identity, exact, a, a)                                                                     \
+  X(add, any_nan, a + b, a + b)                                                                \
+  X(sub, any_nan, a - b, a - b)                                                                \
+  X(mul, any_nan, a* b, a* b)                                                                  \
+  X(div, any_nan, a / b, a / b)                                                                \
+  X(min, exact, min(a, b), a < b ? a : b)                                                      \
+  X(max, exact, max(a, b), a > b ? a : b)                                                      \
+  X(abs, exact, abs(a), std::fabs(a))                                                          \
+  X(floor, any_nan, floor(a), std::floor(a))                                                   \
+  X(ceil, any_nan, ceil(a), std::ceil(a))                                                      \
+  X(sqrt, any_nan, sqrt(a), std::sqrt(a))                                                      \
+  X(less, exact, a < b, a < b)                                                                 \
+  X(greater, exact, a > b, a > b)                                                              \
+  X(greater_equal, exact, a >= b, a >= b)                                                      \
+  X(not_equal, exact, a != b, a != b)                                                          \
+  X(select, exact, select(m, a, b), m ? a : b)                                                 \
+  X(to_int, exact, to_int(a), truncate_or_int32_min(a))                                        \
+  X(int_add, exact, i + j, std::int32_t(std::uint32_t(i) + std::uint32_t(j)))                  \
+  X(int_sub, exact, i - j, std::int32_t(std::uint32_t(i) - std::uint32_t(j)))                  \
+  X(int_mul, exact, i* j, std::int32_t(std::uint32_t(i) * std::uint32_t(j)))                   \
+  X(int_and, exact, i& j, i& j)                                                                \
+  X(int_less, exact, i < j, i < j)                                                             \
+  X(int_min, exact, min(i, j), i < j ? i : j)                                                  \
+  X(int_max, exact, max(i, j), i > j ? i : j)                                                  \
+  X(int_select, exact, select(m, i, j), m ? i : j)                                             \
+  X(int_or, exact, i | j, i | j)                                                               \
+  X(int_xor, exact, i ^ j, i ^ j)                                                              \
+  X(int_equal, exact, i == j, i == j)                                                          \
+  X(int_shift_left, exact, i << (j & vint<W>(31)), std::int32_t(std::uint32_t(i) << (j & 31))) \
+  X(int_shift_right, exact, i >> (j & vint<W>(31)), i >> (j & 31))                             \
+  X(int_shift_left_by_one_count, exact, i << 13, std::int32_t(std::uint32_t(i) << 13))         \
+  X(to_float, exact, to_float(i), float(i))                                                    \
+  X(mask_to_int, exact, to_int(m), m ? -1 : 0)                                                 \
+  X(mask_and_not, exact, and_not(m, n), m && !n)                                               \
+  X(pow2, exact, pow2((i & vint<W>(127)) - vint<W>(63)), std::ldexp(1.0f, (i & 127) - 63))     \
+  X(mask_and, exact, m& n, m&& n)                                                              \
+  X(mask_or, exact, m | n, m || n)                                                             \
   X(mask_not, exact, !m, !m)
 
 // The ops of vdouble<D>, vboold<D> that act lane by lane, as above with inputs x, y (double),

@@ -18,7 +18,7 @@
 //   Writes::shadow for a shadow factor (measured against the exact visibility of the light).
 // - search: one of the searches the suite times at every ISA and thread count.
 // - shape: KernelShape::march (a layered march: an ISA may run two packets in flight) or
-//   KernelShape::walk (a divergent walk: its own packets in flight and lane schedule per ISA).
+//   KernelShape::walk (a divergent walk: its own packets in flight and event lanes per ISA).
 // - kernel: its packet kernel in src/kernels/techniques/, called as kernel(k, ray) with the
 //   KernelContext and a RayPacket, returning a HitPacket (each ISA's table calls it); a walk's as
 //   kernel(k, ray, walk) with its rays' PyramidWalk, after its WalkSteps queued them.

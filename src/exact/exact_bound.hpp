@@ -169,7 +169,7 @@ HitPacket<W> maxmip_exact_bound(KernelContext<W, ADDRESSING>& k, const RayPacket
   if (any(F::load(next) != F(0.0f))) {
     const F cx = F::load(next_cx), cy = F::load(next_cy);
     F n00, n10, n01, n11;
-    cell_texels<ADDRESSING>(k.texture, cx, cy, n00, n10, n01, n11);
+    cell_texels<ADDRESSING>(k.texture, to_int(cx), to_int(cy), n00, n10, n01, n11);
     n00.store(t00);
     n10.store(t10);
     n01.store(t01);

@@ -107,9 +107,9 @@ HEIGHTMARCH_FLATTEN void trace_packets(const KernelTexture& texture, const Kerne
 }
 
 // The loop of a walk's kernel (KernelShape::walk, the exact reference's float pass): the range's
-// rays are queued up to kWalkQueueRays at a time and walked as SCHEDULE says
-// (kernels/pyramid_walk.hpp); then each packet's hits are made from its rays' walks.
-template <int W, Addressing ADDRESSING, class Kernel, WalkSchedule SCHEDULE>
+// rays are queued up to kWalkQueueRays at a time and walked (kernels/pyramid_walk.hpp), their events
+// taken EVENT_LANES lanes at a time; then each packet's hits are made from its rays' walks.
+template <int W, Addressing ADDRESSING, class Kernel, int EVENT_LANES>
 HEIGHTMARCH_FLATTEN void trace_walks(const KernelTexture& texture, const KernelParams& params,
                                      const KernelRays& rays, const KernelHits& hits, std::size_t begin,
                                      std::size_t end, KernelCounters& counters) {
@@ -119,18 +119,17 @@ HEIGHTMARCH_FLATTEN void trace_walks(const KernelTexture& texture, const KernelP
   KernelContext<W, ADDRESSING> context(texture, params, local);
   const Kernel kernel;
   const vint<W> discard(params.discard ? 1 : 0);
-  PyramidWalker<Kernel::kConservative, W, ADDRESSING> walker(context);
-  WalkQueue queue, list, again;  // 220 KB with the outcomes: within every thread's stack
+  PyramidWalker<Kernel::kConservative, W, ADDRESSING, EVENT_LANES> walker(context);
+  WalkQueue queue;  // 90 KB with the outcomes: within every thread's stack
   WalkOutcomes outcomes;
   for (std::size_t first = begin; first < end; first += kWalkQueueRays) {
     const int n = int(std::min<std::size_t>(kWalkQueueRays, end - first));
     for (int i = 0; i < n; i += W) kernel.queue(context, load_rays<W>(in, first + i), queue, i);
-    if constexpr (SCHEDULE == WalkSchedule::refill) walker.run(queue, list, again, n, outcomes);
-    for (int i = 0; i < n; i += W) {
-      const PyramidWalk<W> walk =
-          SCHEDULE == WalkSchedule::refill ? PyramidWalk<W>::at(outcomes, i) : walker.walk_packet(queue, i);
-      store_hits<Kernel>(kernel(context, load_rays<W>(in, first + i), walk), out, first + i, discard, local);
-    }
+    walker.run(queue, n, outcomes);
+    for (int i = 0; i < n; i += W)
+      store_hits<Kernel>(kernel(context, load_rays<W>(in, first + i),
+                                PyramidWalk<W>::template at<Kernel::kConservative>(outcomes, i)),
+                         out, first + i, discard, local);
   }
   counters.lane_samples += local.lane_samples;
   counters.packet_samples += local.packet_samples;
@@ -160,12 +159,12 @@ inline constexpr bool kStoresExactPass<ExactBoundKernel> = true;
 
 // The addressing modes in Addressing's order, each the packet loop of its kernel's shape.
 template <int W, class Kernel, Taps TAPS = Taps::memory, KernelShape SHAPE = KernelShape::march,
-          Filter FILTER = Filter::bilinear, WalkSchedule SCHEDULE = WalkSchedule::packet>
+          Filter FILTER = Filter::bilinear, int EVENT_LANES = 1>
 constexpr void fill_addressing(TraceRangeFn (&row)[kAddressingCount]) {
   if constexpr (SHAPE == KernelShape::walk) {
-    row[int(Addressing::repeat_pow2)] = &trace_walks<W, Addressing::repeat_pow2, Kernel, SCHEDULE>;
-    row[int(Addressing::repeat)] = &trace_walks<W, Addressing::repeat, Kernel, SCHEDULE>;
-    row[int(Addressing::clamp)] = &trace_walks<W, Addressing::clamp, Kernel, SCHEDULE>;
+    row[int(Addressing::repeat_pow2)] = &trace_walks<W, Addressing::repeat_pow2, Kernel, EVENT_LANES>;
+    row[int(Addressing::repeat)] = &trace_walks<W, Addressing::repeat, Kernel, EVENT_LANES>;
+    row[int(Addressing::clamp)] = &trace_walks<W, Addressing::clamp, Kernel, EVENT_LANES>;
   } else {
     row[int(Addressing::repeat_pow2)] = &trace_packets<W, Addressing::repeat_pow2, Kernel, TAPS, FILTER>;
     row[int(Addressing::repeat)] = &trace_packets<W, Addressing::repeat, Kernel, TAPS, FILTER>;
@@ -176,17 +175,17 @@ constexpr void fill_addressing(TraceRangeFn (&row)[kAddressingCount]) {
 // Both filters' rows. A walk reads texels, never a filtered sample (maxmip's walk and the patch
 // it solves, texelFetch in GLSL): its one instantiation serves both.
 template <int W, class Kernel, Taps TAPS = Taps::memory, KernelShape SHAPE = KernelShape::march,
-          WalkSchedule SCHEDULE = WalkSchedule::packet>
+          int EVENT_LANES = 1>
 constexpr void fill_filters(TraceRangeFn (&rows)[kFilterCount][kAddressingCount]) {
-  fill_addressing<W, Kernel, TAPS, SHAPE, Filter::bilinear, SCHEDULE>(rows[int(Filter::bilinear)]);
-  fill_addressing<W, Kernel, TAPS, SHAPE, filter_read(SHAPE, Filter::trilinear), SCHEDULE>(
+  fill_addressing<W, Kernel, TAPS, SHAPE, Filter::bilinear, EVENT_LANES>(rows[int(Filter::bilinear)]);
+  fill_addressing<W, Kernel, TAPS, SHAPE, filter_read(SHAPE, Filter::trilinear), EVENT_LANES>(
       rows[int(Filter::trilinear)]);
 }
 
 // MARCH_W and WALK_W: the packet widths of the ISA's list (cmake/isa_list.cmake) for each
-// KernelShape of the registry; tiles are padded to the wider, which the other divides. SCHEDULE:
-// how the walks keep their lanes (the list's too).
-template <int MARCH_W, int WALK_W, WalkSchedule SCHEDULE>
+// KernelShape of the registry; tiles are padded to the wider, which the other divides.
+// WALK_EVENT_LANES: how many of a walk's lanes wait before its events are taken (the list's too).
+template <int MARCH_W, int WALK_W, int WALK_EVENT_LANES>
 constexpr KernelTable make_kernel_table() {
   constexpr int W = MARCH_W > WALK_W ? MARCH_W : WALK_W;
   static_assert(W % MARCH_W == 0 && W % WALK_W == 0, "tiles are padded to the wider packet");
@@ -194,12 +193,12 @@ constexpr KernelTable make_kernel_table() {
   table.packet_width = W;
 #define HEIGHTMARCH_TECHNIQUE_ROW(id, name, layered, refine, needs, writes, search, shape, ...)             \
   fill_filters<shape == KernelShape::walk ? WALK_W : MARCH_W, TechniqueKernel<Technique::id>, Taps::memory, \
-               shape, SCHEDULE>(table.technique[int(Technique::id)]);
+               shape, WALK_EVENT_LANES>(table.technique[int(Technique::id)]);
   HEIGHTMARCH_TECHNIQUES(HEIGHTMARCH_TECHNIQUE_ROW)
 #undef HEIGHTMARCH_TECHNIQUE_ROW
   fill_filters<MARCH_W, SamplerRooflineKernel>(table.sampler_roofline);
-  fill_addressing<WALK_W, ExactBoundKernel, Taps::memory, KernelShape::walk, Filter::bilinear, SCHEDULE>(
-      table.exact_bound);  // the level-0 surface
+  fill_addressing<WALK_W, ExactBoundKernel, Taps::memory, KernelShape::walk, Filter::bilinear,
+                  WALK_EVENT_LANES>(table.exact_bound);  // the level-0 surface
   fill_filters<MARCH_W, TechniqueKernel<Technique::pom>, Taps::registers>(table.compute_ceiling);
   table.autovec_pom = &autovec_pom;
   return table;

@@ -21,7 +21,12 @@
 // - to_int truncates toward zero; NaN and values outside int32's range give INT32_MIN, as x86's
 //   cvttps2dq does (the sampler's wrap relies on it: INT32_MIN & (size - 1) is texel 0, and a
 //   clamp takes it to 0). Width 1 gives INT32_MIN too, whatever the CPU's own conversion does.
-// - vint +, -, * wrap around modulo 2^32; <, min and max are signed.
+// - vint +, -, * wrap around modulo 2^32; <, ==, min and max are signed; &, |, ^ act on the
+//   bits; a << n and a >> n shift each lane by its own count n in 0 .. 31 (>> arithmetic, << as
+//   on uint32), a << k every lane by one count k in 0 .. 31. to_float(vint) rounds to nearest
+//   (exact below 2^24); to_int(vbool) is -1 where true, 0 where false (both namespace functions,
+//   not friends: argument-dependent lookup of a vint or vbool argument finds them).
+// - and_not(m, n) is m & !n.
 // - select(m, a, b) is m ? a : b; any, all, none reduce the mask's lanes.
 // - reduce_add sums lanes that are non-negative and whose sum fits 32 bits; reduce_min is the
 //   smallest lane; store_bytes stores lanes in 0..255. gather, gather_pairs and fetch_taps read

@@ -18,6 +18,7 @@ struct vbool<2 * HEIGHTMARCH_PAIR_OF> {
   friend vbool operator&(vbool a, vbool c) { return {a.lo & c.lo, a.hi & c.hi}; }
   friend vbool operator|(vbool a, vbool c) { return {a.lo | c.lo, a.hi | c.hi}; }
   friend vbool operator!(vbool a) { return {!a.lo, !a.hi}; }
+  friend vbool and_not(vbool a, vbool c) { return {and_not(a.lo, c.lo), and_not(a.hi, c.hi)}; }
   friend bool any(vbool a) { return any(a.lo | a.hi); }
   friend bool all(vbool a) { return all(a.lo & a.hi); }
   friend bool none(vbool a) { return none(a.lo | a.hi); }
@@ -36,7 +37,13 @@ struct vint<2 * HEIGHTMARCH_PAIR_OF> {
   friend vint operator-(vint a, vint c) { return {a.lo - c.lo, a.hi - c.hi}; }
   friend vint operator*(vint a, vint c) { return {a.lo * c.lo, a.hi * c.hi}; }
   friend vint operator&(vint a, vint c) { return {a.lo & c.lo, a.hi & c.hi}; }
+  friend vint operator|(vint a, vint c) { return {a.lo | c.lo, a.hi | c.hi}; }
+  friend vint operator^(vint a, vint c) { return {a.lo ^ c.lo, a.hi ^ c.hi}; }
+  friend vint operator<<(vint a, vint n) { return {a.lo << n.lo, a.hi << n.hi}; }
+  friend vint operator<<(vint a, int n) { return {a.lo << n, a.hi << n}; }
+  friend vint operator>>(vint a, vint n) { return {a.lo >> n.lo, a.hi >> n.hi}; }
   friend vbool<2 * HEIGHTMARCH_PAIR_OF> operator<(vint a, vint c) { return {a.lo < c.lo, a.hi < c.hi}; }
+  friend vbool<2 * HEIGHTMARCH_PAIR_OF> operator==(vint a, vint c) { return {a.lo == c.lo, a.hi == c.hi}; }
   friend vint min(vint a, vint c) { return {min(a.lo, c.lo), min(a.hi, c.hi)}; }
   friend vint max(vint a, vint c) { return {max(a.lo, c.lo), max(a.hi, c.hi)}; }
   friend vint select(vbool<2 * HEIGHTMARCH_PAIR_OF> m, vint a, vint c) {
@@ -87,6 +94,13 @@ struct vfloat<2 * HEIGHTMARCH_PAIR_OF> {
   }
   friend vint<2 * HEIGHTMARCH_PAIR_OF> to_int(vfloat a) { return {to_int(a.lo), to_int(a.hi)}; }
 };
+
+inline vfloat<2 * HEIGHTMARCH_PAIR_OF> to_float(vint<2 * HEIGHTMARCH_PAIR_OF> a) {
+  return {to_float(a.lo), to_float(a.hi)};
+}
+inline vint<2 * HEIGHTMARCH_PAIR_OF> to_int(vbool<2 * HEIGHTMARCH_PAIR_OF> m) {
+  return {to_int(m.lo), to_int(m.hi)};
+}
 
 inline void gather_pairs(const float* base, vint<2 * HEIGHTMARCH_PAIR_OF> index,
                          vfloat<2 * HEIGHTMARCH_PAIR_OF>& first, vfloat<2 * HEIGHTMARCH_PAIR_OF>& second) {

@@ -13,6 +13,7 @@ struct vbool<1> {
   friend vbool operator&(vbool a, vbool c) { return {a.b && c.b}; }
   friend vbool operator|(vbool a, vbool c) { return {a.b || c.b}; }
   friend vbool operator!(vbool a) { return {!a.b}; }
+  friend vbool and_not(vbool a, vbool c) { return {a.b && !c.b}; }
   friend bool any(vbool a) { return a.b; }
   friend bool all(vbool a) { return a.b; }
   friend bool none(vbool a) { return !a.b; }
@@ -29,7 +30,14 @@ struct vint<1> {
   friend vint operator-(vint a, vint c) { return {std::int32_t(std::uint32_t(a.i) - std::uint32_t(c.i))}; }
   friend vint operator*(vint a, vint c) { return {std::int32_t(std::uint32_t(a.i) * std::uint32_t(c.i))}; }
   friend vint operator&(vint a, vint c) { return {a.i & c.i}; }
+  friend vint operator|(vint a, vint c) { return {a.i | c.i}; }
+  friend vint operator^(vint a, vint c) { return {a.i ^ c.i}; }
+  // Counts 0 .. 31; C++20 shifts a negative value as two's complement, >> arithmetically.
+  friend vint operator<<(vint a, vint n) { return {std::int32_t(std::uint32_t(a.i) << n.i)}; }
+  friend vint operator<<(vint a, int n) { return {std::int32_t(std::uint32_t(a.i) << n)}; }
+  friend vint operator>>(vint a, vint n) { return {a.i >> n.i}; }
   friend vbool<1> operator<(vint a, vint c) { return {a.i < c.i}; }
+  friend vbool<1> operator==(vint a, vint c) { return {a.i == c.i}; }
   friend vint min(vint a, vint c) { return {a.i < c.i ? a.i : c.i}; }
   friend vint max(vint a, vint c) { return {a.i > c.i ? a.i : c.i}; }
   friend vint select(vbool<1> m, vint a, vint c) { return m.b ? a : c; }
@@ -64,8 +72,9 @@ struct vfloat<1> {
   friend vint<1> to_int(vfloat a) {
     return {a.f >= -2147483648.0f && a.f < 2147483648.0f ? static_cast<std::int32_t>(a.f) : INT32_MIN};
   }
-  friend vfloat to_float(vint<1> a) { return {static_cast<float>(a.i)}; }
 };
+inline vfloat<1> to_float(vint<1> a) { return {static_cast<float>(a.i)}; }
+inline vint<1> to_int(vbool<1> m) { return {m.b ? -1 : 0}; }
 
 inline constexpr int kDoubleWidth = 1;
 

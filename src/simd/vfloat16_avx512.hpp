@@ -12,6 +12,7 @@ struct vbool<16> {
   friend vbool operator&(vbool a, vbool c) { return {__mmask16(a.m & c.m)}; }
   friend vbool operator|(vbool a, vbool c) { return {__mmask16(a.m | c.m)}; }
   friend vbool operator!(vbool a) { return {__mmask16(~a.m)}; }
+  friend vbool and_not(vbool a, vbool c) { return {__mmask16(a.m & ~c.m)}; }
   friend bool any(vbool a) { return a.m != 0; }
   friend bool all(vbool a) { return a.m == 0xffff; }
   friend bool none(vbool a) { return a.m == 0; }
@@ -28,7 +29,13 @@ struct vint<16> {
   friend vint operator-(vint a, vint c) { return _mm512_sub_epi32(a.i, c.i); }
   friend vint operator*(vint a, vint c) { return _mm512_mullo_epi32(a.i, c.i); }
   friend vint operator&(vint a, vint c) { return _mm512_and_si512(a.i, c.i); }
+  friend vint operator|(vint a, vint c) { return _mm512_or_si512(a.i, c.i); }
+  friend vint operator^(vint a, vint c) { return _mm512_xor_si512(a.i, c.i); }
+  friend vint operator<<(vint a, vint n) { return _mm512_sllv_epi32(a.i, n.i); }
+  friend vint operator<<(vint a, int n) { return _mm512_sll_epi32(a.i, _mm_cvtsi32_si128(n)); }
+  friend vint operator>>(vint a, vint n) { return _mm512_srav_epi32(a.i, n.i); }
   friend vbool<16> operator<(vint a, vint c) { return {_mm512_cmplt_epi32_mask(a.i, c.i)}; }
+  friend vbool<16> operator==(vint a, vint c) { return {_mm512_cmpeq_epi32_mask(a.i, c.i)}; }
   friend vint min(vint a, vint c) { return _mm512_min_epi32(a.i, c.i); }
   friend vint max(vint a, vint c) { return _mm512_max_epi32(a.i, c.i); }
   friend vint select(vbool<16> m, vint a, vint c) { return _mm512_mask_blend_epi32(m.m, c.i, a.i); }
@@ -64,8 +71,9 @@ struct vfloat<16> {
   }
   friend vfloat select(vbool<16> m, vfloat a, vfloat c) { return _mm512_mask_blend_ps(m.m, c.f, a.f); }
   friend vint<16> to_int(vfloat a) { return _mm512_cvttps_epi32(a.f); }
-  friend vfloat to_float(vint<16> a) { return _mm512_cvtepi32_ps(a.i); }
 };
+inline vfloat<16> to_float(vint<16> a) { return _mm512_cvtepi32_ps(a.i); }
+inline vint<16> to_int(vbool<16> m) { return _mm512_movm_epi32(m.m); }
 
 inline constexpr int kDoubleWidth = 8;
 

@@ -14,11 +14,23 @@ struct vbool<4> {
   friend vbool operator&(vbool a, vbool c) { return {_mm_and_ps(a.m, c.m)}; }
   friend vbool operator|(vbool a, vbool c) { return {_mm_or_ps(a.m, c.m)}; }
   friend vbool operator!(vbool a) { return {_mm_xor_ps(a.m, _mm_castsi128_ps(_mm_set1_epi32(-1)))}; }
+  friend vbool and_not(vbool a, vbool c) { return {_mm_andnot_ps(c.m, a.m)}; }
   friend bool any(vbool a) { return _mm_movemask_ps(a.m) != 0; }
   friend bool all(vbool a) { return _mm_movemask_ps(a.m) == 0xf; }
   friend bool none(vbool a) { return _mm_movemask_ps(a.m) == 0; }
   static vbool all_true() { return {_mm_castsi128_ps(_mm_set1_epi32(-1))}; }
 };
+
+// SSE has no shift by per-lane counts: the register is shifted by each lane's count (SSE's count
+// is the low 64 bits of a register) and each lane taken from its own shift.
+template <bool LEFT>
+inline __m128i shift_lanes(__m128i a, __m128i n) {
+  const __m128i low = _mm_set_epi32(0, 0, 0, -1);
+  const auto by = [&](__m128i count) { return LEFT ? _mm_sll_epi32(a, count) : _mm_sra_epi32(a, count); };
+  const __m128i r0 = by(_mm_and_si128(n, low)), r1 = by(_mm_srli_epi64(n, 32));
+  const __m128i r2 = by(_mm_and_si128(_mm_unpackhi_epi64(n, n), low)), r3 = by(_mm_srli_si128(n, 12));
+  return _mm_blend_epi16(_mm_blend_epi16(r0, r1, 0x0c), _mm_blend_epi16(r2, r3, 0xc0), 0xf0);
+}
 
 template <>
 struct vint<4> {
@@ -30,7 +42,13 @@ struct vint<4> {
   friend vint operator-(vint a, vint c) { return _mm_sub_epi32(a.i, c.i); }
   friend vint operator*(vint a, vint c) { return _mm_mullo_epi32(a.i, c.i); }
   friend vint operator&(vint a, vint c) { return _mm_and_si128(a.i, c.i); }
+  friend vint operator|(vint a, vint c) { return _mm_or_si128(a.i, c.i); }
+  friend vint operator^(vint a, vint c) { return _mm_xor_si128(a.i, c.i); }
+  friend vint operator<<(vint a, vint n) { return shift_lanes<true>(a.i, n.i); }
+  friend vint operator<<(vint a, int n) { return _mm_sll_epi32(a.i, _mm_cvtsi32_si128(n)); }
+  friend vint operator>>(vint a, vint n) { return shift_lanes<false>(a.i, n.i); }
   friend vbool<4> operator<(vint a, vint c) { return {_mm_castsi128_ps(_mm_cmplt_epi32(a.i, c.i))}; }
+  friend vbool<4> operator==(vint a, vint c) { return {_mm_castsi128_ps(_mm_cmpeq_epi32(a.i, c.i))}; }
   friend vint min(vint a, vint c) { return _mm_min_epi32(a.i, c.i); }
   friend vint max(vint a, vint c) { return _mm_max_epi32(a.i, c.i); }
   friend vint select(vbool<4> m, vint a, vint c) {
@@ -64,8 +82,9 @@ struct vfloat<4> {
   friend vfloat ceil(vfloat a) { return _mm_ceil_ps(a.f); }
   friend vfloat select(vbool<4> m, vfloat a, vfloat c) { return _mm_blendv_ps(c.f, a.f, m.m); }
   friend vint<4> to_int(vfloat a) { return _mm_cvttps_epi32(a.f); }
-  friend vfloat to_float(vint<4> a) { return _mm_cvtepi32_ps(a.i); }
 };
+inline vfloat<4> to_float(vint<4> a) { return _mm_cvtepi32_ps(a.i); }
+inline vint<4> to_int(vbool<4> m) { return _mm_castps_si128(m.m); }
 
 inline constexpr int kDoubleWidth = 2;
 

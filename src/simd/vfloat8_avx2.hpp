@@ -14,6 +14,7 @@ struct vbool<8> {
   friend vbool operator&(vbool a, vbool c) { return {_mm256_and_ps(a.m, c.m)}; }
   friend vbool operator|(vbool a, vbool c) { return {_mm256_or_ps(a.m, c.m)}; }
   friend vbool operator!(vbool a) { return {_mm256_xor_ps(a.m, _mm256_castsi256_ps(_mm256_set1_epi32(-1)))}; }
+  friend vbool and_not(vbool a, vbool c) { return {_mm256_andnot_ps(c.m, a.m)}; }
   friend bool any(vbool a) { return _mm256_movemask_ps(a.m) != 0; }
   friend bool all(vbool a) { return _mm256_movemask_ps(a.m) == 0xff; }
   friend bool none(vbool a) { return _mm256_movemask_ps(a.m) == 0; }
@@ -30,7 +31,13 @@ struct vint<8> {
   friend vint operator-(vint a, vint c) { return _mm256_sub_epi32(a.i, c.i); }
   friend vint operator*(vint a, vint c) { return _mm256_mullo_epi32(a.i, c.i); }
   friend vint operator&(vint a, vint c) { return _mm256_and_si256(a.i, c.i); }
+  friend vint operator|(vint a, vint c) { return _mm256_or_si256(a.i, c.i); }
+  friend vint operator^(vint a, vint c) { return _mm256_xor_si256(a.i, c.i); }
+  friend vint operator<<(vint a, vint n) { return _mm256_sllv_epi32(a.i, n.i); }
+  friend vint operator<<(vint a, int n) { return _mm256_sll_epi32(a.i, _mm_cvtsi32_si128(n)); }
+  friend vint operator>>(vint a, vint n) { return _mm256_srav_epi32(a.i, n.i); }
   friend vbool<8> operator<(vint a, vint c) { return {_mm256_castsi256_ps(_mm256_cmpgt_epi32(c.i, a.i))}; }
+  friend vbool<8> operator==(vint a, vint c) { return {_mm256_castsi256_ps(_mm256_cmpeq_epi32(a.i, c.i))}; }
   friend vint min(vint a, vint c) { return _mm256_min_epi32(a.i, c.i); }
   friend vint max(vint a, vint c) { return _mm256_max_epi32(a.i, c.i); }
   friend vint select(vbool<8> m, vint a, vint c) {
@@ -64,8 +71,9 @@ struct vfloat<8> {
   friend vfloat ceil(vfloat a) { return _mm256_ceil_ps(a.f); }
   friend vfloat select(vbool<8> m, vfloat a, vfloat c) { return _mm256_blendv_ps(c.f, a.f, m.m); }
   friend vint<8> to_int(vfloat a) { return _mm256_cvttps_epi32(a.f); }
-  friend vfloat to_float(vint<8> a) { return _mm256_cvtepi32_ps(a.i); }
 };
+inline vfloat<8> to_float(vint<8> a) { return _mm256_cvtepi32_ps(a.i); }
+inline vint<8> to_int(vbool<8> m) { return _mm256_castps_si256(m.m); }
 
 inline constexpr int kDoubleWidth = 4;
 
