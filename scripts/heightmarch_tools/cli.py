@@ -21,7 +21,7 @@ import sys
 import traceback
 
 from .errors import CannotWrite, Unusable
-from .escape import terminal
+from .escape import terminal, terminal_line
 
 SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 
@@ -53,12 +53,12 @@ class PrintableStream:
 
 
 def say(prog, message):
-    """One line on stderr, printable."""
+    """One line on stderr, printable and of bounded length (a long echoed value cut in its middle)."""
     try:
         sys.stdout.flush()  # what was printed before comes first
     except (OSError, ValueError):
         pass
-    print("%s: %s" % (prog, terminal(message)), file=sys.stderr)
+    print("%s: %s" % (prog, terminal_line(message)), file=sys.stderr)
 
 
 class Parser(argparse.ArgumentParser):

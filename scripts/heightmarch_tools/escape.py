@@ -2,7 +2,8 @@
 provenance field, a message) enters that format, never where it is made:
 
 - terminal: control characters, C1 controls and bidirectional overrides as \\xNN (the rule of the
-  C++ printable(), src/util/printable.cpp), for every line a tool prints;
+  C++ printable(), src/util/error.cpp), for every line a tool prints; terminal_line for an error
+  line, cut in its middle beyond MAX_LINE characters (the C++ error_line());
 - html: text through html.escape (the page's script sets textContent, never innerHTML with data);
   data embedded in a <script> element as JSON with <, > and & as \\u escapes, so no name ends
   the element (</script>) or opens a comment (<!--);
@@ -21,23 +22,47 @@ import urllib.parse
 _ACTS_ON_TERMINAL = set(range(0x80, 0xA0)) | set(range(0x202A, 0x202F)) | set(range(0x2066, 0x206A))
 _MARKDOWN_SPECIAL = set("\\`*_[]<>#|~&$")
 _FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
+MAX_LINE = 1000  # characters of an error line (heightmarch's kMaxErrorLine)
 
 
 def terminal(text):
     """text safe to print on a terminal: control characters as \\xNN (the bytes of their UTF-8
     form), bytes that were not UTF-8 (decoded with surrogateescape) as \\xNN of the byte."""
-    out = []
-    for c in str(text):
-        code = ord(c)
-        if code < 0x20 or code == 0x7F:
-            out.append("\\x%02x" % code)
-        elif 0xDC80 <= code <= 0xDCFF:  # an undecodable byte, as surrogateescape keeps it
-            out.append("\\x%02x" % (code - 0xDC00))
-        elif code in _ACTS_ON_TERMINAL or 0xD800 <= code <= 0xDFFF:
-            out.append("".join("\\x%02x" % b for b in c.encode("utf-8", "surrogatepass")))
-        else:
-            out.append(c)
-    return "".join(out)
+    return "".join(_terminal_character(c) for c in str(text))
+
+
+def _terminal_character(c):
+    code = ord(c)
+    if code < 0x20 or code == 0x7F:
+        return "\\x%02x" % code
+    if 0xDC80 <= code <= 0xDCFF:  # an undecodable byte, as surrogateescape keeps it
+        return "\\x%02x" % (code - 0xDC00)
+    if code in _ACTS_ON_TERMINAL or 0xD800 <= code <= 0xDFFF:
+        return "".join("\\x%02x" % b for b in c.encode("utf-8", "surrogatepass"))
+    return c
+
+
+def terminal_line(text, limit=MAX_LINE):
+    """terminal(text) of at most about limit characters: a longer one keeps its head and its tail
+    (where an error line says what is wrong) around a note of what was cut, never splitting an
+    escape. An error line that echoes a user's string (a 10 KB device name) stays a line."""
+    pieces = [_terminal_character(c) for c in str(text)]
+    if sum(map(len, pieces)) <= limit:
+        return "".join(pieces)
+    head, tail, used = [], [], 0
+    for piece in pieces:  # three fifths of the line for the head
+        if used + len(piece) > limit * 3 // 5:
+            break
+        head.append(piece)
+        used += len(piece)
+    used = 0
+    for piece in reversed(pieces[len(head):]):  # a third for the tail
+        if used + len(piece) > limit // 3:
+            break
+        tail.append(piece)
+        used += len(piece)
+    cut = len(pieces) - len(head) - len(tail)
+    return "%s...[%d characters cut]...%s" % ("".join(head), cut, "".join(reversed(tail)))
 
 
 def html(text):

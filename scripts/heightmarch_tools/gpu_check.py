@@ -1,8 +1,10 @@
 """The GPU check (scripts/gpu_check): on a machine with a GPU, in one command of a few minutes,
 the GLSL techniques through EGL on the GPU's own driver against the CPU, and their GPU time.
 
-1. What it needs: a built tree (build/heightmarch, heightmarch-bench and the worker), else
-   scripts/setup installs the Debian packages and builds it; with --debs DIR the packages there
+1. What it needs: a built tree (build/heightmarch, heightmarch-bench and the worker); where the
+   default build/ is not built, scripts/setup installs the Debian packages and builds it, while a
+   --build DIR given is taken as it is (one that is missing or not built is refused in one line,
+   never built in its place); with --debs DIR the packages there
    are unpacked (dpkg-deb -x) into BUILD/gpu-root instead, for a machine that reaches no mirror,
    and the libraries and EGL vendor files found there are used. A GPU's EGL needs its driver's
    vendor library and vendor file (NVIDIA: libEGL_nvidia.so.0 and 10_nvidia.json in
@@ -22,8 +24,12 @@ the GLSL techniques through EGL on the GPU's own driver against the CPU, and the
    conformance.json, bench.json and report.md.
 
 --quick (the script's own test, on llvmpipe with --gl-device software): bricks alone, pom and
-maxmip at 32 layers, 64 x 64 views, 2 repetitions.
+maxmip at 32 layers, 64 x 64 views, 2 repetitions (a --size or --repetitions given still holds).
+
+Every option is checked before anything runs: the sizes and counts in range, --build, --debs and
+--out as paths of the kind each must be.
 """
+import argparse
 import concurrent.futures
 import glob
 import json
@@ -33,7 +39,7 @@ import time
 
 from . import cli
 from .errors import Unusable
-from .escape import markdown
+from .escape import markdown, terminal
 from .readers import parse_json, read_json
 from .writers import atomic_write
 
@@ -46,6 +52,10 @@ TIMED = [("pom", ["8", "32", "8-32"]), ("relief", ["8", "32", "8-32"]), ("steep"
 QUICK_TIMED = [("pom", ["32"]), ("maxmip", [None])]
 UNIT_MS = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}  # Google Benchmark's time units, in ms
 STEP_TIMEOUT = 300  # seconds a command of the check may take (each bounds its own GL waits)
+SETUP_TIMEOUT = 3600  # scripts/setup: package installs and a build of the tree
+BINARIES = ("heightmarch", "heightmarch-bench", "heightmarch-glsl-worker")
+MAX_SIDE = 16384  # heightmarch's largest view side (kMaxViewSide)
+MAX_REPETITIONS = 1000
 VENDOR_DIRS = ["/usr/share/glvnd/egl_vendor.d", "/etc/glvnd/egl_vendor.d"]
 
 
@@ -82,12 +92,9 @@ def prepare(args, env):
     if args.debs:
         notes.append("unpacked %d packages of %s into %s" % (unpack(args.debs, os.path.join(args.build, "gpu-root"), env),
                                                             args.debs, os.path.join(args.build, "gpu-root")))
-    binaries = [os.path.join(args.build, b) for b in ("heightmarch", "heightmarch-bench", "heightmarch-glsl-worker")]
-    if not all(os.access(b, os.X_OK) for b in binaries):
-        if args.debs:
-            raise Unusable("%s is not built, and with --debs nothing is installed: build it first" % args.build)
-        subprocess.run([os.path.join(ROOT, "scripts/setup"), "-DHEIGHTMARCH_BUILD_TESTS=OFF"], env=env, check=True,
-                       timeout=STEP_TIMEOUT)
+    binaries = [os.path.join(args.build, b) for b in BINARIES]
+    if not all(os.access(b, os.X_OK) for b in binaries):  # only the default build/ (check_paths)
+        run([os.path.join(ROOT, "scripts/setup"), "-DHEIGHTMARCH_BUILD_TESTS=OFF"], env, timeout=SETUP_TIMEOUT)
         notes.append("installed what was missing and built %s (scripts/setup)" % args.build)
     missing = [line.split()[0] for line in run(["ldd", binaries[2]], env).splitlines() if "not found" in line]
     if missing:
@@ -210,19 +217,62 @@ def report(device, listed, notes, records, bench, seconds, args, conformance_siz
     return "\n".join(md) + "\n"
 
 
+def view_size(text):
+    """--size: WxH, each side a whole number of pixels in [1, MAX_SIDE]."""
+    w, x, h = text.partition("x")
+    if not (x and w.isdigit() and h.isdigit() and w.isascii() and h.isascii()
+            and 1 <= int(w) <= MAX_SIDE and 1 <= int(h) <= MAX_SIDE):
+        raise argparse.ArgumentTypeError("%s is not WxH with sides in [1, %d]" % (text, MAX_SIDE))
+    return text
+
+
+def repetitions(text):
+    """--repetitions: a whole count in [1, MAX_REPETITIONS] (Google Benchmark aborts on a negative one)."""
+    if not (text.isascii() and text.isdigit() and 1 <= int(text) <= MAX_REPETITIONS):
+        raise argparse.ArgumentTypeError("%s is not a whole number in 1..%d" % (text, MAX_REPETITIONS))
+    return int(text)
+
+
+def check_paths(args, default_build):
+    """Every path given, checked before anything runs (nothing is built, unpacked or created for
+    a mistyped one): --build a built tree (the default build/ alone may be built by scripts/setup),
+    --debs a directory, --out a directory to create or an empty one."""
+    if args.build != default_build or args.debs:
+        if not os.path.isdir(args.build):
+            raise Unusable("--build %s: no such directory" % terminal(args.build))
+        missing = [b for b in BINARIES if not os.access(os.path.join(args.build, b), os.X_OK)]
+        if missing:
+            raise Unusable("--build %s: holds no %s: build it first (scripts/setup, or cmake --build %s)" % (
+                terminal(args.build), ", ".join(missing), terminal(args.build)))
+    if args.debs and not os.path.isdir(args.debs):
+        raise Unusable("--debs %s: no such directory" % terminal(args.debs))
+    if args.out:
+        if os.path.lexists(args.out) and not os.path.isdir(args.out):
+            raise Unusable("--out %s: is not a directory" % terminal(args.out))
+        if os.path.isdir(args.out) and os.listdir(args.out):
+            raise Unusable("--out %s: holds files already; give another --out" % terminal(args.out))
+        parent = os.path.dirname(os.path.abspath(args.out))
+        if not os.path.isdir(parent):
+            raise Unusable("--out %s: its parent %s is no directory" % (terminal(args.out), terminal(parent)))
+
+
 def main(argv):
     parser = cli.Parser(prog="gpu_check", description="the GLSL techniques on a GPU through EGL: conformance and GPU time")
+    default_build = os.path.join(ROOT, "build")
     parser.add_argument("--gl-device", help="the EGL device (default: the first that is not software)")
     parser.add_argument("--out", help="run directory (default: results/<date>-<commit>-gpu-<device>)")
-    parser.add_argument("--build", default=os.path.join(ROOT, "build"), help="the build directory (default: build)")
+    parser.add_argument("--build", default=default_build,
+                        help="a built tree (default: build, which scripts/setup builds where it is not)")
     parser.add_argument("--debs", help="a folder of Debian packages to unpack instead of installing")
-    parser.add_argument("--size", default="1920x1080", help="the timed view, WxH (default 1920x1080)")
-    parser.add_argument("--repetitions", type=int, default=5, help="timed repetitions (default 5)")
+    parser.add_argument("--size", type=view_size, help="the timed view, WxH (default 1920x1080; quick: 64x64)")
+    parser.add_argument("--repetitions", type=repetitions,
+                        help="timed repetitions, 1..%d (default 5; quick: 2)" % MAX_REPETITIONS)
     parser.add_argument("--quick", action="store_true", help="bricks, pom and maxmip at 32 layers, 64 x 64: the test")
     args = parser.parse_args(argv)
     args.argv = argv
-    if args.quick:
-        args.size, args.repetitions = "64x64", min(args.repetitions, 2)
+    args.size = args.size or ("64x64" if args.quick else "1920x1080")
+    args.repetitions = args.repetitions or (2 if args.quick else 5)
+    check_paths(args, default_build)
     start = time.monotonic()
     env = dict(os.environ)
     notes = prepare(args, env)
@@ -235,7 +285,7 @@ def main(argv):
         commit = run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], env).strip()
         out = os.path.join(ROOT, "results", "%s-%s-gpu-%s" % (stamp, commit, device))
     if os.path.exists(out) and os.listdir(out):
-        raise Unusable("%s: holds files already; give another --out" % out)
+        raise Unusable("%s: holds files already; give another --out" % terminal(out))
     os.makedirs(out, exist_ok=True)
     atomic_write(os.path.join(out, "devices.txt"), listing)
     builtins = ["bricks"] if args.quick else BUILTINS

@@ -40,3 +40,14 @@ def test_csv_cell_neutralises_formulas_once():
         assert escape.csv_cell(cell) == "'" + cell
         assert escape.csv_cell(escape.csv_cell(cell)) == "'" + cell
     assert escape.csv_cell("bricks") == "bricks"
+
+
+def test_terminal_line_keeps_head_and_tail_of_a_long_line_and_never_splits_an_escape():
+    assert escape.terminal_line("short \x1b") == "short \\x1b"
+    line = escape.terminal_line("--gl-device '" + "\x1b" * 4000 + "D" * 6000 + "': EGL lists software")
+    assert len(line) <= escape.MAX_LINE + 40 and line.startswith("--gl-device '\\x1b")
+    assert line.endswith("D': EGL lists software") and "characters cut]..." in line
+    head = line.split("...[")[0]
+    assert head.endswith("\\x1b") and "\x1b" not in line  # whole escapes only
+    cut, tail = int(line.split("...[")[1].split(" ")[0]), line.split("]...")[1]
+    assert cut == 4000 + 6000 - head.count("\\x1b") - tail.count("D")  # the count of what is cut is right
