@@ -74,7 +74,7 @@ def step(argv):
     commit = git(tree, "rev-parse", "HEAD")
     progress("timing %s" % describe(tree, commit))
     try:
-        binary = cache.lookup(commit) or cache.build_in(tree, build_dir, commit, progress)
+        binary = cache.lookup(commit, progress) or cache.build_in(tree, build_dir, commit, progress)
         slower, lines = time_against(good_binary, binary, args, os.path.dirname(steps), cache)
     except Unusable as e:
         progress("skipping %s: %s" % (commit[:12], e))
@@ -91,6 +91,7 @@ def bisect(argv):
     if good == bad or subprocess.run(["git", "-C", root, "merge-base", "--is-ancestor", good, bad]).returncode != 0:
         raise Unusable("GOOD %s is not an ancestor of BAD %s" % (args.good, args.bad))
     cache = BuildCache(args.build, build_settings(args.build))
+    cache.checked_dir()  # a cache that is a link is refused before anything is built
     try:
         return bisect_with(root, args, argv, good, bad, cache)
     except Interrupted:
@@ -105,7 +106,7 @@ def bisect_with(root, args, argv, good, bad, cache):
     check_benchmarks(good_binary, args.flags, "GOOD")
     with tempfile.TemporaryDirectory(prefix="heightmarch-bisect-") as work, Worktree(root, bad) as bad_tree:
         steps, bad_build = os.path.join(work, "steps.jsonl"), os.path.join(bad_tree.work, "build")
-        bad_binary = cache.lookup(bad)
+        bad_binary = cache.lookup(bad, progress)
         if not bad_binary:
             progress("building BAD %s in its worktree (%s; log: %s)" % (describe(root, bad), cache.estimate(), cache.log(bad)))
             bad_binary = cache.build_in(bad_tree.tree, bad_build, bad, progress)

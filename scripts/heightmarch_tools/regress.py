@@ -58,10 +58,10 @@ def regress(argv):
     check_benchmarks(new, args.flags, "the current build")  # before anything is built
     start = time.monotonic()
     cache = BuildCache(args.build, build_settings(args.build))
+    cache.checked_dir()  # a cache that is a link is refused before anything is built
     try:
         progress("bringing %s up to date" % args.build)
-        os.makedirs(cache.dir, exist_ok=True)
-        with open(os.path.join(cache.dir, "current-build.log"), "w") as log:  # kept: a failure names it
+        with cache.current_build_log() as log:  # kept: a failure names it
             build(root, args.build, log)
         old = cache.build(root, commit, progress)
         check_benchmarks(old, args.flags, "REV %s" % args.rev)

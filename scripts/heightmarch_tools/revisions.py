@@ -10,6 +10,7 @@ import hashlib
 import json
 import os
 import shutil
+import stat
 import subprocess
 import tempfile
 import time
@@ -137,25 +138,111 @@ def build(source, build_dir, log, settings=None):
     return os.path.join(build_dir, "heightmarch-bench")
 
 
+def checksum(path):
+    """The SHA-256 of a file, hex."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def real_file(path):
+    """Whether path is a regular file itself, not a link to one."""
+    try:
+        return stat.S_ISREG(os.lstat(path).st_mode)
+    except OSError:
+        return False
+
+
+def embeds_commit(path, commit):
+    """Whether the binary at path carries commit's id as its own (build_info.hpp's kBuildCommit,
+    the first 12 digits, compiled into every heightmarch binary)."""
+    with open(path, "rb") as f:
+        return commit[:12].encode() in f.read()
+
+
 class BuildCache:
     """Built revisions under BUILD/regress-cache/COMMIT12-KEY/ (the binaries and build.json with the
-    commit, the settings and the build's seconds), KEY a hash of the commit and the settings;
-    entries appear whole (renamed into place) and at most MAX_ENTRIES are kept. Beside them: the
-    last build log of each commit (build-COMMIT12.log) and timings.json, the last build's and
-    round's seconds for the next run's estimates."""
+    commit, the settings, the binaries' SHA-256 and the build's seconds), KEY a hash of the commit
+    and the settings; entries appear whole (renamed into place) and at most MAX_ENTRIES are kept.
+    Beside them: the last build log of each commit (build-COMMIT12.log) and timings.json, the last
+    build's and round's seconds for the next run's estimates.
+
+    Nothing is trusted by its name: the cache is a directory of its own inside the build directory
+    (a link there is refused, never followed), and an entry's binary runs only when the entry proves
+    it (trusted()): its build.json names the commit and the settings asked for and the checksums of
+    the files beside it, and the binary carries that commit as its own. An entry that does not is
+    removed and built again."""
 
     def __init__(self, build_dir, settings):
-        self.dir = os.path.join(os.path.abspath(build_dir), CACHE)
+        self.build_dir = os.path.abspath(build_dir)
+        self.dir = os.path.join(self.build_dir, CACHE)
         self.settings = settings
+
+    def checked_dir(self):
+        """self.dir, made where missing; Unusable where it is a link or anything but a directory."""
+        try:
+            os.makedirs(self.build_dir, exist_ok=True)  # bisect's may not be built yet
+            try:
+                os.mkdir(self.dir)
+            except FileExistsError:
+                pass
+            mode = os.lstat(self.dir).st_mode
+        except OSError as e:
+            raise Unusable("%s: cannot make the build cache: %s" % (terminal(self.dir), e.strerror))
+        if stat.S_ISLNK(mode) or not stat.S_ISDIR(mode):
+            raise Unusable("%s: is %s, not a directory: the build cache is a directory of its own inside %s "
+                           "(remove it)" % (terminal(self.dir), "a link" if stat.S_ISLNK(mode) else "a file",
+                                            terminal(self.build_dir)))
+        return self.dir
 
     def entry(self, commit):
         key = hashlib.sha256(json.dumps([commit, self.settings], sort_keys=True).encode()).hexdigest()[:12]
         return os.path.join(self.dir, "%s-%s" % (commit[:12], key))
 
-    def lookup(self, commit):
-        """The cached heightmarch-bench of commit, or None."""
+    def trusted(self, commit):
+        """Why the entry of commit cannot be trusted, or None when it proves what it holds."""
         entry = self.entry(commit)
-        if not all(os.path.isfile(os.path.join(entry, f)) for f in (BINARIES[0], "build.json")):
+        if not stat.S_ISDIR(os.lstat(entry).st_mode):
+            return "it is not a directory"
+        stamp = os.path.join(entry, "build.json")
+        if not real_file(stamp):
+            return "no build.json"
+        try:
+            record = read_json(stamp)
+        except Unusable as e:
+            return str(e)
+        if not isinstance(record, dict) or record.get("commit") != commit:
+            return "its build.json names another commit"
+        if record.get("settings") != self.settings:
+            return "its build.json names other settings"
+        sums = record.get("checksums")
+        if not isinstance(sums, dict) or BINARIES[0] not in sums:
+            return "its build.json holds no checksums"
+        for name in os.listdir(entry):
+            if name != "build.json" and name not in sums:
+                return "it holds %s, which its build.json does not name" % terminal(name)
+        for name, digest in sums.items():
+            path = os.path.join(entry, name)
+            if name not in BINARIES or not real_file(path) or checksum(path) != digest:
+                return "%s is not the file its build.json names" % terminal(name)
+        if not embeds_commit(os.path.join(entry, BINARIES[0]), commit):
+            return "its %s was not built from %s" % (BINARIES[0], commit[:12])
+        return None
+
+    def lookup(self, commit, progress=None):
+        """The cached heightmarch-bench of commit, or None; an entry that does not prove what it
+        holds is removed (progress says why), so it is built again."""
+        entry = self.entry(commit)
+        if not os.path.lexists(os.path.join(self.checked_dir(), os.path.basename(entry))):
+            return None
+        why = self.trusted(commit)
+        if why:
+            if progress:
+                progress("the cached build in %s is not trusted (%s): it is removed and built again"
+                         % (entry, why))
+            remove_entry(entry)
             return None
         os.utime(os.path.join(entry, "build.json"))  # recently used
         return os.path.join(entry, BINARIES[0])
@@ -163,7 +250,7 @@ class BuildCache:
     def build(self, root, commit, progress):
         """commit's heightmarch-bench from the cache, or built in a worktree of its own and stored;
         its path."""
-        cached = self.lookup(commit)
+        cached = self.lookup(commit, progress)
         if cached:
             progress("cached build of %s in %s" % (describe(root, commit), os.path.dirname(cached)))
             return cached
@@ -175,19 +262,26 @@ class BuildCache:
         """Builds the checkout of commit at tree into build_dir (incrementally where it holds an
         earlier build) and stores it; its cached heightmarch-bench. The build's log is
         self.log(commit), kept; an interrupted build stores nothing."""
-        os.makedirs(self.dir, exist_ok=True)
+        self.checked_dir()
         start = time.monotonic()
-        with open(self.log(commit), "w") as log:
+        with open_log(self.log(commit)) as log:
             binary = build(tree, build_dir, log, self.settings)
         seconds = time.monotonic() - start
         self.record(build_seconds=seconds)
+        if not embeds_commit(binary, commit):  # a build system that did not rebuild its commit's id
+            raise Unusable("the build of %s in %s does not carry its commit: not stored" % (commit[:12], build_dir))
         incoming = tempfile.mkdtemp(prefix="%s%d-" % (INCOMING, os.getpid()), dir=self.dir)
         try:
+            sums = {}
             for b in BINARIES:
                 if os.path.exists(os.path.join(os.path.dirname(binary), b)):
                     shutil.copy2(os.path.join(os.path.dirname(binary), b), incoming)
+                    sums[b] = checksum(os.path.join(incoming, b))
             atomic_write(os.path.join(incoming, "build.json"), json.dumps(
-                {"commit": commit, "settings": self.settings, "build_seconds": seconds}, sort_keys=True) + "\n")
+                {"commit": commit, "settings": self.settings, "checksums": sums, "build_seconds": seconds},
+                sort_keys=True) + "\n")
+            if os.path.lexists(self.entry(commit)) and self.trusted(commit):
+                remove_entry(self.entry(commit))  # what lookup() removed came back meanwhile
             try:
                 os.rename(incoming, self.entry(commit))
             except OSError:  # another run stored the same build meanwhile
@@ -201,6 +295,10 @@ class BuildCache:
     def log(self, commit):
         """Where the build of commit logs (kept: the last build of each commit)."""
         return os.path.join(self.dir, "build-%s.log" % commit[:12])
+
+    def current_build_log(self):
+        """The log of bringing the current build up to date, opened for writing (open_log)."""
+        return open_log(os.path.join(self.checked_dir(), "current-build.log"))
 
     def estimate(self):
         seconds = self.timings().get("build_seconds")
@@ -237,8 +335,26 @@ class BuildCache:
 
     def record(self, **seconds):
         """Keeps figures (seconds) for the next run's estimates."""
-        os.makedirs(self.dir, exist_ok=True)
+        self.checked_dir()
         atomic_write(os.path.join(self.dir, "timings.json"), json.dumps(dict(self.timings(), **seconds)) + "\n")
+
+
+def remove_entry(path):
+    """Removes a cache entry: a link or a file as itself (never what it points to), a directory
+    with what it holds."""
+    if os.path.islink(path) or not os.path.isdir(path):
+        os.unlink(path)
+    else:
+        shutil.rmtree(path)
+
+
+def open_log(path):
+    """A build log opened for writing from its start, never through a link planted at its name."""
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_NOFOLLOW | os.O_CLOEXEC, 0o644)
+    except OSError as e:
+        raise Unusable("%s: cannot write the build log: %s" % (terminal(path), e.strerror))
+    return os.fdopen(fd, "w")
 
 
 def alive(pid):

@@ -1,8 +1,9 @@
 # shellcheck shell=bash
 # Sourced by test_bisect.sh and test_regress.sh: make_fake_repo DIR makes a git repository of 9
-# commits whose "heightmarch-bench" (a script CMake writes at build time) speaks heightmarch-bench's
-# flags and prints Google Benchmark JSON whose time per trace is 1000 / SPEED ms (SPEED from
-# speed.txt: 1000, and 800 from commit 6 on, the planted 20% slow-down) with 0.5% of noise.
+# commits whose "heightmarch-bench" (a script CMake writes at build time, carrying its commit as
+# heightmarch's binaries do) speaks heightmarch-bench's flags and prints Google Benchmark JSON whose
+# time per trace is 1000 / SPEED ms (SPEED from speed.txt: 1000, and 800 from commit 6 on, the
+# planted 20% slow-down) with 0.5% of noise.
 # For the tests of signals, two hooks hang on purpose, writing the PIDs that must not outlive the
 # tool to the file the variable names:
 # - FAKE_BUILD_HANG=FILE: building heightmarch-bench hangs (a shell and its sleep);
@@ -20,12 +21,16 @@ file(READ ${CMAKE_SOURCE_DIR}/speed.txt SPEED)
 string(STRIP "${SPEED}" SPEED)
 file(READ ${CMAKE_SOURCE_DIR}/step.txt STEP)
 string(STRIP "${STEP}" STEP)
+# The commit it is built from, carried as heightmarch's binaries carry theirs (regress's cache checks it)
+execute_process(COMMAND git -C ${CMAKE_SOURCE_DIR} rev-parse --short=12 HEAD OUTPUT_VARIABLE COMMIT
+                OUTPUT_STRIP_TRAILING_WHITESPACE)
 configure_file(bench.in ${CMAKE_BINARY_DIR}/heightmarch-bench @ONLY FILE_PERMISSIONS OWNER_READ OWNER_WRITE OWNER_EXECUTE)
 add_custom_target(heightmarch-bench COMMAND sh -c
   "if [ -n \"$FAKE_BUILD_HANG\" ]; then sleep 300 & echo $$ $! >> \"$FAKE_BUILD_HANG\"; wait; fi" VERBATIM)
 CMAKE
   cat > bench.in <<'BENCH'
 #!/usr/bin/env bash
+# built from commit @COMMIT@
 names="BM_Trace/heightfield:bricks/technique:pom/layers:32/isa:avx2/threads:1/view:512x512/depth_map:512x512/manual_time"
 for arg in "$@"; do
   case "$arg" in

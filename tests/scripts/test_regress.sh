@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # scripts/regress checks its arguments before it builds anything: each bad argument exits 2 with
 # one line naming it, within a second or two (no build, no worktree left behind). Then, on a
-# synthetic repository, its build cache, progress, verdict line, --help and signals (below).
+# synthetic repository, its build cache (and what it refuses to trust), progress, verdict line,
+# --help and signals (below).
 # About 30 s.
 # Usage: test_regress.sh BUILD_DIR
 set -euo pipefail
@@ -59,6 +60,38 @@ rc=0
 "$root/scripts/regress" HEAD --runs 5 > "$tmp/out" 2> "$tmp/err" || rc=$?
 [ "$rc" = 0 ] && tail -1 "$tmp/out" | grep -q "^no regression: none of 1 benchmarks slower by more than 1%$" || fail "an unchanged commit: exit $rc"
 echo "ok: regress builds REV once, then takes it from the cache, says what it does and how long it has left, ends with its verdict line"
+
+# The cache proves what it holds: a binary planted in REV's entry (its build.json left as it was) is
+# never run, the entry is built again; an entry whose binary was built from another commit, its
+# build.json and checksums forged to match, likewise. A regress-cache that links out of the build
+# directory is refused in one line, nothing written through it.
+entry="$(ls -d build/regress-cache/"$(git rev-parse --short=12 HEAD~8)"-*)"
+printf '#!/bin/sh\ntouch "%s/planted-ran"; exit 0\n' "$tmp" > "$entry/heightmarch-bench"
+rc=0
+"$root/scripts/regress" HEAD~8 --runs 5 > "$tmp/out" 2> "$tmp/err" || rc=$?
+[ "$rc" = 1 ] && [ ! -e "$tmp/planted-ran" ] && grep -q "^regress: the cached build in .* is not trusted (heightmarch-bench is not the file its build.json names)" "$tmp/err" \
+  && grep -q "^regress: building .* commit 1 in a worktree" "$tmp/err" || fail "a planted binary in the cache: exit $rc, or it ran, or it was not built again"
+other="$(ls -d build/regress-cache/"$(git rev-parse --short=12 HEAD)"-* 2>/dev/null || true)"
+[ -z "$other" ] && "$root/scripts/regress" HEAD --runs 1 > /dev/null 2>&1 && other="$(ls -d build/regress-cache/"$(git rev-parse --short=12 HEAD)"-*)"
+cp "$other/heightmarch-bench" "$entry/heightmarch-bench"  # HEAD's binary in HEAD~8's entry, its checksum forged
+/usr/bin/python3 - "$entry" <<'PY'
+import hashlib, json, sys
+record = json.load(open(sys.argv[1] + "/build.json"))
+record["checksums"]["heightmarch-bench"] = hashlib.sha256(open(sys.argv[1] + "/heightmarch-bench", "rb").read()).hexdigest()
+json.dump(record, open(sys.argv[1] + "/build.json", "w"))
+PY
+rc=0
+"$root/scripts/regress" HEAD~8 --runs 5 > "$tmp/out" 2> "$tmp/err" || rc=$?
+[ "$rc" = 1 ] && grep -q "is not trusted (its heightmarch-bench was not built from $(git rev-parse --short=12 HEAD~8))" "$tmp/err" \
+  || fail "another commit's binary with a forged build.json: exit $rc, or trusted"
+mv build/regress-cache "$tmp/elsewhere" && ln -s "$tmp/elsewhere" build/regress-cache
+before="$(cd "$tmp/elsewhere" && ls -lR --time-style=full-iso)"
+rc=0
+"$root/scripts/regress" HEAD~8 --runs 5 > "$tmp/out" 2> "$tmp/err" || rc=$?
+[ "$rc" = 2 ] && [ "$(wc -l < "$tmp/err")" = 1 ] && grep -q "regress-cache: is a link, not a directory" "$tmp/err" \
+  && [ "$before" = "$(cd "$tmp/elsewhere" && ls -lR --time-style=full-iso)" ] || fail "a linked cache: exit $rc, or written through"
+rm build/regress-cache && mv "$tmp/elsewhere" build/regress-cache
+echo "ok: a planted binary, another commit's binary with a forged record and a linked cache are refused; nothing planted runs"
 
 "$root/scripts/regress" --help > "$tmp/out"
 grep -qF "BM_Trace/heightfield:bricks/technique:(pom|relief|steep)/layers:32/isa:(avx2|avx512)/threads:1/)" "$tmp/out" && grep -q "exits 128 + the signal's number" "$tmp/out" \
