@@ -46,6 +46,48 @@ TEST(Printable, CliErrorLinesQuoteInputEscaped) {
   }
 }
 
+// An error line longer than kMaxErrorLine keeps its head and its tail (what is wrong) around a note
+// of what was cut, counted in characters, never splitting a character or an escape; once is enough.
+TEST(Printable, ErrorLinesAreCutInTheirMiddle) {
+  EXPECT_EQ(error_line("short \x1b"), "short \\x1b");
+  const std::string long_text = "--gl-device '" + std::string(3000, '\x1b') + "\xe6\xb7\xb1" +
+                                std::string(6000, 'D') + "': not a device";
+  const std::string line = error_line(long_text);
+  EXPECT_LE(line.size(), kMaxErrorLine + 40) << line;
+  EXPECT_EQ(line.rfind("--gl-device '\\x1b", 0), 0u) << line;
+  EXPECT_EQ(line.substr(line.size() - 16), "D': not a device") << line;
+  const std::size_t cut = line.find("...[");
+  ASSERT_NE(cut, std::string::npos) << line;
+  EXPECT_EQ((cut - 13) % 4, 0u) << "an escape was split: " << line;
+  const std::size_t count = std::stoul(line.substr(cut + 4));
+  const std::string tail = line.substr(line.find("]...") + 4);
+  EXPECT_EQ(count + (cut - 13) / 4 + (tail.size() - 15), 3000u + 1 + 6000) << "the count of what was cut";
+  EXPECT_EQ(error_line(line), line);
+  EXPECT_EQ(InputError(long_text).what(), line);
+}
+
+// Every option and input file name a user gives, at 10 KB, is echoed in one line of at most about
+// kMaxErrorLine bytes that still says what is wrong.
+TEST(Printable, LongEchoedValuesAreCut) {
+  const std::string dir = test::temp_dir("long-values");
+  const std::string long_name(10240, 'D');
+  for (const auto& [args, why] : std::vector<std::pair<std::string, std::string>>{
+           {"glsl --size 8x8 --gl egl --gl-device " + long_name, "not a device"},
+           {"trace --size 8x8 --layers " + long_name, "layer"},
+           {"trace --size 8x8 --technique " + long_name, "technique"},
+           {"trace --views " + dir + "/" + long_name + ".csv", "File name too long"},
+           {"trace --size 8x8 --heightmap " + long_name + ".png", "File name too long"},
+           {"suite --dry-run --quick --techniques " + long_name, "technique"},
+           {"recommend " + long_name, "File name too long"}}) {
+    const auto r = test::run_cli(args);
+    EXPECT_EQ(r.status, 2) << args.substr(0, 40) << ": " << r.output.substr(0, 300);
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args.substr(0, 40);
+    EXPECT_LE(r.output.size(), kMaxErrorLine + 80) << args.substr(0, 40) << ": " << r.output.substr(0, 300);
+    EXPECT_NE(r.output.find("characters cut]"), std::string::npos) << r.output.substr(0, 300);
+    EXPECT_NE(r.output.find(why), std::string::npos) << r.output;
+  }
+}
+
 // A JSON string carries the text back exactly, and none of what a terminal acts on raw: controls,
 // C1 controls and bidirectional overrides as \u escapes; a byte of no UTF-8 character as \xNN text.
 TEST(Printable, JsonStringsEscapeWhatPrintableEscapes) {

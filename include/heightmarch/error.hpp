@@ -22,9 +22,19 @@ struct TextCharacter {
 };
 TextCharacter character_at(std::string_view text, std::size_t at);
 
-// Its message goes through printable(): an error quoting input is one safe line wherever it is printed.
+// The most characters of an error line (its program's name aside): a line that echoes a user's
+// string (a 10 KB device name, a 4 KB path) stays a line a person reads.
+inline constexpr std::size_t kMaxErrorLine = 1000;
+
+// printable(text), cut in its middle to at most about kMaxErrorLine characters when longer: its
+// head and tail (where an error line says what is wrong) around "...[N characters cut]...", never
+// splitting a character or an escape. Applying it twice changes nothing.
+std::string error_line(std::string_view text);
+
+// Its message goes through error_line(): an error quoting input is one safe line of bounded length
+// wherever it is printed.
 struct InputError : std::runtime_error {
-  explicit InputError(const std::string& what) : std::runtime_error(printable(what)) {}
+  explicit InputError(const std::string& what) : std::runtime_error(error_line(what)) {}
 };
 
 }  // namespace heightmarch

@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
     std::fprintf(
         stderr,
         "heightmarch: unknown command '%s' (trace, glsl, suite, claims, recommend, report; see --help)\n",
-        printable(argv[1]).c_str());
+        error_line(argv[1]).c_str());
     return 2;
   }
   try {
@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
     std::string message = e.what();
     if (message.empty() || argc < 2)
       message = "a command is required (trace, glsl, suite, claims, recommend, report; see --help)";
-    std::fprintf(stderr, "heightmarch: %s\n", printable(message).c_str());
+    std::fprintf(stderr, "heightmarch: %s\n", error_line(message).c_str());
     return 2;
   } catch (const InputError& e) {  // --version's ISAs under a malformed HEIGHTMARCH_MAX_ISA
     std::fprintf(stderr, "heightmarch: %s\n", e.what());
@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "heightmarch: out of memory\n");
     return 3;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "heightmarch: %s\n", printable(e.what()).c_str());
+    std::fprintf(stderr, "heightmarch: %s\n", error_line(e.what()).c_str());
     return 1;
   }
 }

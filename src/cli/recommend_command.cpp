@@ -505,9 +505,10 @@ Command add_recommend_command(CLI::App& app) {
     std::optional<RunDirectory> out;  // checked and locked before the run is read
     if (!o->out.empty()) out.emplace(o->out, RunDirectory::Existing::beside);
     std::string path = o->measurements;
-    if (std::filesystem::is_directory(path)) {
+    std::error_code ec;  // a path the system cannot look up (a name too long) is no directory
+    if (std::filesystem::is_directory(path, ec)) {
       path += "/measurements.json";
-      if (!std::filesystem::exists(path) && std::filesystem::exists(path + ".gz")) path += ".gz";
+      if (!std::filesystem::exists(path, ec) && std::filesystem::exists(path + ".gz", ec)) path += ".gz";
     }
     const Measurements measurements = read_measurements(path);
     const Recommendation recommendation = recommend(read_candidates(measurements, path), o->target);

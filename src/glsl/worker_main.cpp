@@ -184,7 +184,7 @@ int run(const GlTarget& target, int threads) {
                  bytes_text(double(memory_budget())).c_str());
     return protocol::kOutOfMemoryStatus;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "heightmarch-glsl-worker: %s\n", printable(e.what()).c_str());
+    std::fprintf(stderr, "heightmarch-glsl-worker: %s\n", error_line(e.what()).c_str());
     return 1;
   }
 }
@@ -242,7 +242,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "heightmarch-glsl-worker: %s\n", e.what());
     return 2;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "heightmarch-glsl-worker: %s\n", printable(e.what()).c_str());
+    std::fprintf(stderr, "heightmarch-glsl-worker: %s\n", error_line(e.what()).c_str());
     return 1;
   }
   return run(target, int(threads));

@@ -1,10 +1,12 @@
 // Depth maps from image files through OpenImageIO (docs/conventions.md).
 #include <OpenImageIO/imageio.h>
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -179,7 +181,8 @@ void check_flat_channel(const std::string& path, std::uintmax_t file_bytes, cons
       throw InputError(what + ": choose the depth's channel with --channel " + std::to_string(other) +
                        " (in a map list, " + path + ":channel=" + std::to_string(other) +
                        "), or measure the flat map with --allow-flat");
-    std::fprintf(stderr, "heightmarch: warning: %s; measured flat (--allow-flat)\n", printable(what).c_str());
+    std::fprintf(stderr, "heightmarch: warning: %s; measured flat (--allow-flat)\n",
+                 error_line(what).c_str());
     break;
   }
   map.texels.assign(std::size_t(map.width) * std::size_t(map.height), value);
@@ -206,7 +209,7 @@ DepthMap load_depth_map(const std::string& path, const MapReading& reading) {
     check_flat_channel(path, file_bytes, read, reading, map);
   if (outside)
     std::fprintf(stderr, "heightmarch: warning: %s: %zu texels outside [0, 1] clamped\n",
-                 printable(path).c_str(), outside);
+                 error_line(path).c_str(), outside);
   return std::move(map);
 }
 
@@ -329,6 +332,16 @@ HeightfieldSource HeightfieldSource::of(const BuiltinHeightfield& builtin, int r
   return source;
 }
 
+namespace {
+
+// Whether anything is at path: a path the system cannot look up (a name too long) is nothing there.
+bool exists(const std::string& path) {
+  std::error_code ec;
+  return std::filesystem::exists(path, ec);
+}
+
+}  // namespace
+
 HeightfieldSource parse_heightfield(const std::string& entry, int resolution, std::uint64_t seed,
                                     const MapReading& reading) {
   check_resolution(resolution);
@@ -337,13 +350,13 @@ HeightfieldSource parse_heightfield(const std::string& entry, int resolution, st
   source.seed = seed;
   source.reading = reading;
   std::string text = entry;
-  if (!std::filesystem::exists(entry)) take_entry_options(entry, text, source.reading);
+  if (!exists(entry)) take_entry_options(entry, text, source.reading);
   const std::string prefix = "builtin:";
   const auto& names = builtin_heightfield_names();
   const bool prefixed = text.rfind(prefix, 0) == 0;
   const std::string name = prefixed ? text.substr(prefix.size()) : text;
   const bool known = std::find(names.begin(), names.end(), name) != names.end();
-  if (prefixed || (known && !std::filesystem::exists(text))) {
+  if (prefixed || (known && !exists(text))) {
     if (!known) {
       std::string list;
       for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
@@ -358,9 +371,12 @@ HeightfieldSource parse_heightfield(const std::string& entry, int resolution, st
           name + ", a depth map");
   } else {
     if (text.empty()) throw InputError("empty heightfield name");
-    if (!std::filesystem::exists(text)) {
+    if (!exists(text)) {
       std::string list;
       for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+      struct stat st {};
+      if (::stat(text.c_str(), &st) != 0 && errno != ENOENT)
+        throw InputError(text + ": cannot open depth map (" + std::strerror(errno) + ")");
       throw InputError(text + ": no such depth map file (builtins: " + list + ")");
     }
     source.path = text;

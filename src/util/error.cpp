@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <vector>
 
 namespace heightmarch {
 namespace {
@@ -66,6 +67,26 @@ std::string printable(std::string_view text) {
     at += c.length;
   }
   return out;
+}
+
+std::string error_line(std::string_view text) {
+  // printable(text), and where each character's piece of it ends (itself, or its escapes).
+  std::string shown;
+  std::vector<std::size_t> ends;
+  for (std::size_t at = 0; at < text.size();) {
+    const TextCharacter c = character_at(text, at);
+    shown += printable(text.substr(at, c.length));
+    ends.push_back(shown.size());
+    at += c.length;
+  }
+  if (shown.size() <= kMaxErrorLine) return shown;
+  const auto start = [&](std::size_t piece) { return piece ? ends[piece - 1] : 0; };
+  // Three fifths of the line for the head, a third for the tail, whole pieces each.
+  std::size_t head = 0, tail = ends.size();
+  while (head < ends.size() && ends[head] <= kMaxErrorLine * 3 / 5) ++head;
+  while (tail > head && shown.size() - start(tail - 1) <= kMaxErrorLine / 3) --tail;
+  return shown.substr(0, start(head)) + "...[" + std::to_string(tail - head) + " characters cut]..." +
+         shown.substr(start(tail));
 }
 
 }  // namespace heightmarch
