@@ -9,7 +9,10 @@ is shown, never obeyed).
 - errors.CannotWrite, OSError (a full disk, a closed pipe): "PROG: message", exit 1;
 - Ctrl-C (SIGINT), SIGTERM, SIGHUP: "PROG: interrupted (SIGTERM)", exit 128 + the signal; the
   signals are raised as an exception, so `finally` blocks and context managers (temporary files,
-  locks, worktrees) clean up on the way out;
+  locks, worktrees) clean up on the way out. Once the tool's work is committed (committed(): a run
+  recorded into the history), a signal no longer undoes it: "PROG: SIGTERM came after the run was
+  recorded in H: it is complete and recorded", exit 0, so that a caller who reruns what exited
+  non-zero never records a run twice;
 - any other exception (a bug): "PROG: internal error: ..." with the file and line it came from,
   exit 1; HEIGHTMARCH_TRACEBACK=1 shows the whole traceback instead.
 """
@@ -36,6 +39,18 @@ class Interrupted(BaseException):
 
 def _raise_interrupted(signum, _frame):
     raise Interrupted(signum)
+
+
+_committed = None  # what committed() said: the work is done and kept; None before
+
+
+def committed(what):
+    """From here on the tool's work is done and kept (what: "the run was recorded in H"): a signal
+    that ends the tool now exits 0 with a line that it came after. Call it with the signals held
+    (processes.signals_held) from before the write that commits, so no signal falls between the
+    two."""
+    global _committed
+    _committed = what
 
 
 class PrintableStream:
@@ -79,10 +94,16 @@ def run(prog, main, *args):
     try:
         return _run(prog, main, *args)
     finally:
+        # The tool has ended: a signal from here to the exit changes nothing (its status stands;
+        # Interrupted raised now would reach the user as a traceback).
+        for s in SIGNALS:
+            signal.signal(s, signal.SIG_IGN)
         sys.stdout, sys.stderr = streams
 
 
 def _run(prog, main, *args):
+    global _committed
+    _committed = None
     try:
         if isinstance(main, str):
             module, _, function = main.partition(":")
@@ -103,6 +124,9 @@ def _run(prog, main, *args):
         signum = e.signum if isinstance(e, Interrupted) else signal.SIGINT
         for s in SIGNALS:  # a second signal while cleaning up ends it at once
             signal.signal(s, signal.SIG_DFL)
+        if _committed:
+            say(prog, "%s came after %s: it is complete and recorded" % (signal.Signals(signum).name, _committed))
+            return 0
         say(prog, "interrupted (%s)" % signal.Signals(signum).name)
         return 128 + signum
     except Exception as e:

@@ -2,13 +2,14 @@
 alerts are computed against the history, RUN/alerts.json and RUN/plots/history.png are written,
 then whatever the caller writes from them (report.py: the report), then alerts.csv beside the
 history and last the history, each read and checked before anything is written: a recording
-interrupted or refused at any point adds no row. A run still INCOMPLETE
+interrupted or refused at any point before the history is written adds no row, and one
+interrupted after it exits 0, saying the signal came after the record (cli.committed). A run still INCOMPLETE
 (its suite did not finish, or is still writing it) is refused: only the process that owns a run
 records it, after it completed (the suite runs the report with --history once it has).
 """
 import os
 
-from . import alerts, history, history_plot
+from . import alerts, cli, history, history_plot, processes
 from .errors import Unusable
 from .escape import terminal
 from .writers import locked, subdirectory
@@ -35,5 +36,10 @@ def record(data, run_dir, history_path, write=None):
         if write:
             write(rows, drawn, found)
         alerts.keep(alerts_path, kept, new, found)
-        history.write(history_path, rows)  # last: the run is recorded once its rows are in the history
+        # Last: the run is recorded once its rows are in the history. A signal from here on comes
+        # after the record (cli.committed): the tool exits 0 saying so, never a status of a run
+        # not recorded.
+        with processes.signals_held():
+            history.write(history_path, rows)
+            cli.committed("the run was recorded in %s" % history_path)
     return drawn, found

@@ -6,6 +6,7 @@
 
 #include <cerrno>
 #include <csignal>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <iterator>
@@ -45,10 +46,16 @@ std::string tools_directory() {
 // The report's process group while it runs, and the first signal this process was sent meanwhile.
 volatile std::sig_atomic_t g_child = 0;
 volatile std::sig_atomic_t g_signal = 0;
+// The first signal since a report recorded the run (it may have come while the report ran).
+volatile std::sig_atomic_t g_after_record = 0;
 
 void pass_on(int signal) {
   if (!g_signal) g_signal = signal;
   if (g_child > 0) ::kill(-pid_t(g_child), signal);
+}
+
+void note_after_record(int signal) {
+  if (!g_after_record) g_after_record = signal;
 }
 
 // Exactly the strings of argv or envp, as execve takes them.
@@ -99,6 +106,16 @@ void write_report(const std::string& run_dir, const std::string& history) {
     }
     g_child = 0;
   }
+  if (!history.empty() && child > 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+    // The run is recorded: from here on a signal is noted, never an end by it (the handler is the
+    // process's, whichever thread the signal reaches), and the caller says so and exits 0.
+    struct sigaction note {};
+    note.sa_handler = note_after_record;
+    sigemptyset(&note.sa_mask);
+    for (int s : kPassedOn) ::sigaction(s, &note, nullptr);
+    if (g_signal && !g_after_record) g_after_record = g_signal;
+    return;
+  }
   for (std::size_t i = 0; i < std::size(kPassedOn); ++i) ::sigaction(kPassedOn[i], &previous[i], nullptr);
   if (child < 0)
     throw std::runtime_error(std::string("cannot start the report: ") + std::strerror(fork_errno));
@@ -118,6 +135,14 @@ void write_report(const std::string& run_dir, const std::string& history) {
                            ")");
 }
 
+void say_signal_after_record(const std::string& program, const std::string& history) {
+  const int signal = g_after_record;
+  if (!signal) return;
+  const char* name = signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "SIGHUP";
+  std::fprintf(stderr, "%s: %s came after the run was recorded in %s: it is complete and recorded\n",
+               program.c_str(), name, error_line(history).c_str());
+}
+
 Command add_report_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand("report",
                                          "a run's report (report.md, tables.md, plots, measurements.csv, "
@@ -133,6 +158,7 @@ Command add_report_command(CLI::App& app) {
     if (!fs::is_directory(*run_dir, ec)) throw InputError(*run_dir + ": no such run directory");
     RunDirectory dir(*run_dir, RunDirectory::Existing::beside);  // no run is writing into it meanwhile
     write_report(dir.path(), *history);
+    say_signal_after_record("heightmarch", *history);
     return 0;
   };
 }

@@ -234,6 +234,7 @@ Command add_suite_command(CLI::App& app) {
     }
     std::fprintf(stderr, "suite: done in %.0f s: %s/report.md\n", progress.total_seconds(),
                  dir.path().c_str());
+    if (record) say_signal_after_record("suite", "results/history.csv");
     return 0;
   };
 }

@@ -61,3 +61,13 @@ def test_what_a_tool_prints_is_printable(capsys):
         return 0
     assert cli.run("tool", main) == 0
     assert capsys.readouterr().out == "BM_Trace/heightfield:\\x1b]0;PWN\\x07/isa:avx2\\x09q\n"
+
+
+def test_a_signal_once_the_tool_has_ended_leaves_its_status():
+    """A signal between the tool's end and the interpreter's exit changes nothing: no traceback,
+    the status the tool ended with."""
+    code = ("import os, signal, sys\nfrom heightmarch_tools import cli\n"
+            "status = cli.run('tool', lambda: 3)\nos.kill(os.getpid(), signal.SIGTERM)\nsys.exit(status)\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=30,
+                          env=dict(os.environ, PYTHONPATH=SCRIPTS))
+    assert done.returncode == 3 and done.stderr == ""

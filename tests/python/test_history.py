@@ -2,11 +2,13 @@
 and checks them, its repair, recordings that overlap or come from an incomplete run."""
 import csv
 import multiprocessing
+import os
+import signal
 import time
 
 import pytest
 
-from heightmarch_tools import history, record_run
+from heightmarch_tools import cli, history, record_run
 from heightmarch_tools.errors import Unusable
 
 
@@ -103,6 +105,40 @@ def test_an_incomplete_run_is_not_recorded(tmp_path):
     with pytest.raises(Unusable) as e:
         record_run.record(run_data("c01"), str(tmp_path / "c01"), str(tmp_path / "history.csv"))
     assert "INCOMPLETE" in str(e.value) and not (tmp_path / "history.csv").exists()
+
+
+@pytest.mark.parametrize("when", ["just after the row is written", "while the history is written"])
+def test_a_signal_after_the_row_is_written_exits_0_saying_so(tmp_path, monkeypatch, capsys, when):
+    """One truth after a signal: Ctrl-C at the moment the history's rename has put the row in (or
+    during the write that does) leaves a recorded run and exit 0 with a line, never 130."""
+    write = history.write
+
+    def write_then_signal(path, rows, *table):
+        history_csv = path.endswith("history.csv")  # not alerts.csv, which is written the same way
+        if history_csv and when == "while the history is written":
+            os.kill(os.getpid(), signal.SIGINT)
+        write(path, rows, *table)
+        if history_csv and when == "just after the row is written":
+            os.kill(os.getpid(), signal.SIGINT)
+    monkeypatch.setattr(record_run.history, "write", write_then_signal)
+    try:
+        assert cli.run("report", lambda: recorded(tmp_path, "c01") and 0) == 0
+    finally:
+        for s in cli.SIGNALS:
+            signal.signal(s, signal.default_int_handler if s == signal.SIGINT else signal.SIG_DFL)
+    assert [r["commit"] for r in history.read(str(tmp_path / "history.csv"))] == ["c01"]
+    assert capsys.readouterr().err == ("report: SIGINT came after the run was recorded in %s: it is complete and "
+                                       "recorded\n" % (tmp_path / "history.csv"))
+
+
+def test_a_signal_before_the_row_is_written_adds_no_row(tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr(record_run.alerts, "keep", lambda *_: os.kill(os.getpid(), signal.SIGTERM))
+    try:
+        assert cli.run("report", lambda: recorded(tmp_path, "c01") and 0) == 128 + signal.SIGTERM
+    finally:
+        for s in cli.SIGNALS:
+            signal.signal(s, signal.default_int_handler if s == signal.SIGINT else signal.SIG_DFL)
+    assert not (tmp_path / "history.csv").exists() and capsys.readouterr().err == "report: interrupted (SIGTERM)\n"
 
 
 def test_a_file_from_before_simd_use_reads_with_it_empty(tmp_path):
