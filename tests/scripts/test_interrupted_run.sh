@@ -28,8 +28,7 @@ cd "$tmp"
 # stopped) and run. A report caught with --history is the second (the first ended meanwhile): it is
 # let go, and the whole is tried again.
 start_until_report() {
-  local attempt
-  for attempt in 1 2 3; do
+  for _ in 1 2 3; do
     "$build/heightmarch" suite --quick --techniques pom --parts matrix --record > "$tmp/out" 2>&1 &
     suite=$!
     report=""
