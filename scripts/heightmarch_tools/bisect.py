@@ -47,10 +47,14 @@ def arguments(argv, root):
     command.add_argument("good", help="a commit that is not slower (an ancestor of BAD)")
     command.add_argument("bad", help="a commit that is slower than GOOD")
     detector_options(command)
-    command.add_argument("--build", default=os.path.join(root, "build"), metavar="DIR",
+    command.add_argument("--build", metavar="DIR",
                          help="the build directory whose settings the builds take and under which they are cached "
-                              "(default: %s)" % os.path.join(root, "build"))
-    return parse(command, argv)
+                              "(default: %s, made where missing)" % os.path.join(root, "build"))
+    args = parse(command, argv)
+    if args.build is not None and not os.path.isdir(args.build):  # a path given is never made in its place
+        raise Unusable("--build %s: no such directory" % terminal(args.build))
+    args.build = args.build or os.path.join(root, "build")
+    return args
 
 
 def time_against(good_binary, binary, args, work, cache):

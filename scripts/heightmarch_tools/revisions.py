@@ -183,7 +183,7 @@ class BuildCache:
     def checked_dir(self):
         """self.dir, made where missing; Unusable where it is a link or anything but a directory."""
         try:
-            os.makedirs(self.build_dir, exist_ok=True)  # bisect's may not be built yet
+            os.makedirs(self.build_dir, exist_ok=True)  # bisect's default build/ may not be built yet
             try:
                 os.mkdir(self.dir)
             except FileExistsError:

@@ -32,13 +32,15 @@ rc=0
 tail -1 "$tmp/out" | grep -q "^no regression: BAD HEAD~4 is not slower" || fail "no verdict line"
 echo "ok: a range without a slow-down: nothing to find (exit 1)"
 
-for bad in "HEAD HEAD~2::is not an ancestor of BAD" "nope HEAD::unknown revision nope" "HEAD~2 HEAD --runs 0::--runs 0 is not in 1..1000"; do
+for bad in "HEAD HEAD~2::is not an ancestor of BAD" "nope HEAD::unknown revision nope" "HEAD~2 HEAD --runs 0::--runs 0 is not in 1..1000" \
+    "HEAD~2 HEAD --build $tmp/mistyped::--build $tmp/mistyped: no such directory"; do
   rc=0
   # shellcheck disable=SC2086
   "$root/scripts/bisect" ${bad%%::*} > "$tmp/out" 2> "$tmp/err" || rc=$?
   [ "$rc" = 2 ] && [ "$(wc -l < "$tmp/err")" = 1 ] && grep -q -- "${bad##*::}" "$tmp/err" || fail "bisect ${bad%%::*}: exit $rc"
 done
-echo "ok: bad arguments exit 2 with one line"
+[ ! -e "$tmp/mistyped" ] || fail "a mistyped --build was made"
+echo "ok: bad arguments exit 2 with one line (a mistyped --build is refused, not made)"
 
 # SIGTERM while `git bisect run` times commit 5 (its first step, in a hung benchmark): bisect exits
 # 143, ends the step and the benchmark in it, and leaves no worktree and no bisect in progress.
