@@ -144,5 +144,38 @@ TEST(MemoryBudget, RaysFilesAreBoundedFromTheirSize) {
   std::filesystem::remove(dir + "/huge.csv");
 }
 
+// Every allocation sized by the user's input asks the budget before it is made: an outside
+// check's fresh rays (the columns they are drawn into came first: 1.4 GiB taken under a 1 GiB
+// budget before it said no), a set of camera poses, a view set, a mip chain. Each runs under a
+// small budget and is refused in one line at a peak of the footprint and a little.
+TEST(MemoryBudget, UserSizedAllocationsAskFirst) {
+  const std::string dir = test::temp_dir("budget-user-sized");
+  const auto run = test::run_cli(
+      "suite --quick --no-builtins --heightmap builtin:waves --techniques pom --layers 8 --isas scalar "
+      "--threads 1 --parts matrix --repetitions 1 --no-glsl --out " +
+      dir + "/run");
+  ASSERT_EQ(run.status, 0) << run.output;
+  {
+    std::ofstream poses(dir + "/poses.csv");
+    poses << "eye_x,eye_y,eye_z,target_x,target_y,target_z,up_x,up_y,up_z,fov,width,height\n";
+    for (int i = 0; i < 64; ++i) poses << "0.5,-1,1,0.5,0.5,0,0,0,1,45,4096,4096\n";
+  }
+  for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
+           {"recommend " + dir + "/run --max-error 1000 --max-wrong-surface 100 --outside-check 67108864",
+            "67108864 fresh rays needs"},
+           {"trace --res 16 --views " + dir + "/poses.csv", "64 views of 4096x4096 needs"},
+           {"trace --res 16 --views tutorial:4096 --size 1024x768", "4096 views of 1024x768 needs"},
+           {"trace --size 8x8 --res 2048 --heightmap builtin:waves --filter trilinear --technique pom",
+            " needs "}}) {
+    const std::string limit = limit_above_footprint(64);
+    const auto r =
+        test::run_with_peak(std::string(HEIGHTMARCH_CLI) + " " + args + " --memory-limit " + limit);
+    EXPECT_EQ(r.status, 2) << args << ": " << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << args << ": " << r.output;
+    EXPECT_NE(r.output.find(" budget (--memory-limit; "), std::string::npos) << args << ": " << r.output;
+    if (!kAddressSanitizer) EXPECT_LE(r.peak_mib, std::stod(limit)) << args << ": " << r.output;
+  }
+}
+
 }  // namespace
 }  // namespace heightmarch

@@ -175,7 +175,19 @@ TEST(Views, CameraPosesFromACsv) {
       {header + "0.5,0.5,2,0.5,0.5,0,0,1,0,180,64,48\n", ":2: fov must be in (0, 180) degrees"},
       {header + "0.5,0.5,2,0.5,0.5,0,0,1,0,20,0,48\n", ":2: width must be a whole number of pixels"},
       {header, "no camera poses"},
-      {header + "0,0,1,0,1,2,0,0,1,20,8,8\n", "no pose sees the surface"}};
+      {header + "0,0,1,0,1,2,0,0,1,20,8,8\n", "no pose sees the surface"},
+      // Each field in range, but the rays meet the plane beyond a float's range: T infinite, the
+      // gradients and the wrap NaN, which crashed every tool that traced them. The one check of
+      // every batch names the pose and its line.
+      {header + "3e38,3e38,3e38,-3e38,-3e38,0,0,0,1,170,8,8\n",
+       "bad.csv:2: pose 1: its entry point T is not finite: its rays cannot be traced"},
+      {header + "0.5,0.5,2,0.5,0.5,0,0,1,0,20,8,8\n\n3e38,3e38,3e38,-3e38,-3e38,0,0,0,1,170,8,8\n",
+       "bad.csv:4: pose 2: its entry point T is not finite"},
+      // Far enough out that T wraps to a float, but a pixel spans more than 1e6 repeats of the map.
+      {header + "1e9,1e9,1e9,0,0,0,0,0,1,90,8,8\n",
+       "pose 1: its pixel footprint (the gradients of T) is not finite or beyond 1e6"},
+      {header + "0.5,0.5,2,0.5,0.5,0,0,1,0,20,64,48" + std::string(5000, ' ') + "\n",
+       ":2: a line longer than 4096 bytes"}};
   for (const auto& [text, message] : bad) {
     std::ofstream(dir + "/bad.csv") << text;
     const ViewSpec v = seen_as(default_view(1, 1), ViewSet::poses(dir + "/bad.csv"));

@@ -81,9 +81,14 @@ void set_pixel_gradients(RayBatch& rays, int frame_width, int frame_height);
 // tile_size^2 rays. V is normalised; vz <= 0, NaN and malformed rows are InputErrors.
 RayBatch load_rays_csv(const std::string& path, int tile_size = kDefaultTileSize);
 
-// The one check of a batch handed over whole (a GLSL worker's message): the nine arrays of one
-// length, T finite within 1e6, V finite with V.z > 0, gradients finite within 1e6. Throws
-// InputError naming the first bad ray.
+// The one check of every ray batch, whatever made it (a view, a view set, the tutorial's scene, a
+// user's camera poses, a rays file, fresh rays: make_view_rays(); a GLSL worker's message): what
+// no kernel can take, for ray i (padding included), or "" for a fit ray: T finite within 1e6, V
+// finite with V.z > 0, the pixel footprint's gradients finite within 1e6. Its arrays must be of
+// one length (check_rays).
+std::string ray_fault(const RayBatch& rays, std::size_t i);
+// Throws InputError "ray N of the batch: FAULT" for the first ray with a fault, or for arrays of
+// different lengths.
 void check_rays(const RayBatch& rays);
 
 // Builds a batch from explicit rays (used by the CSV loader and tests).

@@ -1,6 +1,7 @@
 #pragma once
 // A user's camera poses (--views FILE.csv): where their game's camera stands over a surface,
 // read from a CSV file (docs/measures.md#view-sets).
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@ struct CameraPose {
   double eye[3], target[3], up[3];
   double fov_degrees;
   int width, height;
+  std::size_t line;  // of its file, from 1: what a message about the pose names
 };
 
 inline constexpr int kMaxCameraPoses = 4096;

@@ -59,20 +59,27 @@ void set_pixel_gradients(RayBatch& rays, int frame_width, int frame_height) {
   }
 }
 
+std::string ray_fault(const RayBatch& rays, std::size_t i) {
+  const auto within = [](float x) { return std::isfinite(x) && std::fabs(x) <= kMaxRayOrigin; };
+  if (!within(rays.tx[i]) || !within(rays.ty[i]))
+    return std::isfinite(rays.tx[i]) && std::isfinite(rays.ty[i]) ? "its entry point T is beyond 1e6"
+                                                                  : "its entry point T is not finite";
+  if (!std::isfinite(rays.vx[i]) || !std::isfinite(rays.vy[i]) || !std::isfinite(rays.vz[i]))
+    return "its view vector V is not finite";
+  if (!(rays.vz[i] > 0.0f)) return "its view vector has V.z <= 0";
+  if (!within(rays.du_dx[i]) || !within(rays.dv_dx[i]) || !within(rays.du_dy[i]) || !within(rays.dv_dy[i]))
+    return "its pixel footprint (the gradients of T) is not finite or beyond 1e6";
+  return "";
+}
+
 void check_rays(const RayBatch& rays) {
   const std::size_t n = rays.tx.size();
   for (const auto* a :
        {&rays.ty, &rays.vx, &rays.vy, &rays.vz, &rays.du_dx, &rays.dv_dx, &rays.du_dy, &rays.dv_dy})
     if (a->size() != n) throw InputError("a ray batch whose arrays differ in length");
-  const auto within = [](float x) { return std::isfinite(x) && std::fabs(x) <= kMaxRayOrigin; };
-  for (std::size_t i = 0; i < n; ++i) {
-    const bool finite = within(rays.tx[i]) && within(rays.ty[i]) && std::isfinite(rays.vx[i]) &&
-                        std::isfinite(rays.vy[i]) && std::isfinite(rays.vz[i]) && within(rays.du_dx[i]) &&
-                        within(rays.dv_dx[i]) && within(rays.du_dy[i]) && within(rays.dv_dy[i]);
-    if (!finite || !(rays.vz[i] > 0.0f))
-      throw InputError("ray " + std::to_string(i + 1) +
-                       " of the batch: not finite, |T| or a gradient beyond 1e6, or V.z <= 0");
-  }
+  for (std::size_t i = 0; i < n; ++i)
+    if (const std::string fault = ray_fault(rays, i); !fault.empty())
+      throw InputError("ray " + std::to_string(i + 1) + " of the batch: " + fault);
 }
 
 RayBatch make_ray_list(const std::vector<float>& tx, const std::vector<float>& ty,

@@ -34,7 +34,8 @@ std::vector<std::string> split_fields(const std::string& line) {
 }
 
 // The file's lines one at a time, read through a buffer of kChunkBytes (a 3 GB file is never
-// held whole); a line longer than kMaxLineBytes is an error, not a growing buffer.
+// held whole); a line longer than kMaxLineBytes is an error, not a growing buffer, wherever it lies
+// in the buffer (every line is measured, not only one that crosses a chunk).
 class LineReader {
  public:
   static constexpr std::size_t kChunkBytes = std::size_t(1) << 20;
@@ -47,15 +48,14 @@ class LineReader {
     for (;;) {
       const std::size_t newline = buffer_.find('\n', at_);
       if (newline != std::string::npos) {
+        if (newline - at_ > kMaxLineBytes) too_long();
         line.assign(buffer_, at_, newline - at_);
         consumed_ += newline + 1 - at_;
         at_ = newline + 1;
         ++number_;
         return true;
       }
-      if (buffer_.size() - at_ > kMaxLineBytes)
-        throw InputError(path_ + ":" + std::to_string(number_ + 1) + ": a line longer than " +
-                         std::to_string(kMaxLineBytes) + " bytes");
+      if (buffer_.size() - at_ > kMaxLineBytes) too_long();
       buffer_.erase(0, at_);
       at_ = 0;
       const std::size_t kept = buffer_.size();
@@ -75,6 +75,11 @@ class LineReader {
   std::uintmax_t consumed() const { return consumed_; }  // bytes of the lines returned
 
  private:
+  [[noreturn]] void too_long() const {
+    throw InputError(path_ + ":" + std::to_string(number_ + 1) + ": a line longer than " +
+                     std::to_string(kMaxLineBytes) + " bytes");
+  }
+
   InputFile& file_;
   const std::string& path_;
   std::string buffer_;
@@ -181,7 +186,7 @@ std::vector<CameraPose> load_camera_poses(const std::string& path) {
       v[c] = parse_number(fields[c], where + columns[c]);
       if (!std::isfinite(v[c])) throw InputError(where + columns[c] + " '" + fields[c] + "' is not finite");
     }
-    CameraPose p{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9], 0, 0};
+    CameraPose p{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9], 0, 0, lines.number()};
     const double f[3] = {p.target[0] - p.eye[0], p.target[1] - p.eye[1], p.target[2] - p.eye[2]};
     const double cross[3] = {f[1] * p.up[2] - f[2] * p.up[1], f[2] * p.up[0] - f[0] * p.up[2],
                              f[0] * p.up[1] - f[1] * p.up[0]};

@@ -371,8 +371,9 @@ RayBatch tutorial_rays(const ViewSpec& view) {
 
 // Each pose's image in a cell of the largest pose's size; its pixels that see the plane, up to
 // kMaxViewDegrees from the normal, each at its entry point modulo 1 (the map repeats over it).
-RayBatch poses_rays(const ViewSpec& view) {
+RayBatch poses_rays(const ViewSpec& view, std::vector<std::size_t>& pose_lines) {
   const std::vector<CameraPose> poses = load_camera_poses(view.path);
+  for (const CameraPose& p : poses) pose_lines.push_back(p.line);
   int width = 1, height = 1;
   for (const CameraPose& p : poses) width = std::max(width, p.width), height = std::max(height, p.height);
   std::vector<Camera> cameras;
@@ -401,6 +402,11 @@ RayBatch poses_rays(const ViewSpec& view) {
 // Fresh rays like a window's: each view angle that of a ray of the window drawn at random, the
 // azimuth uniform in [0, 360) degrees, the entry point uniform in [0, 1)^2.
 RayBatch fresh_rays(const ViewSpec& view) {
+  const std::size_t n = view.fresh_rays;
+  // Asked before anything is made: the batch, its hits and references (make_ray_list asks again,
+  // the columns then held) and the five columns it is made from.
+  check_memory_budget((kBytesPerRay * padding_factor(view.tile_size) + 5.0 * sizeof(float)) * double(n),
+                      std::to_string(n) + " fresh rays");
   ViewSpec window = view;
   window.fresh_rays = 0;
   std::vector<float> cosines;
@@ -410,7 +416,6 @@ RayBatch fresh_rays(const ViewSpec& view) {
       if (!source.is_padding(i)) cosines.push_back(source.vz[i]);
   }
   if (cosines.empty()) throw InputError(describe(window) + ": no rays to draw view angles from");
-  const std::size_t n = view.fresh_rays;
   std::vector<float> tx(n), ty(n), vx(n), vy(n), vz(n);
   Draws draws(view.seed, 0xF2E5'0000'0000ull);  // a stream no view of a set uses
   for (std::size_t i = 0; i < n; ++i) {
@@ -430,19 +435,38 @@ RayBatch fresh_rays(const ViewSpec& view) {
 }  // namespace
 
 RayBatch make_view_rays(const ViewSpec& view) {
-  if (view.fresh_rays > 0) return fresh_rays(view);
-  switch (view.kind) {
-    case ViewSpec::Kind::rays_file:
-      return load_rays_csv(view.path, view.tile_size);
-    case ViewSpec::Kind::tutorial:
-      return tutorial_rays(view);
-    case ViewSpec::Kind::poses:
-      return poses_rays(view);
-    case ViewSpec::Kind::perspective:
-    case ViewSpec::Kind::sweep:
-      break;
+  std::vector<std::size_t> pose_lines;  // poses: each pose's line in its file
+  RayBatch batch;
+  if (view.fresh_rays > 0) {
+    batch = fresh_rays(view);
+  } else if (view.kind == ViewSpec::Kind::rays_file) {
+    batch = load_rays_csv(view.path, view.tile_size);
+  } else if (view.kind == ViewSpec::Kind::tutorial) {
+    batch = tutorial_rays(view);
+  } else if (view.kind == ViewSpec::Kind::poses) {
+    batch = poses_rays(view, pose_lines);
+  } else {
+    batch = frame_rays(view);
   }
-  return frame_rays(view);
+  // The one check of every batch, whatever made it: a ray no kernel can take (a pose whose rays meet
+  // the plane beyond a float's range has an infinite T, NaN gradients and a NaN wrap) is refused,
+  // naming where it came from.
+  for (std::size_t i = 0; i < batch.size(); ++i) {
+    const std::string fault = ray_fault(batch, i);
+    if (fault.empty()) continue;
+    const std::uint32_t k = batch.view[i], origin = batch.origin[i];
+    std::string where = describe(view) + ": ray " + std::to_string(i + 1);
+    if (view.fresh_rays == 0 && view.kind == ViewSpec::Kind::poses)
+      where = view.path + ":" + std::to_string(pose_lines[k]) + ": pose " + std::to_string(k + 1);
+    else if (view.fresh_rays == 0 && view.kind == ViewSpec::Kind::tutorial)
+      where = describe(view) + ": frame " + std::to_string(k + 1);
+    else if (view.fresh_rays == 0 && view.kind != ViewSpec::Kind::rays_file && origin != kPaddingRay)
+      where = describe(view) + ": the ray of pixel (" +
+              std::to_string(origin % std::uint32_t(batch.image_width)) + ", " +
+              std::to_string(origin / std::uint32_t(batch.image_width)) + ")";
+    throw InputError(where + ": " + fault + ": its rays cannot be traced");
+  }
+  return batch;
 }
 
 }  // namespace heightmarch
