@@ -20,6 +20,8 @@
 #include <deque>
 #include <map>
 #include <optional>
+#include <regex>
+#include <set>
 
 #include "cli/typed_option.hpp"
 #include "experiment/measurement_session.hpp"
@@ -181,9 +183,114 @@ class CheckedReporter : public Base {
   bool failed_ = false;
 };
 
+// Google Benchmark's flags (1.7), each checked before any is passed on: Google Benchmark takes a
+// negative repetition count to an abort in vector::reserve, a NaN minimum time to a hang, and an
+// unknown format or a broken regular expression to a message and exit 0.
+enum class FlagKind { boolean, text, filter, seconds, count, format, out_format, color, context, unit };
+const std::map<std::string, FlagKind>& benchmark_flags() {
+  static const std::map<std::string, FlagKind> flags = {
+      {"list_tests", FlagKind::boolean},
+      {"filter", FlagKind::filter},
+      {"min_time", FlagKind::seconds},
+      {"min_warmup_time", FlagKind::seconds},
+      {"repetitions", FlagKind::count},
+      {"enable_random_interleaving", FlagKind::boolean},
+      {"report_aggregates_only", FlagKind::boolean},
+      {"display_aggregates_only", FlagKind::boolean},
+      {"format", FlagKind::format},
+      {"out", FlagKind::text},
+      {"out_format", FlagKind::out_format},
+      {"color", FlagKind::color},
+      {"counters_tabular", FlagKind::boolean},
+      {"perf_counters", FlagKind::text},
+      {"context", FlagKind::context},
+      {"time_unit", FlagKind::unit},
+  };
+  return flags;
+}
+
+// Throws InputError naming the flag unless it is one of Google Benchmark's, with a value it
+// takes as meant, and given once.
+void check_benchmark_flags(const std::vector<std::string>& args) {
+  std::set<std::string> seen;
+  for (const std::string& arg : args) {
+    const std::size_t eq = arg.find('=');
+    const std::string name =
+        arg.substr(std::strlen("--benchmark_"),
+                   eq == std::string::npos ? std::string::npos : eq - std::strlen("--benchmark_"));
+    const bool bare = eq == std::string::npos;
+    const std::string value = bare ? "" : arg.substr(eq + 1);
+    const auto flag = benchmark_flags().find(name);
+    const std::string shown = "--benchmark_" + name;
+    if (flag == benchmark_flags().end()) throw InputError("unknown option " + arg + " (see --help)");
+    if (!seen.insert(name).second) throw InputError(shown + " is given twice");
+    const auto refuse = [&](const std::string& what) { throw InputError(shown + "=" + value + ": " + what); };
+    // Google Benchmark reads a boolean and a colour in any case, the other words as written.
+    const auto one_of = [&](std::initializer_list<const char*> names, bool any_case = false) {
+      std::string text = value;
+      if (any_case)
+        for (char& c : text) c = char(std::tolower(static_cast<unsigned char>(c)));
+      return std::any_of(names.begin(), names.end(), [&](const char* n) { return text == n; });
+    };
+    if (bare && flag->second != FlagKind::boolean) refuse("takes a value");
+    switch (flag->second) {
+      case FlagKind::boolean:
+        if (!bare && !one_of({"true", "false", "yes", "no", "on", "off", "1", "0"}, true))
+          refuse("true or false");
+        break;
+      case FlagKind::text:
+        if (value.empty()) refuse("empty");
+        break;
+      case FlagKind::filter:
+        try {
+          std::regex(value.rfind('-', 0) == 0 ? value.substr(1) : value, std::regex::extended);
+        } catch (const std::regex_error&) {
+          refuse("not a regular expression");
+        }
+        break;
+      case FlagKind::seconds: {
+        double seconds = 0;
+        const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), seconds);
+        if (ec != std::errc() || end != value.data() + value.size() || !(seconds >= 0 && seconds <= 3600) ||
+            (name == "min_time" && seconds == 0))
+          refuse(name == "min_time" ? "seconds in (0, 3600]" : "seconds in [0, 3600]");
+        break;
+      }
+      case FlagKind::count: {
+        int count = 0;
+        const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), count);
+        if (ec != std::errc() || end != value.data() + value.size() || count < 1 || count > 1000)
+          refuse("a whole number in 1..1000");
+        break;
+      }
+      case FlagKind::format:
+      case FlagKind::out_format:  // csv is deprecated in Google Benchmark
+        if (!one_of({"json", "console"})) refuse("json or console");
+        break;
+      case FlagKind::color:
+        if (!one_of({"auto", "true", "false", "yes", "no", "on", "off", "1", "0"}, true))
+          refuse("auto, true or false");
+        break;
+      case FlagKind::context:
+        for (std::size_t at = 0; at <= value.size();) {
+          const std::size_t comma = std::min(value.find(',', at), value.size());
+          const std::string pair = value.substr(at, comma - at);
+          if (pair.find('=') == 0 || pair.find('=') == std::string::npos)
+            refuse("KEY=VALUE pairs, comma-separated");
+          at = comma + 1;
+        }
+        break;
+      case FlagKind::unit:
+        if (!one_of({"ns", "us", "ms", "s"})) refuse("ns, us, ms or s");
+        break;
+    }
+  }
+}
+
 }  // namespace
 
-int main(int argc, char** argv) {
+// The whole run, its errors caught by main() below.
+int run(int argc, char** argv) {
   BenchOptions o;
   CLI::App app(
       "heightmarch-bench: Google Benchmark over heightmarch's techniques, ISAs and GLSL. Google Benchmark's "
@@ -257,7 +364,7 @@ int main(int argc, char** argv) {
     benchmark::Initialize(&gbench_argc, gbench_argv);  // prints its usage and exits
     return 0;
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "heightmarch-bench: %s\n", e.what());
+    std::fprintf(stderr, "heightmarch-bench: %s\n", error_line(e.what()).c_str());
     return 2;
   }
   if (!std::isfinite(o.min_time)) {  // CLI11's range check lets NaN through
@@ -265,16 +372,14 @@ int main(int argc, char** argv) {
                  o.min_time);
     return 2;
   }
-  // Our flags are ours; whatever remains must be Google Benchmark's.
+  // Our flags are ours; whatever remains must be Google Benchmark's, each checked before it sees it.
   std::vector<std::string> rest = app.remaining();
   bool has_min_time = false;
   for (const std::string& arg : rest) {
-    if (arg.rfind("--benchmark_", 0) != 0) {
-      std::fprintf(stderr, "heightmarch-bench: unknown option %s (see --help)\n", arg.c_str());
-      return 2;
-    }
+    if (arg.rfind("--benchmark_", 0) != 0) throw InputError("unknown option " + arg + " (see --help)");
     has_min_time = has_min_time || arg.rfind("--benchmark_min_time", 0) == 0;
   }
+  check_benchmark_flags(rest);
   // The minimum time goes through Google Benchmark's global flag, so names carry no min_time.
   if (!has_min_time) rest.push_back("--benchmark_min_time=" + std::to_string(o.min_time));
   // --benchmark_out=FILE is written to FILE.tmp-PID and renamed once whole (CheckedReporter).
@@ -288,18 +393,13 @@ int main(int argc, char** argv) {
       try {
         out_file.emplace(out_path);
       } catch (const std::exception& e) {
-        std::fprintf(stderr, "heightmarch-bench: %s\n", printable(e.what()).c_str());
+        std::fprintf(stderr, "heightmarch-bench: %s\n", error_line(e.what()).c_str());
         return 1;
       }
       arg = "--benchmark_out=/proc/self/fd/" + std::to_string(out_file->descriptor());
     } else if (arg.rfind("--benchmark_out_format=", 0) == 0) {
       out_format = arg.substr(std::string("--benchmark_out_format=").size());
     }
-  }
-  if (out_format != "json" && out_format != "console") {  // csv is deprecated in Google Benchmark
-    std::fprintf(stderr, "heightmarch-bench: --benchmark_out_format=%s: json or console\n",
-                 out_format.c_str());
-    return 2;
   }
   std::vector<char*> gbench_argv = {argv[0]};
   for (std::string& arg : rest) gbench_argv.push_back(arg.data());
@@ -368,6 +468,24 @@ int main(int argc, char** argv) {
     }
   if (why.empty()) return 0;
   std::fprintf(stderr, "heightmarch-bench: %s\n",
-               printable(why).c_str());  // the temporary goes with out_file
+               error_line(why).c_str());  // the temporary goes with out_file
   return 1;
+}
+
+// Every way the run can stop is one line and a status, as heightmarch's: input it cannot use (a
+// views file, a flag; also one a benchmark meets only once it runs) exit 2, a result it cannot
+// write 1, memory 3.
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "heightmarch-bench: %s\n", e.what());
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "heightmarch-bench: out of memory\n");
+    return 3;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "heightmarch-bench: %s\n", error_line(e.what()).c_str());
+    return 1;
+  }
 }

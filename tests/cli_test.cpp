@@ -471,15 +471,44 @@ TEST(Cli, BenchTimesTheSuitesPlan) {
   }
 }
 
-// heightmarch-bench's own flags are checked like the CLI's: one line, exit 2.
+// heightmarch-bench's own flags are checked like the CLI's, and every Google Benchmark flag before
+// Google Benchmark sees it (a negative repetition count aborted in vector::reserve, a NaN minimum
+// time hung, an unknown format or a broken filter exited 0): one line, exit 2.
 TEST(Cli, BenchFlagsAreChecked) {
   const std::string bench =
       std::filesystem::path(HEIGHTMARCH_CLI).parent_path().string() + "/heightmarch-bench";
   if (!std::filesystem::exists(bench))
     GTEST_SKIP() << "heightmarch-bench is not built here (HEIGHTMARCH_BUILD_BENCHMARKS=OFF)";
   auto run = [&](const std::string& args) { return test::run_command(bench + " " + args); };
-  for (const char* args : {"--hm_size=12x", "--hm_size=abc", "--hm_heightfields=nope", "--hm_min_time=nan",
-                           "--hm_layers=0", "--hm_isas=neon", "--frobnicate"}) {
+  for (const char* args : {"--hm_size=12x",
+                           "--hm_size=abc",
+                           "--hm_heightfields=nope",
+                           "--hm_min_time=nan",
+                           "--hm_layers=0",
+                           "--hm_isas=neon",
+                           "--frobnicate",
+                           "--benchmark_repetitions=-1",
+                           "--benchmark_repetitions=0",
+                           "--benchmark_repetitions=99999999999",
+                           "--benchmark_repetitions=abc",
+                           "--benchmark_min_time=nan",
+                           "--benchmark_min_time=-1",
+                           "--benchmark_min_warmup_time=inf",
+                           "--benchmark_format=xml",
+                           "--benchmark_out_format=csv",
+                           "--benchmark_filter=[",
+                           "--benchmark_color=maybe",
+                           "--benchmark_list_tests=maybe",
+                           "--benchmark_out=",
+                           "--benchmark_context=x",
+                           "--benchmark_time_unit=ps",
+                           "--benchmark_frobnicate=1",
+                           "--benchmark_repetitions",
+                           "--benchmark_repetitions=3 --benchmark_repetitions=4",
+                           "--hm_threads=1,1",
+                           "--hm_layers=8,8",
+                           "--hm_filters=bilinear,bilinear",
+                           "--hm_heightfields=bricks,builtin:bricks"}) {
     const auto r = run(args);
     EXPECT_EQ(r.status, 2) << args << ": " << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": " << r.output;
