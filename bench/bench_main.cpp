@@ -31,6 +31,7 @@
 #include "heightmarch/tracer.hpp"
 #include "io/atomic_file.hpp"
 #include "io/provenance.hpp"
+#include "util/repeats.hpp"
 
 namespace {
 
@@ -120,6 +121,7 @@ void view_size(const std::string& text, int& width, int& height) {
 // The suite's plan at the options' sizes, heightfields, threads and filters, with the Highway
 // port: its timed configurations.
 std::vector<Configuration> bench_plan(const BenchOptions& o) {
+  refuse_repeats(o.threads, "--hm_threads", [](int t) { return std::to_string(t); });
   std::vector<int> threads = o.threads;
   if (threads.empty()) {
     threads = {1};
@@ -135,24 +137,33 @@ std::vector<Configuration> bench_plan(const BenchOptions& o) {
   settings.heightfields.clear();
   for (const std::string& name : o.heightfields)
     settings.heightfields.push_back(parse_heightfield(name, o.res));
+  refuse_repeats(settings.heightfields, "--hm_heightfields",
+                 [](const HeightfieldSource& h) { return h.describe(); });
   give_unique_labels(settings.heightfields);
   settings.large_maps = false;
   settings.highway = true;
   settings.matrix_everywhere = true;
   std::vector<Filter> map_filters;
   for (const std::string& name : o.map_filters) map_filters.push_back(parse_filter(name));
+  refuse_repeats(map_filters, "--hm_filters", [](Filter f) { return to_string(f); });
   settings.filter = map_filters.front();
   PlanFilters filters = o.filters;
-  filters.isas_option = "--hm_isas";
+  filters.option_prefix = "--hm_";
   if (filters.parts.empty()) filters.parts = kDefaultParts;
   apply(filters, settings);
   // Each GL path asked for is a GLSL benchmark of its own (gl:PATH in its name), side by side: the
   // first path's plan whole, the others' GLSL rows.
   const std::vector<std::string> paths = o.gl.empty() ? std::vector<std::string>{""} : o.gl;
+  std::vector<GlTarget> targets;
+  for (const std::string& path : paths) {
+    targets.push_back(parse_gl_target(path, o.gl_device));
+    targets.back().path = resolved(targets.back()).path;
+  }
+  refuse_repeats(targets, "--hm_gl",
+                 [](const GlTarget& t) { return t.path ? to_string(*t.path) : std::string("the default"); });
   std::vector<Configuration> plan;
   for (std::size_t i = 0; i < paths.size(); ++i) {
-    settings.gl = parse_gl_target(paths[i], o.gl_device);
-    settings.gl.path = resolved(settings.gl).path;
+    settings.gl = targets[i];
     for (const Configuration& c : benchmark_plan(settings)) {
       if (i != 0 && c.kind != RunKind::glsl) continue;
       add_to_plan(plan, c);
@@ -348,7 +359,8 @@ int run(int argc, char** argv) {
              ")")
       ->delimiter(',');
   app.add_flag("--hm_dry_run", o.dry_run,
-               "list the configurations it would time, as suite --dry-run does, and time nothing");
+               "read and check every input as a run would, list the configurations it would time, as "
+               "suite --dry-run does, and time nothing");
   app.add_option("--hm_min_time", o.min_time,
                  "seconds per benchmark (Google Benchmark's --benchmark_min_time)")
       ->check(CLI::Range(0.0, 60.0))
@@ -406,25 +418,26 @@ int run(int argc, char** argv) {
   int gbench_argc = int(gbench_argv.size());
   gbench_argv.push_back(nullptr);
   std::vector<Configuration>* plan = nullptr;
-  // Every depth map file named is read (once, into the session) before any benchmark runs: a bad
-  // one is one line, exit 2. A file's size names its benchmarks.
+  // Every input the plan reads (depth maps, views, GL targets) is read and checked once, into the
+  // session, before any benchmark runs, as the suite does, and by --hm_dry_run too: a bad one is
+  // one line, exit 2. A file's size names its benchmarks.
   std::map<const Configuration*, std::pair<int, int>> sizes;
   try {
     static std::vector<Configuration> configurations = bench_plan(o);
     plan = &configurations;
+    session().check_inputs(*plan);
     if (o.dry_run) {
       for (const Configuration& c : *plan) std::printf("%s\n", plan_line(c).c_str());
       std::printf("%zu configurations\n", plan->size());
       return 0;
     }
-    session().load_depth_maps(*plan);
     for (const Configuration& c : *plan) {
       const HeightfieldSource& source = c.heightfield;
       sizes[&c] = source.builtin.empty() ? std::pair<int, int>{session().depth_map(source).width,
                                                                session().depth_map(source).height}
                                          : std::pair<int, int>{source.resolution, source.resolution};
     }
-  } catch (const std::exception& e) {
+  } catch (const InputError& e) {
     std::fprintf(stderr, "heightmarch-bench: %s\n", e.what());
     return 2;
   }

@@ -137,7 +137,7 @@ Command add_claims_command(CLI::App& app) {
     validate(o->target);
     const std::vector<Configuration> plan = with_held_out(claims_plan(settings), settings);
     MeasurementSession session;
-    session.load_depth_maps(plan);  // every file decoded once, before the run directory exists
+    session.check_inputs(plan);  // every input read and checked, before the run directory exists
     // checked and locked before the run
     RunDirectory dir(o->out.out.empty() ? "results/" + fresh_run_name(o->plan.quick, "claims") : o->out.out,
                      o->out.existing());

@@ -9,6 +9,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
+#include "experiment/measurement_session.hpp"
 #include "experiment/run_outputs.hpp"
 #include "glsl/user_shader_text.hpp"
 #include "heightmarch/error.hpp"
@@ -167,8 +168,6 @@ Command add_glsl_command(CLI::App& app) {
     if (!o->shader.empty()) glsl.shader = BroughtInShader{o->shader};
     if (!o->shader.empty())
       user_source(read_input_file(o->shader, "shader file", kMaxShaderBytes), o->shader);  // before the run
-    std::optional<RunDirectory> dir;  // checked and locked before the run
-    if (!o->trace.out.out.empty()) dir.emplace(o->trace.out.out, o->trace.out.existing());
     std::vector<Configuration> plan = {glsl};
     if (compare->count() > 0)
       for (Technique technique : compared_techniques(glsl, o->compare_with)) {
@@ -181,6 +180,10 @@ Command add_glsl_command(CLI::App& app) {
         cpu.params.refine = o->trace.refine;
         plan.push_back(cpu);
       }
+    MeasurementSession session;
+    session.check_inputs(plan);       // its map, rays, GL target and shader checked before --out is made
+    std::optional<RunDirectory> dir;  // checked and locked before the run
+    if (!o->trace.out.out.empty()) dir.emplace(o->trace.out.out, o->trace.out.existing());
     HitBuffers glsl_hits;  // row 0's (traced first), for the conformance of the CPU rows after it
     std::vector<Comparison> comparisons(plan.size() - 1);
     MeasureOptions measure;
@@ -195,7 +198,7 @@ Command add_glsl_command(CLI::App& app) {
             conformance(traced.rays, glsl_hits, traced.hits, traced.map.width, traced.map.height);
       }
     };
-    const MeasuredPlan run = measure_plan(plan, measure);
+    const MeasuredPlan run = measure_plan(plan, measure, session);
     const Measurement& g = run.rows.front();
     if (dir) {
       write_file_atomically(dir->path() + "/metrics.json", metrics_json(g));

@@ -5,6 +5,7 @@
 
 #include "cli/common_options.hpp"
 #include "heightmarch/error.hpp"
+#include "util/repeats.hpp"
 
 namespace heightmarch::cli {
 
@@ -51,6 +52,7 @@ void add_plan_options(CLI::App& command, PlanOptions& o, const std::string& quic
 }
 
 PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
+  refuse_repeats(o.threads, "--threads", [](int t) { return std::to_string(t); });
   std::vector<int> threads;
   for (int t : o.threads) threads.push_back(resolve_threads(t));
   std::sort(threads.begin(), threads.end());
@@ -58,9 +60,19 @@ PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
   PlanSettings settings = suite_settings(o.quick, threads.empty() ? resolve_threads(0) : threads.back());
   if (!threads.empty()) settings.thread_counts = threads;
   if (o.no_builtins) settings.heightfields.clear();
+  std::vector<HeightfieldSource> given;
   std::stringstream in(o.heightmap);
   for (std::string path; std::getline(in, path, ',');)
-    if (!path.empty()) settings.heightfields.push_back(parse_heightfield(path, 512, 1, map_reading(o.map)));
+    if (!path.empty()) given.push_back(parse_heightfield(path, 512, 1, map_reading(o.map)));
+  refuse_repeats(given, "--heightmap", [](const HeightfieldSource& h) { return h.describe(); });
+  for (const HeightfieldSource& h : given) {
+    if (std::find(settings.heightfields.begin(), settings.heightfields.end(), h) !=
+        settings.heightfields.end())
+      throw InputError("--heightmap: " + h.describe() +
+                       " is one of the builtins the run measures already (--no-builtins measures the given "
+                       "maps alone)");
+    settings.heightfields.push_back(h);
+  }
   if (settings.heightfields.empty()) throw InputError("--heightmap '" + o.heightmap + "' names no depth map");
   give_unique_labels(settings.heightfields);  // one label per map in every result
   if (o.scale) settings.scale = float(*o.scale);
@@ -76,6 +88,7 @@ PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
   // The tutorial's scene is read as the tutorial reads its depth map, unless asked otherwise.
   std::vector<Filter> filters;
   for (const std::string& name : o.filters) filters.push_back(parse_filter(name));
+  refuse_repeats(filters, "--filter", [](Filter f) { return to_string(f); });
   if (!filters.empty())
     settings.filter = filters.front();
   else if (views.kind == ViewSet::Kind::tutorial)

@@ -13,6 +13,18 @@
 
 namespace heightmarch::cli {
 
+// "45 s", "12 min", "2.3 h": a duration as a person reads it.
+inline std::string duration_text(double seconds) {
+  char text[32];
+  if (seconds < 90)
+    std::snprintf(text, sizeof text, "%.0f s", seconds);
+  else if (seconds < 90 * 60)
+    std::snprintf(text, sizeof text, "%.0f min", seconds / 60);
+  else
+    std::snprintf(text, sizeof text, "%.1f h", seconds / 3600);
+  return text;
+}
+
 class Progress {
  public:
   explicit Progress(std::string name)

@@ -5,9 +5,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <ctime>
+#include <exception>
 #include <filesystem>
 
 #include "heightmarch/error.hpp"
@@ -33,9 +35,9 @@ const char* const kRunFiles[] = {"INCOMPLETE", "measurements.json",   "metrics.j
 
 RunDirectory::RunDirectory(std::string path, Existing existing,
                            const std::vector<std::string>& subdirectories)
-    : path_(std::move(path)) {
+    : path_(std::move(path)), exceptions_(std::uncaught_exceptions()) {
   std::error_code ec;
-  fs::create_directories(path_, ec);
+  made_ = fs::create_directories(path_, ec);
   struct stat st {};
   if (::stat(path_.c_str(), &st) == 0 && !S_ISDIR(st.st_mode))
     throw InputError(path_ + ": is " + file_kind(st.st_mode) + ", not a directory for the run's results");
@@ -68,7 +70,9 @@ RunDirectory::RunDirectory(std::string path, Existing existing,
   for (const std::string& name : subdirectories) {
     const std::string at = path_ + "/" + name;
     struct stat sub {};
-    const bool there = (::mkdir(at.c_str(), 0755) == 0 || errno == EEXIST) && ::lstat(at.c_str(), &sub) == 0;
+    const bool made = ::mkdir(at.c_str(), 0755) == 0;
+    if (made) made_subdirectories_.push_back(name);
+    const bool there = (made || errno == EEXIST) && ::lstat(at.c_str(), &sub) == 0;
     if (!there || !S_ISDIR(sub.st_mode)) {
       const std::string why = there ? "is " + file_kind(sub.st_mode)
                                     : std::string("cannot create it (") + std::strerror(errno) + ")";
@@ -81,7 +85,27 @@ RunDirectory::RunDirectory(std::string path, Existing existing,
 }
 
 RunDirectory::~RunDirectory() {
-  if (lock_fd_ >= 0) ::close(lock_fd_);  // releases the lock; an interrupted run keeps INCOMPLETE
+  if (lock_fd_ < 0) return;
+  if (std::uncaught_exceptions() > exceptions_ && !completed_ && holds_nothing_written()) {
+    for (const std::string& sub : made_subdirectories_) ::rmdir((path_ + "/" + sub).c_str());
+    ::unlink((path_ + "/INCOMPLETE").c_str());
+    ::unlink((path_ + "/.lock").c_str());
+    if (made_) ::rmdir(path_.c_str());
+  }
+  ::close(lock_fd_);  // releases the lock; an interrupted run keeps INCOMPLETE
+}
+
+bool RunDirectory::holds_nothing_written() const {
+  if (!finished_.empty()) return false;
+  std::error_code ec;
+  for (const fs::directory_entry& entry : fs::directory_iterator(path_, ec)) {
+    const std::string name = entry.path().filename().string();
+    const bool made = std::find(made_subdirectories_.begin(), made_subdirectories_.end(), name) !=
+                      made_subdirectories_.end();
+    if (name == "INCOMPLETE" || name == ".lock" || (made && fs::is_empty(entry.path(), ec) && !ec)) continue;
+    return false;
+  }
+  return !ec;
 }
 
 void RunDirectory::finished(const std::string& stage) {
@@ -92,6 +116,7 @@ void RunDirectory::finished(const std::string& stage) {
 void RunDirectory::complete() {
   std::error_code ec;
   fs::remove(path_ + "/INCOMPLETE", ec);
+  completed_ = true;
 }
 
 std::string fresh_run_name(bool quick, const std::string& kind) {

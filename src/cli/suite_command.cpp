@@ -22,6 +22,7 @@
 #include "cli/run_directory.hpp"
 #include "experiment/claims_collector.hpp"
 #include "experiment/measurement_session.hpp"
+#include "experiment/run_estimate.hpp"
 #include "experiment/run_outputs.hpp"
 #include "heightmarch/error.hpp"
 #include "io/atomic_file.hpp"
@@ -158,23 +159,31 @@ Command add_suite_command(CLI::App& app) {
   add_target_options(*command, o->target);
   command->add_flag(
       "--dry-run", o->dry_run,
-      "list the configurations the run would measure (heightfield, kind, technique, layers, backend, "
-      "threads, view, filter (- for the exact reference and the calibration loop), timed or accuracy only, "
-      "purposes; tab-separated) and "
-      "measure nothing");
+      "read and check every input as the run would (its one-line errors), list the configurations the run "
+      "would measure (heightfield, kind, technique, layers, backend, threads, view, filter (- for the exact "
+      "reference and the calibration loop), timed or accuracy only, purposes; tab-separated), estimate the "
+      "run's time from a short calibration, and measure and write nothing");
   return [o] {
     PlanSettings settings = plan_settings(o->plan, !o->no_glsl);
     if (settings.glsl) settings.gl = gl_target(o->gl);
     apply(o->candidates, settings);
     validate(o->target);
     const std::vector<Configuration> plan = suite_plan(settings);
+    // Every input the run reads, read and checked as the run reads it, before the run directory
+    // exists: a dry run fails where the run would, and a run that fails here leaves nothing behind.
+    MeasurementSession session;
+    const std::vector<ViewRays> views = session.check_inputs(plan);
     if (o->dry_run) {
       for (const Configuration& c : plan) std::printf("%s\n", plan_line(c).c_str());
       std::printf("%zu configurations\n", plan.size());
+      std::fflush(stdout);
+      const RunEstimate e = estimate_run(plan, views, settings.repetitions, settings.min_seconds, session);
+      std::printf(
+          "estimated time: about %s to measure (calibrated on %zu configurations at up to %zu rays each "
+          "in %.0f s; the report and the gallery of what to ship come after it)\n",
+          duration_text(e.seconds).c_str(), e.calibrated, kCalibrationRays, e.calibration_seconds);
       return 0;
     }
-    MeasurementSession session;
-    session.load_depth_maps(plan);  // every file decoded once, before the run directory exists
     const bool default_out = o->out.out.empty();
     const std::string run_name = fresh_run_name(o->plan.quick);
     RunDirectory dir(default_out ? "results/" + run_name : o->out.out, o->out.existing(), {"gallery"});

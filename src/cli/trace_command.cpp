@@ -6,6 +6,7 @@
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
 #include "cli/progress.hpp"
+#include "experiment/measurement_session.hpp"
 #include "experiment/run_outputs.hpp"
 #include "io/atomic_file.hpp"
 
@@ -22,6 +23,8 @@ Command add_trace_command(CLI::App& app) {
     Configuration config =
         trace_configuration(*options, options->technique == "exact" ? RunKind::exact : RunKind::trace);
     config.isa = select_isa(*isa);
+    MeasurementSession session;
+    session.check_inputs({config});   // its map and rays read and checked before --out is made
     std::optional<RunDirectory> dir;  // checked and locked before the run
     if (!options->out.out.empty()) dir.emplace(options->out.out, options->out.existing());
     MeasureOptions measure;
@@ -34,7 +37,7 @@ Command add_trace_command(CLI::App& app) {
       measure.progress = [&](const std::string& what, std::size_t done, std::size_t total) {
         if (progress.total_seconds() > 2.0) progress.step(what, done, total);
       };
-    const MeasuredPlan run = measure_plan({config}, measure);
+    const MeasuredPlan run = measure_plan({config}, measure, session);
     progress.finish_line();
     const Measurement& row = run.rows.front();
     // metrics.json again, now with the timed repetitions.

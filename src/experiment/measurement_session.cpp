@@ -3,10 +3,13 @@
 // error measures.
 #include "experiment/measurement_session.hpp"
 
+#include <algorithm>
 #include <array>
+#include <chrono>
 
 #include "experiment/backends.hpp"
 #include "experiment/scene.hpp"
+#include "heightmarch/glsl_runner.hpp"
 #include "heightmarch/metrics.hpp"
 #include "heightmarch/precomputed.hpp"
 
@@ -71,9 +74,27 @@ const DepthMap& MeasurementSession::depth_map(const HeightfieldSource& source) {
   return state_->scenes.depth_map(source);
 }
 
-void MeasurementSession::load_depth_maps(const std::vector<Configuration>& plan) {
-  for (const Configuration& c : plan)
-    if (c.heightfield.builtin.empty()) depth_map(c.heightfield);
+std::vector<ViewRays> MeasurementSession::check_inputs(const std::vector<Configuration>& plan) {
+  for (const Configuration& c : plan) depth_map(c.heightfield);
+  std::vector<ViewRays> views;
+  for (const Configuration& c : plan) {
+    if (std::any_of(views.begin(), views.end(), [&](const ViewRays& v) { return v.view == c.view; }))
+      continue;
+    const auto start = std::chrono::steady_clock::now();
+    const std::size_t rays = make_view_rays(c.view).ray_count;
+    views.push_back(
+        {c.view, rays, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()});
+  }
+  // The GL targets at their thread counts, each started once (its worker kept for the run); a
+  // brought-in shader compiled on one ray of its map.
+  for (const Configuration& c : plan) {
+    if (c.kind != RunKind::glsl) continue;
+    GlslRunner& runner = GlslRunner::instance(c.threads, c.gl);
+    if (!c.shader_path().empty())
+      runner.prepare(depth_map(c.heightfield), c.params,
+                     make_ray_list({0.5f}, {0.5f}, {0.0f}, {0.0f}, {1.0f}), c.shader_path());
+  }
+  return views;
 }
 
 std::function<TraceTime()> MeasurementSession::trace_once(const Configuration& c) {

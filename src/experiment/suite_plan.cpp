@@ -6,6 +6,7 @@
 #include "baselines/naive_port.hpp"
 #include "baselines/structured_pom.hpp"
 #include "heightmarch/error.hpp"
+#include "util/repeats.hpp"
 
 namespace heightmarch {
 namespace {
@@ -95,35 +96,39 @@ std::vector<double> sweep_angles(float near_degrees, float far_degrees) {
 }
 
 void apply(const PlanFilters& f, PlanSettings& s) {
+  const std::string& prefix = f.option_prefix;
   if (!f.techniques.empty()) {
     s.techniques.clear();
-    for (const std::string& name : f.techniques) {
-      const Technique t = parse_technique(name);
-      if (!wanted(s, t)) s.techniques.push_back(t);
-    }
+    for (const std::string& name : f.techniques) s.techniques.push_back(parse_technique(name));
+    refuse_repeats(s.techniques, prefix + "techniques", [](Technique t) { return to_string(t); });
   }
   if (!f.layers.empty()) {
     s.layer_specs.clear();
     for (const std::string& text : f.layers) s.layer_specs.push_back(parse_layer_spec(text));
+    refuse_repeats(s.layer_specs, prefix + "layers", [](const LayerSpec& l) { return to_string(l); });
     s.few_layer_specs = s.layer_specs;
   }
   if (!f.isas.empty()) {
     std::vector<Isa> isas;
-    for (const std::string& name : f.isas) isas.push_back(parse_isa(name, f.isas_option));
+    for (const std::string& name : f.isas) isas.push_back(parse_isa(name, prefix + "isas"));
+    refuse_repeats(isas, prefix + "isas", [](Isa isa) { return to_string(isa); });
     s.isas.clear();
     for (Isa isa : all_isas())  // narrowest first, as the plan lists them
       if (std::find(isas.begin(), isas.end(), isa) != isas.end()) s.isas.push_back(isa);
     s.best_isa = s.isas.back();
   }
   if (!f.parts.empty()) {
-    s.parts = 0;
+    std::vector<unsigned> bits;
     for (const std::string& name : f.parts) {
       unsigned bit = 0;
       for (unsigned i = 0; i < kPurposeCount; ++i)
         if (purpose_name(1u << i) == name && (1u << i) != kPurposeCommand) bit = 1u << i;
       if (!bit) throw InputError("unknown part '" + name + "' of the plan");
-      s.parts |= bit;
+      bits.push_back(bit);
     }
+    refuse_repeats(bits, prefix + "parts", [](unsigned bit) { return purpose_name(bit); });
+    s.parts = 0;
+    for (unsigned bit : bits) s.parts |= bit;
   }
 }
 

@@ -55,13 +55,13 @@ struct PlanSettings {
 
 // The candidates a user names (suite's --techniques, --layers, --isas, --parts and
 // heightmarch-bench's --hm_ twins), each checked against its list and turned into typed values
-// once, here: the techniques in the order given (repeats dropped), the layer specs as the matrix's
-// and the sweeps' and GLSL's at fewer threads, the ISAs narrowest first (the widest is the
+// once, here (a name or spec given twice is refused): the techniques in the order given, the layer specs as
+// the matrix's and the sweeps' and GLSL's at fewer threads, the ISAs narrowest first (the widest is the
 // matrix's; each one the CPU must run), the parts. An empty list leaves its setting as it was.
 // Throws InputError.
 struct PlanFilters {
   std::vector<std::string> techniques, layers, isas, parts;
-  std::string isas_option = "--isas";  // what an error about an ISA names
+  std::string option_prefix = "--";  // what an error names an option by: --isas, --hm_isas
 };
 void apply(const PlanFilters& filters, PlanSettings& settings);
 

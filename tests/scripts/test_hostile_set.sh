@@ -1,15 +1,16 @@
 #!/usr/bin/env bash
 # The kept hostile set (tests/hostile/cases): each input refused with its exit status and one
 # line on stderr, no byte a terminal acts on, within 10 s (a hang fails); nothing written through
-# a planted link. The set is copied first: a command may write into a run it refuses (.lock).
-# About 10 s of CPU.
+# a planted link, and no run directory left by a run refused before it measured. A case runs
+# heightmarch, or heightmarch-bench where its first word says so. The set is copied first: a
+# command may write into a run it refuses (.lock). About 20 s of CPU.
 # Usage: test_hostile_set.sh BUILD_DIR
 set -euo pipefail
 source "$(dirname "$0")/prelude.sh"
 build="$(cd "${1:?usage: test_hostile_set.sh BUILD_DIR}" && pwd)"
 cp -r "$root/tests/hostile" "$tmp/set"
 set_dir="$tmp/set"
-mkfifo "$tmp/fifo.png"
+mkfifo "$tmp/fifo.png" "$tmp/fifo.csv"
 mkdir -p "$tmp/elsewhere" "$tmp/linked-out"
 ln -s "$tmp/elsewhere" "$tmp/linked-out/gallery"
 esc=$'\e]0;PWN\a\e[2J\xc2\x9b'
@@ -25,11 +26,15 @@ while read -r expect line; do
     args+=("${w//\{esc\}/$esc}")
   done
   cases=$((cases + 1))
+  program="heightmarch"
+  if [[ "${args[0]}" == heightmarch-bench ]]; then program="heightmarch-bench" args=("${args[@]:1}"); fi
   status=0
-  (cd "$tmp" && exec timeout -s KILL 10 "$build/heightmarch" "${args[@]}" >"$tmp/out" 2>"$tmp/err") || status=$?
+  (cd "$tmp" && exec timeout -s KILL 10 "$build/$program" "${args[@]}" >"$tmp/out" 2>"$tmp/err") || status=$?
   why=()
   [[ "$status" == "$expect" ]] || why+=("exit $status, not $expect")
-  [[ "$(wc -l <"$tmp/err")" == 1 ]] && grep -qE '^(heightmarch|report): ' "$tmp/err" || why+=("not one line on stderr")
+  [[ "$(wc -l <"$tmp/err")" == 1 ]] && grep -qE "^($program|report): " "$tmp/err" || why+=("not one line on stderr")
+  [[ ! -e "$tmp/refused-run" ]] || why+=("left {tmp}/refused-run behind")
+  rm -rf "$tmp/refused-run"
   if LC_ALL=C grep -aqP "$acts_on_terminal" "$tmp/out" "$tmp/err"; then why+=("printed what a terminal acts on"); fi
   if (( ${#why[@]} )); then
     failed=$((failed + 1))
