@@ -173,7 +173,9 @@ TEST(MemoryBudget, UserSizedAllocationsAskFirst) {
     EXPECT_EQ(r.status, 2) << args << ": " << r.output;
     EXPECT_NE(r.output.find(message), std::string::npos) << args << ": " << r.output;
     EXPECT_NE(r.output.find(" budget (--memory-limit; "), std::string::npos) << args << ": " << r.output;
-    if (!kAddressSanitizer) EXPECT_LE(r.peak_mib, std::stod(limit)) << args << ": " << r.output;
+    if (!kAddressSanitizer) {
+      EXPECT_LE(r.peak_mib, std::stod(limit)) << args << ": " << r.output;
+    }
   }
 }
 
