@@ -221,8 +221,9 @@ TEST(Cli, SuiteReadsEachMapAsMeant) {
                     "--techniques pom --layers 8 --isas scalar --threads 1 --repetitions 1 --out " +
                     dir + "/run");
   ASSERT_EQ(r.status, 0) << r.output;
-  std::ifstream in(dir + "/run/measurements.json");
-  const std::string json((std::istreambuf_iterator<char>(in)), {});
+  const auto unpacked = test::run_command("gzip -dc " + dir + "/run/measurements.json.gz");
+  ASSERT_EQ(unpacked.status, 0) << unpacked.output;
+  const std::string& json = unpacked.output;
   const auto field = [&](const std::string& entry,
                          const std::string& name) {  // of the entry's heightfield object
     const std::size_t at = json.find("\"source\": \"" + dir + entry + "\"");

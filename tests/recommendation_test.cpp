@@ -227,18 +227,19 @@ TEST(Recommendation, RecommendReadsARunToTheSuitesAnswer) {
   ASSERT_EQ(again.status, 0) << again.output;
   EXPECT_EQ(again.output, suite_json);
   EXPECT_NE(suite_json.find("\"backend\": \"scalar\""), std::string::npos) << suite_json;
-  // The same run kept compressed, as a committed run keeps it: the same answer; a cut file refused.
-  const std::string packed = test::temp_dir("recommend-gz") + "/run";
-  std::filesystem::create_directories(packed);
+  // The suite keeps its rows compressed (measurements.json.gz); the same rows unpacked (as a claims
+  // run writes them): the same answer; a cut file refused.
+  ASSERT_FALSE(std::filesystem::exists(out + "/measurements.json"));
+  const std::string plain = test::temp_dir("recommend-plain") + "/run";
+  std::filesystem::create_directories(plain);
   ASSERT_EQ(
-      std::system(("gzip -c " + out + "/measurements.json > " + packed + "/measurements.json.gz").c_str()),
+      std::system(("gzip -dc " + out + "/measurements.json.gz > " + plain + "/measurements.json").c_str()),
       0);
-  const auto unpacked = test::run_cli("recommend " + packed + " --json");
+  const auto unpacked = test::run_cli("recommend " + plain + " --json");
   ASSERT_EQ(unpacked.status, 0) << unpacked.output;
   EXPECT_EQ(unpacked.output, suite_json);
-  ASSERT_EQ(std::system(("head -c 2000 " + packed + "/measurements.json.gz > " + packed + "/cut.gz").c_str()),
-            0);
-  const auto cut = test::run_cli("recommend " + packed + "/cut.gz");
+  ASSERT_EQ(std::system(("head -c 2000 " + out + "/measurements.json.gz > " + plain + "/cut.gz").c_str()), 0);
+  const auto cut = test::run_cli("recommend " + plain + "/cut.gz");
   EXPECT_EQ(cut.status, 2) << cut.output;
   EXPECT_NE(cut.output.find("not a whole gzip file"), std::string::npos) << cut.output;
   const auto other =

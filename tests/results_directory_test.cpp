@@ -34,7 +34,7 @@ TEST(AtomicFile, ReplacesALinkAtTheFinalNameWithoutFollowingIt) {
   for (const std::string name : {"metrics.json", "render.png"}) {
     fs::create_symlink(dir + "/victim", dir + "/" + name);
     if (name == "render.png")
-      write_png_rgb8(dir + "/" + name, 2, 1, {255, 0, 0, 0, 255, 0});
+      write_rgb8(dir + "/" + name, 2, 1, {255, 0, 0, 0, 255, 0});
     else
       write_file_atomically(dir + "/" + name, "{}");
     EXPECT_FALSE(fs::is_symlink(dir + "/" + name)) << name;
@@ -128,7 +128,7 @@ TEST(RunDirectory, MapsSharingAFileNameKeepALabelEach) {
   fs::create_directories(dir + "/a");
   fs::create_directories(dir + "/b");
   for (const char* sub : {"/a/rock.png", "/b/rock.png", "/c.png"})
-    write_png_rgb8(dir + sub, 2, 2, std::vector<std::uint8_t>(12, 9));
+    write_rgb8(dir + sub, 2, 2, std::vector<std::uint8_t>(12, 9));
   const std::vector<HeightfieldSource> extra = {
       parse_heightfield(dir + "/a/rock.png"), parse_heightfield(dir + "/b/rock.png"),
       parse_heightfield(dir + "/c.png"), parse_heightfield(dir + "/a/rock.png")};

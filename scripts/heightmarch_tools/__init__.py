@@ -1,5 +1,5 @@
 """heightmarch's Python tools: the run's report (report.md, tables.md, report.html, plots,
-measurements.csv), the history of recorded runs and its alerts, and the speed checks behind
+measurements.csv on request), the history of recorded runs and its alerts, and the speed checks behind
 scripts/compare, scripts/regress and scripts/bisect.
 
 Modules by what they do:

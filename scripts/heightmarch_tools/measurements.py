@@ -65,7 +65,7 @@ def upgrade(data):
 MARKERS = set("osDd^v<>P+XxphH8*")  # matplotlib's marker codes the plots and the page draw
 COLOUR = re.compile(r"#[0-9a-fA-F]{6}")
 LAYERS = re.compile(r"[1-9][0-9]{0,3}(-[1-9][0-9]{0,3})?")  # a layer spec as the tool writes it: N or A-B
-IMAGE = re.compile(r"gallery/[A-Za-z0-9_+][A-Za-z0-9._+-]*\.png")  # a file in the run's gallery/, nothing else
+IMAGE = re.compile(r"gallery/[A-Za-z0-9_+][A-Za-z0-9._+-]*\.(?:png|webp)")  # a file in the run's gallery/, nothing else
 MAX_ID = 2 ** 31 - 1
 MAX_SIZE = 2 ** 30
 MAX_THREADS = 2 ** 20

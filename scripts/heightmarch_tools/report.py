@@ -1,7 +1,9 @@
 """Writes a run's report from RUN_DIR/measurements.json: report.md (what a person reads first),
-tables.md (the long tables), plots/*.png, measurements.csv and report.html (report_page.py).
+tables.md (the long tables), plots/*.png and report.html (report_page.py); with --csv,
+measurements.csv too (not kept in a run by default: the same rows as measurements.json.gz, 1.2 MB
+compressed of a full run's 5 MB budget, docs/measurements.md).
 
-Usage: scripts/report RUN_DIR [--history results/history.csv]
+Usage: scripts/report RUN_DIR [--history results/history.csv] [--csv]
 
 Inputs: measurements.json (the run's typed rows, docs/measurements.md; format 1 or 2) and, where
 the run has them, claims.json, recommendation.json and alerts.json. Every speed is the median of
@@ -21,6 +23,7 @@ from .measurements import (ANY, HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK
                           rays_rounds, read_claims, read_optional, samples_rounds, searches_per_isa,
                           speedup, validate_alerts, validate_recommendation, view_name, backend_colours)
 from .escape import markdown as md, markdown_target
+from .readers import run_file
 from .report_content import (FILTER_DOCS, alerts_summary, breakdown_lines, filter_table, filters_intro, filters_title,
                              fmt, fmt_change, fmt_error, fmt_number, fmt_ratio, fmt_spread, recommendation_columns,
                              recommendation_intro, recommendation_rows, walks_table, warnings, WALKS_INTRO)
@@ -414,6 +417,7 @@ def main(argv=None):
     parser = cli.Parser(prog="report", description=__doc__.splitlines()[0])
     parser.add_argument("run_dir")
     parser.add_argument("--history", help="record the run (a complete one) into this history CSV, and plot it")
+    parser.add_argument("--csv", action="store_true", help="also measurements.csv: every row flat, for a spreadsheet")
     args = parser.parse_args(argv)
     run = load_run(args.run_dir)
     claims = read_claims(os.path.join(args.run_dir, "claims.json"))
@@ -421,34 +425,37 @@ def main(argv=None):
                                    validate_recommendation)
     if args.history:  # the report is written while the run is recorded, before the history is
         record_run.record(run.data, args.run_dir, args.history,
-                          lambda rows, drawn, found: write_report(run, claims, recommendation, found, rows, drawn))
+                          lambda rows, drawn, found: write_report(run, claims, recommendation, found, rows, drawn,
+                                                                  args.csv))
     else:
         alerts = read_optional(os.path.join(args.run_dir, "alerts.json"), "heightmarch-alerts", validate_alerts)
-        write_report(run, claims, recommendation, alerts, None, None)
+        write_report(run, claims, recommendation, alerts, None, None, args.csv)
     print("report: %s" % os.path.join(args.run_dir, "report.md"))
     return 0
 
 
-def write_report(run, claims, recommendation, alerts, recorded, history_drawn):
-    """report.md, tables.md, plots/, measurements.csv and report.html; recorded: the history's
-    rows when the run is being recorded (history_drawn: whether its plot was drawn)."""
+def write_report(run, claims, recommendation, alerts, recorded, history_drawn, csv=False):
+    """report.md, tables.md, plots/ and report.html (with csv, measurements.csv); recorded: the
+    history's rows when the run is being recorded (history_drawn: whether its plot was drawn)."""
     faults = []  # the tables find them, the warnings on the first screen name them
     tables = (section_matrix(run) + section_glsl(run) + section_every_backend(run, faults)
               + section_searches_per_isa(run) + section_walks(run) + section_exact_speed(run) + section_threads(run)
               + section_gallery(run, recommendation))
     plots = section_plots(run, recommendation, history_drawn)
     p = run.provenance
+    json_file = os.path.basename(run_file(run.dir, "measurements.json"))
     title = "%s run of %s, commit %s" % (run.plan.get("name", "?"), p.get("date", "?"), p.get("commit", "?"))
     lines = ["# heightmarch report: " + md(title), "",
           "Parallax-mapping techniques on the CPU (packet kernels per ISA) and as GLSL (its rows: %s), reading the "
           "depth map with %s filtering ([docs/conventions.md](%s)), measured "
           "against the exact ray/heightfield intersection on %s (%s cores, %s). Explore it: [report.html](report.html) "
           "(every configuration on its error-against-cost frontier, with filters and images); the long tables: "
-          "[tables.md](tables.md); the rows: [measurements.csv](measurements.csv), "
-          "[measurements.json](measurements.json). What every measure means: [docs/measures.md](%s); the files: "
+          "[tables.md](tables.md); the rows: [%s](%s) (`heightmarch report RUN --csv` writes them flat as "
+          "measurements.csv, for a spreadsheet). What every measure means: [docs/measures.md](%s); the files: "
           "[docs/measurements.md](%s)." % (md(" and ".join(gl_renderers(run.rows)) or "none in this run"),
                                            md(run.filter), markdown_target(docs_link(run, *FILTER_DOCS)),
                                            md(p.get("cpu", "?")), md(p.get("cores", "?")), md(run.best_isa),
+                                           md(json_file), markdown_target(json_file),
                                            markdown_target(docs_link(run, "measures.md")),
                                            markdown_target(docs_link(run, "measurements.md")))]
     if run.load.get("busy"):  # the speeds below carry it; the warnings after the summary say why
@@ -462,7 +469,8 @@ def write_report(run, claims, recommendation, alerts, recorded, history_drawn):
     tables_md = ["# heightmarch tables: " + md(title), "",
                  "The long tables of [report.md](report.md). Speeds: median (min-max) of the repetitions; ratios: "
                  "median (min-max) of the per-round ratios."] + tables
-    atomic_write(os.path.join(run.dir, "measurements.csv"), measurements_csv(run.rows))
+    if csv:
+        atomic_write(os.path.join(run.dir, "measurements.csv"), measurements_csv(run.rows))
     atomic_write(os.path.join(run.dir, "tables.md"), "\n".join(tables_md) + "\n")
     atomic_write(os.path.join(run.dir, "report.md"), "\n".join(lines) + "\n")
     report_page.write_page(run, claims, recommendation, alerts, recorded, warnings(run, faults), faults,

@@ -1,16 +1,23 @@
-"""RUN_DIR/report.html: the run to explore, one file that opens offline.
+"""RUN_DIR/report.html: the run to explore, a page that opens offline.
 
 The page is the run's data (the rows of measurements.json that carry a technique, the
-recommendation, the claims, the alerts and the recorded history of its machine), the page's own
-script and style (page/) and Plotly (vendor/plotly.js-basic-dist-min/, MIT), beside this module,
-all inlined; the gallery's images are the run's own files beside it (gallery/*.png). Nothing is
-fetched from the network when it opens. report.py calls write_page().
+recommendation, the claims, the alerts and the recorded history of its machine; gzip'd and base64'd,
+a tenth of the JSON, unpacked by the browser's DecompressionStream) and the page's own script and
+style (page/), inlined. Plotly (vendor/plotly.js-basic-dist-min/, MIT, 1.2 MB) is one file beside
+the runs, RUN_DIR/../plotly-basic.min.js, written there once (shared_plotly) rather than into every
+page; where that directory cannot be written to, the page inlines it. The gallery's images are the
+run's own files beside it (gallery/*.webp). Nothing is fetched from the network when it opens.
+report.py calls write_page().
 """
+import base64
+import gzip
 import os
 
 from .measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, MAXMIP_PEAK, SHADOW_COUNTS, backend_label, depth_map,
                           docs_link, filter_pairs, gl_label, glsl_pairs, machine_rows, ns_per_ray_rounds, rays_rounds,
                           searches_per_isa, speedup, view_name)
+from .errors import CannotWrite
+from .readers import run_file
 from .escape import csv_cell, html as esc, script_json
 from .report_content import (FILTER_DOCS, alerts_summary, breakdown_lines, filter_table, filters_intro, filters_title,
                              fmt_ratio, fmt_spread, recommendation_columns, recommendation_intro, recommendation_rows,
@@ -24,10 +31,38 @@ PAGE_SCRIPT = os.path.join(HERE, "page", "page.js")
 PAGE_STYLE = os.path.join(HERE, "page", "page.css")
 
 
+SHARED_PLOTLY = "plotly-basic.min.js"  # the name beside the runs: report.html loads ../SHARED_PLOTLY
+
+
 def read(path):
     """A file of the page's own (its script, style, Plotly), beside this module."""
     with open(path, encoding="utf-8") as f:
         return f.read()
+
+
+def shared_plotly(run_dir):
+    """Plotly where the page loads it, RUN_DIR/../plotly-basic.min.js, written there where it is
+    missing or another version (a repository's results/ keeps one, a link to vendor/): True; False
+    where that directory cannot be written to (the page then inlines Plotly)."""
+    path = os.path.join(os.path.dirname(os.path.abspath(run_dir)), SHARED_PLOTLY)
+    plotly = read(PLOTLY)
+    try:
+        with open(path, encoding="utf-8") as f:
+            if f.read() == plotly:
+                return True
+    except (OSError, UnicodeDecodeError):
+        pass
+    try:
+        atomic_write(path, plotly)
+    except CannotWrite:
+        return False
+    return True
+
+
+def packed_json(data):
+    """data as the page carries it: JSON (escape.script_json), gzip'd (no time stamp: the same run
+    writes the same page) and base64'd, which no HTML parser reads into."""
+    return base64.b64encode(gzip.compress(script_json(data).encode("utf-8"), compresslevel=9, mtime=0)).decode("ascii")
 
 
 def heightfield_keys(run):
@@ -43,6 +78,14 @@ def heightfield_keys(run):
 def rounded(value, digits=6):
     """A figure for the page, to `digits` significant digits (the page shows three or four)."""
     return None if value is None else float("%.*g" % (digits, value))
+
+
+def rounded_figures(entry):
+    """A breakdown entry's figures (and intervals) rounded as the page's other figures are: two
+    thirds of the page's data were digits it never shows."""
+    def one(v):
+        return rounded(v) if isinstance(v, float) else [one(x) for x in v] if isinstance(v, list) else v
+    return {k: one(v) for k, v in entry.items()}
 
 
 def page_rows(run):
@@ -68,7 +111,8 @@ def page_rows(run):
             "precompute_seconds": rounded(r.get("precompute_seconds")),
             "errors": {m["name"]: rounded(r["errors"][m["name"]]) for m in run.measures
                        if r["errors"].get(m["name"]) is not None},
-            "breakdown": {k: r["errors"][k] for k in ("by_azimuth", "by_view_angle") if r["errors"].get(k)} or None,
+            "breakdown": {k: [rounded_figures(b) for b in r["errors"][k]] for k in ("by_azimuth", "by_view_angle")
+                          if r["errors"].get(k)} or None,
             "images": r.get("images")})
     return out
 
@@ -233,11 +277,14 @@ def write_page(run, claims, recommendation, alerts, recorded, warnings, faults, 
         "filters": filters_html(run),
         "filter": esc(run.filter),
     }
+    plotly = ('<script src="../%s"></script>' % SHARED_PLOTLY if shared_plotly(run.dir)
+              else "<script>\n%s\n</script>" % read(PLOTLY).replace("</script", "<\\/script"))
     text = TEMPLATE % {
         "title": esc(data["title"]),
         "style": read(PAGE_STYLE),
-        "plotly": read(PLOTLY).replace("</script", "<\\/script"),
-        "data": script_json(data),
+        "plotly": plotly,
+        "data": packed_json(data),
+        "rows_file": esc(os.path.basename(run_file(run.dir, "measurements.json"))),
         "script": read(PAGE_SCRIPT),
         **static}
     atomic_write(os.path.join(run.dir, "report.html"), text)
@@ -261,7 +308,7 @@ TEMPLATE = """<!DOCTYPE html>
 <a href="#claims">claims</a> <a href="#filters-compared">filters</a> <a href="#speed">speed per ISA and GLSL</a>
 <a href="#history">history</a>
 <a href="#provenance">provenance</a> <a href="report.md">report.md</a> <a href="tables.md">tables.md</a>
-<a href="measurements.csv">measurements.csv</a></nav>
+<a href="%(rows_file)s">%(rows_file)s</a></nav>
 </header>
 <main>
 %(warnings)s
@@ -289,10 +336,8 @@ in the grey band at the bottom.</p>
 <section id="history"><h2>History of this machine</h2><div id="history-body"></div><div id="history-chart"></div></section>
 <section id="provenance"><h2>Provenance</h2>%(machine)s</section>
 </main>
-<script>
 %(plotly)s
-</script>
-<script id="report-data" type="application/json">%(data)s</script>
+<script id="report-data" type="application/gzip+base64">%(data)s</script>
 <script>
 %(script)s
 </script>

@@ -14,6 +14,7 @@ matplotlib.use("Agg")
 # Names enter a plot through terminal() (no control character), the rule for plot text.
 matplotlib.rcParams["text.parse_math"] = False
 import matplotlib.pyplot as plt  # noqa: E402
+from PIL import Image  # noqa: E402  (matplotlib's own dependency)
 from matplotlib.ticker import FixedLocator, FuncFormatter, NullLocator  # noqa: E402
 
 from .measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, backend_colours, counted, depth_map,  # noqa: E402
@@ -55,12 +56,16 @@ def finish(fig, path, title, axes):
 
 
 def save(fig, path):
-    """The figure as a PNG at most MAX_PLOT_PIXELS wide, written whole (writers.atomic_write: never
+    """The figure as a PNG at most MAX_PLOT_PIXELS wide, of 256 colours (a third of the full-colour
+    file: a committed run's budget, docs/measurements.md), written whole (writers.atomic_write: never
     through a link planted at path, never half a file on a full disk), and closed."""
     png = io.BytesIO()
     fig.savefig(png, format="png", dpi=min(130, MAX_PLOT_PIXELS / fig.get_figwidth()))
     plt.close(fig)
-    atomic_write(path, png.getvalue())
+    png.seek(0)
+    palette = io.BytesIO()
+    Image.open(png).convert("RGB").quantize(256, method=Image.Quantize.MEDIANCUT).save(palette, "PNG", optimize=True)
+    atomic_write(path, palette.getvalue())
 
 
 def plain(v, _=None):

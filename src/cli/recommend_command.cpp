@@ -3,8 +3,6 @@
 // prints the recommendation. Also the target options and recommendation.json of suite and claims.
 #include "cli/recommend_command.hpp"
 
-#include <zlib.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -19,6 +17,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common_options.hpp"
+#include "cli/gzip.hpp"
 #include "cli/run_directory.hpp"
 #include "experiment/plan_runner.hpp"
 #include "experiment/run_outputs.hpp"
@@ -241,41 +240,6 @@ std::optional<Candidate> candidate_of(const RowFields& f, int format_version) {
   return c;
 }
 
-// A gzip file's contents (a committed run keeps its measurements.json compressed), inflated 64 KiB
-// at a time, what it unpacks to held to the memory budget every 16 MiB: a small file may unpack to
-// any size.
-std::string gunzip(const std::string& packed, const std::string& path) {
-  struct Inflater {
-    z_stream z{};
-    ~Inflater() { inflateEnd(&z); }
-  } inflater;
-  z_stream& z = inflater.z;
-  if (inflateInit2(&z, 16 + MAX_WBITS) != Z_OK) throw std::runtime_error(path + ": zlib cannot start");
-  std::string out;
-  std::size_t fed = 0, checked = 0;
-  int status = Z_OK;
-  std::vector<char> buffer(std::size_t(1) << 16);
-  while (status != Z_STREAM_END) {  // each pass consumes input or makes output, or stops
-    if (z.avail_in == 0 && fed < packed.size()) {
-      const std::size_t n = std::min<std::size_t>(packed.size() - fed, std::size_t(1) << 30);
-      z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(packed.data() + fed));
-      z.avail_in = uInt(n);
-      fed += n;
-    }
-    z.next_out = reinterpret_cast<Bytef*>(buffer.data());
-    z.avail_out = uInt(buffer.size());
-    status = inflate(&z, Z_NO_FLUSH);
-    if (status != Z_OK && status != Z_STREAM_END) throw InputError(path + ": not a whole gzip file");
-    out.append(buffer.data(), buffer.size() - z.avail_out);
-    if (out.size() >= checked + (std::size_t(16) << 20) || status == Z_STREAM_END) {
-      checked = out.size();
-      if (out.size() > kMaxMeasurementsBytes) throw InputError(path + ": unpacks to more than 64 GiB");
-      check_memory_budget(double(out.size()) * kJsonParseFactor, path + ": unpacking measurements.json");
-    }
-  }
-  return out;
-}
-
 // A run's measurements.json and its format version.
 struct Measurements {
   Json data;
@@ -296,7 +260,7 @@ Measurements read_measurements(const std::string& path) {
   };
   try {
     std::string text = read_input_file(path, "measurements.json", kMaxMeasurementsBytes);
-    if (text.size() >= 2 && text[0] == '\x1f' && text[1] == '\x8b') text = gunzip(text, path);
+    if (is_gzip(text)) text = gunzip(text, path, kMaxMeasurementsBytes, kJsonParseFactor);
     data = Json::parse(text, shallow);
   } catch (const Json::exception& e) {  // nlohmann refuses NaN, Infinity and 1e400 as not JSON
     throw InputError(path + ": not JSON (" + e.what() + ")");

@@ -68,11 +68,12 @@ std::vector<char*> pointers(std::vector<std::string>& strings) {
 
 }  // namespace
 
-void write_report(const std::string& run_dir, const std::string& history) {
+void write_report(const std::string& run_dir, const std::string& history, bool csv) {
   // -s: no user site-packages; -P: no current directory on the path, so nothing of the user's
   // directory is imported in place of the package or the standard library.
   std::vector<std::string> args = {kPython, "-s", "-P", "-m", "heightmarch_tools", "report"};
   if (!history.empty()) args.insert(args.end(), {"--history", history});
+  if (csv) args.push_back("--csv");
   args.insert(args.end(), {"--", run_dir});  // a directory named like an option is still the run
   std::vector<std::string> env = {"PYTHONPATH=" + tools_directory()};
   for (char** e = environ; *e; ++e)
@@ -145,19 +146,21 @@ void say_signal_after_record(const std::string& program, const std::string& hist
 
 Command add_report_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand("report",
-                                         "a run's report (report.md, tables.md, plots, measurements.csv, "
-                                         "report.html) from its measurements.json");
+                                         "a run's report (report.md, tables.md, plots, report.html) from its "
+                                         "measurements.json or measurements.json.gz");
   auto run_dir = std::make_shared<std::string>();
   auto history = std::make_shared<std::string>();
+  auto csv = std::make_shared<bool>(false);
   command->add_option("run", *run_dir, "the run's directory")->required();
   command->add_option("--history", *history,
                       "record the run (a complete one) into this history CSV, with its alerts against the "
                       "machine's earlier runs (a full suite records into results/history.csv)");
-  return [run_dir, history] {
+  command->add_flag("--csv", *csv, "also measurements.csv: every row flat, for a spreadsheet or pandas");
+  return [run_dir, history, csv] {
     std::error_code ec;
     if (!fs::is_directory(*run_dir, ec)) throw InputError(*run_dir + ": no such run directory");
     RunDirectory dir(*run_dir, RunDirectory::Existing::beside);  // no run is writing into it meanwhile
-    write_report(dir.path(), *history);
+    write_report(dir.path(), *history, *csv);
     say_signal_after_record("heightmarch", *history);
     return 0;
   };

@@ -25,11 +25,13 @@ namespace {
 
 // The files a command writes at the top of its directory: trace and glsl (metrics.json and the
 // images), claims (claims.md, claims.json, measurements.json, recommendation.json), suite (all of these but
-// trace's, bench.json, report.md) and the marker of a run under way. Any of them means the directory holds a
-// run's results. Not rays.csv: a name the user's own rays file may have (trace --rays rewrites it whole).
-const char* const kRunFiles[] = {"INCOMPLETE", "measurements.json",   "metrics.json", "claims.json",
-                                 "claims.md",  "recommendation.json", "bench.json",   "report.md",
-                                 "hits.exr",   "error.png",           "render.png",   "cost.png"};
+// trace's, measurements.json.gz, bench.json.gz, report.md) and the marker of a run under way. Any of them
+// means the directory holds a run's results. Not rays.csv: a name the user's own rays file may have (trace
+// --rays rewrites it whole).
+const char* const kRunFiles[] = {
+    "INCOMPLETE", "measurements.json",   "measurements.json.gz", "metrics.json",  "claims.json",
+    "claims.md",  "recommendation.json", "bench.json",           "bench.json.gz", "report.md",
+    "hits.exr",   "error.png",           "render.png",           "cost.png"};
 
 }  // namespace
 

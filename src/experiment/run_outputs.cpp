@@ -230,7 +230,7 @@ std::string mrays(const Measurement& m) {
 
 // cost.png: the samples each pixel's ray took (discarded rays took theirs too), beside error.png
 // and with the same legend strip; none when the counts are unknown (a brought-in shader).
-void write_cost_image(const std::string& dir, const TracedRow& traced) {
+void write_cost_image(const std::string& dir, const TracedRow& traced, ImageFormat format) {
   if (!traced.row.samples_known) return;
   const RayBatch& rays = traced.rays;
   const int w = rays.image_width, h = rays.image_height;
@@ -244,7 +244,7 @@ void write_cost_image(const std::string& dir, const TracedRow& traced) {
   int cost_height = 0;
   const char* unit = traced.row.config.kind == RunKind::exact ? "cells" : "samples";
   const std::vector<std::uint8_t> cost = cost_map(samples, has_ray, w, h, unit, cost_height);
-  write_png_rgb8(dir + "/cost.png", w, cost_height, cost);
+  write_rgb8(dir + "/cost" + extension(format), w, cost_height, cost);
 }
 
 }  // namespace
@@ -361,7 +361,7 @@ std::string summary_text(const Measurement& m) {
 namespace {
 
 // hits.exr, error.png and render.png: the view's pixels.
-void write_images(const std::string& dir, const TracedRow& traced) {
+void write_images(const std::string& dir, const TracedRow& traced, ImageFormat format) {
   const RayBatch& rays = traced.rays;
   const HitBuffers& hits = traced.hits;
   const Configuration& c = traced.row.config;
@@ -388,21 +388,21 @@ void write_images(const std::string& dir, const TracedRow& traced) {
   write_exr(dir + "/hits.exr", w, h, names, exr);
   int heat_height = 0;
   const std::vector<std::uint8_t> heat = error_heat_map(error, has_ray, w, h, heat_height);
-  write_png_rgb8(dir + "/error.png", w, heat_height, heat);
-  write_cost_image(dir, traced);
-  write_png_rgb8(
-      dir + "/render.png", w, h,
+  write_rgb8(dir + "/error" + extension(format), w, heat_height, heat);
+  write_cost_image(dir, traced, format);
+  write_rgb8(
+      dir + "/render" + extension(format), w, h,
       shade_render(traced.map, c.params.wrap, c.params.scale, u, v, shadow, has_ray, w, h, c.params.light));
 }
 
 }  // namespace
 
-void write_run_outputs(const std::string& dir, const TracedRow& traced) {
+void write_run_outputs(const std::string& dir, const TracedRow& traced, ImageFormat images) {
   std::filesystem::create_directories(dir);
   const Configuration& c = traced.row.config;
   // Rays from a file are no picture (their N x 1 "image" is beyond PNG's width at a million
   // rays): per-ray files only.
-  if (c.view.kind != ViewSpec::Kind::rays_file) write_images(dir, traced);
+  if (c.view.kind != ViewSpec::Kind::rays_file) write_images(dir, traced, images);
   write_file_atomically(dir + "/metrics.json", metrics_json(traced.row));
   if (c.view.kind != ViewSpec::Kind::rays_file) return;
   const RayBatch& rays = traced.rays;

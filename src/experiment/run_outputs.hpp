@@ -4,6 +4,7 @@
 #include <string>
 
 #include "experiment/plan_runner.hpp"
+#include "io/images.hpp"
 
 namespace heightmarch {
 
@@ -22,8 +23,10 @@ std::string summary_text(const Measurement& row);
 std::string metrics_json(const Measurement& row);
 
 // hits.exr, error.png, cost.png (when the sample counts are known), render.png and metrics.json in
-// dir; for rays from a file, metrics.json and rays.csv (each ray with its hit and the exact one) only.
-void write_run_outputs(const std::string& dir, const TracedRow& traced);
+// dir (the images in `images`' format: .webp for a suite's gallery); for rays from a file,
+// metrics.json and rays.csv (each ray with its hit and the exact one) only.
+void write_run_outputs(const std::string& dir, const TracedRow& traced,
+                       ImageFormat images = ImageFormat::png);
 
 // The run's one table (docs/measurements.md).
 std::string measurements_json(const MeasuredPlan& run, const std::string& plan_name);

@@ -202,9 +202,13 @@ std::vector<std::uint8_t> image_with_legend(int width, int height, const Palette
 
 }  // namespace
 
-void write_png_rgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb) {
-  write_image(path, OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8), OIIO::TypeDesc::UINT8,
-              rgb.data());
+const char* extension(ImageFormat format) { return format == ImageFormat::webp ? ".webp" : ".png"; }
+
+void write_rgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb) {
+  OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
+  if (path.size() >= 5 && path.compare(path.size() - 5, 5, ".webp") == 0)
+    spec.attribute("compression", "webp:80");
+  write_image(path, spec, OIIO::TypeDesc::UINT8, rgb.data());
 }
 
 void write_exr(const std::string& path, int width, int height, const std::vector<std::string>& channel_names,

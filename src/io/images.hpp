@@ -1,5 +1,5 @@
 #pragma once
-// Images for people and data files: PNG and EXR through OpenImageIO, the uv error heat map and
+// Images for people and data files: PNG, WebP and EXR through OpenImageIO, the uv error heat map and
 // the shaded render of a technique's hits.
 #include <cstdint>
 #include <string>
@@ -10,8 +10,15 @@
 
 namespace heightmarch {
 
+// How an image for people is kept: PNG, lossless (trace's outputs), or WebP at quality 80, about a
+// fifth of PNG's bytes and the same to the eye (a run's gallery, within its budget:
+// docs/measurements.md).
+enum class ImageFormat { png, webp };
+const char* extension(ImageFormat format);  // ".png", ".webp"
+
 // Both write to a temporary file beside path and rename it into place; throw std::runtime_error.
-void write_png_rgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb);
+// write_rgb8 keeps the image in the format its path's extension names.
+void write_rgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb);
 void write_exr(const std::string& path, int width, int height, const std::vector<std::string>& channel_names,
                const std::vector<float>& interleaved);
 

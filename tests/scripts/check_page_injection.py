@@ -11,10 +11,8 @@ view, the first point of every frontier chart is clicked and hovered; then windo
 unset, the title untouched, no console error (an <img src=x> that was made would fail to load),
 and every name shown as text somewhere on the page.
 """
-import json
-import os
-
 from check_report_page import Browser, Failure, main
+from heightmarch_tools.readers import read_json, run_file
 
 ROWS = "document.querySelectorAll('table.recommendation tr').length - 1"
 CLICK_ROW = """(() => {
@@ -32,7 +30,7 @@ POINTS = """(() => [...document.querySelectorAll('.frontier-chart')].map(div => 
 
 
 def check(run_dir):
-    data = json.load(open(os.path.join(run_dir, "measurements.json")))
+    data = read_json(run_file(run_dir, "measurements.json"))
     labels = sorted({r["heightfield"]["label"] for r in data["rows"]})
     browser = Browser()
     try:

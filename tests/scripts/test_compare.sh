@@ -303,9 +303,9 @@ PY
 # 20% longer (llvmpipe's GLSL rows, its controls, too) fails as a run-wide shift of the machine; with
 # every time but the controls' 20% longer it fails as a run-wide regression, each benchmark named.
 scale_run() {  # scale_run OUT FACTOR CONTROLS_TOO
-  /usr/bin/python3 - "$root/results/latest/bench.json" "$@" <<'PY'
-import json, sys
-d = json.load(open(sys.argv[1]))
+  /usr/bin/python3 - "$root/results/latest/bench.json.gz" "$@" <<'PY'
+import gzip, json, sys
+d = json.load(gzip.open(sys.argv[1]))
 for b in d["benchmarks"]:
     if sys.argv[4] == "yes" or not b["name"].startswith("BM_GLSL/"):
         b["real_time"] *= float(sys.argv[3])
@@ -314,11 +314,11 @@ json.dump(d, open(sys.argv[2], "w"))
 PY
 }
 scale_run "$tmp/all-slower.json" 1.2 yes
-run uniform "$root/results/latest/bench.json" "$tmp/all-slower.json"
+run uniform "$root/results/latest/bench.json.gz" "$tmp/all-slower.json"
 [ "$rc" = 1 ] && has "^RUN-WIDE SHIFT: the whole run (its median benchmark) is +20.0% against OLD, the controls +20.0%: the machine" \
   && has "^FAILED: run-wide shift$" || fail "every benchmark 20% slower: exit $rc, not a run-wide shift"
 scale_run "$tmp/code-slower.json" 1.2 no
-run uniform_code "$root/results/latest/bench.json" "$tmp/code-slower.json"
+run uniform_code "$root/results/latest/bench.json.gz" "$tmp/code-slower.json"
 [ "$rc" = 1 ] && has "^RUN-WIDE REGRESSION: the whole run (its median benchmark) is +20.0% against OLD, the controls +0.0%" \
   && has "^SPEED REGRESSION: [0-9][0-9]* benchmark(s)" || fail "every benchmark but the controls 20% slower: exit $rc, not a run-wide regression"
 echo "ok: a uniform 20% slow-down fails: a run-wide shift when the controls moved too, a run-wide regression when they did not"
@@ -365,6 +365,6 @@ run small_slower "$tmp/small-a.json" "$tmp/small-slower.json"
 [ "$rc" = 1 ] && grep "REGRESSION" "$tmp/small_slower.out" | grep -q "technique:pom/layers:32/isa:avx2" || fail "a 60% slower benchmark in a small run: exit $rc"
 echo "ok: small runs of one binary: no false alarm in 5 pairs; without repetitions refused in one line; 60% slower found"
 
-run baseline "$root/results/latest/bench.json" "$root/results/latest/bench.json"
+run baseline "$root/results/latest/bench.json.gz" "$root/results/latest/bench.json.gz"
 [ "$rc" = 0 ] || fail "the committed baseline against itself exits $rc"
 echo "ok: the latest committed run against itself passes"

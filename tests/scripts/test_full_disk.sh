@@ -69,6 +69,6 @@ fi
 run suite "$build/heightmarch" suite --quick --no-glsl --repetitions 1 --out "$tmp/disk/run"
 [ "$rc" = 1 ] || fail "suite on a full disk exits $rc: $(tail -3 "$tmp/suite.out")"
 tail -1 "$tmp/suite.out" | grep -q "cannot write" || fail "suite: $(tail -3 "$tmp/suite.out")"
-for f in measurements.json bench.json report.md; do [ ! -e "$tmp/disk/run/$f" ] || fail "suite left $f"; done
+for f in measurements.json.gz bench.json.gz report.md; do [ ! -e "$tmp/disk/run/$f" ] || fail "suite left $f"; done
 no_temporaries
 echo "ok: suite --out: exit 1, INCOMPLETE kept, no temporaries, $(tail -1 "$tmp/suite.out")"

@@ -43,9 +43,9 @@ run="$tmp/cwd/run"
 
 # The gallery: every image the rows name exists in run/gallery/, and nothing was written beside the maps.
 /usr/bin/python3 - "$run" <<'PY' || fail "the gallery's files"
-import json, os, sys
+import gzip, json, os, sys
 run = sys.argv[1]
-images = [p for r in json.load(open(os.path.join(run, "measurements.json")))["rows"] for p in (r["images"] or {}).values() if p]
+images = [p for r in json.load(gzip.open(os.path.join(run, "measurements.json.gz")))["rows"] for p in (r["images"] or {}).values() if p]
 assert len(images) >= 9, images
 for p in images:
     assert p.startswith("gallery/") and "/" not in p[len("gallery/"):] and os.path.isfile(os.path.join(run, p)), p
@@ -56,6 +56,7 @@ PY
   || fail "something was written beside the maps"
 echo "ok: nothing written beside the maps (a file planted there untouched)"
 
+"$build/heightmarch" report "$run" --csv > /dev/null || fail "heightmarch report --csv"
 /usr/bin/python3 - "$run/measurements.csv" <<'PY' || fail "measurements.csv"
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1], newline="")))

@@ -2,9 +2,9 @@
 # heightmarch as installed: BUILD_DIR installed into a temporary prefix, the prefix moved elsewhere,
 # then, with the build tree and the source tree out of reach (empty directories mounted over them
 # in a private mount namespace), the installed tool's quick suite writes a complete run with its
-# report (report.md, tables.md, report.html, measurements.csv, plots) whose links to the docs land
+# report (report.md, tables.md, report.html, plots) whose links to the docs land
 # in the installed docs, and `heightmarch report RUN` writes the report again from
-# measurements.json. A small quick plan (POM and maxmip, the matrix and the gallery): about 10 s.
+# measurements.json.gz. A small quick plan (POM and maxmip, the matrix and the gallery): about 10 s.
 # Usage: test_installed.sh BUILD_DIR
 set -euo pipefail
 source "$(dirname "$0")/prelude.sh"
@@ -39,7 +39,7 @@ hidden "$tool" suite --quick --techniques pom,maxmip --parts matrix,gallery --ou
   || { cat "$tmp/suite.out"; fail "the installed suite --quick failed with the build and source trees hidden"; }
 run="$tmp/run"
 [ ! -e "$run/INCOMPLETE" ] || fail "the installed suite's run is INCOMPLETE"
-for f in measurements.json report.md tables.md report.html measurements.csv plots/error_vs_layers.png; do
+for f in measurements.json.gz report.md tables.md report.html ../plotly-basic.min.js plots/error_vs_layers.png; do
   [ -s "$run/$f" ] || fail "the installed suite wrote no $f"
 done
 grep -q "^## What to ship" "$run/report.md" || fail "report.md lacks what to ship"
@@ -54,4 +54,4 @@ echo "ok: the installed quick suite (moved prefix, build and source trees hidden
 rm "$run/report.md" "$run/report.html"
 hidden "$tool" report "$run" > "$tmp/report.out" 2>&1 || { cat "$tmp/report.out"; fail "heightmarch report"; }
 [ -s "$run/report.md" ] && [ -s "$run/report.html" ] || fail "heightmarch report did not write the report again"
-echo "ok: heightmarch report RUN writes the report again from measurements.json"
+echo "ok: heightmarch report RUN writes the report again from measurements.json.gz"

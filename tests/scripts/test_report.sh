@@ -7,8 +7,9 @@
 # fraction above 100% is a fault and not a result, a busy run says so at the top, every plot is
 # drawn and no wider than 1600 px, zero errors read 0, a gallery cost image is shown beside the
 # error image, a '|' in a cell is escaped, the links to docs/ resolve from the run directory,
-# measurements.csv has a row per configuration with the measures' one names, report.html is one
-# file with Plotly inlined, --history appends rows with the machine's columns (replacing a rerun's) and
+# with --csv measurements.csv has a row per configuration with the measures' one names (none
+# without), report.html carries its rows gzip'd and loads Plotly from beside the run (written there
+# once, inlined where that directory cannot be written to), --history appends rows with the machine's columns (replacing a rerun's) and
 # writes alerts.json, a filtered run's headline
 # ratios keep only the columns it measured, a format 1
 # measurements.json still reads, and a missing measurements.json is a one-line error, status 2.
@@ -145,7 +146,8 @@ cat > "$tmp/run/alerts.json" <<'JSON'
  "alerts": [{"series": "BM_Trace/pom/32", "kind": "speed", "metric": "rays_per_second", "baseline": 40e6,
              "baseline_spread": 1e6, "new": 30e6, "change": -0.25, "message": "POM-32 at avx2 25% slower"}]}
 JSON
-"$root/scripts/report" "$tmp/run" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "report exited non-zero"; }
+[ ! -e "$tmp/run/measurements.csv" ] || fail "measurements.csv written without --csv"
+"$root/scripts/report" "$tmp/run" --csv > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "report exited non-zero"; }
 sections="$(grep '^## ' "$report" | head -5 | tr '\n' '/')"
 [ "$sections" = "## Alerts/## What to ship/## The claims: the tutorials' (C1-C10) and the papers' (P1-P3)/## Headline speed ratios/## Warnings/" ] \
   || fail "report.md's first sections: $sections"
@@ -234,10 +236,21 @@ print("ok: measurements.csv: %d rows, one per configuration, %d columns" % (len(
 PY
 
 page="$tmp/run/report.html"
-grep -q 'plotly.js (basic - minified) v4.1.1' "$page" || fail "report.html does not inline Plotly 4.1.1"
-! grep -Eq '<script[^>]+src=|<link[^>]+href="http' "$page" || fail "report.html loads a script or style from elsewhere"
-grep -q '"technique":"maxmip"' "$page" || fail "report.html lacks the rows"
-echo "ok: report.html is one file: Plotly inlined, nothing loaded from elsewhere"
+grep -q 'plotly.js (basic - minified) v4.1.1' "$tmp/plotly-basic.min.js" || fail "no Plotly 4.1.1 beside the run"
+[ "$(grep -Eo '<script[^>]+src="[^"]*"' "$page")" = '<script src="../plotly-basic.min.js"' ] \
+  || fail "report.html loads a script other than ../plotly-basic.min.js: $(grep -Eo '<script[^>]+src="[^"]*"' "$page")"
+! grep -Eq '<link[^>]+href="http|plotly.js \(basic' "$page" || fail "report.html loads a style from elsewhere, or inlines Plotly"
+PYTHONPATH="$root/scripts" /usr/bin/python3 - "$page" <<'PY' || fail "report.html lacks the rows"
+import base64, gzip, json, re, sys
+packed = re.search(r'<script id="report-data" type="application/gzip\+base64">(.*?)</script>', open(sys.argv[1]).read(), re.S)
+assert any(r["technique"] == "maxmip" for r in json.loads(gzip.decompress(base64.b64decode(packed.group(1))))["rows"])
+PY
+# Where the directory above the run cannot be written to, the page inlines Plotly (root writes anywhere: a file in the way).
+mkdir -p "$tmp/blocked/run" && cp -r "$tmp/run/." "$tmp/blocked/run/" && mkdir "$tmp/blocked/plotly-basic.min.js"
+"$root/scripts/report" "$tmp/blocked/run" > "$tmp/out" 2>&1 || { cat "$tmp/out"; fail "report exited non-zero"; }
+grep -q 'plotly.js (basic - minified) v4.1.1' "$tmp/blocked/run/report.html" && ! grep -q '<script src=' "$tmp/blocked/run/report.html" \
+  || fail "report.html neither finds nor inlines Plotly where ../plotly-basic.min.js cannot be written"
+echo "ok: report.html: rows gzip'd, Plotly once beside the run (inlined where it cannot be written), nothing loaded from elsewhere"
 grep -q "| bricks | maxmip | 2 | .* | 97% |" "$tables" || fail "the walks' table shows maxmip's samples/s with its SIMD use"
 grep -q "The walks' samples/s and SIMD use" "$page" || fail "report.html lacks the walks' table"
 echo "ok: the walks' samples/s beside their SIMD use, in tables.md and report.html"
@@ -246,10 +259,11 @@ echo "ok: the walks' samples/s beside their SIMD use, in tables.md and report.ht
 # "(not distinguishable)" caveat with it), in words (no measure's code name as a column), and the
 # busy machine's warning on the page's first screen, before the alerts, as at the top of report.md.
 /usr/bin/python3 - "$tmp/run" <<'PY' || fail "report.html and report.md differ"
-import json, os, re, sys
+import base64, gzip, json, os, re, sys
 run = sys.argv[1]
 page = open(os.path.join(run, "report.html")).read()
-data = json.loads(re.search(r'<script id="report-data" type="application/json">(.*?)</script>', page, re.S).group(1))
+packed = re.search(r'<script id="report-data" type="application/gzip\+base64">(.*?)</script>', page, re.S).group(1)
+data = json.loads(gzip.decompress(base64.b64decode(packed)))
 table = data["recommendation_table"]
 md = open(os.path.join(run, "report.md")).read()
 unescape = lambda cell: re.sub(r"\\(.)", r"\1", cell.strip()).replace("**", "")

@@ -19,10 +19,12 @@ run="$(ls -d "$tmp"/cwd/results/*-quick)"
 [ "$(echo "$run" | wc -l)" -eq 1 ] || fail "expected one run directory, got: $run"
 [ ! -e "$tmp/cwd/results/latest" ] || fail "a quick run moved results/latest"
 [ ! -e "$tmp/cwd/results/history.csv" ] || fail "a quick run wrote results/history.csv"
-for f in measurements.json measurements.csv bench.json recommendation.json claims.md claims.json report.md tables.md \
-         report.html plots/error_vs_layers.png plots/error_vs_angle.png plots/error_vs_speed.png plots/isa_speedup.png; do
+for f in measurements.json.gz bench.json.gz recommendation.json claims.md claims.json report.md tables.md \
+         report.html plots/error_vs_layers.png plots/error_vs_angle.png plots/error_vs_speed.png plots/isa_speedup.png \
+         ../plotly-basic.min.js; do
   [ -s "$run/$f" ] || fail "missing or empty $f"
 done
+for f in measurements.json bench.json measurements.csv; do [ ! -e "$run/$f" ] || fail "$f kept uncompressed"; done
 [ ! -e "$run/INCOMPLETE" ] || fail "a completed run still says INCOMPLETE"
 [ "$(stat -c %a "$run/report.md")" = 644 ] || fail "report.md is not world-readable"
 # The progress counts what its header announces: "... 415 runs) into DIR", then "n/415 runs done"
@@ -40,10 +42,10 @@ echo "ok: a fresh run directory with every file; latest and history untouched by
 runs="$("$build/heightmarch" --version | sed -n 's/^ISAs this CPU runs: \([^(]*\).*/\1/p')"
 [ -n "$runs" ] || fail "heightmarch --version does not name the ISAs this CPU runs"
 /usr/bin/python3 - "$run" "$tmp/claims.list" "$runs" <<'PY' || fail "measurements.json or bench.json lacks what the plan asked for"
-import json, os, sys
+import gzip, json, os, sys
 run = sys.argv[1]
 cpu_isas = [name.strip() for name in sys.argv[3].split(",")]
-m = json.load(open(run + "/measurements.json"))
+m = json.load(gzip.open(run + "/measurements.json.gz"))
 rows = m["rows"]
 techniques = [t["name"] for t in m["techniques"]]
 assert [b for b in m["backends"] if b not in ("glsl", "naive", "exact", "calibration")] == cpu_isas, (m["backends"], cpu_isas)
@@ -108,7 +110,7 @@ for r in rows:
         for path in r["images"].values():
             assert os.path.getsize(os.path.join(run, path)) > 100, path
 timed = {r["id"] for r in rows if r["speed"]}
-bench = json.load(open(run + "/bench.json"))
+bench = json.load(gzip.open(run + "/bench.json.gz"))
 names = {b["name"] for b in bench["benchmarks"]}
 assert all("min_time" not in n and "/view:around:256x256/depth_map:256x256/manual_time" in n for n in names), sorted(names)[:3]
 assert any(n.startswith("BM_GLSL/heightfield:bricks/technique:pom/layers:32/isa:glsl/threads:1/gl:osmesa/") for n in names)
@@ -137,9 +139,10 @@ echo "ok: report.md has the recommendation and links; tables.md its tables, spee
 
 # The result files against their JSON Schemas (docs/schemas/); metrics.json as trace --json prints it.
 "$build/heightmarch" trace --res 32 --size 16x16 --repetitions 1 --json > "$tmp/metrics.json" || fail "trace --json"
-/usr/bin/python3 "$root/tests/scripts/check_schemas.py" measurements "$run/measurements.json" claims "$run/claims.json" \
+gzip -dc "$run/measurements.json.gz" > "$tmp/measurements.json" || fail "measurements.json.gz is no whole gzip file"
+/usr/bin/python3 "$root/tests/scripts/check_schemas.py" measurements "$tmp/measurements.json" claims "$run/claims.json" \
   recommendation "$run/recommendation.json" metrics "$tmp/metrics.json" || fail "a result file does not conform to its schema"
-sed 's/"uv_error_p95"/"uv_p95"/' "$run/measurements.json" > "$tmp/old-names.json"
+sed 's/"uv_error_p95"/"uv_p95"/' "$tmp/measurements.json" > "$tmp/old-names.json"
 ! /usr/bin/python3 "$root/tests/scripts/check_schemas.py" measurements "$tmp/old-names.json" > /dev/null \
   || fail "the schema accepts a measure under its format 1 name"
 echo "ok: measurements.json, claims.json, recommendation.json and metrics.json conform to their schemas"
@@ -153,7 +156,7 @@ grep -q "already holds a run" "$tmp/again.out" || { cat "$tmp/again.out"; fail "
 echo "ok: a second run into the same directory is refused"
 
 "$root/scripts/report" "$run" --history "$tmp/history.csv" > /dev/null
-sed -i '0,/"commit": "[^"]*"/s//"commit": "second"/' "$run/measurements.json"
+sed '0,/"commit": "[^"]*"/s//"commit": "second"/' "$tmp/measurements.json" | gzip > "$run/measurements.json.gz"
 "$root/scripts/report" "$run" --history "$tmp/history.csv" > /dev/null
 runs=$(tail -n +2 "$tmp/history.csv" | cut -d, -f2 | sort -u | wc -l)
 [ "$runs" -eq 2 ] || fail "history holds $runs runs, expected 2"

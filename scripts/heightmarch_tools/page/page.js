@@ -1,11 +1,19 @@
-// report.html's script: the run's data (the JSON in #report-data, written by report_page.py) drawn
-// with Plotly: the recommendation, the error-against-cost frontier per heightfield with its
+// report.html's script: the run's data (the JSON in #report-data, gzip'd and base64'd by
+// report_page.py, unpacked here by the browser's DecompressionStream) drawn with Plotly: the recommendation, the error-against-cost frontier per heightfield with its
 // filters and a point's images, the speed per ISA and the history of this machine with its alerts.
 // Data becomes page text only through textContent (el's "text"), and Plotly's labels, which it
 // reads as a little HTML, only through esc(): a name with markup is shown, never run.
 "use strict";
-(function () {
-  const DATA = JSON.parse(document.getElementById("report-data").textContent);
+(async function () {
+  if (typeof Plotly === "undefined" || typeof DecompressionStream === "undefined") {
+    const missing = typeof Plotly === "undefined"
+      ? "Plotly did not load: the page reads it from plotly-basic.min.js in the folder above the run's (heightmarch report RUN writes it there)."
+      : "This browser cannot unpack the page's data (no DecompressionStream): open it in a browser of 2023 or later.";
+    document.querySelector("main").prepend(Object.assign(document.createElement("p"), {className: "warning", textContent: missing}));
+    return;
+  }
+  const packed = Uint8Array.from(atob(document.getElementById("report-data").textContent), c => c.charCodeAt(0));
+  const DATA = JSON.parse(await new Response(new Blob([packed]).stream().pipeThrough(new DecompressionStream("gzip"))).text());
   // The registry's markers are matplotlib's codes (the PNG plots use them): Plotly's names for them.
   const SYMBOLS = {o: "circle", s: "square", D: "diamond", d: "diamond-tall", "^": "triangle-up", v: "triangle-down",
                    "<": "triangle-left", ">": "triangle-right", P: "cross", "+": "cross-thin", X: "x", x: "x-thin",
