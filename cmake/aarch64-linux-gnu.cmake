@@ -1,6 +1,6 @@
 # Cross build for arm64 with Debian's g++-aarch64-linux-gnu, run under qemu-user
-# (tests/arm64/scalar_tests.sh). HEIGHTMARCH_ARM64_SYSROOT holds the arm64 libraries that Debian's
-# cross packages lack (TBB, unpacked from its arm64 packages).
+# (tests/arm64/qemu_tests.sh). HEIGHTMARCH_ARM64_SYSROOT holds the arm64 libraries that Debian's
+# cross packages lack (TBB and Highway, unpacked from Debian's arm64 packages; GLM's headers).
 set(CMAKE_SYSTEM_NAME Linux)
 set(CMAKE_SYSTEM_PROCESSOR aarch64)
 set(CMAKE_C_COMPILER aarch64-linux-gnu-gcc)  # GoogleTest, built from source, enables C

@@ -33,20 +33,22 @@ function(heightmarch_isa id name header width march_packets walk_packets walk_ev
   set(HEIGHTMARCH_ISA_${id}_autovec_flags "${ARGN}" PARENT_SCOPE)
 endfunction()
 
+# Every architecture: the scalar reference, which every other ISA is held to.
+heightmarch_isa(scalar "scalar" vfloat1.hpp 1 1 1 1 "HWY_EMU128|HWY_SCALAR" "" "")
 if(CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$")
   # GCC's generic tuning emulates gathers with scalar loads (2.5x slower measured on an AMD EPYC)
   # unless told to use the ISA's (-mtune-ctrl); it changes no result.
   set(gathers "$<$<CXX_COMPILER_ID:GNU>:-mtune-ctrl=use_gather_2parts,use_gather_4parts,use_gather>")
-  heightmarch_isa(scalar "scalar" vfloat1.hpp 1 1 1 1 "HWY_EMU128|HWY_SCALAR" "" "")
   heightmarch_isa(sse42 "sse4.2" vfloat4_sse.hpp 4 2 1 2 HWY_SSE4 "sse4.2" "-msse4.2")
   heightmarch_isa(avx2 "avx2" vfloat8_avx2.hpp 8 2 1 4 HWY_AVX2 "avx2;fma;bmi2" "-mavx2;-mfma;-mbmi2" ${gathers})
   # GCC 12's AVX-512 headers warn about their own _mm512_undefined_* values.
   heightmarch_isa(avx512 "avx512" vfloat16_avx512.hpp 16 2 2 16 HWY_AVX3
     "avx2;fma;bmi2;avx512f;avx512bw;avx512dq;avx512vl"
     "-mavx512f;-mavx512bw;-mavx512dq;-mavx512vl;-mfma;-mbmi2;-Wno-maybe-uninitialized;-Wno-uninitialized" ${gathers})
-else()
-  # Elsewhere (arm64, ...) the packet kernels run at width 1: the scalar reference.
-  heightmarch_isa(scalar "scalar" vfloat1.hpp 1 1 1 1 "HWY_EMU128|HWY_SCALAR" "" "")
+elseif(CMAKE_SYSTEM_PROCESSOR MATCHES "^(aarch64|arm64|ARM64)$")
+  # Advanced SIMD is the AArch64 baseline: no CPU feature to check, no flag. Its packets are
+  # SSE4.2's width with 32 registers, which hold a walk's pair as AVX-512's do.
+  heightmarch_isa(neon "neon" vfloat4_neon.hpp 4 2 2 4 HWY_NEON "" "")
 endif()
 
 # Sets what a per-ISA template (src/isa/*.cpp.in, tests/*.cpp.in) is configured with for the ISA

@@ -4,6 +4,7 @@
 
 #include <cstring>
 
+#include "simd/lane_shuffles4.hpp"
 #include "simd/packet.hpp"
 
 namespace heightmarch::HEIGHTMARCH_ISA_NS {
@@ -193,26 +194,7 @@ inline vfloat<4> pow2(vint<4> n) {
 }
 inline std::uint32_t mask_bits(vbool<4> m) { return std::uint32_t(_mm_movemask_ps(m.m)); }
 
-// For each mask of 4 lanes, the pshufb controls that move element k of a load to the k-th true
-// lane (expand: the bytes of lane l are those of the number of true lanes below l) and the k-th
-// true lane to element k (compress).
-struct LaneShuffles4 {
-  alignas(16) std::uint8_t expand[16][16] = {};
-  alignas(16) std::uint8_t compress[16][16] = {};
-  constexpr LaneShuffles4() {
-    for (int mask = 0; mask < 16; ++mask)
-      for (int lane = 0, below = 0; lane < 4; ++lane) {
-        for (int byte = 0; byte < 4; ++byte) {
-          expand[mask][4 * lane + byte] = std::uint8_t(4 * below + byte);
-          if ((mask >> lane) & 1) compress[mask][4 * below + byte] = std::uint8_t(4 * lane + byte);
-        }
-        below += (mask >> lane) & 1;
-      }
-  }
-};
-inline constexpr LaneShuffles4 kLaneShuffles4{};
-
-// expand_load() and compress_store() (packet.hpp) with one shuffle.
+// expand_load() and compress_store() (packet.hpp) with one shuffle (lane_shuffles4.hpp).
 inline __m128i expand_lanes(__m128i loaded, vbool<4> m, __m128i old) {
   const __m128i control =
       _mm_load_si128(reinterpret_cast<const __m128i*>(kLaneShuffles4.expand[_mm_movemask_ps(m.m)]));
