@@ -296,7 +296,8 @@ class PyramidWalker {
         width_(float(k.texture.width)),
         height_(float(k.texture.height)),
         inv_width_(1.0f / float(k.texture.width)),
-        inv_height_(1.0f / float(k.texture.height)) {
+        inv_height_(1.0f / float(k.texture.height)),
+        pow2_offsets_(std::int32_t(std::int64_t(k.texture.width) * k.texture.height * 4 / 3)) {
     // Per level: where its entries start (MinDepthPyramid's layout) and its blocks a side
     // (ceil(cells / 2^L)), looked up by each lane's level (register permutes where the ISA has
     // them).
@@ -466,8 +467,11 @@ class PyramidWalker {
       if constexpr (ADDRESSING == Addressing::repeat_pow2) {
         // Row (oy mod H) >> L of the level's W >> L blocks, column (ox mod W) >> L: shifted
         // together, as a row of W (2^L divides W).
+        // Level L starts at sum_{k<L} A / 4^k = K - (K >> 2L) entries, K = floor(4A / 3) for
+        // A = W H a power of two (the floors agree: 4A and 4A >> 2L have the same parity of log2).
         const I row = ((oy & I(texture_.height - 1)) >> s.level) << width_log2_;
-        entry = lookup(level_offset_, s.level) + ((row + (ox & I(texture_.width - 1))) >> s.level);
+        entry = (I(pow2_offsets_) - (I(pow2_offsets_) >> (s.level + s.level))) +
+                ((row + (ox & I(texture_.width - 1))) >> s.level);
       } else {
         I wx = ox >> s.level, wy = oy >> s.level;
         if constexpr (ADDRESSING == Addressing::repeat) {
@@ -623,6 +627,7 @@ class PyramidWalker {
   const int top_level_;
   const int width_log2_;  // REPEAT of a power-of-two side
   const F width_, height_, inv_width_, inv_height_;
+  const std::int32_t pow2_offsets_;  // K (REPEAT of power-of-two sides)
   Table16<std::int32_t> level_offset_, level_blocks_x_;
   Slots slots_{};
   int n_ = 0;  // the rays queued
