@@ -96,7 +96,7 @@ TEST(Plan, TheExactReferenceIsARowWithoutError) {
   options.min_seconds = 0.0;
   const MeasuredPlan run = measure_plan({c}, options);
   ASSERT_TRUE(run.rows[0].errors.has_value());
-  EXPECT_EQ(run.rows[0].errors->max, 0.0);
+  EXPECT_EQ(run.rows[0].errors->uv.max, 0.0);
   EXPECT_GT(run.rows[0].samples, 0u);  // cells solved
 }
 

@@ -19,19 +19,23 @@
 namespace heightmarch {
 namespace {
 
-// A candidate at the avx2 2-thread grid (or GLSL): its time per ray in ns over 5 rounds.
+// A candidate at the avx2 2-thread grid (or GLSL): its time per ray in ns over 5 rounds, its search
+// error's p99 and wrong rate (in the target's unit) as given.
 Candidate row(int id, const std::string& hf, Technique t, const char* layers, double ns, double p99,
-              double wrong, double samples = 10.0, RunKind kind = RunKind::trace, int threads = 2) {
+              double wrong, double samples = 10.0, RunKind kind = RunKind::trace, int threads = 2,
+              Filter filter = Filter::bilinear) {
   Candidate c;
   c.id = id;
   c.heightfield = hf;
-  c.backend = {kind, kind == RunKind::trace ? Isa::avx2 : Isa::scalar, threads, ""};
+  c.backend = {kind, kind == RunKind::trace ? Isa::avx2 : Isa::scalar, threads, "", filter};
   c.grid = kind == RunKind::trace;
   c.technique = t;
   c.layers = layers_for(t, parse_layer_spec(layers));
-  c.selection.uv_error[int(ErrorPercentile::p99)] = p99;
-  c.selection.uv_error[int(ErrorPercentile::max)] = 10 * p99;
-  c.selection.wrong_surface_rate = wrong;
+  c.filter = filter;
+  c.selection.search.values[int(ErrorPercentile::p99)] = p99;
+  c.selection.search.values[int(ErrorPercentile::max)] = 10 * p99;
+  c.selection.search.wrong_rate = wrong;
+  c.selection.total = c.selection.search;
   c.samples_per_ray = samples;
   c.rays = 1000;
   for (double f : {1.0, 1.02, 0.98, 1.01, 0.99}) c.seconds.push_back(ns * f * 1e-9 * double(c.rays));
@@ -59,18 +63,18 @@ TEST(Recommendation, FastestByTimeNotBySamples) {
 }
 
 TEST(Recommendation, BothBoundsApply) {
-  RecommendationTarget target;  // p99 <= 0.5 texel, wrong surface <= 0.5%
+  RecommendationTarget target;  // p99 <= 0.5 pixel, wrong pixel <= 0.5%
   const std::vector<Candidate> rows = {
       row(0, "bricks", Technique::pom, "10", 3.0, 0.4, 0.047),  // p99 fine, 4.7% wrong
       row(1, "bricks", Technique::pom, "16", 4.0, 0.9, 0.004),  // few wrong, p99 too big
       row(2, "bricks", Technique::relief, "64", 9.0, 0.06, 0.004)};
   EXPECT_EQ(cpu(recommend(rows, target)).per_heightfield[0].choice->label(), "relief 64");
-  target.wrong_surface_rate = 0.05;
+  target.max_wrong_rate = 0.05;
   EXPECT_EQ(cpu(recommend(rows, target)).per_heightfield[0].choice->label(), "pom 10");
   target.percentile = ErrorPercentile::max;  // max = 10 p99 here
-  target.uv_error_texels = 5.0;
+  target.max_error = 5.0;
   EXPECT_EQ(cpu(recommend(rows, target)).per_heightfield[0].choice->label(), "pom 10");
-  target.uv_error_texels = 1.0;
+  target.max_error = 1.0;
   EXPECT_EQ(cpu(recommend(rows, target)).per_heightfield[0].choice->label(), "relief 64");
 }
 
@@ -120,23 +124,26 @@ TEST(Recommendation, DeclaredBackendsAreTheGridsAndGlslAtItsThreads) {
       row(2, "bricks", Technique::pom, "32", 40.0, 0.2, 0.001, 10, RunKind::glsl, 1)};
   const Recommendation r = recommend(rows, RecommendationTarget{});
   ASSERT_EQ(r.backends.size(), 2u) << "GLSL at one thread is not a grid's backend";
-  EXPECT_EQ(r.backends[0].backend.name(), "avx2, 2 threads");
-  EXPECT_EQ(r.backends[1].backend.name(), "glsl, 2 threads");
+  EXPECT_EQ(r.backends[0].backend.name(), "avx2, 2 threads, bilinear");
+  EXPECT_EQ(r.backends[1].backend.name(), "glsl, 2 threads, bilinear");
   const std::string json = recommendation_json(r);
-  for (const char* key : {"\"format\": \"heightmarch-recommendation\"", "\"format_version\": 2",
-                          "\"measure\": \"uv_error_p99\"", "\"all_heightfields\"", "\"per_heightfield\"",
-                          "\"ns_per_ray\"", "\"precompute_ms_per_frame\""})
+  for (const char* key :
+       {"\"format\": \"heightmarch-recommendation\"", "\"format_version\": 3",
+        "\"measure\": \"search_pixel_error_p99\"", "\"wrong_measure\": \"search_wrong_pixel_rate\"",
+        "\"unit\": \"pixels\"", "\"filter\": \"bilinear\"", "\"all_heightfields\"", "\"per_heightfield\"",
+        "\"ns_per_ray\"", "\"precompute_ms_per_frame\""})
     EXPECT_NE(json.find(key), std::string::npos) << key;
 }
 
-// The held-out figures: p99 and wrong-surface rate on the held-out set, with intervals.
+// The held-out figures: the search error's p99 and wrong rate on the held-out set, with intervals.
 Accuracy held_out(double p99, double wrong) {
   Accuracy a;
-  a.uv_error[int(ErrorPercentile::p99)] = p99;
-  a.uv_error_ci[int(ErrorPercentile::p99)] = {0.9 * p99, 1.1 * p99};
-  a.uv_error[int(ErrorPercentile::max)] = 10 * p99;
-  a.wrong_surface_rate = wrong;
-  a.wrong_surface_ci = {0.9 * wrong, 1.1 * wrong};
+  a.search.values[int(ErrorPercentile::p99)] = p99;
+  a.search.intervals[int(ErrorPercentile::p99)] = {0.9 * p99, 1.1 * p99};
+  a.search.values[int(ErrorPercentile::max)] = 10 * p99;
+  a.search.wrong_rate = wrong;
+  a.search.wrong_ci = {0.9 * wrong, 1.1 * wrong};
+  a.total = a.search;
   a.rays = 1000;
   return a;
 }
@@ -163,20 +170,21 @@ TEST(Recommendation, APlantedWindowOnlySettingIsNotRecommended) {
   ASSERT_TRUE(a.near_miss);
   EXPECT_EQ(a.near_miss->pick.label(), "pom 16");
   EXPECT_NEAR(a.near_miss->margin, 1.1, 1e-9);
-  EXPECT_EQ(a.near_miss->measure, "wrong surface");
+  EXPECT_EQ(a.near_miss->measure, "wrong pixel");
   const std::string text = recommendation_text(r);
   EXPECT_NE(text.find("not pom 8, pom 16, which meet the target on the window but not on the held-out views"),
             std::string::npos)
       << text;
   EXPECT_NE(text.find("the next that holds: relief 16"), std::string::npos) << text;
-  EXPECT_NE(text.find("held-out p99 0.25 (0.225-0.275) texel, wrong surface 0.3% (0.27-0.33%)"),
+  EXPECT_NE(text.find("held-out p99 0.25 (0.225-0.275) pixel, wrong pixel 0.3% (0.27-0.33%)"),
             std::string::npos)
       << text;
-  EXPECT_NE(text.find("near miss pom 16: 1.33x faster, wrong surface 10% over its bound"), std::string::npos)
+  EXPECT_NE(text.find("near miss pom 16: 1.33x faster, wrong pixel 10% over its bound"), std::string::npos)
       << text;
   const std::string json = recommendation_json(r);
-  for (const char* key : {"\"held_out\": {", "\"uv_error_p99_ci\": [", "\"failed_held_out\": [",
-                          "\"near_miss\": {", "\"held_out_checked\": true", "\"format_version\": 2"})
+  for (const char* key :
+       {"\"held_out\": {", "\"search_pixel_error_p99_ci\": [", "\"search_wrong_pixel_ci\": [",
+        "\"failed_held_out\": [", "\"near_miss\": {", "\"held_out_checked\": true", "\"format_version\": 3"})
     EXPECT_NE(json.find(key), std::string::npos) << key;
   // Without held-out twins the window decides, and the answer says it was not checked.
   for (Candidate& c : rows) c.held_out.reset();
@@ -200,12 +208,63 @@ TEST(Recommendation, TheRunnerUpNeverReadsFasterThanTheChoice) {
   EXPECT_FALSE(a.runner_up_ratio->distinguishable());
 }
 
+// Each filter has its own answer, side by side: a shader that samples level 0 and one that reads a
+// mip chain ship different settings.
+TEST(Recommendation, EachFilterItsOwnAnswer) {
+  const std::vector<Candidate> rows = {
+      row(0, "bricks", Technique::pom, "8", 2.0, 0.9, 0.02),
+      row(1, "bricks", Technique::relief, "32", 6.0, 0.2, 0.002),
+      row(2, "bricks", Technique::pom, "8", 2.5, 0.3, 0.001, 10, RunKind::trace, 2, Filter::trilinear),
+      row(3, "bricks", Technique::relief, "32", 7.0, 0.1, 0.001, 10, RunKind::trace, 2, Filter::trilinear)};
+  const Recommendation r = recommend(rows, RecommendationTarget{});
+  ASSERT_EQ(r.backends.size(), 2u);
+  EXPECT_EQ(r.backends[0].backend.name(), "avx2, 2 threads, bilinear");
+  EXPECT_EQ(r.backends[1].backend.name(), "avx2, 2 threads, trilinear");
+  EXPECT_EQ(r.backends[0].per_heightfield.at(0).choice->label(), "relief 32");
+  EXPECT_EQ(r.backends[1].per_heightfield.at(0).choice->label(), "pom 8");
+  EXPECT_EQ(r.backends[1].per_heightfield.at(0).settings, 2) << "a filter's answer reads its own rows";
+}
+
+// Under trilinear the filter's bias stands beside the search error; where it alone misses the target
+// and outweighs the search, the answer says more layers do not change what a player sees.
+TEST(Recommendation, FilterDominatedWhereTheBiasAloneMissesTheTarget) {
+  std::vector<Candidate> rows = {
+      row(0, "bricks", Technique::pom, "16", 3.0, 0.3, 0.002, 10, RunKind::trace, 2, Filter::trilinear),
+      row(1, "waves", Technique::pom, "16", 3.0, 0.3, 0.002, 10, RunKind::trace, 2, Filter::trilinear)};
+  rows[0].selection.bias.values[int(ErrorPercentile::p99)] = 2.5;  // bricks: mipmapping moves it 2.5 pixels
+  rows[0].selection.bias.wrong_rate = 0.04;
+  rows[1].selection.bias.values[int(ErrorPercentile::p99)] = 0.2;  // waves: a little
+  const RecommendationTarget target;
+  EXPECT_TRUE(filter_dominated(rows[0].selection, target));
+  EXPECT_FALSE(filter_dominated(rows[1].selection, target));
+  const Recommendation r = recommend(rows, target);
+  const BackendRecommendation& b = r.backends.at(0);
+  ASSERT_TRUE(b.per_heightfield.at(0).choice && b.per_heightfield.at(1).choice);
+  EXPECT_TRUE(b.per_heightfield.at(0).filter_dominated);
+  EXPECT_FALSE(b.per_heightfield.at(1).filter_dominated);
+  EXPECT_TRUE(b.all_heightfields.filter_dominated) << "the one setting for all shows bricks too";
+  const std::string text = recommendation_text(r);
+  EXPECT_NE(text.find("bricks: pom 16: "), std::string::npos) << text;
+  EXPECT_NE(text.find("; filter bias p99 2.5 pixel, wrong pixel 4%"), std::string::npos) << text;
+  EXPECT_NE(text.find("; filter-dominated: more layers do not change what a player sees here\n"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(recommendation_json(r).find("\"filter_dominated\": true"), std::string::npos);
+  // The search error outweighing the bias: the layers still matter.
+  rows[0].selection.search.values[int(ErrorPercentile::p99)] = 3.0;
+  EXPECT_FALSE(filter_dominated(rows[0].selection, target));
+  // Under bilinear the bias is none, whatever a row says.
+  rows[0].filter = rows[0].backend.filter = Filter::bilinear;
+  rows[0].selection.search.values[int(ErrorPercentile::p99)] = 0.3;
+  EXPECT_FALSE(recommend({rows[0]}, target).backends.at(0).per_heightfield.at(0).filter_dominated);
+}
+
 TEST(Recommendation, TargetsOutsideTheirRangeAreRefused) {
   RecommendationTarget t;
-  t.wrong_surface_rate = 1.5;
+  t.max_wrong_rate = 1.5;
   EXPECT_THROW(validate(t), InputError);
   t = {};
-  t.uv_error_texels = -1;
+  t.max_error = -1;
   EXPECT_THROW(validate(t), InputError);
   t = {};
   t.frames = 0;
@@ -245,11 +304,16 @@ TEST(Recommendation, RecommendReadsARunToTheSuitesAnswer) {
   const auto other =
       test::run_cli("recommend " + out + " --percentile p95 --max-error 2 --max-wrong-surface 100");
   ASSERT_EQ(other.status, 0) << other.output;
-  EXPECT_NE(other.output.find("at p95 <= 2 texel, wrong surface <= 100%"), std::string::npos) << other.output;
+  EXPECT_NE(other.output.find("at p95 <= 2 pixel, wrong pixel <= 100%"), std::string::npos) << other.output;
+  const auto texels =
+      test::run_cli("recommend " + out + " --unit texels --percentile p95 --max-error 2 --max-wrong 100");
+  ASSERT_EQ(texels.status, 0) << texels.output;
+  EXPECT_NE(texels.output.find("at p95 <= 2 texel, wrong surface <= 100%"), std::string::npos)
+      << texels.output;
   for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
            {"recommend " + out + " --percentile p90", "--percentile: p90 not in"},
            {"recommend " + out + " --max-wrong-surface 101",
-            "--max-wrong-surface: must be in [0, 100], not 101"},
+            "--max-wrong: must be in [0, 100], not 101"},  // its former name, an alias
            {"recommend /nonexistent", "/nonexistent: cannot open measurements.json"}}) {
     const auto r = test::run_cli(args);
     EXPECT_EQ(r.status, 2) << args << ": " << r.output;
@@ -277,10 +341,23 @@ TEST(Recommendation, RecommendRefusesBadValuesInOneLine) {
   };
   const auto write = [&](const std::string& text) {
     std::ofstream(dir + "/measurements.json") << text;
-    return test::run_cli("recommend " + dir);
+    return test::run_cli("recommend " + dir + " --unit texels");
   };
   const auto fine = write(good);
   ASSERT_EQ(fine.status, 0) << fine.output;
+  // A run of format 2 has no errors in pixels, and read level 0 as every filter's reference.
+  const auto pixels = test::run_cli("recommend " + dir);
+  EXPECT_EQ(pixels.status, 2) << pixels.output;
+  EXPECT_NE(
+      pixels.output.find("rows[0]: errors: has no errors in pixels (measured before they were): read it with "
+                         "--unit texels"),
+      std::string::npos)
+      << pixels.output;
+  const auto trilinear = write(with("\"threads\": 2,", "\"threads\": 2, \"filter\": \"trilinear\","));
+  EXPECT_EQ(trilinear.status, 2) << trilinear.output;
+  EXPECT_NE(trilinear.output.find("reads trilinear but was measured before the search error"),
+            std::string::npos)
+      << trilinear.output;
   for (const auto& [text, message] : std::vector<std::pair<std::string, std::string>>{
            {with("[0.001, 0.0011, 0.0009]", "[1e308, 0.0011, 0.0009]"),
             "rows[0]: speed.seconds: is 1e+308, not in (0,"},
@@ -373,25 +450,27 @@ TEST(SuiteFilters, TheUsersMapsTechniquesLayersIsasThreadsAndParts) {
 
 // --filter: the run's filter on every configuration that takes one (the kernels, their anchors,
 // GLSL), the ports at level 0, the exact reference filterless; a second filter adds the matrix
-// under it, accuracy only, for the report's comparison; claims read one filter.
+// under it, timed, for an answer of its own and the report's comparison; claims read one filter.
 TEST(SuiteFilters, FilterReadsTheRunAndComparesTheMatrix) {
   PlanSettings s = suite_settings(true, 2);
   s.filter = Filter::trilinear;
   s.compared_filters = {Filter::bilinear};
-  std::size_t compared = 0, matrix = 0;
+  std::size_t compared = 0, matrix = 0, held_out[2] = {0, 0};  // by filter: trilinear, bilinear
   const std::vector<Configuration> plan = suite_plan(s);
   for (const Configuration& c : plan) {
     if (c.purposes & kPurposeFilters) {
       ++compared;
       EXPECT_EQ(c.purposes, unsigned(kPurposeFilters));
       EXPECT_EQ(c.params.filter, Filter::bilinear);
-      EXPECT_FALSE(c.timed);
+      EXPECT_TRUE(c.timed) << "its answer is timed as the run's own";
       // its twin of the matrix, read with the run's filter
       Configuration twin = c;
       twin.params.filter = Filter::trilinear;
       EXPECT_TRUE(std::any_of(plan.begin(), plan.end(), [&](const Configuration& o) {
         return (o.purposes & kPurposeMatrix) && o.same_measurement(twin);
       }));
+    } else if (c.purposes == kPurposeHeldOut) {
+      held_out[c.params.filter == Filter::bilinear] += 1;  // a candidate's twin reads as its candidate
     } else {
       matrix += (c.purposes & kPurposeMatrix) != 0;
       EXPECT_EQ(c.params.filter, takes_filter(c.kind) ? Filter::trilinear : Filter::bilinear)
@@ -399,13 +478,14 @@ TEST(SuiteFilters, FilterReadsTheRunAndComparesTheMatrix) {
     }
   }
   EXPECT_EQ(compared, matrix);
+  EXPECT_EQ(held_out[1], compared) << "each compared row has its held-out twin, under its filter";
+  EXPECT_GE(held_out[0], matrix);
   const auto dry = test::run_cli(
       "suite --quick --no-builtins --heightmap builtin:waves --techniques pom --layers 8 --threads 1 "
       "--parts matrix,filters --filter trilinear,bilinear --dry-run");
   ASSERT_EQ(dry.status, 0) << dry.output;
   EXPECT_NE(dry.output.find("around 256x256\ttrilinear\ttimed\tmatrix\n"), std::string::npos) << dry.output;
-  EXPECT_NE(dry.output.find("around 256x256\tbilinear\taccuracy\tfilters\n"), std::string::npos)
-      << dry.output;
+  EXPECT_NE(dry.output.find("around 256x256\tbilinear\ttimed\tfilters\n"), std::string::npos) << dry.output;
   const auto claims =
       test::run_cli("claims --quick --filter bilinear,trilinear --out " + test::temp_dir("claims-filters"));
   EXPECT_EQ(claims.status, 2) << claims.output;

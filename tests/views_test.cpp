@@ -213,6 +213,26 @@ TEST(Views, FreshRaysHaveTheWindowsAnglesAndEveryAzimuth) {
                             own = view_angles(make_view_rays(window(ViewSet::single(), 128, 128)));
   for (double p : {5.0, 50.0, 95.0}) EXPECT_NEAR(percentile(drawn, p), percentile(own, p), 1.0) << p;
   for (double share : sector_shares(rays)) EXPECT_NEAR(share, 1.0 / 8.0, 0.01);
+  // Each has the footprint of the window's ray it takes its angle from, turned with its azimuth: the
+  // same size (its level of detail, its pixels), and the window's spread of sizes.
+  const auto sizes = [](const RayBatch& batch) {
+    std::vector<double> area;
+    for (std::size_t i = 0; i < batch.size(); ++i)
+      if (!batch.is_padding(i))
+        area.push_back(
+            std::fabs(double(batch.du_dx[i]) * batch.dv_dy[i] - double(batch.du_dy[i]) * batch.dv_dx[i]));
+    std::sort(area.begin(), area.end());
+    return area;
+  };
+  const std::vector<double> fresh_area = sizes(rays),
+                            own_area = sizes(make_view_rays(window(ViewSet::single(), 128, 128)));
+  // The areas come in steps (a view's rows share theirs): each percentile of the drawn ones lies
+  // within a percent of ranks of the window's.
+  for (double p : {5.0, 50.0, 95.0}) {
+    EXPECT_GE(percentile(fresh_area, p), percentile(own_area, p - 1.0)) << "footprint area, p" << p;
+    EXPECT_LE(percentile(fresh_area, p), percentile(own_area, p + 1.0)) << "footprint area, p" << p;
+  }
+  EXPECT_GT(percentile(fresh_area, 5.0), 0.0) << "every fresh ray has a footprint";
 }
 
 // Clopper-Pearson and the order statistics' interval against known values (R's binom.test and the
@@ -242,14 +262,13 @@ TEST(Confidence, SummariesCarryIntervalsThatHoldTheirFigures) {
   test::Random rng(5);
   for (std::size_t i = 0; i < rays.size(); ++i)
     hits.u[i] = float(rng.uniform() < 0.01 ? 4.0 : 0.1 * rng.uniform()) / 64.0f;
-  const ErrorSummary e = summarize_errors(rays, hits, exact, 64, 64, Writes::hit);
+  const ErrorSummary summary = summarize_errors(rays, hits, {exact, exact}, 64, 64, Writes::hit);
+  const ErrorDistribution& e = summary.uv;
   EXPECT_NEAR(e.effective_rays, double(e.rays), 0.35 * e.rays) << "independent rays: about no design effect";
-  const Interval cp = clopper_pearson(e.wrong_surface_rate * e.effective_rays, e.effective_rays);
-  EXPECT_NEAR(e.wrong_surface_ci.low, cp.low, 1e-9);
-  for (const auto& [value, ci] : {std::pair{e.p50, e.p50_ci},
-                                  {e.p95, e.p95_ci},
-                                  {e.p99, e.p99_ci},
-                                  {e.wrong_surface_rate, e.wrong_surface_ci}}) {
+  const Interval cp = clopper_pearson(e.wrong_rate * e.effective_rays, e.effective_rays);
+  EXPECT_NEAR(e.wrong_ci.low, cp.low, 1e-9);
+  for (const auto& [value, ci] :
+       {std::pair{e.p50, e.p50_ci}, {e.p95, e.p95_ci}, {e.p99, e.p99_ci}, {e.wrong_rate, e.wrong_ci}}) {
     EXPECT_LE(ci.low, value);
     EXPECT_GE(ci.high, value);
     EXPECT_LT(ci.low, ci.high);
@@ -258,6 +277,66 @@ TEST(Confidence, SummariesCarryIntervalsThatHoldTheirFigures) {
   std::size_t grouped = 0;
   for (const ErrorGroup& g : e.by_azimuth) grouped += g.rays;
   EXPECT_EQ(grouped, e.rays);
+  EXPECT_FALSE(summary.pixels.measured) << "a list of rays has no pixel grid";
+}
+
+// A ray's pixel error is its uv error in its pixel's own axes: through the inverse of its
+// footprint, stretched or turned.
+TEST(PixelError, ThroughTheInverseOfTheFootprint) {
+  // One pixel is 1/64 in u and 1/32 in v: 1/64 in u is one pixel, 1/16 in v two.
+  EXPECT_NEAR(pixel_offset(1.0 / 64, 0.0, 1.0 / 64, 0.0, 0.0, 1.0 / 32), 1.0, 1e-12);
+  EXPECT_NEAR(pixel_offset(0.0, 1.0 / 16, 1.0 / 64, 0.0, 0.0, 1.0 / 32), 2.0, 1e-12);
+  // The footprint turned by 30 degrees and the offset with it: the same lengths.
+  const double c = std::cos(M_PI / 6), s = std::sin(M_PI / 6), a = 1.0 / 64, b = 1.0 / 32;
+  EXPECT_NEAR(pixel_offset(c * 3 * a, s * 3 * a, c * a, s * a, -s * b, c * b), 3.0, 1e-9);
+  EXPECT_NEAR(pixel_offset(-s * 5 * b, c * 5 * b, c * a, s * a, -s * b, c * b), 5.0, 1e-9);
+  // A sheared footprint (a grazing view): x moves u, y moves u and v.
+  EXPECT_NEAR(pixel_offset(0.0, 0.01, 0.01, 0.0, 0.04, 0.01), std::hypot(-4.0, 1.0), 1e-9);
+  EXPECT_TRUE(std::isnan(pixel_offset(0.01, 0.0, 0.0, 0.0, 0.0, 0.0))) << "no footprint, no pixels";
+  EXPECT_TRUE(std::isnan(pixel_offset(0.01, 0.0, 0.01, 0.01, 0.02, 0.02))) << "a footprint of no area";
+}
+
+// The distributions of a summary: the hit against level 0 and against the surface read, and the
+// surface read's from level 0, in texels and pixels; a wrong pixel is one more than a pixel off.
+TEST(PixelError, SearchErrorAndFilterBiasApart) {
+  RayBatch rays = test::random_rays(4000, 60.0, 9);
+  for (std::size_t i = 0; i < rays.size(); ++i) {  // two pixels a texel on a 64 x 64 map
+    rays.du_dx[i] = 1.0f / 128;
+    rays.dv_dy[i] = 1.0f / 128;
+  }
+  HitBuffers hits, level0, read;
+  for (HitBuffers* h : {&hits, &level0, &read}) h->resize(rays.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    read.u[i] = 2.0f / 64;  // the surface read's hit 2 texels (4 pixels) from level 0's
+    hits.u[i] = read.u[i] + (i % 4 == 0 ? 0.75f : 0.25f) / 64;  // the search 0.25 or 0.75 texel off it
+  }
+  const ErrorSummary e = summarize_errors(rays, hits, {level0, read}, 64, 64, Writes::hit);
+  ASSERT_TRUE(e.pixels.measured && e.search_pixels.measured && e.bias_pixels.measured);
+  EXPECT_NEAR(e.search.max, 0.75, 1e-6);
+  EXPECT_NEAR(e.search.p50, 0.25, 1e-6);
+  EXPECT_NEAR(e.search_pixels.max, 1.5, 1e-5);
+  EXPECT_NEAR(e.search.wrong_rate, 0.0, 1e-12) << "no search is more than a texel off";
+  EXPECT_NEAR(e.search_pixels.wrong_rate, 0.25, 0.01) << "a quarter of the rays more than a pixel off";
+  EXPECT_NEAR(e.bias.p99, 2.0, 1e-6);
+  EXPECT_NEAR(e.bias_pixels.p99, 4.0, 1e-5);
+  EXPECT_NEAR(e.bias.wrong_rate, 1.0, 1e-12);
+  EXPECT_NEAR(e.uv.max, 2.75, 1e-6) << "against level 0, the two added";
+  EXPECT_NEAR(e.pixels.max, 5.5, 1e-5);
+  EXPECT_EQ(e.uv.by_azimuth.size(), e.pixels.by_azimuth.size());
+  EXPECT_TRUE(e.search.by_azimuth.empty()) << "only the errors against level 0 are broken down";
+  // Every measure of the list has its value, under its name.
+  const auto measures = error_measures(e);
+  ASSERT_EQ(measures.size(), error_measure_list().size());
+  for (std::size_t k = 0; k < measures.size(); ++k)
+    EXPECT_EQ(measures[k].first, error_measure_list()[k].name);
+  const auto find = [&](const std::string& name) {
+    for (const auto& [n, v] : measures)
+      if (n == name) return v;
+    return -1.0;
+  };
+  EXPECT_NEAR(find("search_pixel_error_max"), 1.5, 1e-5);
+  EXPECT_NEAR(find("wrong_pixel_rate"), 1.0, 1e-12);
+  EXPECT_NEAR(find("filter_wrong_surface_rate"), 1.0, 1e-12);
 }
 
 }  // namespace

@@ -16,7 +16,8 @@ from .readers import Where, quoted, read_json, run_file
 from .spreads import per_round
 
 MEASUREMENTS_FORMAT = "heightmarch-measurements"
-MEASUREMENTS_VERSION = 2  # the newest this reads; 1: the measures were named uv_mean, uv_p95, ...
+MEASUREMENTS_VERSION = 3  # the newest this reads; 1: the measures were named uv_mean, uv_p95, ...; 3 added
+                          # the errors in pixels, the search error and the filter's bias
 CLAIMS_VERSION = 2        # 1: a bare list of claims
 KINDS = ("trace", "glsl", "roofline", "ceiling", "naive", "autovec", "exact", "calibration")
 GL_FIELDS = ("path", "device", "renderer", "version", "driver", "label")  # a GLSL row's renderer (its "gl")
@@ -162,7 +163,7 @@ def validate_row(row, where, techniques, backends):
             if key == "confidence":  # each measure's 95% interval, and the effective rays
                 for name, interval in where["errors"][key].object(value).items():
                     w = where["errors"][key][name]
-                    if name == "effective_rays":
+                    if name == "effective_rays" or name.endswith("_effective_rays"):  # the uv error's, another's
                         w.number(interval, 0, LARGEST)
                     else:
                         w.numbers(interval, 0, LARGEST, least=2)
@@ -201,43 +202,65 @@ def validate_row(row, where, techniques, backends):
                                            "is %s, not a PNG in the run's gallery/" % quoted(path))
 
 
+def wrong_ci_name(wrong):
+    """The interval of a wrong rate: wrong_pixel_rate -> wrong_pixel_ci (as metrics.hpp names it)."""
+    return wrong[:-len("_rate")] + "_ci"
+
+
+def upgrade_recommendation(data):
+    """An older recommendation.json (formats 1 and 2: one filter, a target in texels on the uv error) as
+    the newest: the target's measures under their names, each backend with the file's filter."""
+    target = data.get("target")
+    if not isinstance(target, dict) or "wrong_measure" in target:
+        return
+    target.update(wrong_measure="wrong_surface_rate", unit="texels", max_error=target.get("uv_error_texels"),
+                  max_wrong_rate=target.get("wrong_surface_rate"))
+    for b in data.get("backends") or []:
+        if isinstance(b, dict):
+            b.setdefault("filter", data.get("filter", "bilinear"))
+
+
 def validate_recommendation(data, where):
-    """recommendation.json: the fields report.md and the page show."""
+    """recommendation.json: the fields report.md and the page show (an older file upgraded in place)."""
     where.object(data, ("target", "backends"))
-    target = where["target"].object(data["target"], ("measure", "uv_error_texels", "wrong_surface_rate", "frames",
-                                                     "description"))
-    where["target"]["measure"].check(isinstance(target["measure"], str) and target["measure"].startswith("uv_error_"),
-                                     "is not a uv error measure")
-    where["target"]["uv_error_texels"].number(target["uv_error_texels"], 0, LARGEST)
-    where["target"]["wrong_surface_rate"].number(target["wrong_surface_rate"], 0, 1)
+    upgrade_recommendation(data)
+    target = where["target"].object(data["target"], ("measure", "wrong_measure", "unit", "max_error",
+                                                     "max_wrong_rate", "frames", "description"))
+    for key in ("measure", "wrong_measure"):
+        where["target"][key].check(isinstance(target[key], str) and MEASURE_NAME.fullmatch(target[key]),
+                                   "is not a measure's name")
+    where["target"]["unit"].check(target["unit"] in ("texels", "pixels"), "is neither texels nor pixels")
+    where["target"]["max_error"].number(target["max_error"], 0, LARGEST)
+    where["target"]["max_wrong_rate"].number(target["max_wrong_rate"], 0, 1)
     where["target"]["frames"].integer(target["frames"], 1, 2 ** 31)
     where["target"]["description"].text(target["description"])
     for i, b in enumerate(where["backends"].list(data["backends"])):
         w = where["backends"][i]
-        w.object(b, ("backend", "threads", "name", "all_heightfields", "per_heightfield"))
+        w.object(b, ("backend", "threads", "filter", "name", "all_heightfields", "per_heightfield"))
         w["backend"].text(b["backend"])
         w["name"].text(b["name"])
+        w["filter"].check(b["filter"] in ("bilinear", "trilinear"), "is neither bilinear nor trilinear")
         w["threads"].integer(b["threads"], 1, MAX_THREADS)
-        validate_answer(b["all_heightfields"], w["all_heightfields"], target["measure"])
+        validate_answer(b["all_heightfields"], w["all_heightfields"], target)
         for j, a in enumerate(w["per_heightfield"].list(b["per_heightfield"])):
-            validate_answer(a, w["per_heightfield"][j], target["measure"])
+            validate_answer(a, w["per_heightfield"][j], target)
 
 
-def validate_answer(answer, where, measure):
+def validate_answer(answer, where, target):
     where.object(answer)
     where["heightfield"].text(answer.get("heightfield"), none=True)
     where["settings"].integer(answer.get("settings", 0), 0, 2 ** 31)
     for key in ("choice", "closest", "runner_up"):
         if answer.get(key) is not None:
-            validate_pick(answer[key], where[key], measure)
+            validate_pick(answer[key], where[key], target)
     for i, pick in enumerate(where["failed_held_out"].list(answer.get("failed_held_out", []))):
-        validate_pick(pick, where["failed_held_out"][i], measure)
+        validate_pick(pick, where["failed_held_out"][i], target)
     near = answer.get("near_miss")
     if near is not None:  # format 2
         where["near_miss"].object(near, ("setting", "margin", "measure"))
         where["near_miss"]["margin"].number(near["margin"], 0, LARGEST)
         where["near_miss"]["measure"].text(near["measure"])
-        validate_pick(near["setting"], where["near_miss"]["setting"], measure)
+        validate_pick(near["setting"], where["near_miss"]["setting"], target)
     ratio = answer.get("runner_up_time_ratio")
     if ratio is not None and "per_round" in ratio:  # format 2: the ratio of the medians, the rounds' spread
         where["runner_up_time_ratio"].object(ratio, ("ratio", "per_round", "distinguishable"))
@@ -247,17 +270,18 @@ def validate_answer(answer, where, measure):
         validate_spread(ratio, where["runner_up_time_ratio"])
 
 
-def validate_pick(pick, w, measure):
+def validate_pick(pick, w, target):
+    measure, wrong = target["measure"], target["wrong_measure"]
     w.object(pick, ("label", "ns_per_ray", "rows"))
     w["label"].text(pick["label"])
     validate_spread(pick["ns_per_ray"], w["ns_per_ray"])
     for i, r in enumerate(w["rows"].list(pick["rows"])):
         wr = w["rows"][i]
-        wr.object(r, ("id", measure, "wrong_surface_rate", "samples_per_ray"))
+        wr.object(r, ("id", measure, wrong, "samples_per_ray"))
         wr["id"].integer(r["id"], 0, MAX_ID)
         wr["heightfield"].text(r.get("heightfield", ""))
         wr[measure].number(r[measure], 0, LARGEST)
-        wr["wrong_surface_rate"].number(r["wrong_surface_rate"], 0, 1)
+        wr[wrong].number(r[wrong], 0, 1)
         wr["samples_per_ray"].number(r["samples_per_ray"], 0, LARGEST)
         for key in ("precompute_seconds", "precompute_ms_per_frame"):
             wr[key].number(r.get(key), 0, LARGEST, none=True)
@@ -266,10 +290,11 @@ def validate_pick(pick, w, measure):
             if figures is None:
                 continue
             wf = wr[key]
-            wf.object(figures, (measure, measure + "_ci", "wrong_surface_rate", "wrong_surface_ci"))
+            wrong_ci = wrong_ci_name(wrong)
+            wf.object(figures, (measure, measure + "_ci", wrong, wrong_ci))
             wf[measure].number(figures[measure], 0, LARGEST)
-            wf["wrong_surface_rate"].number(figures["wrong_surface_rate"], 0, 1)
-            for ci, high in ((measure + "_ci", LARGEST), ("wrong_surface_ci", 1)):
+            wf[wrong].number(figures[wrong], 0, 1)
+            for ci, high in ((measure + "_ci", LARGEST), (wrong_ci, 1)):
                 wf[ci].check(isinstance(figures[ci], list) and len(figures[ci]) == 2, "is not a pair of numbers")
                 for x in figures[ci]:
                     wf[ci].number(x, 0, high)

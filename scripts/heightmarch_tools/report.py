@@ -94,7 +94,7 @@ def section_recommendation(run, recommendation):
     if varying:  # where the choice's figures vary over the window: the page shows each row's groups
         varying = ["", md("Where a choice's wrong-surface rate varies over the window beyond its 95% intervals:"),
                    ""] + ["- " + md(line) for line in varying]
-    return section(title, body + md_table(recommendation_columns(recommendation["target"]["measure"]), cells) + varying)
+    return section(title, body + md_table(recommendation_columns(recommendation["target"]), cells) + varying)
 
 
 def headline_ratios(run):
@@ -150,14 +150,15 @@ def section_claims(run, claims):
     return section("The claims: the tutorials' (C1-C10) and the papers' (P1-P3)", body)
 
 
-def section_filters(run):
+def section_filters(run, recommendation):
     pairs = filter_pairs(run)
     if not pairs:
         return []
-    columns, rows = filter_table(run, pairs)
+    target = (recommendation or {}).get("target")
+    columns, rows = filter_table(run, pairs, target)
     return section(filters_title(run, pairs), [
         "%s What each error means: [docs/measures.md](%s); the filters: [docs/conventions.md](%s)." % (
-            md(filters_intro(run, pairs)), markdown_target(docs_link(run, "measures.md")),
+            md(filters_intro(run, pairs, target)), markdown_target(docs_link(run, "measures.md")),
             markdown_target(docs_link(run, *FILTER_DOCS))), ""] + md_table(columns, rows))
 
 
@@ -462,7 +463,8 @@ def write_report(run, claims, recommendation, alerts, recorded, history_drawn, c
         lines += ["", "*The machine was busy during this run: speeds and ratios may be disturbed (see the warnings below). "
                    "Errors and samples per ray are deterministic and unaffected.*"]
     lines += section_alerts(alerts) + section_recommendation(run, recommendation)
-    lines += section_claims(run, claims) + section_filters(run) + section_ratios(run) + section_warnings(run, faults)
+    lines += section_claims(run, claims) + section_filters(run, recommendation) + section_ratios(run)
+    lines += section_warnings(run, faults)
     lines += section("The tables", ["In [tables.md](tables.md): " + "; ".join(
         "[%s](tables.md#%s)" % (t, anchor) for t, anchor in TABLES) + "."])
     lines += plots + section_machine(run)

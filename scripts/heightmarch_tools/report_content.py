@@ -7,7 +7,8 @@ escape.html or the page's textContent), so the two cannot drift apart.
 import math
 import statistics
 
-from .measurements import HEADLINE_LAYERS, HEADLINE_TECHNIQUE, counted, rays_rounds, samples_rounds, walks_per_isa
+from .measurements import (HEADLINE_LAYERS, HEADLINE_TECHNIQUE, counted, rays_rounds, samples_rounds, walks_per_isa,
+                           wrong_ci_name)
 from .spreads import relative_spread, spread
 
 SPREAD_LIMIT = 0.20  # (max - min) / median above this is flagged as a disturbed timing
@@ -81,12 +82,23 @@ def walks_table(run):
 # ---------------------------------------------------------------------------------------------
 # The recommendation's table
 
-def recommendation_columns(measure):
+# An answer whose filter's bias alone misses the target (recommendation.hpp's filter_dominated).
+FILTER_DOMINATED = "filter-dominated: more layers do not change what a player sees here"
+FILTER_DOMINATED_SHORT = "filter-dominated"
+
+def target_words(target):
+    """('pixel', 'wrong pixel') or ('texel', 'wrong surface'): how a target's unit and wrong rate read."""
+    return ("pixel", "wrong pixel") if target.get("unit") == "pixels" else ("texel", "wrong surface")
+
+
+def recommendation_columns(target):
     """[(title, numeric)]: the table's columns, in words."""
-    short = measure.replace("uv_error_", "")
+    short = target["measure"].rsplit("_", 1)[-1]
+    unit, wrong = target_words(target)
     return [("backend", False), ("heightfield", False), ("configuration", False), ("time per ray (ns)", True),
-            ("held-out %s uv error (texels, 95%% interval)" % short, True), ("held-out wrong surface", True),
-            ("window: %s uv error; wrong surface" % short, True), ("samples per ray", True), ("preprocessing", False),
+            ("held-out %s search error (%ss, 95%% interval)" % (short, unit), True), ("held-out %s" % wrong, True),
+            ("window: %s search error; %s" % (short, wrong), True),
+            ("filter bias: %s; %s" % (short, wrong), True), ("samples per ray", True), ("preprocessing", False),
             ("next fastest", False), ("notes", False)]
 
 
@@ -99,22 +111,33 @@ def fmt_interval(value, interval, scale=1.0, unit=""):
     return "%.3g%s (%.3g-%.3g%s)" % (value * scale, unit, interval[0] * scale, interval[1] * scale, unit)
 
 
-def worst_figures(rows, measure, key):
+def worst_figures(rows, target, key):
     """A pick's worst rows on one view set ('selection', or 'held_out'; format 1 rows carry the
-    window's figures on the row itself) as text: (the measure, the wrong-surface rate), each with its
+    window's figures on the row itself) as text: (the measure, the wrong rate), each with its
     interval; None where a row was not measured there."""
+    measure, wrong = target["measure"], target["wrong_measure"]
     sets = [r.get(key) if key in r else (r if key == "selection" else None) for r in rows]
     if any(f is None for f in sets):
         return None
     worst = max(sets, key=lambda f: f[measure])
-    wrong = max(sets, key=lambda f: f["wrong_surface_rate"])
+    worst_wrong = max(sets, key=lambda f: f[wrong])
     return (fmt_interval(worst[measure], worst.get(measure + "_ci")),
-            fmt_interval(wrong["wrong_surface_rate"], wrong.get("wrong_surface_ci"), 100, "%"))
+            fmt_interval(worst_wrong[wrong], worst_wrong.get(wrong_ci_name(wrong)), 100, "%"))
 
 
-def pick_cells(pick, measure):
+def bias_figures(rows, target):
+    """The filter's bias of a pick's worst row on the window (format 3), or '-' (bilinear: none)."""
+    measure, wrong = target.get("bias_measure"), target.get("bias_wrong_measure")
+    sets = [r.get("selection") or {} for r in rows]
+    if not measure or not all(measure in f for f in sets) or all(f[measure] == 0 and f[wrong] == 0 for f in sets):
+        return "-"
+    worst = max(sets, key=lambda f: f[measure])
+    return "%s; %s" % (fmt_interval(worst[measure], None), fmt(max(f[wrong] for f in sets), 2, 100, "%"))
+
+
+def pick_cells(pick, target):
     """A recommendation's pick as cells: setting, time, its rows' worst figures on the held-out set and
-    on the window, samples, preprocessing."""
+    on the window, the filter's bias, samples, preprocessing."""
     rows = pick["rows"]
     precompute = [r for r in rows if r.get("precompute_seconds") is not None]
     pre = "-"
@@ -122,9 +145,9 @@ def pick_cells(pick, measure):
         worst = max(precompute, key=lambda r: r["precompute_seconds"])
         pre = "%.3g s once (%.3g ms a frame)" % (worst["precompute_seconds"], worst.get("precompute_ms_per_frame") or 0)
     ns = pick["ns_per_ray"]
-    held_out = worst_figures(rows, measure, "held_out") or ("not measured", "not measured")
+    held_out = worst_figures(rows, target, "held_out") or ("not measured", "not measured")
     return [pick["label"], fmt_spread((ns["median"], ns["min"], ns["max"]), 2), held_out[0], held_out[1],
-            "; ".join(worst_figures(rows, measure, "selection")),
+            "; ".join(worst_figures(rows, target, "selection")), bias_figures(rows, target),
             "%.1f" % statistics.mean(r["samples_per_ray"] for r in rows), pre]
 
 
@@ -142,6 +165,8 @@ def answer_notes(answer):
                                                                  100 * (near["margin"] - 1)))
     if answer.get("held_out_checked") is False:
         notes.append("not checked on held-out views")
+    if answer.get("filter_dominated"):
+        notes.append(FILTER_DOMINATED)
     return "; ".join(notes) or "-"
 
 
@@ -159,26 +184,26 @@ def runner_up_text(answer):
                                   " (not distinguishable)" if overlap else "")
 
 
-def answer_cells(answer, measure):
+def answer_cells(answer, target):
     """The cells after backend and heightfield, and whether the first (the setting) is a choice."""
     if answer.get("choice"):
-        return pick_cells(answer["choice"], measure) + [runner_up_text(answer), answer_notes(answer)], True
+        return pick_cells(answer["choice"], target) + [runner_up_text(answer), answer_notes(answer)], True
     closest = answer.get("closest")
     what = "none of %d meets the target" % answer.get("settings", 0)
     if closest:
-        return [what + "; nearest: " + closest["label"]] + pick_cells(closest, measure)[1:] + ["-", answer_notes(answer)], False
-    return [what] + ["-"] * 8 + [answer_notes(answer)], False
+        return [what + "; nearest: " + closest["label"]] + pick_cells(closest, target)[1:] + ["-", answer_notes(answer)], False
+    return [what] + ["-"] * 9 + [answer_notes(answer)], False
 
 
 def recommendation_rows(recommendation):
     """[{"cells", "every" (the one setting for every heightfield), "chosen" (the setting is a
     choice, not the nearest miss), "id" (the row a reader opens: the pick's first, or None)}]."""
-    measure = recommendation["target"]["measure"]
+    target = recommendation["target"]
     out = []
     for b in recommendation["backends"]:
         for answer in [b["all_heightfields"]] + b["per_heightfield"]:
             every = answer is b["all_heightfields"]
-            cells, chosen = answer_cells(answer, measure)
+            cells, chosen = answer_cells(answer, target)
             pick = answer.get("choice") or answer.get("closest")
             out.append({"cells": [b["name"], "every heightfield" if every else answer["heightfield"]] + cells,
                         "every": every, "chosen": chosen, "id": pick["rows"][0]["id"] if pick else None})
@@ -188,15 +213,21 @@ def recommendation_rows(recommendation):
 def recommendation_intro(recommendation, run):
     """The sentence above the table, before its links."""
     target = recommendation["target"]
-    return ("The fastest configuration by measured time per ray (median (min-max) of the repetitions) at each backend, "
-            "among those with %s, on all heightfields as one setting (a shader runs one setting for every material) "
-            "and on each. Chosen over the window %s and checked on its held-out set %s: a setting meets the target only "
+    unit, wrong = target_words(target)
+    return ("The fastest configuration by measured time per ray (median (min-max) of the repetitions) at each backend "
+            "and filter, among those with %s: the search error, each ray's hit against the exact hit on the surface "
+            "it reads (level 0 under bilinear, the blend of two mip levels at its level of detail under trilinear), in "
+            "%ss; on all heightfields as one setting (a shader runs one setting for every material) and on each. "
+            "Under trilinear the filter's bias (the surface read's exact hit from level 0's: what mipmapping costs, "
+            "which no layer count changes) stands beside it; \"%s\" marks an answer whose bias alone misses the "
+            "target. Chosen over the window %s and checked on its held-out set %s: a setting meets the target only "
             "where its held-out figures do too (95%% intervals beside them). Errors are the worst of the setting's "
             "heightfields; preprocessing (cone map, min-depth pyramid) is built once per depth map and amortised over "
             "%d frames; it is not in the time per ray. \"Not distinguishable\": the next fastest's time ratio spans 1 "
             "over the repetitions, so the two are equally fast as measured; a near miss is the fastest setting that "
-            "misses a bound by less than 20%%." % (target["description"], run.window or "?",
-                                                    run.held_out_window or "(none measured)", target["frames"]))
+            "misses a bound by less than 20%%." % (target["description"], unit, FILTER_DOMINATED_SHORT,
+                                                    run.window or "?", run.held_out_window or "(none measured)",
+                                                    target["frames"]))
 
 
 def varies(groups):
@@ -282,24 +313,61 @@ def filters_title(run, pairs):
     return "%s against %s filtering" % (run.filter.capitalize(), pairs[0][1]["filter"])
 
 
-def filters_intro(run, pairs):
-    return ("The technique x layers matrix at %s read both ways: %s (this run's figures) and %s (accuracy only), each "
-            "against the same exact level-0 surface. Bilinear is the search's own error; trilinear is what a player sees "
-            "from a mipmapped depth map (the mip chain at each ray's level of detail). p99 in texels."
-            % (run.best_isa, run.filter, pairs[0][1]["filter"]))
+def filters_intro(run, pairs, target=None):
+    unit = filter_unit(pairs, target)
+    return ("The technique x layers matrix at %s read both ways, %s (this run's own) and %s, each row at the %s "
+            "percentile of %s: the search error (each ray's hit against the exact hit on the surface it reads: level 0 "
+            "under bilinear, the blend of two mip levels at its level of detail under trilinear: what layers buy), the "
+            "filter's bias (the surface read's exact hit from level 0's: what mipmapping costs, 0 under bilinear and "
+            "for maxmip, which reads level 0), and the error against level 0 the player sees (the two as vectors "
+            "added). %s"
+            % (run.best_isa, run.filter, pairs[0][1]["filter"], (target or {}).get("measure", "_p99").rsplit("_", 1)[-1],
+               unit, ("Filter-dominated: the bias alone misses the target (%s) and is at least the search error: more "
+                      "layers do not change what a player sees there." % target["description"]) if target else ""))
 
 
-def filter_table(run, pairs):
-    """Per configuration of the matrix measured under the other filter too (there are two): its errors
-    and cost under both, as text cells ([(title, numeric)], rows)."""
+def filter_unit(pairs, target):
+    """The unit the table reads in: the target's, else pixels where the rows have them, else texels."""
+    if target:
+        return target.get("unit", "texels")
+    e = pairs[0][0].get("errors") or {}
+    return "pixels" if e.get("search_pixel_error_p99") is not None else "texels"
+
+
+def filter_table(run, pairs, target=None):
+    """Per configuration of the matrix measured under the other filter too (there are two): its search
+    error, the filter's bias, the error against level 0 and the wrong rate under both, in the target's
+    unit, whether the trilinear row is filter-dominated, and the cost, as text cells ([(title, numeric)], rows)."""
     other = pairs[0][1]["filter"]
+    unit = filter_unit(pairs, target)
+    p = (target or {}).get("measure", "_p99").rsplit("_", 1)[-1]
+    names = {"texels": ("search_error", "filter_bias", "uv_error", "search_wrong_surface_rate", "wrong surface"),
+             "pixels": ("search_pixel_error", "filter_pixel_bias", "pixel_error", "search_wrong_pixel_rate",
+                        "wrong pixel")}[unit]
+    search, bias, total, wrong, wrong_words = names
     columns = [("heightfield", False), ("technique", False), ("layers", False)] + [
-        ("%s %s" % (title, f), True) for title in ("p99", "wrong surface", "samples/ray") for f in (run.filter, other)]
+        ("%s %s" % (title, f), True) for f in (run.filter, other)
+        for title in ("search %s (%s)" % (p, unit), "filter bias %s" % p, "%s against level 0" % p,
+                      "search %s" % wrong_words)] + [("samples/ray %s" % f, True) for f in (run.filter, other)]
+    if target:
+        columns.append(("filter-dominated", False))
     rows = []
     for own, theirs in pairs:
-        e, o = own.get("errors") or {}, theirs.get("errors") or {}
-        rows.append([own["heightfield"]["label"], own["technique"], own["layers"],
-                     fmt_error(e.get("uv_error_p99")), fmt_error(o.get("uv_error_p99")),
-                     fmt(e.get("wrong_surface_rate"), 2, 100, "%"), fmt(o.get("wrong_surface_rate"), 2, 100, "%"),
-                     fmt(own.get("samples_per_ray"), 2), fmt(theirs.get("samples_per_ray"), 2)])
+        cells = [own["heightfield"]["label"], own["technique"], own["layers"]]
+        dominated = "-"
+        for row in (own, theirs):
+            e = row.get("errors") or {}
+            # A run before the search error (format 2): level 0's is every filter's reference.
+            s, b, t = e.get("%s_%s" % (search, p)), e.get("%s_%s" % (bias, p)), e.get("%s_%s" % (total, p))
+            cells += [fmt_error(s), fmt_error(b), fmt_error(t), fmt(e.get(wrong), 2, 100, "%")]
+            if target and row.get("filter") == "trilinear" and None not in (s, b):
+                misses = b > target["max_error"] or (e.get(bias_wrong_name(bias)) or 0) > target["max_wrong_rate"]
+                dominated = "yes" if misses and b >= s else "no"
+        cells += [fmt(own.get("samples_per_ray"), 2), fmt(theirs.get("samples_per_ray"), 2)]
+        rows.append(cells + ([dominated] if target else []))
     return columns, rows
+
+
+def bias_wrong_name(bias):
+    """The filter's wrong rate of its bias distribution (metrics.hpp): filter_bias -> filter_wrong_surface_rate."""
+    return "filter_wrong_pixel_rate" if bias == "filter_pixel_bias" else "filter_wrong_surface_rate"

@@ -165,16 +165,17 @@ def isa_bars(found):
     return out
 
 
-def filters_html(run):
+def filters_html(run, recommendation):
     """The matrix under both filters (report_content's table, as report.md shows it), or a line
     saying it was not measured."""
     pairs = filter_pairs(run)
     if not pairs:
         return ("<p>Not measured in this run: every row is read with %s filtering (suite --filter bilinear,trilinear "
                 "measures both).</p>" % esc(run.filter))
-    columns, rows = filter_table(run, pairs)
+    target = (recommendation or {}).get("target")
+    columns, rows = filter_table(run, pairs, target)
     return ("<h3>%s</h3><p>%s What each error means: %s; the filters: %s.</p>" % (
-        esc(filters_title(run, pairs)), esc(filters_intro(run, pairs)),
+        esc(filters_title(run, pairs)), esc(filters_intro(run, pairs, target)),
         link(docs_link(run, "measures.md"), "docs/measures.md"), link(docs_link(run, *FILTER_DOCS), "docs/conventions.md"))
             + table(columns, [[esc(c) for c in cells] for cells in rows]))
 
@@ -248,7 +249,7 @@ def write_page(run, claims, recommendation, alerts, recorded, warnings, faults, 
         # the table report.md shows, cell for cell (report_content), and the row each line opens
         "recommendation_table": None if recommendation is None else {
             "intro": recommendation_intro(recommendation, run),
-            "columns": [title for title, _ in recommendation_columns(recommendation["target"]["measure"])],
+            "columns": [title for title, _ in recommendation_columns(recommendation["target"])],
             "rows": recommendation_rows(recommendation),
             "varies": breakdown_lines(run, recommendation)},
         "alerts": alerts,
@@ -274,7 +275,7 @@ def write_page(run, claims, recommendation, alerts, recorded, warnings, faults, 
                        + glsl_table(run, glsl_pairs(run))) if glsl_pairs(run) else "<p>Not measured in this run.</p>",
         "machine": machine_html(run),
         "warnings": warnings_html(warnings),
-        "filters": filters_html(run),
+        "filters": filters_html(run, recommendation),
         "filter": esc(run.filter),
     }
     plotly = ('<script src="../%s"></script>' % SHARED_PLOTLY if shared_plotly(run.dir)

@@ -190,7 +190,8 @@ def plot_error_vs_speed(run, recommendation, path):
             and r["kind"] in ("trace", "glsl") and r["backend"] == backend["backend"] and r["threads"] == backend["threads"]
             and r["view"]["kind"] == "default" and not r.get("failure")
             and r["heightfield"]["label"] in {a["heightfield"] for a in backend["per_heightfield"]}
-            and set(r["purposes"]) & {"matrix", "claims", "glsl"}]
+            and (r.get("filter") or "bilinear") == backend.get("filter", "bilinear")
+            and set(r["purposes"]) & {"matrix", "filters", "claims", "glsl"}]
     by_hf = groups(sorted(rows, key=run.order), lambda r: r["heightfield"]["label"])
     if not by_hf:
         return False
@@ -205,7 +206,7 @@ def plot_error_vs_speed(run, recommendation, path):
             if len(fixed) > 1:  # a technique's fixed layer counts as one curve, fewest layers first
                 ax.plot([x for x, _ in fixed], [y for _, y in fixed], color=style["color"], linewidth=0.7, alpha=0.6)
             for r, t, y in zip(group, times, ys):
-                ok = r["errors"]["wrong_surface_rate"] <= target["wrong_surface_rate"]
+                ok = r["errors"][target["wrong_measure"]] <= target["max_wrong_rate"]
                 ax.errorbar([t[0]], [y], xerr=[[t[0] - t[1]], [t[2] - t[0]]], linestyle="none", markersize=5,
                             elinewidth=0.7, color=style["color"], marker=style["marker"],
                             markerfacecolor=style["color"] if ok else "white", label=technique)
@@ -215,15 +216,17 @@ def plot_error_vs_speed(run, recommendation, path):
                             label="recommended here (ring) / for every heightfield (thin ring)")
                     ax.annotate(terminal(run.label(r)), (t[0], y), xytext=(9, 7), textcoords="offset points", fontsize=7,
                                 fontweight="bold")
-        ax.axhline(target["uv_error_texels"], color="black", linestyle="--", linewidth=0.8,
+        ax.axhline(target["max_error"], color="black", linestyle="--", linewidth=0.8,
                    label="target: %s" % terminal(target["description"]))
         log_axis(ax, "x")
-        error_axis(ax, [r["errors"][measure] for r in hf_rows], "%s uv error (texels)" % measure.replace("uv_error_", ""))
+        error_axis(ax, [r["errors"][measure] for r in hf_rows], "%s %s error (%s)" % (
+            measure.rsplit("_", 1)[-1], "uv" if measure.startswith("uv_") else "search", target.get("unit", "texels")))
         ax.set_title("%s (%s)" % (terminal(hf), depth_map(hf_rows[0])), fontsize=9)
         ax.set_xlabel("ns per ray at %s, median (bars: min-max)" % terminal(backend["name"]), fontsize=8)
         ax.grid(True, which="both", alpha=0.3)
         ax.plot([], [], linestyle="none", marker="o", markerfacecolor="white", color="gray",
-                label="hollow: wrong surface above %g%%" % (100 * target["wrong_surface_rate"]))
+                label="hollow: %s above %g%%" % ("wrong pixel" if target.get("unit") == "pixels" else "wrong surface",
+                                                  100 * target["max_wrong_rate"]))
     finish(fig, path, "Error against time per ray at %s (the recommendation's backend; lines join a technique's fixed "
                       "layer counts)" % terminal(backend["name"]), axes)
     return True

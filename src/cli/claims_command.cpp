@@ -129,10 +129,11 @@ Command add_claims_command(CLI::App& app) {
         std::printf("%s\t%s\t%zu rows\n", claim.id.c_str(), claim.claim.c_str(), claim.rows.size());
       return 0;
     }
-    PlanSettings settings = plan_settings(o->plan, false);
-    if (!settings.compared_filters.empty())
+    if (o->plan.filters.size() > 1)
       throw InputError(
           "claims --filter takes one filter: the claims are read under one (suite compares filters)");
+    PlanSettings settings = plan_settings(o->plan, false);
+    settings.compared_filters.clear();  // the claims' rows are read under the run's one filter
     settings.best_isa = select_isa(o->isa);
     validate(o->target);
     const std::vector<Configuration> plan = with_held_out(claims_plan(settings), settings);
@@ -151,7 +152,7 @@ Command add_claims_command(CLI::App& app) {
     write_file_atomically(dir.path() + "/measurements.json",
                           measurements_json(run, settings.name + " claims"));
     dir.finished("measurements.json");
-    const Recommendation recommendation = recommend(candidates(run.rows), o->target);
+    const Recommendation recommendation = recommend(candidates(run.rows, o->target.unit), o->target);
     write_recommendation(dir.path(), recommendation);
     write_claims(dir.path(), claims.data(run.rows), settings, recommendation);
     dir.complete();

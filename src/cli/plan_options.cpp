@@ -44,8 +44,10 @@ void add_plan_options(CLI::App& command, PlanOptions& o, const std::string& quic
           "--filter", o.filters,
           "the filter the run's figures are read with: bilinear (level 0; the default) or trilinear (the "
           "mip chain, as shipped shaders read it; the default of --views tutorial, as the tutorial reads "
-          "it); suite: a second, comma-separated, adds the technique x layers "
-          "matrix's accuracy under it, which the report sets beside the first's")
+          "it); suite: a second, comma-separated, adds the technique x layers matrix under it, timed, "
+          "with a recommendation of its own beside the first's (the full suite's default: "
+          "bilinear,trilinear; "
+          "--filter bilinear measures one)")
       ->delimiter(',')
       ->check(CLI::IsMember(filter_names()));
   add_views_option(command, o.views, "around");
@@ -86,13 +88,17 @@ PlanSettings plan_settings(const PlanOptions& o, bool glsl) {
   settings.window = seen_as(settings.window, views);
   size_views_for_rays(settings.window, rays);
   // The tutorial's scene is read as the tutorial reads its depth map, unless asked otherwise.
+  // Filters asked for replace the plan's (its first the run's own, the others compared).
   std::vector<Filter> filters;
   for (const std::string& name : o.filters) filters.push_back(parse_filter(name));
   refuse_repeats(filters, "--filter", [](Filter f) { return to_string(f); });
-  if (!filters.empty())
+  if (!filters.empty()) {
     settings.filter = filters.front();
-  else if (views.kind == ViewSet::Kind::tutorial)
+    settings.compared_filters.clear();
+  } else if (views.kind == ViewSet::Kind::tutorial) {
     settings.filter = Filter::trilinear;
+    for (Filter& compared : settings.compared_filters) compared = Filter::bilinear;
+  }
   for (const Filter filter : filters) {
     if (filter != settings.filter &&
         std::find(settings.compared_filters.begin(), settings.compared_filters.end(), filter) ==

@@ -40,21 +40,31 @@ void add_target_options(CLI::App& command, RecommendationTarget& t) {
             for (ErrorPercentile p : kErrorPercentiles)
               if (to_string(p) == name) t.percentile = p;
           },
-          "the uv error percentile the recommendation's error bound applies to: p50, p95, p99 or max")
+          "the search error percentile the recommendation's error bound applies to: p50, p95, p99 or max "
+          "(the "
+          "search error: each ray's hit against the exact hit on the surface it reads)")
       ->check(CLI::IsMember(names))
       ->default_str(to_string(t.percentile));
   command
-      .add_option("--max-error", t.uv_error_texels,
-                  "the recommendation's bound on that percentile, in texels")
+      .add_option_function<std::string>(
+          "--unit", [&t](const std::string& name) { t.unit = parse_error_unit(name); },
+          "the unit of the error bound and of a wrong hit: pixels (each ray's own pixel footprint: what a "
+          "player sees; a wrong pixel is one more than a pixel off) or texels (of level 0; a wrong surface "
+          "is "
+          "one more than a texel off)")
+      ->check(CLI::IsMember({"pixels", "texels"}))
+      ->default_str(to_string(t.unit));
+  command
+      .add_option("--max-error", t.max_error, "the recommendation's bound on that percentile, in the unit")
       ->check(in_range(0))
       ->capture_default_str();
   command
       .add_option_function<double>(
-          "--max-wrong-surface", [&t](double percent) { t.wrong_surface_rate = percent / 100.0; },
-          "the recommendation's bound on the share of rays on a wrong surface (uv error above one texel), in "
-          "percent")
+          "--max-wrong,--max-wrong-surface", [&t](double percent) { t.max_wrong_rate = percent / 100.0; },
+          "the recommendation's bound on the share of rays more than one unit off (a wrong pixel, or with "
+          "--unit texels a wrong surface), in percent")
       ->check(in_range(0, 100))
-      ->default_str(string_format("%g", 100.0 * t.wrong_surface_rate));
+      ->default_str(string_format("%g", 100.0 * t.max_wrong_rate));
   command.add_option("--frames", t.frames, "frames the preprocessing (cone map, pyramid) is amortised over")
       ->check(in_range(1, 1 << 30))
       ->capture_default_str();
@@ -142,10 +152,13 @@ class RowFields {
   std::string where_;
 };
 
-// A row's errors as the recommendation reads them, each figure with its 95% interval; a run
-// written before the intervals were (errors without confidence) gives each figure as its own
-// interval. Format 1 named the percentiles uv_p99.
-Accuracy accuracy_of(const RowFields& f, int format_version) {
+// A row's errors in the target's unit as the recommendation reads them, each figure with its 95%
+// interval; a run written before the intervals were (errors without confidence) gives each figure
+// as its own interval. Format 1 named the uv error's percentiles uv_p99. A row from before the
+// search error and the filter's bias were measured (format 3) read level 0 under bilinear
+// filtering, whose search error is its uv error and whose bias is none; its trilinear rows and any
+// row without pixel errors cannot be read so, and are refused.
+Accuracy accuracy_of(const RowFields& f, int format_version, ErrorUnit unit) {
   const Json& errors = f.at("errors");
   const Json& confidence =
       errors.is_object() && errors.contains("confidence") ? errors.at("confidence") : Json();
@@ -156,15 +169,37 @@ Accuracy accuracy_of(const RowFields& f, int format_version) {
     if (!ci.is_array() || ci.size() != 2) f.refuse(path, "is not a pair of numbers");
     return {f.number(ci[0], path, 0.0, kLargest), f.number(ci[1], path, 0.0, kLargest)};
   };
-  Accuracy a;
-  for (ErrorPercentile p : kErrorPercentiles) {
-    const std::string name = format_version >= 2 ? measure_name(p) : "uv_" + to_string(p);
-    a.uv_error[int(p)] = f.number(f.at(errors, name, "errors." + name), "errors." + name, 0.0, kLargest);
-    a.uv_error_ci[int(p)] = interval(measure_name(p), a.uv_error[int(p)]);
+  const UnitDistributions d = distributions_in(unit);
+  const bool searched = format_version >= 3;
+  if (!searched) {
+    if (unit == ErrorUnit::pixels)
+      f.refuse("errors", "has no errors in pixels (measured before they were): read it with --unit texels");
+    if (const Json& filter = f.optional("filter");
+        !filter.is_null() && f.text(filter, "filter") != "bilinear")
+      f.refuse("errors", "reads " + f.text(filter, "filter") +
+                             " but was measured before the search error against the surface it reads was");
   }
-  a.wrong_surface_rate = f.number(f.at(errors, "wrong_surface_rate", "errors.wrong_surface_rate"),
-                                  "errors.wrong_surface_rate", 0.0, 1.0);
-  a.wrong_surface_ci = interval("wrong_surface_rate", a.wrong_surface_rate);
+  if (searched && errors.is_object() && errors.contains(d.search.measure("p99")) &&
+      errors.at(d.search.measure("p99")).is_null())
+    f.refuse("errors." + d.search.measure("p99"), "is null: the row's rays have no pixel grid");
+  const auto figures = [&](const ErrorDistributionInfo& info, bool zero) {
+    Figures out;
+    for (ErrorPercentile p : kErrorPercentiles) {
+      const std::string name = format_version >= 2 ? info.measure(to_string(p)) : "uv_" + to_string(p);
+      out.values[int(p)] =
+          zero ? 0.0 : f.number(f.at(errors, name, "errors." + name), "errors." + name, 0.0, kLargest);
+      out.intervals[int(p)] = interval(info.measure(to_string(p)), out.values[int(p)]);
+    }
+    out.wrong_rate = zero ? 0.0
+                          : f.number(f.at(errors, info.wrong_name, "errors." + info.wrong_name),
+                                     "errors." + info.wrong_name, 0.0, 1.0);
+    out.wrong_ci = interval(info.wrong_name, out.wrong_rate);
+    return out;
+  };
+  Accuracy a;
+  a.total = figures(d.total, false);
+  a.search = searched ? figures(d.search, false) : a.total;
+  a.bias = figures(d.bias, !searched);
   a.rays = std::size_t(f.integer(f.at("rays"), "rays", 0, kMaxRays));
   return a;
 }
@@ -194,10 +229,12 @@ std::int64_t view_seed(const RowFields& f) {
 // A row of measurements.json as a candidate, or none for a row the recommendation does not read
 // (the same rows candidates() takes from a run's Measurements): a technique row, timed, on the
 // window (no sweep, rays file or fresh rays).
-std::optional<Candidate> candidate_of(const RowFields& f, int format_version) {
+std::optional<Candidate> candidate_of(const RowFields& f, int format_version, ErrorUnit unit) {
   const std::string kind = f.text(f.at("kind"), "kind");
   if (kind != "trace" && kind != "glsl") return std::nullopt;
-  if (!(f.has_purpose("matrix") || f.has_purpose("claims") || f.has_purpose("glsl"))) return std::nullopt;
+  if (!(f.has_purpose("matrix") || f.has_purpose("filters") || f.has_purpose("claims") ||
+        f.has_purpose("glsl")))
+    return std::nullopt;
   if (f.at("technique").is_null() || !f.optional("shader").is_null()) return std::nullopt;
   if (f.at("errors").is_null() || f.at("speed").is_null() || !f.at("failure").is_null()) return std::nullopt;
   const std::string view_kind = f.text(f.at(f.at("view"), "kind", "view.kind"), "view.kind");
@@ -217,17 +254,18 @@ std::optional<Candidate> candidate_of(const RowFields& f, int format_version) {
   const bool glsl = kind == "glsl";
   c.backend = {glsl ? RunKind::glsl : RunKind::trace,
                glsl ? Isa::scalar : isa_named(f.text(f.at("backend"), "backend")),
-               int(f.integer(f.at("threads"), "threads", 1, 1 << 20)), ""};
+               int(f.integer(f.at("threads"), "threads", 1, 1 << 20)), "", Filter::bilinear};
   // Its renderer's label; a run from before rows recorded it names none.
   if (const Json& gl = f.optional("gl"); glsl && !gl.is_null())
     c.backend.gl = printable(f.text(f.at(gl, "label", "gl.label"), "gl.label"));
-  c.grid = !glsl && (f.has_purpose("matrix") || f.has_purpose("claims"));
+  c.grid = !glsl && (f.has_purpose("matrix") || f.has_purpose("filters") || f.has_purpose("claims"));
   c.technique = parse_technique(f.text(f.at("technique"), "technique"));
   c.layers = parse_layer_spec(f.text(f.at("layers"), "layers"));
   // Runs before filters read level 0.
   if (const Json& filter = f.optional("filter"); !filter.is_null())
     c.filter = parse_filter(f.text(filter, "filter"));
-  c.selection = accuracy_of(f, format_version);
+  c.backend.filter = c.filter;
+  c.selection = accuracy_of(f, format_version, unit);
   const Json& samples = f.at("samples_per_ray");
   c.samples_per_ray = samples.is_null() ? 0.0 : f.number(samples, "samples_per_ray", 0.0, kLargest);
   c.rays = std::size_t(rays);
@@ -284,19 +322,20 @@ Measurements read_measurements(const std::string& path) {
 
 // The candidates of a run, each joined to its held-out twin (a row with the held-out purpose whose
 // configuration is the candidate's on its window's next seed) where there is one.
-std::vector<Candidate> read_candidates(const Measurements& m, const std::string& path) {
+std::vector<Candidate> read_candidates(const Measurements& m, const std::string& path, ErrorUnit unit) {
   const Json& rows = m.data["rows"];
   std::vector<Candidate> out;
   std::vector<std::string> keys;  // each candidate's twin's key
   std::map<std::string, std::pair<int, Accuracy>> held_out;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const RowFields f(rows[i], path + ": rows[" + std::to_string(i) + "]");
-    if (auto c = candidate_of(f, m.version)) {
+    if (auto c = candidate_of(f, m.version, unit)) {
       out.push_back(std::move(*c));
       keys.push_back(twin_key(f, view_seed(f) + 1));
     } else if (f.has_purpose("held-out") && !f.at("errors").is_null() && f.at("failure").is_null()) {
       held_out[twin_key(f, view_seed(f))] = {
-          int(f.integer(f.at("id"), "id", 0, std::numeric_limits<int>::max())), accuracy_of(f, m.version)};
+          int(f.integer(f.at("id"), "id", 0, std::numeric_limits<int>::max())),
+          accuracy_of(f, m.version, unit)};
     }
   }
   for (std::size_t i = 0; i < out.size(); ++i)
@@ -328,6 +367,8 @@ Configuration fresh_rays_configuration(const RowFields& f, std::size_t rays, std
   p.scale = float(f.number(f.at("scale"), "scale", 0.0, 1.0, true));
   p.wrap = f.text(f.at("wrap"), "wrap") == "clamp" ? Wrap::clamp : Wrap::repeat;
   p.discard = f.at("discard").is_boolean() && f.at("discard").get<bool>();
+  if (const Json& filter = f.optional("filter"); !filter.is_null())
+    p.filter = parse_filter(f.text(filter, "filter"));
   validate(p);
   const Json& view = f.at("view");
   const std::string kind = f.text(f.at(view, "kind", "view.kind"), "view.kind");
@@ -392,22 +433,25 @@ int outside_check(const Recommendation& recommendation, const Measurements& meas
       "intersection; 95%% intervals:\n",
       describe(t).c_str(), rays, seed);
   JsonWriter json;
-  json.begin_object().value("format", "heightmarch-outside-check").value("format_version", 1);
+  // Format 2: the target's measures (the search error in its unit) under their names.
+  json.begin_object().value("format", "heightmarch-outside-check").value("format_version", 2);
   json.value("target", describe(t)).value("rays", rays).value("seed", (long long)seed).begin_array("checks");
   int failed = 0;
   for (const Checked& k : checked) {
     const Measurement& m = run.rows[k.config];
     if (!m.errors) throw InputError(k.heightfield + " " + k.setting + ": not measured (" + m.failure + ")");
-    const Accuracy a = accuracy_of(*m.errors);
+    const Accuracy a = accuracy_of(*m.errors, t.unit);
     const double value = a.error(t.percentile);
-    const Interval ci = a.error_ci(t.percentile);
-    const bool meets = value <= t.uv_error_texels && a.wrong_surface_rate <= t.wrong_surface_rate;
-    const bool consistent = ci.low <= t.uv_error_texels && a.wrong_surface_ci.low <= t.wrong_surface_rate;
+    const Interval ci = a.error_ci(t.percentile), wrong_ci = a.search.wrong_ci;
+    const bool meets = heightmarch::meets(a, t);
+    const bool consistent = ci.low <= t.max_error && wrong_ci.low <= t.max_wrong_rate;
     failed += !consistent;
-    text += string_format("  %s, %s: %s: %s %.3g (%.3g-%.3g) texel, wrong surface %.3g%% (%.3g-%.3g%%): %s\n",
+    const UnitDistributions d = distributions_in(t.unit);
+    text += string_format("  %s, %s: %s: %s %.3g (%.3g-%.3g) %s, %s %.3g%% (%.3g-%.3g%%): %s\n",
                           k.backend.c_str(), k.heightfield.c_str(), k.setting.c_str(),
-                          to_string(t.percentile).c_str(), value, ci.low, ci.high, 100 * a.wrong_surface_rate,
-                          100 * a.wrong_surface_ci.low, 100 * a.wrong_surface_ci.high,
+                          to_string(t.percentile).c_str(), value, ci.low, ci.high, to_string(t.unit).c_str(),
+                          t.unit == ErrorUnit::pixels ? "wrong pixel" : "wrong surface", 100 * a.wrong_rate(),
+                          100 * wrong_ci.low, 100 * wrong_ci.high,
                           meets        ? "meets the target"
                           : consistent ? "on the bound (within the 95% interval)"
                                        : "misses the target");
@@ -415,13 +459,10 @@ int outside_check(const Recommendation& recommendation, const Measurements& meas
         .value("backend", k.backend)
         .value("heightfield", k.heightfield)
         .value("setting", k.setting);
-    json.value("view", describe(m.config.view)).value(measure_name(t.percentile), value);
-    json.begin_array(measure_name(t.percentile) + "_ci").value("", ci.low).value("", ci.high).end_array();
-    json.value("wrong_surface_rate", a.wrong_surface_rate);
-    json.begin_array("wrong_surface_ci")
-        .value("", a.wrong_surface_ci.low)
-        .value("", a.wrong_surface_ci.high)
-        .end_array();
+    json.value("view", describe(m.config.view)).value(measure_name(t), value);
+    json.begin_array(measure_name(t) + "_ci").value("", ci.low).value("", ci.high).end_array();
+    json.value(d.search.wrong_name, a.wrong_rate());
+    json.begin_array(d.search.wrong_ci_name()).value("", wrong_ci.low).value("", wrong_ci.high).end_array();
     json.value("meets", meets).value("within_interval", consistent).end_object();
   }
   json.end_array().value("missed", failed).end_object();
@@ -475,7 +516,8 @@ Command add_recommend_command(CLI::App& app) {
       if (!std::filesystem::exists(path, ec) && std::filesystem::exists(path + ".gz", ec)) path += ".gz";
     }
     const Measurements measurements = read_measurements(path);
-    const Recommendation recommendation = recommend(read_candidates(measurements, path), o->target);
+    const Recommendation recommendation =
+        recommend(read_candidates(measurements, path, o->target.unit), o->target);
     if (recommendation.backends.empty())
       throw InputError(
           path + ": no timed technique rows of the technique x layers grid or the claims to recommend from");

@@ -210,7 +210,7 @@ Command add_suite_command(CLI::App& app) {
     if (run.load.busy)
       for (const std::string& reason : run.load.busy_reasons)
         std::fprintf(stderr, "suite: warning: busy machine: %s\n", reason.c_str());
-    const Recommendation recommendation = recommend(candidates(run.rows), o->target);
+    const Recommendation recommendation = recommend(candidates(run.rows, o->target.unit), o->target);
     write_recommendation(dir.path(), recommendation);
     dir.finished("recommendation.json");
     // What to ship, seen: the recommended configuration of every map beside its exact render.

@@ -103,7 +103,7 @@ void ClaimsCollector::observe(const TracedRow& traced) {
     if (rays.is_padding(i) || hits.discarded[i]) continue;
     offset += std::hypot((double(rays.tx[i]) - exact.u[i]) * map.width,
                          (double(rays.ty[i]) - exact.v[i]) * map.height);
-    const double e = traced.uv_error[i];
+    const double e = traced.search_error[i];
     bool beyond = false;
     if (layered)
       beyond = beyond_one_layer_step(e, layer_step_texels(layers, c.params.scale, rays.vx[i], rays.vy[i],
@@ -135,10 +135,12 @@ ClaimsData ClaimsCollector::data(const std::vector<Measurement>& rows) const {
     f.row = {c.params.technique, c.params.layers, ClaimView::default_view, 0.0};
     if (c.view.kind == ViewSpec::Kind::sweep)
       f.row = {c.params.technique, c.params.layers, ClaimView::sweep, c.view.theta_degrees};
-    f.uv_error_mean = m.errors->mean;
-    f.uv_error_p95 = m.errors->p95;
-    f.uv_error_p99 = m.errors->p99;
-    f.wrong_surface_rate = m.errors->wrong_surface_rate;
+    // The search error, in texels: what the tutorials' claims are about (the layers, the
+    // refinement), the same measure under both filters (under bilinear the uv error itself).
+    f.uv_error_mean = m.errors->search.mean;
+    f.uv_error_p95 = m.errors->search.p95;
+    f.uv_error_p99 = m.errors->search.p99;
+    f.wrong_surface_rate = m.errors->search.wrong_rate;
     f.samples_per_ray = m.rays ? double(m.samples) / double(m.rays) : 0.0;
     f.within_one_layer = m.errors->within_one_layer_step.value_or(0.0);
     const Spread speed = spread_of(m.rays_per_second());

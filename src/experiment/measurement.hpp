@@ -58,8 +58,11 @@ struct TracedRow {
   const DepthMap& map;
   const RayBatch& rays;
   const HitBuffers& hits;
-  const HitBuffers& exact;
-  const std::vector<float>& uv_error;  // per ray, batch order
+  const HitBuffers& exact;             // level 0's
+  const HitBuffers& surface_read;      // on the surface the row's samples read (exact where that is level 0)
+  const std::vector<float>& uv_error;  // per ray, batch order: texels, against level 0's exact hit
+  const std::vector<float>&
+      search_error;  // the same against the surface read's (uv_error where that is level 0)
 };
 
 }  // namespace heightmarch

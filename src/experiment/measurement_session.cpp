@@ -58,15 +58,24 @@ Measurement MeasurementSession::measure(const Configuration& c, int id,
   }
   row.samples = total_samples(scene.rays, hits);
   if (!row.failure.empty() || !backend.has_accuracy()) return row;
+  // What the row's samples read: a kernel's or a GLSL program's at its filter (a brought-in
+  // shader's as the techniques', its own level of detail aside), level 0 for the ports and the
+  // exact reference.
+  const HitBuffers& read = takes_filter(c.kind) ? scene.surface_read(c.params) : exact;
   std::vector<float> uv_error;
   ErrorSummary errors =
-      summarize_errors(scene.rays, hits, exact, scene.map.width, scene.map.height,
+      summarize_errors(scene.rays, hits, {exact, read}, scene.map.width, scene.map.height,
                        c.has_technique() ? info(c.params.technique).writes : Writes::hit, &uv_error);
+  // The search's own error per ray, against the surface read: the uv error where that is level 0.
+  const std::vector<float> search_error =
+      &read == &exact ? std::vector<float>()
+                      : uv_errors(scene.rays, hits, read, scene.map.width, scene.map.height);
+  const std::vector<float>& searched = &read == &exact ? uv_error : search_error;
   if (c.has_technique() && info(c.params.technique).layered)
     errors.within_one_layer_step =
-        share_within_one_layer_step(scene.rays, hits, uv_error, c.params, scene.map.width, scene.map.height);
+        share_within_one_layer_step(scene.rays, hits, searched, c.params, scene.map.width, scene.map.height);
   row.errors = errors;
-  if (on_traced) on_traced(TracedRow{row, scene.map, scene.rays, hits, exact, uv_error});
+  if (on_traced) on_traced(TracedRow{row, scene.map, scene.rays, hits, exact, read, uv_error, searched});
   return row;
 }
 

@@ -27,50 +27,97 @@ std::string to_string(ErrorPercentile p) {
   return "?";
 }
 
-std::string measure_name(ErrorPercentile p) { return "uv_error_" + to_string(p); }
+std::string to_string(ErrorUnit unit) { return unit == ErrorUnit::pixels ? "pixels" : "texels"; }
+
+ErrorUnit parse_error_unit(const std::string& name) {
+  if (name == "texels") return ErrorUnit::texels;
+  if (name == "pixels") return ErrorUnit::pixels;
+  throw InputError("unknown error unit '" + name + "' (texels or pixels)");
+}
+
+UnitDistributions distributions_in(ErrorUnit unit) {
+  const bool pixels = unit == ErrorUnit::pixels;
+  return {distribution_named(pixels ? "search_pixel_error" : "search_error"),
+          distribution_named(pixels ? "filter_pixel_bias" : "filter_bias"),
+          distribution_named(pixels ? "pixel_error" : "uv_error")};
+}
+
+std::string measure_name(const RecommendationTarget& t) {
+  return distributions_in(t.unit).search.measure(to_string(t.percentile));
+}
 
 void validate(const RecommendationTarget& t) {
-  if (!(std::isfinite(t.uv_error_texels) && t.uv_error_texels >= 0))
-    throw InputError("the target's uv error bound must be a number of texels >= 0");
-  if (!(std::isfinite(t.wrong_surface_rate) && t.wrong_surface_rate >= 0 && t.wrong_surface_rate <= 1))
-    throw InputError("the target's wrong-surface bound must be a share in [0, 1] (a percentage in [0, 100])");
+  if (!(std::isfinite(t.max_error) && t.max_error >= 0))
+    throw InputError("the target's error bound must be a number of " + to_string(t.unit) + " >= 0");
+  if (!(std::isfinite(t.max_wrong_rate) && t.max_wrong_rate >= 0 && t.max_wrong_rate <= 1))
+    throw InputError("the target's wrong-" + std::string(t.unit == ErrorUnit::pixels ? "pixel" : "surface") +
+                     " bound must be a share in [0, 1] (a percentage in [0, 100])");
   if (t.frames < 1) throw InputError("the frames preprocessing is amortised over must be at least 1");
 }
 
+namespace {
+
+// "pixel", "texel"; "wrong pixel", "wrong surface"
+std::string unit_word(ErrorUnit unit) { return unit == ErrorUnit::pixels ? "pixel" : "texel"; }
+std::string wrong_words(ErrorUnit unit) {
+  return unit == ErrorUnit::pixels ? "wrong pixel" : "wrong surface";
+}
+
+}  // namespace
+
 std::string describe(const RecommendationTarget& t) {
-  char buf[128];
-  std::snprintf(buf, sizeof buf, "%s <= %g texel, wrong surface <= %g%%", to_string(t.percentile).c_str(),
-                t.uv_error_texels, 100.0 * t.wrong_surface_rate);
-  return buf;
+  return string_format("%s <= %g %s, %s <= %g%%", to_string(t.percentile).c_str(), t.max_error,
+                       unit_word(t.unit).c_str(), wrong_words(t.unit).c_str(), 100.0 * t.max_wrong_rate);
 }
 
 std::string RecommendationBackend::backend() const { return kind == RunKind::glsl ? "glsl" : to_string(isa); }
 
 std::string RecommendationBackend::name() const {
   return (gl.empty() ? backend() : gl) + ", " + std::to_string(threads) +
-         (threads == 1 ? " thread" : " threads");
+         (threads == 1 ? " thread, " : " threads, ") + to_string(filter);
 }
 
-Accuracy accuracy_of(const ErrorSummary& e) {
-  Accuracy a;
-  const double values[] = {e.p50, e.p95, e.p99, e.max};
-  const Interval intervals[] = {e.p50_ci, e.p95_ci, e.p99_ci, {e.max, e.max}};
+Figures figures_of(const ErrorDistribution& d) {
+  Figures f;
+  const double values[] = {d.p50, d.p95, d.p99, d.max};
+  const Interval intervals[] = {d.p50_ci, d.p95_ci, d.p99_ci, {d.max, d.max}};
   for (ErrorPercentile p : kErrorPercentiles) {
-    a.uv_error[int(p)] = values[int(p)];
-    a.uv_error_ci[int(p)] = intervals[int(p)];
+    f.values[int(p)] = values[int(p)];
+    f.intervals[int(p)] = intervals[int(p)];
   }
-  a.wrong_surface_rate = e.wrong_surface_rate;
-  a.wrong_surface_ci = e.wrong_surface_ci;
+  f.wrong_rate = d.wrong_rate;
+  f.wrong_ci = d.wrong_ci;
+  return f;
+}
+
+Accuracy accuracy_of(const ErrorSummary& e, ErrorUnit unit) {
+  const UnitDistributions d = distributions_in(unit);
+  const ErrorDistribution& search = e.*d.search.member;
+  if (!search.measured && e.rays > 0)
+    throw InputError("no errors in " + to_string(unit) + ": the rays have no pixel grid (a rays file)");
+  Accuracy a;
+  a.search = figures_of(search);
+  a.bias = figures_of(e.*d.bias.member);
+  a.total = figures_of(e.*d.total.member);
   a.rays = e.rays;
   return a;
 }
 
-std::vector<Candidate> candidates(const std::vector<Measurement>& rows) {
+bool meets(const Accuracy& a, const RecommendationTarget& t) {
+  return a.error(t.percentile) <= t.max_error && a.wrong_rate() <= t.max_wrong_rate;
+}
+
+bool filter_dominated(const Accuracy& a, const RecommendationTarget& t) {
+  const bool bias_misses = a.bias.error(t.percentile) > t.max_error || a.bias.wrong_rate > t.max_wrong_rate;
+  return bias_misses && a.bias.error(t.percentile) >= a.search.error(t.percentile);
+}
+
+std::vector<Candidate> candidates(const std::vector<Measurement>& rows, ErrorUnit unit) {
   std::vector<Candidate> out;
   for (const Measurement& m : rows) {
     const Configuration& c = m.config;
     const ViewSpec::Kind kind = c.view.kind;
-    if (!(c.purposes & (kPurposeMatrix | kPurposeClaims | kPurposeGlsl)) ||
+    if (!(c.purposes & (kPurposeMatrix | kPurposeFilters | kPurposeClaims | kPurposeGlsl)) ||
         !(c.kind == RunKind::trace || c.kind == RunKind::glsl) || !c.has_technique() || !m.errors ||
         m.seconds.empty() || !m.failure.empty() || kind == ViewSpec::Kind::sweep ||
         kind == ViewSpec::Kind::rays_file || c.view.fresh_rays > 0 || m.rays == 0)
@@ -80,19 +127,19 @@ std::vector<Candidate> candidates(const std::vector<Measurement>& rows) {
     k.heightfield = c.heightfield.label();
     k.depth_map_width = m.depth_map_width;
     k.depth_map_height = m.depth_map_height;
-    k.backend = {c.kind, c.kind == RunKind::trace ? c.isa : Isa::scalar, c.threads,
-                 m.gl ? m.gl->label() : ""};
-    k.grid = c.purposes & (kPurposeMatrix | kPurposeClaims);
+    k.backend = {c.kind, c.kind == RunKind::trace ? c.isa : Isa::scalar, c.threads, m.gl ? m.gl->label() : "",
+                 c.params.filter};
+    k.grid = c.purposes & (kPurposeMatrix | kPurposeFilters | kPurposeClaims);
     k.technique = c.params.technique;
     k.layers = c.params.layers;
     k.filter = c.params.filter;
-    k.selection = accuracy_of(*m.errors);
+    k.selection = accuracy_of(*m.errors, unit);
     Configuration twin = c;
     twin.view = held_out_view(c.view);
     for (const Measurement& h : rows)
       if ((h.config.purposes & kPurposeHeldOut) && h.config.same_measurement(twin) && h.errors &&
           h.failure.empty()) {
-        k.held_out = accuracy_of(*h.errors);
+        k.held_out = accuracy_of(*h.errors, unit);
         k.held_out_id = h.id;
       }
     k.samples_per_ray = m.samples_known ? double(m.samples) / double(m.rays) : 0.0;
@@ -110,10 +157,6 @@ std::string Pick::label() const {
 
 namespace {
 
-bool meets(const Accuracy& a, const RecommendationTarget& t) {
-  return a.error(t.percentile) <= t.uv_error_texels && a.wrong_surface_rate <= t.wrong_surface_rate;
-}
-
 // A measure over its bound (1: on it).
 double over(double value, double bound) { return bound > 0 ? value / bound : (value > 0 ? HUGE_VAL : 0.0); }
 
@@ -123,9 +166,8 @@ std::pair<double, std::string> shortfall(const Candidate& c, const Recommendatio
   std::pair<double, std::string> worst{0.0, ""};
   for (const Accuracy* a : {&c.selection, c.held_out ? &*c.held_out : nullptr}) {
     if (!a) continue;
-    worst = std::max(worst, {over(a->error(t.percentile), t.uv_error_texels), to_string(t.percentile)});
-    worst =
-        std::max(worst, {over(a->wrong_surface_rate, t.wrong_surface_rate), std::string("wrong surface")});
+    worst = std::max(worst, {over(a->error(t.percentile), t.max_error), to_string(t.percentile)});
+    worst = std::max(worst, {over(a->wrong_rate(), t.max_wrong_rate), wrong_words(t.unit)});
   }
   return worst;
 }
@@ -202,6 +244,10 @@ Answer answer(const std::string& heightfield, const std::vector<std::vector<Cand
     if (margin < closest_shortfall) a.closest = p, closest_shortfall = margin;
   }
   if (a.choice) a.closest.reset();
+  if (const std::optional<Pick>& shown = a.choice ? a.choice : a.closest)
+    a.filter_dominated = std::any_of(shown->rows.begin(), shown->rows.end(), [&](const Candidate& r) {
+      return r.filter == Filter::trilinear && filter_dominated(r.selection, target);
+    });
   return a;
 }
 
@@ -209,7 +255,8 @@ bool same_setting(const Candidate& a, const Candidate& b) {
   return a.technique == b.technique && a.layers == b.layers;
 }
 
-// The declared backends: the grid's CPU backends, then GLSL at each of their thread counts.
+// The declared backends: the grid's CPU backends (one per filter), then GLSL at each of their thread
+// counts and filters.
 std::vector<RecommendationBackend> declared_backends(const std::vector<Candidate>& all) {
   std::vector<RecommendationBackend> out;
   const auto add = [&](const RecommendationBackend& b) {
@@ -220,7 +267,9 @@ std::vector<RecommendationBackend> declared_backends(const std::vector<Candidate
   const std::size_t cpu = out.size();
   for (std::size_t i = 0; i < cpu; ++i)
     for (const Candidate& c : all)
-      if (c.backend.kind == RunKind::glsl && c.backend.threads == out[i].threads) add(c.backend);
+      if (c.backend.kind == RunKind::glsl && c.backend.threads == out[i].threads &&
+          c.backend.filter == out[i].filter)
+        add(c.backend);
   return out;
 }
 
@@ -230,11 +279,6 @@ Recommendation recommend(const std::vector<Candidate>& all, const Recommendation
   validate(target);
   Recommendation out;
   out.target = target;
-  if (!all.empty()) out.filter = all.front().filter;
-  for (const Candidate& c : all)
-    if (c.filter != out.filter)
-      throw InputError("candidates read with both filters: a recommendation is made under one (rows " +
-                       std::to_string(all.front().id) + " and " + std::to_string(c.id) + ")");
   for (const RecommendationBackend& backend : declared_backends(all)) {
     std::vector<Candidate> rows;
     for (const Candidate& c : all)
@@ -284,15 +328,21 @@ void write_interval(JsonWriter& json, const std::string& key, const Interval& i)
   json.begin_array(key).value("", i.low).value("", i.high).end_array();
 }
 
-// A row's figures on one view set: the target's percentile and the wrong-surface rate, each with
-// its 95% interval.
+// A row's figures on one view set: the target's percentile of its search error and its wrong rate,
+// each with its 95% interval, whether they meet the target; and the same percentile and wrong
+// rate of the filter's bias and of the error against level 0, under their own names.
 void write_accuracy(JsonWriter& json, const std::string& key, const Accuracy& a,
                     const RecommendationTarget& t) {
-  json.begin_object(key).value(measure_name(t.percentile), a.error(t.percentile));
-  write_interval(json, measure_name(t.percentile) + "_ci", a.error_ci(t.percentile));
-  json.value("wrong_surface_rate", a.wrong_surface_rate);
-  write_interval(json, "wrong_surface_ci", a.wrong_surface_ci);
-  json.value("rays", a.rays).value("meets", meets(a, t)).end_object();
+  const UnitDistributions d = distributions_in(t.unit);
+  const std::string p = to_string(t.percentile);
+  json.begin_object(key).value(d.search.measure(p), a.error(t.percentile));
+  write_interval(json, d.search.measure(p) + "_ci", a.error_ci(t.percentile));
+  json.value(d.search.wrong_name, a.wrong_rate());
+  write_interval(json, d.search.wrong_ci_name(), a.search.wrong_ci);
+  for (const auto& [info, figures] : {std::pair{&d.bias, &a.bias}, std::pair{&d.total, &a.total}})
+    json.value(info->measure(p), figures->error(t.percentile)).value(info->wrong_name, figures->wrong_rate);
+  json.value("rays", a.rays).value("meets", meets(a, t)).value("filter_dominated", filter_dominated(a, t));
+  json.end_object();
 }
 
 // A pick: its setting, its time, and per heightfield the row with its measures (on the window,
@@ -311,8 +361,8 @@ void write_pick(JsonWriter& json, const std::string& key, const Pick& p, const R
   json.begin_array("rows");
   for (const Candidate& r : p.rows) {
     json.begin_object().value("id", r.id).value("heightfield", r.heightfield);
-    json.value(measure_name(target.percentile), r.selection.error(target.percentile))
-        .value("wrong_surface_rate", r.selection.wrong_surface_rate);
+    json.value(measure_name(target), r.selection.error(target.percentile))
+        .value(distributions_in(target.unit).search.wrong_name, r.selection.wrong_rate());
     write_accuracy(json, "selection", r.selection, target);
     if (r.held_out) {
       json.value("held_out_id", r.held_out_id);
@@ -361,25 +411,36 @@ void write_answer(JsonWriter& json, const std::string& key, const Answer& a,
     json.null("near_miss");
   }
   a.closest ? write_pick(json, "closest", *a.closest, target) : (void)json.null("closest");
-  json.end_object();
+  json.value("filter_dominated", a.filter_dominated).end_object();
 }
 
-// "p99 0.429 (0.41-0.45) texel, wrong surface 0.375% (0.33-0.42%)": a setting's worst rows on one
-// view set (each measure at its worst heightfield).
+// "p99 0.429 (0.41-0.45) pixel, wrong pixel 0.375% (0.33-0.42%)": a setting's worst rows on one
+// view set (each measure at its worst heightfield); under trilinear with the filter's bias beside
+// it ("; filter bias p99 2.1 pixel, wrong pixel 4.2%").
 std::string figures_text(const Pick& p, const RecommendationTarget& t, bool held_out) {
   const Accuracy* worst_error = nullptr;
   const Accuracy* worst_wrong = nullptr;
+  const Accuracy* worst_bias = nullptr;
   for (const Candidate& r : p.rows) {
     const Accuracy* a = held_out ? (r.held_out ? &*r.held_out : nullptr) : &r.selection;
     if (!a) return "not measured";
     if (!worst_error || a->error(t.percentile) > worst_error->error(t.percentile)) worst_error = a;
-    if (!worst_wrong || a->wrong_surface_rate > worst_wrong->wrong_surface_rate) worst_wrong = a;
+    if (!worst_wrong || a->wrong_rate() > worst_wrong->wrong_rate()) worst_wrong = a;
+    if (r.filter == Filter::trilinear &&
+        (!worst_bias || a->bias.error(t.percentile) > worst_bias->bias.error(t.percentile)))
+      worst_bias = a;
   }
-  const Interval e = worst_error->error_ci(t.percentile), w = worst_wrong->wrong_surface_ci;
-  return to_string(t.percentile) +
-         string_format(" %.3g (%.3g-%.3g) texel, wrong surface %.3g%% (%.3g-%.3g%%)",
-                       worst_error->error(t.percentile), e.low, e.high, 100 * worst_wrong->wrong_surface_rate,
-                       100 * w.low, 100 * w.high);
+  const Interval e = worst_error->error_ci(t.percentile), w = worst_wrong->search.wrong_ci;
+  const std::string unit = unit_word(t.unit), wrong = wrong_words(t.unit);
+  std::string text = to_string(t.percentile) +
+                     string_format(" %.3g (%.3g-%.3g) %s, %s %.3g%% (%.3g-%.3g%%)",
+                                   worst_error->error(t.percentile), e.low, e.high, unit.c_str(),
+                                   wrong.c_str(), 100 * worst_wrong->wrong_rate(), 100 * w.low, 100 * w.high);
+  if (worst_bias)
+    text += string_format("; filter bias %s %.3g %s, %s %.3g%%", to_string(t.percentile).c_str(),
+                          worst_bias->bias.error(t.percentile), unit.c_str(), wrong.c_str(),
+                          100 * worst_bias->bias.wrong_rate);
+  return text;
 }
 
 // "cone 32: 12.5 (11.7-13) ns/ray; held-out p99 0.43 (0.41-0.45) texel, wrong surface 0.38%
@@ -432,6 +493,7 @@ std::string answer_line(const Answer& a, const RecommendationTarget& t) {
                           a.choice ? a.choice->time().median / a.near_miss->pick.time().median : 1.0,
                           a.near_miss->measure.c_str(), 100 * (a.near_miss->margin - 1));
   if (!a.held_out_checked) line += " (not checked on held-out views)";
+  if (a.filter_dominated) line += "; filter-dominated: more layers do not change what a player sees here";
   return line;
 }
 
@@ -442,19 +504,26 @@ std::string recommendation_json(const Recommendation& r) {
   json.begin_object()
       .value("format", "heightmarch-recommendation")
       .value("format_version", kRecommendationFormatVersion);
+  const UnitDistributions d = distributions_in(r.target.unit);
   json.begin_object("target")
-      .value("measure", measure_name(r.target.percentile))
-      .value("uv_error_texels", r.target.uv_error_texels)
-      .value("wrong_surface_rate", r.target.wrong_surface_rate)
+      .value("measure", measure_name(r.target))
+      .value("wrong_measure", d.search.wrong_name)
+      .value("bias_measure", d.bias.measure(to_string(r.target.percentile)))
+      .value("bias_wrong_measure", d.bias.wrong_name)
+      .value("total_measure", d.total.measure(to_string(r.target.percentile)))
+      .value("total_wrong_measure", d.total.wrong_name)
+      .value("unit", to_string(r.target.unit))
+      .value("max_error", r.target.max_error)
+      .value("max_wrong_rate", r.target.max_wrong_rate)
       .value("frames", r.target.frames)
       .value("description", describe(r.target))
       .end_object();
-  json.value("filter", to_string(r.filter));
   json.begin_array("backends");
   for (const BackendRecommendation& b : r.backends) {
     json.begin_object()
         .value("backend", b.backend.backend())
         .value("threads", b.backend.threads)
+        .value("filter", to_string(b.backend.filter))
         .value("name", b.backend.name());
     write_answer(json, "all_heightfields", b.all_heightfields, r.target);
     json.begin_array("per_heightfield");
@@ -466,10 +535,12 @@ std::string recommendation_json(const Recommendation& r) {
 }
 
 std::string recommendation_markdown(const Recommendation& r) {
-  std::string md = "At " + describe(r.target) + ", " + to_string(r.filter) +
-                   " filtering, the fastest configuration by time per ray (median (min-max) over "
-                   "the repetitions) on each heightfield, and one setting for all of them:\n\n"
-                   "| backend | heightfield | recommendation |\n|---|---|---|\n";
+  std::string md =
+      "At " + describe(r.target) +
+      " (the search error, against the surface each ray reads), the fastest configuration by time "
+      "per ray (median (min-max) over the repetitions) at each backend and filter, on each "
+      "heightfield, and one setting for all of them:\n\n"
+      "| backend | heightfield | recommendation |\n|---|---|---|\n";
   for (const BackendRecommendation& b : r.backends) {
     md += "| " + markdown_text(b.backend.name()) + " | **all** | " +
           markdown_text(answer_line(b.all_heightfields, r.target)) + " |\n";
@@ -481,8 +552,8 @@ std::string recommendation_markdown(const Recommendation& r) {
 }
 
 std::string recommendation_text(const Recommendation& r) {
-  std::string text = "Recommendation at " + describe(r.target) + ", " + to_string(r.filter) +
-                     " filtering, fastest by time per ray:\n";
+  std::string text = "Recommendation at " + describe(r.target) +
+                     " (the search error, against the surface each ray reads), fastest by time per ray:\n";
   for (const BackendRecommendation& b : r.backends) {
     text +=
         "  " + b.backend.name() + ", every heightfield: " + answer_line(b.all_heightfields, r.target) + "\n";

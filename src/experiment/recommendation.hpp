@@ -15,24 +15,39 @@
 
 namespace heightmarch {
 
-// The uv error percentiles a run measures; the bound applies to one of them.
+// The error percentiles a run measures; the bound applies to one of them.
 enum class ErrorPercentile { p50, p95, p99, max };
 inline constexpr ErrorPercentile kErrorPercentiles[] = {ErrorPercentile::p50, ErrorPercentile::p95,
                                                         ErrorPercentile::p99, ErrorPercentile::max};
-std::string to_string(ErrorPercentile percentile);     // "p99": how options and people name it
-std::string measure_name(ErrorPercentile percentile);  // "uv_error_p99": how result files name it
+std::string to_string(ErrorPercentile percentile);  // "p99": how options and people name it
 
+// A target bounds a row's search error, its hit against the exact hit on the surface its samples
+// read (level 0 under bilinear filtering, the blend of two mip levels under trilinear: metrics.hpp),
+// in texels of level 0 or in pixels of each ray's footprint: what the layers buy, the same measure
+// under both filters. The filter's bias (what mipmapping costs) is reported beside it.
 struct RecommendationTarget {
   ErrorPercentile percentile = ErrorPercentile::p99;
-  double uv_error_texels = 0.5;       // that percentile of the uv error at most this
-  double wrong_surface_rate = 0.005;  // the share of rays more than one texel off at most this
-  int frames = 3600;                  // preprocessing amortised over this many frames (a minute at 60 fps)
+  ErrorUnit unit = ErrorUnit::pixels;
+  double max_error = 0.5;         // that percentile of the search error at most this, in the unit
+  double max_wrong_rate = 0.005;  // the share of rays more than one unit off at most this
+  int frames = 3600;              // preprocessing amortised over this many frames (a minute at 60 fps)
 };
 // Throws InputError for bounds that are negative or not finite, or frames below 1.
 void validate(const RecommendationTarget& target);
-std::string describe(const RecommendationTarget& target);  // "p99 <= 0.5 texel, wrong surface <= 0.5%"
+std::string describe(const RecommendationTarget& target);  // "p99 <= 0.5 pixel, wrong pixel <= 0.5%"
+std::string to_string(ErrorUnit unit);                     // "texels", "pixels"
+ErrorUnit parse_error_unit(const std::string& name);       // throws InputError
+// The error distributions of a unit (metrics.hpp): the search error (the target's), the filter's
+// bias and the hit's error against level 0 (what the player sees of the heightfield).
+struct UnitDistributions {
+  const ErrorDistributionInfo &search, &bias, &total;
+};
+UnitDistributions distributions_in(ErrorUnit unit);
+std::string measure_name(const RecommendationTarget& target);  // "search_pixel_error_p99"
 
-// Where a recommendation's time is measured: a CPU ISA at a thread count, or GLSL on a renderer.
+// Where a recommendation's time is measured: a CPU ISA at a thread count, or GLSL on a renderer,
+// each under one filter (a shader that samples level 0 and one that samples a mip chain are two
+// answers, side by side).
 struct RecommendationBackend {
   RunKind kind = RunKind::trace;  // trace or glsl
   Isa isa = Isa::scalar;          // trace only
@@ -40,24 +55,42 @@ struct RecommendationBackend {
   // glsl: its renderer's label (GlRenderer::label(): another renderer is another backend); empty
   // for a run from before rows recorded it.
   std::string gl;
+  Filter filter = Filter::bilinear;
   std::string backend() const;  // "avx512", "glsl": as rows name it
-  std::string name()
-      const;  // "avx512, 2 threads", "glsl (llvmpipe, LLVM 15.0.6, 256 bits; OSMesa), 2 threads"
+  // "avx512, 2 threads, bilinear", "glsl (llvmpipe, LLVM 15.0.6, 256 bits; OSMesa), 2 threads, trilinear"
+  std::string name() const;
   friend bool operator==(const RecommendationBackend&, const RecommendationBackend&) = default;
 };
 
-// A row's accuracy as a target reads it: its uv error percentiles and wrong-surface rate, each with
+// One distribution's figures as a target reads them: its percentiles and its wrong rate, each with
 // its 95% interval (metrics.hpp; the max's is the max itself).
-struct Accuracy {
-  double uv_error[4] = {0, 0, 0, 0};  // by ErrorPercentile
-  Interval uv_error_ci[4];
-  double wrong_surface_rate = 0;
-  Interval wrong_surface_ci;
-  std::size_t rays = 0;
-  double error(ErrorPercentile p) const { return uv_error[int(p)]; }
-  Interval error_ci(ErrorPercentile p) const { return uv_error_ci[int(p)]; }
+struct Figures {
+  double values[4] = {0, 0, 0, 0};  // by ErrorPercentile
+  Interval intervals[4];
+  double wrong_rate = 0;
+  Interval wrong_ci;
+  double error(ErrorPercentile p) const { return values[int(p)]; }
+  Interval error_ci(ErrorPercentile p) const { return intervals[int(p)]; }
 };
-Accuracy accuracy_of(const ErrorSummary& errors);
+Figures figures_of(const ErrorDistribution& distribution);
+
+// A row's accuracy in one unit: its search error (what a target bounds), the filter's bias (its
+// surface read's exact hit from level 0's; zero under bilinear) and its error against level 0.
+struct Accuracy {
+  Figures search, bias, total;
+  std::size_t rays = 0;
+  double error(ErrorPercentile p) const { return search.error(p); }
+  Interval error_ci(ErrorPercentile p) const { return search.error_ci(p); }
+  double wrong_rate() const { return search.wrong_rate; }
+};
+// Throws InputError where the row has no errors in the unit (pixels of rays without a pixel grid).
+Accuracy accuracy_of(const ErrorSummary& errors, ErrorUnit unit);
+
+// Whether the target's search bounds hold, and whether the filter's bias alone misses the target
+// while being at least the search error at its percentile: then more layers do not change what a
+// player sees ("filter-dominated").
+bool meets(const Accuracy& accuracy, const RecommendationTarget& target);
+bool filter_dominated(const Accuracy& accuracy, const RecommendationTarget& target);
 
 // A measured configuration as the recommendation reads it: the typed fields of a run's row (a
 // Measurement in the suite and claims, a row of measurements.json in `heightmarch recommend`),
@@ -70,7 +103,7 @@ struct Candidate {
   bool grid = false;  // of the technique x layers grid or the claims: its CPU backend is a declared one
   Technique technique = Technique::pom;
   LayerSpec layers;
-  Filter filter = Filter::bilinear;  // the run's: one filter per recommendation
+  Filter filter = Filter::bilinear;  // what its samples were asked to read with (its backend's)
   Accuracy selection;                // on the window, where the choice is made
   std::optional<Accuracy> held_out;  // on the held-out set, where it is checked
   int held_out_id = -1;
@@ -81,9 +114,10 @@ struct Candidate {
 };
 
 // The rows a recommendation may choose from: timed, measured, unfailed technique rows on the
-// window (CPU kernels and GLSL; brought-in shaders excluded) of the technique x layers grid, the
-// claims and GLSL, each joined to its held-out twin (purpose held-out) where there is one.
-std::vector<Candidate> candidates(const std::vector<Measurement>& rows);
+// window (CPU kernels and GLSL; brought-in shaders excluded) of the technique x layers grid under
+// each filter, the claims and GLSL, each joined to its held-out twin (purpose held-out) where there
+// is one, their accuracy in the unit. Throws InputError as accuracy_of.
+std::vector<Candidate> candidates(const std::vector<Measurement>& rows, ErrorUnit unit);
 
 // A configuration's time: per round, the mean over its heightfields of the seconds per ray.
 struct Pick {
@@ -126,6 +160,9 @@ struct Answer {
   std::vector<Pick> failed_held_out;         // faster than the choice, met the target on the window only
   std::optional<NearMiss> near_miss;         // the fastest that misses by less than kNearMissShare, if faster
   std::optional<Pick> closest;               // none meets: the one nearest to meeting it
+  // Under trilinear: the choice (or the nearest) has a heightfield where the filter's bias alone
+  // misses the target and outweighs the search error (filter_dominated).
+  bool filter_dominated = false;
 };
 
 struct BackendRecommendation {
@@ -136,17 +173,18 @@ struct BackendRecommendation {
 
 struct Recommendation {
   RecommendationTarget target;
-  Filter filter = Filter::bilinear;  // the one its candidates were measured with
   std::vector<BackendRecommendation> backends;
 };
 
-// The declared backends are those of the grid's CPU rows, and GLSL at their thread counts. Throws
-// InputError for a target validate() refuses, or candidates of more than one filter.
+// The declared backends are those of the grid's CPU rows under each filter, and GLSL at their
+// thread counts and filters. Throws InputError for a target validate() refuses.
 Recommendation recommend(const std::vector<Candidate>& candidates, const RecommendationTarget& target);
 
 // recommendation.json (docs/measurements.md; format 2 added the held-out figures, their intervals
-// and the near miss), and for people a few lines per backend.
-inline constexpr int kRecommendationFormatVersion = 2;
+// and the near miss; format 3 the target's unit, the search error it bounds with the filter's bias
+// beside it, a backend per filter and filter-dominated answers), and for people a few lines per
+// backend.
+inline constexpr int kRecommendationFormatVersion = 3;
 std::string recommendation_json(const Recommendation& recommendation);
 std::string recommendation_text(const Recommendation& recommendation);
 std::string recommendation_markdown(const Recommendation& recommendation);  // a table, for claims.md

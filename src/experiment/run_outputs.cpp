@@ -48,21 +48,33 @@ void write_interval(JsonWriter& json, const std::string& key, const Interval& i)
   json.begin_array(key).value("", i.low).value("", i.high).end_array();
 }
 
-void write_groups(JsonWriter& json, const std::string& key, const std::vector<ErrorGroup>& groups) {
+// The rays of each azimuth sector or view-angle band: every grouped distribution's p99 and wrong
+// rate with its interval, under its names, where the group has rays of it.
+void write_groups(JsonWriter& json, const std::string& key, const ErrorSummary& e,
+                  std::vector<ErrorGroup> ErrorDistribution::*groups) {
+  const std::vector<ErrorGroup>& first = e.uv.*groups;
   json.begin_array(key);
-  for (const ErrorGroup& g : groups) {
+  for (const ErrorGroup& g : first) {
     json.begin_object().value("from", g.from).value("to", g.to).value("rays", g.rays);
-    json.value("uv_error_p99", g.p99).value("wrong_surface_rate", g.wrong_surface_rate);
-    write_interval(json, "wrong_surface_ci", g.wrong_surface_ci);
+    for (const ErrorDistributionInfo& d : error_distributions()) {
+      if (!d.grouped) continue;
+      const std::vector<ErrorGroup>& own = e.*d.member.*groups;
+      const auto it =
+          std::find_if(own.begin(), own.end(), [&](const ErrorGroup& o) { return o.from == g.from; });
+      if (it == own.end()) continue;
+      json.value(d.measure("p99"), it->p99).value(d.wrong_name, it->wrong_rate);
+      write_interval(json, d.wrong_ci_name(), it->wrong_ci);
+    }
     json.end_object();
   }
   json.end_array();
 }
 
-// Every measure under its one name (error_measures: the shadow's two null for other techniques),
-// the rays discarded and, for layered techniques, the share within one layer step; the 95%
-// intervals of the percentiles and the wrong-surface rate; over a view set, the rays by azimuth
-// sector and view-angle band.
+// Every measure under its one name (error_measures: the shadow's two null for other techniques,
+// the pixel errors' null for rays without a pixel grid), the rays discarded and those measured in
+// pixels and, for layered techniques, the share within one layer step; the 95% intervals of each
+// measured distribution's percentiles and wrong rate; over a view set, the rays by azimuth sector
+// and view-angle band.
 void write_errors(JsonWriter& json, const std::optional<ErrorSummary>& errors, bool view_set) {
   if (!errors) {
     json.null("errors");
@@ -71,18 +83,25 @@ void write_errors(JsonWriter& json, const std::optional<ErrorSummary>& errors, b
   const ErrorSummary& e = *errors;
   json.begin_object("errors");
   for (const auto& [name, value] : error_measures(e)) json.value(name, value);
-  json.value("discarded", e.discarded);
+  json.value("discarded", e.discarded).value("pixel_rays", e.pixels.rays);
   e.within_one_layer_step ? json.value("within_one_layer_step", *e.within_one_layer_step)
                           : json.null("within_one_layer_step");
   json.begin_object("confidence");
-  write_interval(json, "uv_error_p50", e.p50_ci);
-  write_interval(json, "uv_error_p95", e.p95_ci);
-  write_interval(json, "uv_error_p99", e.p99_ci);
-  write_interval(json, "wrong_surface_rate", e.wrong_surface_ci);
-  json.value("effective_rays", e.effective_rays).end_object();
+  for (const ErrorDistributionInfo& d : error_distributions()) {
+    const ErrorDistribution& values = e.*d.member;
+    if (!values.measured) continue;
+    write_interval(json, d.measure("p50"), values.p50_ci);
+    write_interval(json, d.measure("p95"), values.p95_ci);
+    write_interval(json, d.measure("p99"), values.p99_ci);
+    write_interval(json, d.wrong_name, values.wrong_ci);
+    // uv_error's is the one files before other distributions carried
+    json.value(d.member == &ErrorSummary::uv ? "effective_rays" : d.measure("effective_rays"),
+               values.effective_rays);
+  }
+  json.end_object();
   if (view_set) {
-    write_groups(json, "by_azimuth", e.by_azimuth);
-    write_groups(json, "by_view_angle", e.by_view_angle);
+    write_groups(json, "by_azimuth", e, &ErrorDistribution::by_azimuth);
+    write_groups(json, "by_view_angle", e, &ErrorDistribution::by_view_angle);
   }
   json.end_object();
 }
@@ -261,7 +280,7 @@ std::string metrics_json(const Measurement& row) {
 std::string summary_text(const Measurement& m) {
   const Configuration& c = m.config;
   std::string text;
-  char buf[512];
+  char buf[1024];
   const std::string what =
       c.kind == RunKind::exact ? c.label() : c.label() + " layers " + to_string(c.params.layers);
   // Names from the user's files (map, shader, rays) through printable(): this text goes to a terminal.
@@ -323,26 +342,38 @@ std::string summary_text(const Measurement& m) {
   if (!m.errors) return text;
   const ErrorSummary& e = *m.errors;
   // Four significant digits: an error of 3e-6 texels reads as such, never as a made-up 0.0000.
-  std::snprintf(buf, sizeof buf,
-                "  uv error (texels): mean %.4g  rms %.4g  p50 %.4g  p95 %.4g  p99 %.4g  max %.4g\n"
-                "  wrong surface %.2f%%, depth error mean %.4g, discarded %zu\n",
-                e.mean, e.rms, e.p50, e.p95, e.p99, e.max, 100.0 * e.wrong_surface_rate, e.depth_error_mean,
-                e.discarded);
-  text += buf;
-  std::snprintf(
-      buf, sizeof buf,
-      "  95%% intervals: p95 %.4g-%.4g, p99 %.4g-%.4g texels, wrong surface %.3g-%.3g%% (%.0f effective "
-      "rays of %zu)\n",
-      e.p95_ci.low, e.p95_ci.high, e.p99_ci.low, e.p99_ci.high, 100.0 * e.wrong_surface_ci.low,
-      100.0 * e.wrong_surface_ci.high, e.effective_rays, e.rays);
+  const auto line = [&](const ErrorDistribution& d, const char* what, const char* unit, const char* wrong) {
+    std::snprintf(
+        buf, sizeof buf,
+        "  %s (%s): mean %.4g  rms %.4g  p50 %.4g  p95 %.4g  p99 %.4g  max %.4g; %s %.2f%%\n"
+        "    95%% intervals: p95 %.4g-%.4g, p99 %.4g-%.4g, %s %.3g-%.3g%% (%.0f effective rays of %zu)\n",
+        what, unit, d.mean, d.rms, d.p50, d.p95, d.p99, d.max, wrong, 100.0 * d.wrong_rate, d.p95_ci.low,
+        d.p95_ci.high, d.p99_ci.low, d.p99_ci.high, wrong, 100.0 * d.wrong_ci.low, 100.0 * d.wrong_ci.high,
+        d.effective_rays, d.rays);
+    text += buf;
+  };
+  line(e.uv, "uv error", "texels", "wrong surface");
+  if (e.pixels.measured)
+    line(e.pixels, "pixel error", "pixels", "wrong pixel");
+  else
+    text += "  pixel error: none (the rays have no pixel grid: a rays file)\n";
+  // Where the row's samples read another surface than level 0's (trilinear): its search's own
+  // error, against that surface, and the filter's bias, what reading it costs.
+  if (c.has_filter() && c.params.filter_read() == Filter::trilinear) {
+    line(e.search, "search error against the surface read", "texels", "wrong surface");
+    if (e.search_pixels.measured)
+      line(e.search_pixels, "search error against the surface read", "pixels", "wrong pixel");
+    line(e.bias, "filter bias, the surface read's exact hit from level 0's", "texels", "wrong surface");
+    if (e.bias_pixels.measured) line(e.bias_pixels, "filter bias", "pixels", "wrong pixel");
+  }
+  std::snprintf(buf, sizeof buf, "  depth error mean %.4g, discarded %zu\n", e.depth_error_mean, e.discarded);
   text += buf;
   if (is_view_set(c.view))
-    for (const auto& [what, groups] :
-         {std::pair{"azimuth of V", &e.by_azimuth}, std::pair{"view angle", &e.by_view_angle}}) {
+    for (const auto& [what, groups] : {std::pair{"azimuth of V", &ErrorDistribution::by_azimuth},
+                                       std::pair{"view angle", &ErrorDistribution::by_view_angle}}) {
       text += std::string("  by ") + what + " (degrees: p99, wrong surface):";
-      for (const ErrorGroup& g : *groups) {
-        std::snprintf(buf, sizeof buf, " %g-%g: %.3g, %.2f%%;", g.from, g.to, g.p99,
-                      100.0 * g.wrong_surface_rate);
+      for (const ErrorGroup& g : e.uv.*groups) {
+        std::snprintf(buf, sizeof buf, " %g-%g: %.3g, %.2f%%;", g.from, g.to, g.p99, 100.0 * g.wrong_rate);
         text += buf;
       }
       text.back() = '\n';

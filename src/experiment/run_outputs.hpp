@@ -11,9 +11,11 @@ namespace heightmarch {
 struct Provenance;
 
 // The versions of the files' formats (docs/schemas/ holds a JSON Schema of each). A file without
-// a format_version field is of version 1: measurements.json then named its measures uv_p95 etc.
-inline constexpr int kMeasurementsFormatVersion = 2;
-inline constexpr int kMetricsFormatVersion = 2;
+// a format_version field is of version 1: measurements.json then named its measures uv_p95 etc.;
+// version 3 added the errors in pixels, the search error against the surface read and the filter's
+// bias (metrics.hpp).
+inline constexpr int kMeasurementsFormatVersion = 3;
+inline constexpr int kMetricsFormatVersion = 3;
 
 // A short human summary of one row, a few lines; speeds as median (min-max).
 std::string summary_text(const Measurement& row);

@@ -5,12 +5,21 @@
 namespace heightmarch {
 namespace {
 
-// A key of what changes a run's output among the configurations of one scene; the exact reference
-// is a technique's and a filter's alike (the level-0 surface).
+// A key of what changes a run's output among the configurations of one scene.
 std::string params_key(const TechniqueParams& p, bool with_technique, bool with_filter) {
   char buf[256];
   std::snprintf(buf, sizeof buf, "%d/%g/%g/%d/%a/%d/%d/%d/%a/%a/%a", with_technique ? int(p.technique) : -1,
                 p.layers.min_layers, p.layers.max_layers, p.refine_steps(), p.scale, int(p.wrap),
+                with_filter ? int(p.filter) : -1, int(p.discard), p.light[0], p.light[1], p.light[2]);
+  return buf;
+}
+
+// The key of the exact hits: what the exact references read (scale, wrap, discard, the light and,
+// for the surface read, the filter), never a technique's search (its layers, its refinement), so
+// the rows of a technique x layers grid share them.
+std::string exact_key(const TechniqueParams& p, bool with_filter) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "%a/%d/%d/%d/%a/%a/%a", p.scale, int(p.wrap),
                 with_filter ? int(p.filter) : -1, int(p.discard), p.light[0], p.light[1], p.light[2]);
   return buf;
 }
@@ -21,9 +30,20 @@ Scene::Scene(const DepthMap& map, const ViewSpec& view) : map(map), rays(make_vi
 
 const HitBuffers& Scene::exact(const TechniqueParams& params) {
   const LightVisibility visibility = visibility_for(params.technique);
-  auto& slot = exact_[params_key(params, false, false) +
-                      (visibility == LightVisibility::compute ? "/visibility" : "")];
+  auto& slot =
+      exact_[exact_key(params, false) + (visibility == LightVisibility::compute ? "/visibility" : "")];
   if (!slot) slot = std::make_unique<HitBuffers>(exact_hits(map, rays, params, visibility));
+  return *slot;
+}
+
+const HitBuffers& Scene::surface_read(const TechniqueParams& params) {
+  if (params.filter_read() == Filter::bilinear) return exact(params);
+  const HitBuffers& level0 = exact(params);
+  auto& slot = surface_read_[exact_key(params, true)];
+  if (!slot) {
+    slot = std::make_unique<HitBuffers>();
+    FilteredExactReference(map, params).run(rays, level0, *slot);
+  }
   return *slot;
 }
 

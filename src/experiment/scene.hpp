@@ -23,6 +23,10 @@ class Scene {
   // a shadow factor).
   const HitBuffers& exact(const TechniqueParams& params);
 
+  // The exact hits on the surface a technique with these parameters reads
+  // (FilteredExactReference): exact(params) itself where that is level 0.
+  const HitBuffers& surface_read(const TechniqueParams& params);
+
   // The scalar reference of a run kind's Tracer run (`run`, one of Tracer's run methods) with
   // these parameters, computed once: what every ISA's output must equal bit for bit.
   using TracerRun = TraceStats (Tracer::*)(const RayBatch&, HitBuffers&) const;
@@ -33,7 +37,7 @@ class Scene {
   HitBuffers scratch;  // hits of timed runs: one buffer, so timings see no page faults
 
  private:
-  std::map<std::string, std::unique_ptr<HitBuffers>> exact_, references_;
+  std::map<std::string, std::unique_ptr<HitBuffers>> exact_, surface_read_, references_;
 };
 
 // Depth maps by source and scenes by heightfield and view, built on first use.

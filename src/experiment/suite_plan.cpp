@@ -82,6 +82,9 @@ PlanSettings suite_settings(bool quick, int threads) {
   s.threads = threads;
   s.thread_counts = threads > 1 ? std::vector<int>{1, threads} : std::vector<int>{1};
   s.min_seconds = quick ? 0.01 : 0.04;
+  // Shipped shaders read a mip chain: the full plan answers for both filters side by side (the
+  // quick one, a smoke run, under bilinear alone unless asked).
+  if (!quick) s.compared_filters = {Filter::trilinear};
   s.large_maps = !quick;
   return s;
 }
@@ -172,8 +175,10 @@ std::vector<Configuration> recommended_gallery_plan(const Recommendation& recomm
                                    [&](const HeightfieldSource& h) { return h.label() == a.heightfield; });
       if (hf == s.heightfields.end()) continue;
       add(with_technique(on_view(s, *hf, RunKind::exact, kPurposeGallery), Technique::pom, kThirtyTwo));
-      add(with_technique(on_view(s, *hf, RunKind::trace, kPurposeGallery), a.choice->technique,
-                         a.choice->layers));
+      Configuration shown = with_technique(on_view(s, *hf, RunKind::trace, kPurposeGallery),
+                                           a.choice->technique, a.choice->layers);
+      shown.params.filter = b.backend.filter;  // read as the answer's shader reads
+      add(shown);
     }
   return out;
 }
@@ -183,8 +188,8 @@ std::vector<Configuration> with_held_out(std::vector<Configuration> plan, const 
   const std::size_t candidates = plan.size();
   for (std::size_t i = 0; i < candidates; ++i) {
     const Configuration& c = plan[i];
-    if (!(c.purposes & (kPurposeMatrix | kPurposeGlsl | kPurposeClaims)) || !c.has_technique() ||
-        !(c.kind == RunKind::trace || c.kind == RunKind::glsl) || !(c.view == s.window))
+    if (!(c.purposes & (kPurposeMatrix | kPurposeFilters | kPurposeGlsl | kPurposeClaims)) ||
+        !c.has_technique() || !(c.kind == RunKind::trace || c.kind == RunKind::glsl) || !(c.view == s.window))
       continue;
     Configuration twin = c;
     twin.view = held_out_view(c.view);
@@ -240,10 +245,10 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
         add_to_plan(plan, with_technique(on_view(s, hf, RunKind::trace, kPurposeMatrix), t.id, layers));
         if (s.glsl)
           add_to_plan(plan, with_technique(on_view(s, hf, RunKind::glsl, kPurposeGlsl), t.id, layers));
+        // Under each other filter too, timed: the answer for a shader that reads that way.
         for (Filter filter : s.compared_filters) {
           Configuration c = with_technique(on_view(s, hf, RunKind::trace, kPurposeFilters), t.id, layers);
           c.params.filter = filter;
-          c.timed = false;
           add_to_plan(plan, c);
         }
         if (s.matrix_everywhere)

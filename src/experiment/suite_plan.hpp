@@ -22,8 +22,10 @@ struct PlanSettings {
   std::vector<LayerSpec> layer_specs;
   std::vector<LayerSpec> few_layer_specs;  // the sweeps' and GLSL's at fewer threads: 8, 32, 8-32
   float scale = 0.1f;                      // height scale of every configuration
-  // The filter every configuration that takes one reads with (takes_filter); and others whose
-  // effect the run shows: the technique x layers matrix under each, accuracy only (kPurposeFilters).
+  // The filter every configuration that takes one reads with (takes_filter); and others the run
+  // answers for too: the technique x layers matrix under each at the best ISA and all threads,
+  // timed, with its held-out twins (kPurposeFilters): a recommendation per filter, side by side.
+  // The full plan compares trilinear with bilinear; the quick one none.
   Filter filter = Filter::bilinear;
   std::vector<Filter> compared_filters;
   // The window of the rows on the default view (the matrix, the searches at every ISA, GLSL, the

@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <iterator>
+#include <stdexcept>
+#include <string_view>
 #include <type_traits>
 
 namespace heightmarch {
@@ -88,7 +92,7 @@ Interval percentile_interval(const std::vector<float>& sorted, const std::vector
   return {std::min(double(at(ranks.low)), value), std::max(double(at(ranks.high)), value)};
 }
 
-// The rays of each azimuth sector or view-angle band that has any: p99, wrong-surface rate and its
+// The rays of each azimuth sector or view-angle band that has any: p99, wrong rate and its
 // interval (on the rays' effective number, at the whole set's design effect).
 std::vector<ErrorGroup> group_errors(const std::vector<MeasuredRay>& rays, bool by_sector, int groups,
                                      double width, double first, double design) {
@@ -103,14 +107,54 @@ std::vector<ErrorGroup> group_errors(const std::vector<MeasuredRay>& rays, bool 
     group.to = group.from + width;
     group.rays = e.size();
     const std::size_t wrong = std::count_if(e.begin(), e.end(), [](float x) { return x > 1.0f; });
-    group.wrong_surface_rate = double(wrong) / double(e.size());
-    group.wrong_surface_ci = clopper_pearson(double(wrong) / design, double(e.size()) / design);
+    group.wrong_rate = double(wrong) / double(e.size());
+    group.wrong_ci = clopper_pearson(double(wrong) / design, double(e.size()) / design);
     const std::size_t rank = std::size_t(std::ceil(0.99 * double(e.size())));
     std::nth_element(e.begin(), e.begin() + (rank - 1), e.end());
     group.p99 = e[rank - 1];
     out.push_back(group);
   }
   return out;
+}
+
+// The statistics of one distribution's measured rays (of a batch of `views` views).
+ErrorDistribution distribution_of(const std::vector<MeasuredRay>& measured, std::uint32_t views,
+                                  bool grouped) {
+  ErrorDistribution d;
+  if (measured.empty()) return d;
+  d.measured = true;
+  d.rays = measured.size();
+  double sum = 0, sum_sq = 0;
+  std::size_t wrong = 0;
+  std::vector<float> errors;
+  errors.reserve(measured.size());
+  for (const MeasuredRay& r : measured) {
+    sum += r.error;
+    sum_sq += double(r.error) * r.error;
+    wrong += r.error > 1.0f;
+    errors.push_back(r.error);
+  }
+  const double n = double(measured.size());
+  d.mean = sum / n;
+  d.rms = std::sqrt(sum_sq / n);
+  d.wrong_rate = double(wrong) / n;
+  std::sort(errors.begin(), errors.end());
+  d.p50 = percentile(errors, 50);
+  d.p95 = percentile(errors, 95);
+  d.p99 = percentile(errors, 99);
+  d.max = errors.back();
+  d.p50_ci = percentile_interval(errors, measured, views, 50, d.p50);
+  d.p95_ci = percentile_interval(errors, measured, views, 95, d.p95);
+  d.p99_ci = percentile_interval(errors, measured, views, 99, d.p99);
+  const double design = design_effect(measured, views, 1.0f);
+  d.effective_rays = n / design;
+  d.wrong_ci = clopper_pearson(double(wrong) / design, d.effective_rays);
+  if (grouped) {
+    d.by_azimuth = group_errors(measured, true, kAzimuthSectors, 360.0 / kAzimuthSectors,
+                                -180.0 / kAzimuthSectors, design);
+    d.by_view_angle = group_errors(measured, false, kAngleBands, kViewAngleBand, 0.0, design);
+  }
+  return d;
 }
 
 }  // namespace
@@ -136,15 +180,25 @@ const std::vector<float>& float_channel(const HitBuffers& hits, HitChannel chann
 
 }  // namespace
 
-ErrorSummary summarize_errors(const RayBatch& rays, const HitBuffers& hits, const HitBuffers& exact,
+double pixel_offset(double du, double dv, double du_dx, double dv_dx, double du_dy, double dv_dy) {
+  const double det = du_dx * dv_dy - du_dy * dv_dx;
+  if (!(std::fabs(det) > 0.0) || !std::isfinite(det)) return std::nan("");
+  return std::hypot((dv_dy * du - du_dy * dv) / det, (du_dx * dv - dv_dx * du) / det);
+}
+
+ErrorSummary summarize_errors(const RayBatch& rays, const HitBuffers& hits, const ExactHits& exact,
                               int map_width, int map_height, Writes written,
                               std::vector<float>* per_ray_error) {
   ErrorSummary s;
-  std::vector<MeasuredRay> measured;
-  measured.reserve(rays.ray_count);
+  const HitBuffers& level0 = exact.level0;
   if (per_ray_error) per_ray_error->assign(rays.size(), 0.0f);
-  double sum = 0, sum_sq = 0, depth_sum = 0, samples = 0;
-  std::size_t wrong = 0, real = 0;
+  // The rays measured, each with its azimuth sector and view-angle band (once: every distribution
+  // groups by them).
+  std::vector<std::size_t> measured;
+  std::vector<std::uint8_t> sector, band;
+  measured.reserve(rays.ray_count);
+  double depth_sum = 0, samples = 0;
+  std::size_t real = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     if (rays.is_padding(i)) continue;
     ++real;
@@ -153,69 +207,113 @@ ErrorSummary summarize_errors(const RayBatch& rays, const HitBuffers& hits, cons
       ++s.discarded;
       continue;
     }
-    const float e = uv_error_texels(hits.u[i], hits.v[i], exact.u[i], exact.v[i], map_width, map_height);
-    if (per_ray_error) (*per_ray_error)[i] = e;
+    measured.push_back(i);
     // Sector k spans 45 k +- 22.5 degrees of V's azimuth; band b, 15 b to 15 (b + 1) degrees from the normal.
     const double azimuth = std::atan2(double(rays.vy[i]), double(rays.vx[i])) * 180.0 / kPi;
     const double sector_width = 360.0 / kAzimuthSectors;
-    const int sector =
-        int(std::floor((azimuth + 360.0 + 0.5 * sector_width) / sector_width)) % kAzimuthSectors;
+    sector.push_back(std::uint8_t(int(std::floor((azimuth + 360.0 + 0.5 * sector_width) / sector_width)) %
+                                  kAzimuthSectors));
     const double angle = std::acos(std::clamp(double(rays.vz[i]), -1.0, 1.0)) * 180.0 / kPi;
-    const int band = std::min(int(angle / kViewAngleBand), kAngleBands - 1);
-    measured.push_back({e, rays.view[i], std::uint8_t(sector), std::uint8_t(band)});
-    sum += e;
-    sum_sq += double(e) * e;
-    wrong += e > 1.0f;
-    depth_sum += std::fabs(double(hits.depth[i]) - double(exact.depth[i]));
+    band.push_back(std::uint8_t(std::min(int(angle / kViewAngleBand), kAngleBands - 1)));
+    depth_sum += std::fabs(double(hits.depth[i]) - double(level0.depth[i]));
   }
   s.rays = measured.size();
   s.samples_per_ray = real ? samples / double(real) : 0.0;
   if (measured.empty()) return s;
   const double n = double(measured.size());
-  s.mean = sum / n;
-  s.rms = std::sqrt(sum_sq / n);
-  s.wrong_surface_rate = double(wrong) / n;
   s.depth_error_mean = depth_sum / n;
+  // Each distribution in turn (one ray list in memory at a time): the offset between its two hits,
+  // in texels of level 0 or in pixels of the ray's footprint (rays without one left out).
+  std::vector<MeasuredRay> errors;
+  errors.reserve(measured.size());
+  for (const ErrorDistributionInfo& d : error_distributions()) {
+    const HitBuffers& to = d.between == ErrorBetween::read_level0 ? exact.surface_read : hits;
+    const HitBuffers& from = d.between == ErrorBetween::hit_read ? exact.surface_read : level0;
+    errors.clear();
+    for (std::size_t k = 0; k < measured.size(); ++k) {
+      const std::size_t i = measured[k];
+      float e;
+      if (d.in == ErrorUnit::texels) {
+        e = uv_error_texels(to.u[i], to.v[i], from.u[i], from.v[i], map_width, map_height);
+      } else {
+        const double px =
+            pixel_offset(double(to.u[i]) - double(from.u[i]), double(to.v[i]) - double(from.v[i]),
+                         rays.du_dx[i], rays.dv_dx[i], rays.du_dy[i], rays.dv_dy[i]);
+        if (std::isnan(px)) continue;
+        e = float(px);
+      }
+      if (per_ray_error && d.member == &ErrorSummary::uv) (*per_ray_error)[i] = e;
+      errors.push_back({e, rays.view[i], sector[k], band[k]});
+    }
+    s.*d.member = distribution_of(errors, rays.views, d.grouped);
+  }
   // Each output against the exact visibility (the exact hits' shadow: 0 or 1), on the same rays.
   for (const HitChannelInfo& c : hit_channels()) {
     if (!measured_against_visibility(c, written)) continue;
     const std::vector<float>& value = float_channel(hits, c.id);
     double error_sum = 0;
     std::size_t mismatched = 0;
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-      if (rays.is_padding(i) || hits.discarded[i]) continue;
-      error_sum += std::fabs(double(value[i]) - double(exact.shadow[i]));
-      mismatched += (value[i] >= 0.5f) != (exact.shadow[i] >= 0.5f);
+    for (std::size_t i : measured) {
+      error_sum += std::fabs(double(value[i]) - double(level0.shadow[i]));
+      mismatched += (value[i] >= 0.5f) != (level0.shadow[i] >= 0.5f);
     }
     s.visibility[std::size_t(c.id)] = {true, error_sum / n, double(mismatched) / n};
   }
-  std::vector<float> errors;
-  errors.reserve(measured.size());
-  for (const MeasuredRay& r : measured) errors.push_back(r.error);
-  std::sort(errors.begin(), errors.end());
-  s.p50 = percentile(errors, 50);
-  s.p95 = percentile(errors, 95);
-  s.p99 = percentile(errors, 99);
-  s.max = errors.back();
-  s.p50_ci = percentile_interval(errors, measured, rays.views, 50, s.p50);
-  s.p95_ci = percentile_interval(errors, measured, rays.views, 95, s.p95);
-  s.p99_ci = percentile_interval(errors, measured, rays.views, 99, s.p99);
-  const double design = design_effect(measured, rays.views, 1.0f);
-  s.effective_rays = n / design;
-  s.wrong_surface_ci = clopper_pearson(double(wrong) / design, s.effective_rays);
-  s.by_azimuth = group_errors(measured, true, kAzimuthSectors, 360.0 / kAzimuthSectors,
-                              -180.0 / kAzimuthSectors, design);
-  s.by_view_angle = group_errors(measured, false, kAngleBands, kViewAngleBand, 0.0, design);
   return s;
 }
 
+const std::vector<ErrorDistributionInfo>& error_distributions() {
+  static const std::vector<ErrorDistributionInfo> list = {
+#define HEIGHTMARCH_DISTRIBUTION_INFO(member, name, wrong, quantity, unit, wrong_label, between, grouped) \
+  {&ErrorSummary::member,                                                                                 \
+   #name,                                                                                                 \
+   #wrong,                                                                                                \
+   quantity,                                                                                              \
+   unit,                                                                                                  \
+   wrong_label,                                                                                           \
+   ErrorBetween::between,                                                                                 \
+   std::string_view(unit) == "pixels" ? ErrorUnit::pixels : ErrorUnit::texels,                            \
+   grouped},
+#define HEIGHTMARCH_NO_FIGURE(...)
+      HEIGHTMARCH_HIT_MEASURES(HEIGHTMARCH_DISTRIBUTION_INFO, HEIGHTMARCH_NO_FIGURE)
+#undef HEIGHTMARCH_DISTRIBUTION_INFO
+#undef HEIGHTMARCH_NO_FIGURE
+  };
+  return list;
+}
+
+const ErrorDistributionInfo& distribution_named(const std::string& name) {
+  for (const ErrorDistributionInfo& d : error_distributions())
+    if (d.name == name) return d;
+  throw std::out_of_range("no error distribution " + name);
+}
+
+namespace {
+
+// The statistics of a distribution's measures, in the list's order: NAME_STATISTIC, then its wrong rate.
+constexpr const char* kStatistics[] = {"mean", "rms", "p50", "p95", "p99", "max"};
+constexpr double ErrorDistribution::*kStatisticMembers[] = {
+    &ErrorDistribution::mean, &ErrorDistribution::rms, &ErrorDistribution::p50,
+    &ErrorDistribution::p95,  &ErrorDistribution::p99, &ErrorDistribution::max};
+
+}  // namespace
+
 const std::vector<ErrorMeasure>& error_measure_list() {
   static const std::vector<ErrorMeasure> list = [] {
-    std::vector<ErrorMeasure> measures = {
-#define HEIGHTMARCH_HIT_MEASURE_NAME(name, member, label) {#name, label},
-        HEIGHTMARCH_HIT_MEASURES(HEIGHTMARCH_HIT_MEASURE_NAME)
-#undef HEIGHTMARCH_HIT_MEASURE_NAME
+    std::vector<ErrorMeasure> measures;
+    const auto distribution = [&](const std::string& name) {
+      const ErrorDistributionInfo& d = distribution_named(name);
+      for (const char* statistic : kStatistics)
+        measures.push_back(
+            {d.measure(statistic), std::string(std::strcmp(statistic, "rms") == 0 ? "RMS" : statistic) + " " +
+                                       d.quantity + " (" + d.unit + ")"});
+      measures.push_back({d.wrong_name, d.wrong_label + " (share of rays)"});
     };
+#define HEIGHTMARCH_DISTRIBUTION_MEASURES(member, name, ...) distribution(#name);
+#define HEIGHTMARCH_FIGURE_MEASURE(name, member, label) measures.push_back({#name, label});
+    HEIGHTMARCH_HIT_MEASURES(HEIGHTMARCH_DISTRIBUTION_MEASURES, HEIGHTMARCH_FIGURE_MEASURE)
+#undef HEIGHTMARCH_DISTRIBUTION_MEASURES
+#undef HEIGHTMARCH_FIGURE_MEASURE
     for (const HitChannelInfo& c : hit_channels())
       if (c.against == MeasuredAgainst::visibility) {
         const std::string name(c.name), label(c.label);
@@ -234,11 +332,20 @@ std::string error_measure_names() {
 }
 
 std::vector<std::pair<std::string, double>> error_measures(const ErrorSummary& e) {
-  std::vector<std::pair<std::string, double>> measures = {
-#define HEIGHTMARCH_HIT_MEASURE_VALUE(name, member, label) {#name, e.member},
-      HEIGHTMARCH_HIT_MEASURES(HEIGHTMARCH_HIT_MEASURE_VALUE)
-#undef HEIGHTMARCH_HIT_MEASURE_VALUE
+  std::vector<std::pair<std::string, double>> measures;
+  const auto distribution = [&](const std::string& name) {
+    const ErrorDistributionInfo& d = distribution_named(name);
+    const ErrorDistribution& values = e.*d.member;
+    for (std::size_t k = 0; k < std::size(kStatistics); ++k)
+      measures.emplace_back(d.measure(kStatistics[k]),
+                            values.measured ? values.*kStatisticMembers[k] : std::nan(""));
+    measures.emplace_back(d.wrong_name, values.measured ? values.wrong_rate : std::nan(""));
   };
+#define HEIGHTMARCH_DISTRIBUTION_VALUES(member, name, ...) distribution(#name);
+#define HEIGHTMARCH_FIGURE_VALUE(name, member, label) measures.emplace_back(#name, e.member);
+  HEIGHTMARCH_HIT_MEASURES(HEIGHTMARCH_DISTRIBUTION_VALUES, HEIGHTMARCH_FIGURE_VALUE)
+#undef HEIGHTMARCH_DISTRIBUTION_VALUES
+#undef HEIGHTMARCH_FIGURE_VALUE
   for (const HitChannelInfo& c : hit_channels())
     if (c.against == MeasuredAgainst::visibility) {
       const ErrorSummary::VisibilityError& v = e.visibility[std::size_t(c.id)];
@@ -260,6 +367,15 @@ double layer_step_texels(const LayerSpec& layers, float scale, float vx, float v
                          int map_height) {
   const double n = layer_count(layers.min_layers, layers.max_layers, vz);
   return std::hypot(scale * vx / vz / n * map_width, scale * vy / vz / n * map_height);
+}
+
+std::vector<float> uv_errors(const RayBatch& rays, const HitBuffers& hits, const HitBuffers& exact,
+                             int map_width, int map_height) {
+  std::vector<float> out(rays.size(), 0.0f);
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    if (!rays.is_padding(i) && !hits.discarded[i])
+      out[i] = uv_error_texels(hits.u[i], hits.v[i], exact.u[i], exact.v[i], map_width, map_height);
+  return out;
 }
 
 double share_within_one_layer_step(const RayBatch& rays, const HitBuffers& hits,

@@ -1,6 +1,7 @@
 #include "heightmarch/views.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <numeric>
@@ -399,28 +400,39 @@ RayBatch poses_rays(const ViewSpec& view, std::vector<std::size_t>& pose_lines) 
   return batch;
 }
 
-// Fresh rays like a window's: each view angle that of a ray of the window drawn at random, the
-// azimuth uniform in [0, 360) degrees, the entry point uniform in [0, 1)^2.
+// Fresh rays like a window's: each the view angle and pixel footprint of a ray of the window drawn
+// at random, the azimuth uniform in [0, 360) degrees (the footprint turned with the ray, as turning
+// a view about the normal turns its gradients), the entry point uniform in [0, 1)^2. So their
+// errors in pixels and their trilinear levels of detail are the window's.
 RayBatch fresh_rays(const ViewSpec& view) {
   const std::size_t n = view.fresh_rays;
   // Asked before anything is made: the batch, its hits and references (make_ray_list asks again,
-  // the columns then held) and the five columns it is made from.
-  check_memory_budget((kBytesPerRay * padding_factor(view.tile_size) + 5.0 * sizeof(float)) * double(n),
+  // the columns then held) and the nine columns it is made from (the rays' five, the footprint's four).
+  check_memory_budget((kBytesPerRay * padding_factor(view.tile_size) + 9.0 * sizeof(float)) * double(n),
                       std::to_string(n) + " fresh rays");
   ViewSpec window = view;
   window.fresh_rays = 0;
-  std::vector<float> cosines;
+  struct Source {
+    float vz;
+    double phi;
+    float du_dx, dv_dx, du_dy, dv_dy;
+  };
+  std::vector<Source> sources;
   {
     const RayBatch source = make_view_rays(window);
     for (std::size_t i = 0; i < source.size(); ++i)
-      if (!source.is_padding(i)) cosines.push_back(source.vz[i]);
+      if (!source.is_padding(i))
+        sources.push_back({source.vz[i], std::atan2(double(source.vy[i]), double(source.vx[i])),
+                           source.du_dx[i], source.dv_dx[i], source.du_dy[i], source.dv_dy[i]});
   }
-  if (cosines.empty()) throw InputError(describe(window) + ": no rays to draw view angles from");
+  if (sources.empty()) throw InputError(describe(window) + ": no rays to draw view angles from");
   std::vector<float> tx(n), ty(n), vx(n), vy(n), vz(n);
+  std::vector<std::array<float, 4>> footprint(n);
   Draws draws(view.seed, 0xF2E5'0000'0000ull);  // a stream no view of a set uses
   for (std::size_t i = 0; i < n; ++i) {
-    const double cos_theta =
-        cosines[std::min(cosines.size() - 1, std::size_t(draws.next() * double(cosines.size())))];
+    const Source& from =
+        sources[std::min(sources.size() - 1, std::size_t(draws.next() * double(sources.size())))];
+    const double cos_theta = from.vz;
     const double sin_theta = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
     const double phi = 2.0 * kPi * draws.next();
     tx[i] = float(draws.next());
@@ -428,8 +440,21 @@ RayBatch fresh_rays(const ViewSpec& view) {
     vx[i] = float(sin_theta * std::cos(phi));
     vy[i] = float(sin_theta * std::sin(phi));
     vz[i] = float(cos_theta);
+    const double c = std::cos(phi - from.phi), s = std::sin(phi - from.phi);
+    footprint[i] = {float(c * from.du_dx - s * from.dv_dx), float(s * from.du_dx + c * from.dv_dx),
+                    float(c * from.du_dy - s * from.dv_dy), float(s * from.du_dy + c * from.dv_dy)};
   }
-  return make_ray_list(tx, ty, vx, vy, vz, view.tile_size);
+  RayBatch batch = make_ray_list(tx, ty, vx, vy, vz, view.tile_size);
+  // Each ray's footprint by its row; padding copies its tile's last ray, as for a view.
+  std::array<float, 4> last{};
+  for (std::size_t i = 0; i < batch.size(); ++i) {
+    if (!batch.is_padding(i)) last = footprint[batch.origin[i]];
+    batch.du_dx[i] = last[0];
+    batch.dv_dx[i] = last[1];
+    batch.du_dy[i] = last[2];
+    batch.dv_dy[i] = last[3];
+  }
+  return batch;
 }
 
 }  // namespace

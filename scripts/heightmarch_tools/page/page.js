@@ -45,7 +45,7 @@
   const percent = v => v === null || v === undefined ? "-" : `${(100 * v).toFixed(2)}%`;
   const label = row => STYLE[row.technique].layered ? `${row.technique} ${row.layers}` : row.technique;
   const unique = values => [...new Set(values)];
-  const meetsWrongBound = row => !TARGET || (row.errors.wrong_surface_rate ?? 0) <= TARGET.wrong_surface_rate;
+  const meetsWrongBound = row => !TARGET || (row.errors[TARGET.wrong_measure] ?? 0) <= TARGET.max_wrong_rate;
 
   // A configuration's figures, as lines of text: the first names it.
   function describe(row) {
@@ -252,7 +252,7 @@
       const shapes = [{type: "rect", xref: "paper", x0: 0, x1: 1, yref: "y", y0: zero / 5, y1: zero * 3,
                        fillcolor: "#eee", line: {width: 0}, layer: "below"}];
       if (TARGET && measure === TARGET.measure)
-        shapes.push({type: "line", xref: "paper", x0: 0, x1: 1, y0: TARGET.uv_error_texels, y1: TARGET.uv_error_texels,
+        shapes.push({type: "line", xref: "paper", x0: 0, x1: 1, y0: TARGET.max_error, y1: TARGET.max_error,
                      line: {dash: "dash", color: "black", width: 1}});
       const div = el("div", {class: "frontier-chart", "data-heightfield": hf});
       holder.append(div);
