@@ -678,7 +678,7 @@ std::vector<BadInput> bad_inputs() {
       {"HeightOfBuiltin", "trace --size 8x8 --convention height",
        "applies to a depth map file, not builtin:bricks"},
       {"UnknownEntryOption", "suite --quick --heightmap " + d + "/whole.jpg:chanel=g --dry-run",
-       "unknown option 'chanel' (convention, channel, wrap)"},
+       "unknown option 'chanel' (convention, channel, wrap, albedo)"},
       {"SuiteConventionWithoutMaps", "suite --quick --convention height --dry-run",
        "--convention requires --heightmap"},
       {"SuiteDepthInAlpha",

@@ -142,7 +142,7 @@ TEST(GlslProtocol, ReceiveRefusesWhatIsNoMessageBeforeItAllocates) {
 }
 
 // A prepare's payload as the client writes it, with the fields a test breaks.
-protocol::Writer prepare_payload(const TechniqueParams& params, const DepthMap& map, const RayBatch& rays,
+protocol::Writer prepare_payload(const TechniqueParams& params, const DepthMap& map, const DrawnRays& rays,
                                  std::uint8_t map_flag = 1, const std::string& shader = "") {
   protocol::Writer w;
   protocol::write(w, params);
@@ -158,7 +158,7 @@ TEST(GlslProtocol, ReadRequestChecksEveryFieldAsTheCommandLineDoes) {
   TechniqueParams good;
   good.refine = 5;  // so write() never asks the registry about a broken technique
   const DepthMap map{4, 4, std::vector<float>(16, 0.5f)};
-  const RayBatch rays = make_ray_list({0.5f}, {0.5f}, {0.0f}, {0.0f}, {1.0f});
+  const DrawnRays rays = screen_layout(make_ray_list({0.5f}, {0.5f}, {0.0f}, {0.0f}, {1.0f})).drawn;
   const auto read = [&](const protocol::Writer& payload) {
     try {
       protocol::read_request(Message::prepare, payload.bytes());
@@ -186,10 +186,24 @@ TEST(GlslProtocol, ReadRequestChecksEveryFieldAsTheCommandLineDoes) {
   nan_map.texels[5] = std::numeric_limits<float>::quiet_NaN();
   EXPECT_NE(read(prepare_payload(good, nan_map, rays)).find("1 NaN/Inf texels (first at 1,1)"),
             std::string::npos);
-  RayBatch below = rays;
-  below.vz[0] = -1.0f;
+  DrawnRays below = rays;
+  below.rays.vz[0] = -1.0f;
   EXPECT_NE(read(prepare_payload(good, map, below)).find("InputError: ray 1 of the batch"),
             std::string::npos);
+  DrawnRays turned = rays;
+  turned.turn_u[3] = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(read(prepare_payload(good, map, turned)),
+            "InputError: drawn ray 4: turns not finite within 1e6, or a flag not 0 or 1");
+  DrawnRays flagged = rays;
+  flagged.drawn[0] = 2;
+  EXPECT_EQ(read(prepare_payload(good, map, flagged)),
+            "InputError: drawn ray 1: turns not finite within 1e6, or a flag not 0 or 1");
+  DrawnRays ragged = rays;
+  ragged.row_width = 1000;
+  EXPECT_EQ(read(prepare_payload(good, map, ragged)),
+            "InputError: drawn rays of 1024 texels in rows of 1000");
+  ragged.row_width = 0;
+  EXPECT_EQ(read(prepare_payload(good, map, ragged)), "InputError: drawn rays of 1024 texels in rows of 0");
   EXPECT_EQ(read(prepare_payload(good, map, rays, 2)), "BadMessage: map flag 2 is not 0 or 1");
   protocol::Writer short_payload = prepare_payload(good, map, rays);
   std::vector<char> cut(short_payload.bytes().begin(), short_payload.bytes().end() - 3);
@@ -235,8 +249,9 @@ TEST(GlslWorker, SaysWhatIsWrongWithItsStreamAndExits) {
   broken.refine = 5;
   broken.technique = Technique(100000000);
   const auto answered = run_worker(
-      message(Message::prepare, prepare_payload(broken, DepthMap{4, 4, std::vector<float>(16, 0.5f)},
-                                                make_ray_list({0.5f}, {0.5f}, {0.0f}, {0.0f}, {1.0f}))) +
+      message(Message::prepare,
+              prepare_payload(broken, DepthMap{4, 4, std::vector<float>(16, 0.5f)},
+                              screen_layout(make_ray_list({0.5f}, {0.5f}, {0.0f}, {0.0f}, {1.0f})).drawn)) +
           header(Message::read, 0),
       "1G");
   EXPECT_EQ(answered.status, 0) << answered.errors;
@@ -266,9 +281,9 @@ TEST(GlslWorker, EndsWhenItsClientHangsUpEvenWhileDrawing) {
   std::vector<char> reply;
   ASSERT_EQ(protocol::receive(fds[0], reply, std::nullopt, 1 << 20), Message::ready);
   const std::string request =
-      message(Message::prepare,
-              prepare_payload(TechniqueParams(), make_builtin_heightfield("bricks", 64, 1),
-                              make_view_rays(default_view(256, 256)), 1, dir + "/endless.glsl")) +
+      message(Message::prepare, prepare_payload(TechniqueParams(), make_builtin_heightfield("bricks", 64, 1),
+                                                screen_layout(make_view_rays(default_view(256, 256))).drawn,
+                                                1, dir + "/endless.glsl")) +
       header(Message::draw, 0);
   ASSERT_EQ(::write(fds[0], request.data(), request.size()), ssize_t(request.size()));
   ASSERT_EQ(protocol::receive(fds[0], reply, std::nullopt, 1 << 20), Message::compiled);

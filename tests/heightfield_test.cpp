@@ -226,14 +226,18 @@ TEST(MapEntries, OptionsOfAnEntryOverrideTheCommandsReading) {
   // A file whose own name ends like an option is that file.
   std::ofstream(dir + "/odd:wrap=clamp") << "a file of that name";
   EXPECT_EQ(parse_heightfield(dir + "/odd:wrap=clamp").path, dir + "/odd:wrap=clamp");
+  // Its colour texture, an existing file.
+  std::ofstream(dir + "/colour.png") << "a colour texture";
+  EXPECT_EQ(parse_heightfield("builtin:waves:albedo=" + dir + "/colour.png").albedo, dir + "/colour.png");
   for (const auto& [entry, message] : std::vector<std::pair<std::string, std::string>>{
-           {dir + "/rock.png:chanel=a", "unknown option 'chanel' (convention, channel, wrap)"},
+           {dir + "/rock.png:chanel=a", "unknown option 'chanel' (convention, channel, wrap, albedo)"},
            {dir + "/rock.png:wrap=clamp:wrap=repeat", "wrap given twice"},
            {dir + "/rock.png:wrap=mirror", "rock.png:wrap=mirror: wrap 'mirror': repeat or clamp"},
            {dir + "/rock.png:convention=up", "depth (white = deep) or height (white = high)"},
            {dir + "/rock.png:channel=x", "a channel index from 0, or r, g, b, a"},
            {"builtin:bricks:channel=1", "applies to a depth map file, not builtin:bricks"},
-           {"builtin:bricks:convention=height", "applies to a depth map file, not builtin:bricks"}}) {
+           {"builtin:bricks:convention=height", "applies to a depth map file, not builtin:bricks"},
+           {"builtin:bricks:albedo=" + dir + "/none.png", "none.png': no such colour texture file"}}) {
     try {
       parse_heightfield(entry);
       ADD_FAILURE() << entry << " accepted";

@@ -104,6 +104,11 @@ inline CliResult run_command(const std::string& command_line) {
 }
 
 #ifdef HEIGHTMARCH_CLI  // not in a build of the tracing core alone (HEIGHTMARCH_TRACE_ONLY)
+// A file of the source tree (tests/shaders/...), by its path from the tree's root.
+inline std::string source_path(const std::string& path) {
+  return std::string(HEIGHTMARCH_SOURCE_DIR) + "/" + path;
+}
+
 // Runs build/heightmarch with the arguments (a shell string), capturing its output.
 inline CliResult run_cli(const std::string& arguments) {
   return run_command(std::string(HEIGHTMARCH_CLI) + " " + arguments);

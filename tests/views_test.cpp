@@ -63,6 +63,53 @@ TEST(Views, TheTutorialsSceneSeesItsQuadAtItsOwnAngles) {
   EXPECT_EQ(rays.views, std::uint32_t(kTutorialFrames));
 }
 
+// A plan's ray budget keeps the tutorial's 800 x 600 window (under trilinear the frame's size sets
+// the level of detail) and takes fewer frames of the turn, never more than asked.
+TEST(Views, TheTutorialKeepsItsWindowUnderARayBudget) {
+  ViewSpec tutorial = window(ViewSet::tutorial(), 1024, 1024);
+  size_views_for_rays(tutorial, 1024.0 * 1024.0);
+  EXPECT_EQ(tutorial.width, kTutorialWidth);
+  EXPECT_EQ(tutorial.height, kTutorialHeight);
+  EXPECT_GT(tutorial.views, 1);
+  EXPECT_LT(tutorial.views, kTutorialFrames);
+  const std::size_t rays = make_view_rays(tutorial).ray_count;
+  EXPECT_GT(rays, 0.6 * 1024 * 1024);
+  EXPECT_LT(rays, 1.6 * 1024 * 1024);
+  ViewSpec three = window(ViewSet::tutorial(3), 64, 64);
+  size_views_for_rays(three, 1e8);
+  EXPECT_EQ(three.views, 3);
+  size_views_for_rays(three, 10.0);
+  EXPECT_EQ(three.views, 1);
+}
+
+// Subpixel passes: every ray of a pixel moved by the offset, the set's azimuths and offsets kept.
+TEST(Views, ASubpixelPassMovesEveryPixelsRayWithinItsPixel) {
+  const ViewSpec around = window(ViewSet::around(), 64, 64);
+  const RayBatch centre = make_view_rays(around),
+                 moved = make_view_rays(subpixel_view(around, 0.25f, -0.25f));
+  std::vector<std::size_t> moved_at(std::size_t(64 * 64), centre.size());
+  for (std::size_t i = 0; i < moved.size(); ++i)
+    if (!moved.is_padding(i)) moved_at[moved.origin[i]] = i;
+  double worst = 0;
+  std::size_t pairs = 0, differ = 0;
+  for (std::size_t i = 0; i < centre.size(); ++i) {
+    if (centre.is_padding(i) || moved_at[centre.origin[i]] == centre.size()) continue;
+    const std::size_t k = moved_at[centre.origin[i]];
+    // A quarter pixel each way: at most about a quarter of the pixel's footprint on each axis,
+    // never a jump of azimuth or offset.
+    const double du = std::remainder(double(moved.tx[k]) - centre.tx[i], 1.0);
+    const double dv = std::remainder(double(moved.ty[k]) - centre.ty[i], 1.0);
+    const double step =
+        std::hypot(centre.du_dx[i], centre.dv_dx[i]) + std::hypot(centre.du_dy[i], centre.dv_dy[i]);
+    worst = std::max(worst, std::hypot(du, dv) / std::max(step, 1e-9));
+    ++pairs;
+    differ += du != 0.0 || dv != 0.0;
+  }
+  EXPECT_GT(pairs, centre.ray_count * 9 / 10);
+  EXPECT_LT(worst, 0.4);
+  EXPECT_EQ(differ, pairs);
+}
+
 // Around: the default camera turned about the normal, each tile of its frame from its own azimuth
 // at its own offset. Every sector of azimuths gets its share in every band of view angles, the
 // frame's angles are the single view's, and the held-out set is another draw.

@@ -83,6 +83,9 @@ struct HeightfieldSource {
   int resolution = 512;
   std::uint64_t seed = 1;
   MapReading reading;  // a builtin's: its wrap alone (it is a depth map, and periodic but ramp)
+  // The colour texture its shaded images read (--albedo, :albedo=FILE); empty: the procedural one
+  // (docs/measures.md#the-shaded-image).
+  std::string albedo;
   // The label results carry, when give_unique_labels() chose one; else label() derives it.
   std::string name;
 
@@ -92,14 +95,16 @@ struct HeightfieldSource {
 
   std::string label() const;  // "bricks", the file name without directories, or `name`
   // "builtin:bricks", or the path; either followed by the entry options that differ from the
-  // defaults (rock.png:convention=height:channel=3:wrap=clamp), as parse_heightfield reads them.
+  // defaults (rock.png:convention=height:channel=3:wrap=clamp:albedo=rock-colour.png), as
+  // parse_heightfield reads them.
   std::string describe() const;
   friend bool operator==(const HeightfieldSource&, const HeightfieldSource&) = default;
 };
 
 // A map list's entry: "builtin:NAME", a builtin's bare name (when no such file exists), or a file
 // path, then any of ":convention=depth|height", ":channel=N|r|g|b|a", ":wrap=repeat|clamp" (each
-// at most once, in any order), which override `reading` for this entry. A path that itself ends
+// at most once, in any order), which override `reading` for this entry, and ":albedo=FILE", its
+// colour texture (a file that must exist; its path may not hold ':'). A path that itself ends
 // in such a segment is read as the file when a file of that whole name exists. Throws InputError
 // for an unknown builtin or option, a convention or channel given to a builtin, or a
 // resolution outside [1, kMaxDepthMapSide].

@@ -43,6 +43,9 @@ struct RayBatch {
   std::uint32_t views = 0;
   int image_width = 0;  // pixels of the view (rays file: row count x 1)
   int image_height = 0;
+  // The frames the image holds side by side, each its own pixel grid (set_pixel_gradients): a
+  // view set's frames, or the whole image; 0 for rays without a grid (a rays file).
+  int frame_width = 0, frame_height = 0;
   std::size_t ray_count = 0;  // rays without the padding
 
   std::size_t size() const { return tx.size(); }

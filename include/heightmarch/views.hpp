@@ -72,6 +72,9 @@ struct ViewSpec {
   std::size_t fresh_rays = 0;
   std::string path;    // rays_file: the rays CSV; poses: the camera poses CSV
   int tile_size = 32;  // tile side in pixels (rays_file: tile_size^2 rays per tile)
+  // Each pixel's ray through its centre moved by this many pixels right and down, in [-0.5, 0.5)
+  // (subpixel_view); a set's views keep their azimuths and offsets.
+  float subpixel[2] = {0.0f, 0.0f};
   friend bool operator==(const ViewSpec&, const ViewSpec&) = default;
 };
 
@@ -80,6 +83,9 @@ struct ViewSpec {
 ViewSpec default_view(int width, int height);
 ViewSpec sweep_view(double theta_degrees, int width, int height);  // at the default azimuth
 ViewSpec rays_file_view(const std::string& path);
+// The view with every pixel's ray moved (dx, dy) pixels from its pixel's centre: one pass of n x n
+// subpixel rays a pixel (a perspective view, the tutorial's, a pose file's; a sweep's entry points).
+ViewSpec subpixel_view(ViewSpec view, float dx, float dy);
 
 // The perspective view (its span and size kept) or a sweep (single or around only) seen as `set`:
 // its kind, around, views, path and the set's selection seed. Throws InputError for a set the
@@ -90,9 +96,10 @@ ViewSpec seen_as(ViewSpec frame, const ViewSet& set);
 ViewSpec held_out_view(const ViewSpec& view);
 // More than one view, or fresh rays: a figure over it is another series than a single view's.
 bool is_view_set(const ViewSpec& view);
-// Sizes a window so that it holds about `rays` rays: a square frame; the tutorial's frames at 4:3,
-// scaled by the share of their pixels that see the quad's front over the turn. A pose file keeps
-// its poses' sizes.
+// Sizes a window so that it holds about `rays` rays: a square frame; the tutorial's 800 x 600
+// window at as many frames of the turn as hold them (at most those it has, at least one: the
+// frame's size sets the level of detail under trilinear filtering). A pose file keeps its poses'
+// sizes.
 void size_views_for_rays(ViewSpec& view, double rays);
 
 // "default 1024x1024", "default:45-85 1024x1024" (angles other than 30-80), "sweep:70,270 128x128",

@@ -194,6 +194,13 @@ def validate_row(row, where, techniques, backends):
         rounds = w["rays_per_second"]["rounds"].numbers(rates["rounds"], 0, LARGEST, low_open=True, least=1)
         w["rays_per_second"]["rounds"].check(len(rounds) == len(seconds), "has %d values for %d repetitions' seconds" % (
             len(rounds), len(seconds)))
+    image_error = row.get("image_error")  # the shaded image's (absent before runs compared one)
+    if image_error is not None:
+        w = where["image_error"]
+        w.object(image_error, ("mean", "p99", "visible_share"))
+        for key in ("mean", "p99"):
+            w[key].number(image_error[key], 0, LARGEST)
+        w["visible_share"].number(image_error["visible_share"], 0, 1)
     images = row.get("images")
     if images is not None:
         for key, path in where["images"].object(images).items():

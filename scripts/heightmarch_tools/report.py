@@ -355,24 +355,46 @@ def shipped(recommendation):
     return out
 
 
+def image_error_cells(row):
+    """The shaded image's error (CIEDE2000 against the exact render supersampled): mean, p99, share seen."""
+    e = row.get("image_error") or {}
+    return [fmt(e.get("mean"), 2), fmt(e.get("p99"), 1), fmt(e.get("visible_share"), 1, 100, "%")]
+
+
+IMAGE_ERROR_COLUMNS = [("dE00 mean", True), ("dE00 p99", True), ("seen (dE00 > 2)", True)]
+
+
 def section_gallery(run, recommendation):
     rows = sorted((r for r in run.with_purpose("gallery") if r.get("images")), key=run.order)
     ships = shipped(recommendation)
     body = [md("Each map's recommended configuration (what to ship) beside its exact render, and on the first map "
-               "the tutorial's comparison; one perspective view, drawn by the CPU kernel."), ""]
+               "each technique at the layer counts asked (10 unless --layers said otherwise; POM at 32 too), on the "
+               "run's window as a picture, drawn by the CPU kernel. The shaded image is compared with the exact one "
+               "at n x n subpixel rays a pixel (box-resolved in linear light) by CIEDE2000; the exact row's own "
+               "difference is the resolve's floor (docs/measures.md#the-shaded-image)."), ""]
     for (hf, view), group in groups(rows, lambda r: (r["heightfield"]["label"], view_name(r["view"]))).items():
         costs = [cost_image(run.dir, r["images"]) for r in group]
         with_cost = any(costs)
-        body += ["%s, %s view. Shaded render at the technique's uv; uv error on one log scale (0.01 to 10 texels)%s." % (
+        with_difference = any(r["images"].get("difference") for r in group)
+        body += ["%s, %s view. Shaded render at the technique's uv; uv error on one log scale (0.01 to 10 texels)%s%s." % (
             md(hf), md(view),
-            "; cost: height samples per pixel, on one log scale for every image (1 to 1024)" if with_cost else ""), ""]
+            "; cost: height samples per pixel, on one log scale for every image (1 to 1024)" if with_cost else "",
+            "; difference: CIEDE2000 against the exact render supersampled, 0 to 10" if with_difference else ""), ""]
         body += md_table([("technique", False), ("render", False), ("error", False)] + ([("cost", False)] if with_cost else [])
-                         + ERROR_COLUMNS,
+                         + ([("difference", False)] if with_difference else []) + ERROR_COLUMNS
+                         + (IMAGE_ERROR_COLUMNS if with_difference else []),
                          [[run.label(r) + "".join(" (what to ship, %s)" % b for b in ships.get(
                              (r["heightfield"]["label"], r.get("technique"), r.get("layers")), [])),
                            image(r["images"]["render"]), image(r["images"]["error"])]
-                          + ([image(c) if c else "-"] if with_cost else []) + error_cells(r)
+                          + ([image(c) if c else "-"] if with_cost else [])
+                          + ([image(r["images"]["difference"]) if r["images"].get("difference") else "-"]
+                             if with_difference else [])
+                          + error_cells(r) + (image_error_cells(r) if with_difference else [])
                           for r, c in zip(group, costs)]) + [""]
+        references = [r["images"]["reference"] for r in group if r["images"].get("reference")]
+        if references:
+            body += ["The exact render supersampled, what the differences are taken against:", "",
+                     image(references[0]), ""]
     return section("Gallery", body[:-1])
 
 

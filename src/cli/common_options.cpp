@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "cli/typed_option.hpp"
+#include "heightfield/colour_channels.hpp"
 #include "heightmarch/error.hpp"
 #include "heightmarch/glsl_runner.hpp"
 #include "util/string_format.hpp"
@@ -71,6 +72,10 @@ void add_trace_options(CLI::App& app, TraceOptions& o, bool exact_allowed) {
       ->check(in_range(0, 1 << 30))
       ->capture_default_str();
   add_map_options(app, o.map, "the map");
+  app.add_option(
+      "--albedo", o.albedo,
+      "the map's colour texture (an image file; 8-bit sRGB or float linear), which its shaded images "
+      "read (default: the procedural one, docs/measures.md#the-shaded-image)");
   app.add_option("--view", o.view,
                  "default, default:NEAR-FAR (the span of view angles, degrees; default 30-80), or "
                  "sweep:THETA[,PHI] in degrees")
@@ -114,8 +119,13 @@ void add_trace_options(CLI::App& app, TraceOptions& o, bool exact_allowed) {
       ->check(in_range(1, 1000))
       ->capture_default_str();
   add_out_options(app, o.out,
-                  "directory for hits.exr, error.png, render.png and metrics.json (with --rays: metrics.json "
-                  "and rays.csv)");
+                  "directory for hits.exr, error.png, render.png, difference.png, reference.png and "
+                  "metrics.json (with --rays: metrics.json and rays.csv)");
+  app.add_option("--supersample", o.supersample,
+                 "with --out: the shaded image against the exact one at N x N subpixel rays a pixel, "
+                 "resolved in linear light (0: not compared; docs/measures.md#the-shaded-image)")
+      ->check(in_range(0, 16))
+      ->capture_default_str();
   app.add_flag("--json", o.json, "print the metrics as JSON");
 }
 
@@ -182,6 +192,8 @@ Configuration trace_configuration(const TraceOptions& o, RunKind kind, LayerSpec
   c.kind = kind;
   c.purposes = kPurposeCommand;
   c.heightfield = parse_heightfield(o.heightmap, o.res, std::uint64_t(o.seed), map_reading(o.map));
+  if (!o.albedo.empty()) c.heightfield.albedo = checked_albedo_path(o.albedo, "--albedo");
+  if (!o.out.out.empty()) c.supersample = o.supersample;
   if (!o.rays.empty()) {
     c.view = rays_file_view(o.rays);
   } else {

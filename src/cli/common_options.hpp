@@ -38,7 +38,8 @@ struct MapOptions {
 };
 // What a map's entry may say for itself, for the help texts of --heightmap.
 inline constexpr const char* kMapEntryOptionsHelp =
-    "options, which win over --convention, --channel and --wrap: PATH:convention=height:channel=a:wrap=clamp";
+    "options, which win over --convention, --channel and --wrap, and its colour texture: "
+    "PATH:convention=height:channel=a:wrap=clamp:albedo=COLOUR.png";
 // `which`: what they apply to, for the help texts.
 void add_map_options(CLI::App& command, MapOptions& options, const std::string& which);
 MapReading map_reading(const MapOptions& options);
@@ -48,7 +49,8 @@ struct TraceOptions {
   std::string heightmap = "builtin:bricks";
   int res = 512;
   int seed = 1;
-  MapOptions map;  // its wrap is the technique's too
+  MapOptions map;      // its wrap is the technique's too
+  std::string albedo;  // the colour texture of its shaded images; empty: the procedural one
   std::string view = "default";
   std::optional<ViewSet> views;             // none: around for the default view, single for a sweep
   std::optional<std::uint32_t> views_seed;  // none: the window's selection seed
@@ -67,6 +69,7 @@ struct TraceOptions {
   int threads = 0;
   int repetitions = 5;
   OutOptions out;
+  int supersample = 4;  // with --out: the shaded image's error at n x n subpixel rays (0: none)
   bool json = false;
 };
 

@@ -11,6 +11,7 @@
 #include "cli/common_options.hpp"
 #include "experiment/measurement_session.hpp"
 #include "experiment/run_outputs.hpp"
+#include "glsl/screen_layout.hpp"
 #include "glsl/user_shader_text.hpp"
 #include "heightmarch/error.hpp"
 #include "heightmarch/glsl_runner.hpp"
@@ -42,9 +43,14 @@ int print_devices() {
   return 0;
 }
 
+// Within this uv difference a brought-in shader agrees with a technique: the suite's default
+// target for a p99 error (docs/recommendation.md).
+constexpr double kAgreementTexels = 0.5;
+
 struct Conformance {
   double same_samples = 0;  // share of rays with identical sample counts
   double p99 = 0, max = 0;  // uv difference, texels
+  double agreeing = 0;      // share of rays within kAgreementTexels
 };
 
 Conformance conformance(const RayBatch& rays, const HitBuffers& glsl, const HitBuffers& cpu, int width,
@@ -63,6 +69,9 @@ Conformance conformance(const RayBatch& rays, const HitBuffers& glsl, const HitB
   c.same_samples = double(same) / double(measured);
   c.p99 = differences[std::min(differences.size() - 1, differences.size() * 99 / 100)];
   c.max = differences.back();
+  c.agreeing = double(std::upper_bound(differences.begin(), differences.end(), float(kAgreementTexels)) -
+                      differences.begin()) /
+               double(differences.size());
   return c;
 }
 
@@ -100,6 +109,8 @@ void write_comparison_json(JsonWriter& json, const Measurement& glsl, const Meas
                        : json.null("identical_sample_counts");
     json.value("uv_difference_p99", c.conformance->p99)
         .value("uv_difference_max", c.conformance->max)
+        .value("agreeing", c.conformance->agreeing)
+        .value("agreeing_within_texels", kAgreementTexels)
         .end_object();
   } else {
     json.null("conformance");
@@ -125,10 +136,11 @@ void print_comparison(const Measurement& glsl, const Measurement& cpu, const Com
   std::fputs(summary_text(cpu).c_str(), stdout);
   if (!c.conformance) return;  // the summary says why
   std::printf(
-      "conformance of %s with %s (%s): identical sample counts %s, uv difference p99 %.3g max %.3g texels\n",
+      "conformance of %s with %s (%s): identical sample counts %s, uv difference p99 %.3g max %.3g texels, "
+      "%s of rays within %g texel\n",
       printable(glsl.config.label()).c_str(), cpu.config.label().c_str(), cpu.config.backend().c_str(),
       glsl.samples_known ? percent(c.conformance->same_samples).c_str() : "unknown", c.conformance->p99,
-      c.conformance->max);
+      c.conformance->max, percent(c.conformance->agreeing).c_str(), kAgreementTexels);
   std::printf("speed at %d thread%s: CPU/GLSL %.2fx (%.2f-%.2f over %zu paired rounds)\n",
               glsl.config.threads, glsl.config.threads == 1 ? "" : "s", c.ratio.median, c.ratio.min,
               c.ratio.max, glsl.seconds.size());
@@ -168,6 +180,15 @@ Command add_glsl_command(CLI::App& app) {
     if (!o->shader.empty()) glsl.shader = BroughtInShader{o->shader};
     if (!o->shader.empty())
       user_source(read_input_file(o->shader, "shader file", kMaxShaderBytes), o->shader);  // before the run
+    if (!o->shader.empty() && glsl.view.kind == ViewSpec::Kind::rays_file &&
+        glsl.params.filter == Filter::trilinear)
+      std::fprintf(
+          stderr,
+          "heightmarch: note: a rays file has no pixel grid: its rays are drawn in rows of %d in the "
+          "file's order, so texture() in %s takes its level of detail from unrelated rays (undefined "
+          "there); textureLod, or textureGrad with gradients of its own, is defined "
+          "(docs/techniques.md#the-gl-paths)\n",
+          kRowWidth, printable(o->shader).c_str());
     std::vector<Configuration> plan = {glsl};
     if (compare->count() > 0)
       for (Technique technique : compared_techniques(glsl, o->compare_with)) {

@@ -127,7 +127,9 @@ std::string gallery_stem(const Configuration& c, const GalleryNames& names) {
   return "gallery/" + names.at(c.heightfield.label()) + "-" + what;
 }
 
-// The render, error map and cost map of a gallery row, as WebP images beside each other in gallery/,
+// The render, error map and cost map of a gallery row, and where it has an image error its colour
+// difference map (and on the exact row the supersampled reference), as WebP images beside each
+// other in gallery/,
 // written into a fresh directory of its own (mkdtemp: nothing planted there is written through).
 void write_gallery_images(const std::string& dir, const TracedRow& traced, const GalleryNames& names) {
   const std::string stem = dir + "/" + gallery_stem(traced.row.config, names);
@@ -140,6 +142,11 @@ void write_gallery_images(const std::string& dir, const TracedRow& traced, const
     fs::rename(tmp + "/render" + ext, stem + "-render" + ext);
     fs::rename(tmp + "/error" + ext, stem + "-error" + ext);
     if (traced.row.samples_known) fs::rename(tmp + "/cost" + ext, stem + "-cost" + ext);
+    if (traced.shaded) {
+      fs::rename(tmp + "/difference" + ext, stem + "-difference" + ext);
+      if (traced.row.config.kind == RunKind::exact)
+        fs::rename(tmp + "/reference" + ext, stem + "-reference" + ext);
+    }
   } catch (...) {
     std::error_code ignored;
     fs::remove_all(tmp, ignored);  // a full disk leaves no half-written temporary behind
@@ -228,6 +235,11 @@ Command add_suite_command(CLI::App& app) {
         m.render_image = stem + "-render" + extension(kGalleryImages);
         m.error_image = stem + "-error" + extension(kGalleryImages);
         if (m.samples_known) m.cost_image = stem + "-cost" + extension(kGalleryImages);
+        if (m.image_error) {
+          m.difference_image = stem + "-difference" + extension(kGalleryImages);
+          if (m.config.kind == RunKind::exact)
+            m.reference_image = stem + "-reference" + extension(kGalleryImages);
+        }
       }
     dir.finished("measurements and gallery images");
     write_file_atomically(dir.path() + "/measurements.json.gz", gzip(measurements_json(run, settings.name)));

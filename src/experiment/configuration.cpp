@@ -1,5 +1,6 @@
 #include "experiment/configuration.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 
@@ -69,6 +70,7 @@ void add_to_plan(std::vector<Configuration>& plan, const Configuration& config) 
     if (c.same_measurement(config)) {
       c.purposes |= config.purposes;
       c.timed = c.timed || config.timed;
+      c.supersample = std::max(c.supersample, config.supersample);
       return;
     }
   plan.push_back(config);

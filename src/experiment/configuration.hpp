@@ -107,6 +107,10 @@ struct Configuration {
   GlTarget gl;                            // glsl runs: the GL path and device (no path: the worker's default)
   bool timed = true;                      // false: accuracy only (sweeps, gallery)
   unsigned purposes = 0;
+  // n > 0: the row's hits shaded and compared with the exact reference shaded at n x n subpixel
+  // rays a pixel (its image error, docs/measures.md#the-shaded-image); 0: not. Not part of the
+  // measurement (a plan's merged rows take the larger).
+  int supersample = 0;
 
   // "avx512", "glsl", "naive", "exact"
   std::string backend() const;

@@ -2,6 +2,7 @@
 // One measured configuration as the measurement pass returns it (a typed row), the statistics of
 // its repetitions, and what the pass hands to a consumer of its traced rows.
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "heightmarch/gl_target.hpp"
 #include "heightmarch/hits.hpp"
 #include "heightmarch/metrics.hpp"
+#include "io/colour_difference.hpp"
 
 namespace heightmarch {
 
@@ -26,13 +28,18 @@ struct Measurement {
   // trace's time; none for techniques that need none, and for rows without a technique.
   std::optional<double> precompute_seconds;
   std::optional<ErrorSummary> errors;  // none for roofline runs
-  std::vector<double> seconds;         // per repetition: one trace of the whole batch; empty if untimed
+  // The shaded image against the exact one supersampled (config.supersample > 0).
+  std::optional<ImageError> image_error;
+  std::vector<double> seconds;  // per repetition: one trace of the whole batch; empty if untimed
   // GLSL rows: what the worker's context was (the renderer every figure of the row is named by),
   // and each repetition's draws timed both ways (GlDrawTime): `seconds` holds the figure
   // GlDrawTime::seconds() picks, the wall time on a software renderer, the timer query on a GPU.
   std::optional<GlRenderer> gl;
   std::vector<double> gl_wall_seconds, gl_timer_seconds;  // timer: empty where the driver answered none
-  std::string render_image, error_image, cost_image;      // gallery rows: paths relative to the run directory
+  // Gallery rows: paths relative to the run directory; the colour difference map where the row
+  // has an image error, and the exact render supersampled on the exact row (whose difference is
+  // the resolve's own).
+  std::string render_image, error_image, cost_image, difference_image, reference_image;
   std::string failure;  // non-empty: not measured (e.g. differs from the scalar reference)
 
   // Per repetition, and their median, min and max.
@@ -52,6 +59,15 @@ struct Spread {
 };
 Spread spread_of(std::vector<double> values);  // all zero for an empty list
 
+// A row's shaded image beside the exact one supersampled, and their colour difference per pixel
+// (over the pixels the row's view has a ray at: `compared`).
+struct ShadedComparison {
+  LinearImage render;
+  const LinearImage* reference = nullptr;
+  std::vector<float> delta_e;
+  std::vector<std::uint8_t> compared;
+};
+
 // What the pass hands to a consumer that needs more than the row (images, per-ray outputs).
 struct TracedRow {
   const Measurement& row;
@@ -62,7 +78,9 @@ struct TracedRow {
   const HitBuffers& surface_read;      // on the surface the row's samples read (exact where that is level 0)
   const std::vector<float>& uv_error;  // per ray, batch order: texels, against level 0's exact hit
   const std::vector<float>&
-      search_error;  // the same against the surface read's (uv_error where that is level 0)
+      search_error;                  // the same against the surface read's (uv_error where that is level 0)
+  std::function<Shading()> shading;  // how its images shade its hits (the albedo built on first use)
+  const ShadedComparison* shaded = nullptr;  // where the row has an image error
 };
 
 }  // namespace heightmarch

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <optional>
 
 #include "experiment/backends.hpp"
 #include "experiment/scene.hpp"
@@ -14,6 +15,24 @@
 #include "heightmarch/precomputed.hpp"
 
 namespace heightmarch {
+namespace {
+
+// The row's hits shaded against the exact reference shaded at n x n subpixel rays, n =
+// config.supersample, over the pixels the view has rays at; its summary goes into the row.
+ShadedComparison compare_shaded(Scene& scene, const Configuration& c, const HitBuffers& hits,
+                                Measurement& row) {
+  ShadedComparison shaded;
+  accumulate_shaded(scene.shading(c.params), scene.rays, hits, 1.0f, 1.0f, shaded.render);
+  shaded.reference = &scene.supersampled_exact(c.params, c.supersample);
+  shaded.delta_e = ciede2000(shaded.render, *shaded.reference);
+  shaded.compared.assign(shaded.delta_e.size(), 0);
+  for (std::size_t i = 0; i < scene.rays.size(); ++i)
+    if (!scene.rays.is_padding(i)) shaded.compared[scene.rays.origin[i]] = 1;
+  row.image_error = summarize_image_error(shaded.delta_e, shaded.compared);
+  return shaded;
+}
+
+}  // namespace
 
 struct MeasurementSession::State {
   SceneCache scenes;
@@ -75,7 +94,13 @@ Measurement MeasurementSession::measure(const Configuration& c, int id,
     errors.within_one_layer_step =
         share_within_one_layer_step(scene.rays, hits, searched, c.params, scene.map.width, scene.map.height);
   row.errors = errors;
-  if (on_traced) on_traced(TracedRow{row, scene.map, scene.rays, hits, exact, read, uv_error, searched});
+  std::optional<ShadedComparison> shaded;
+  if (c.supersample > 0 && c.view.kind != ViewSpec::Kind::rays_file)
+    shaded = compare_shaded(scene, c, hits, row);
+  const auto shading = [&scene, &c] { return scene.shading(c.params); };
+  if (on_traced)
+    on_traced(TracedRow{row, scene.map, scene.rays, hits, exact, read, uv_error, searched, shading,
+                        shaded ? &*shaded : nullptr});
   return row;
 }
 

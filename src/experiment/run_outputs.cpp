@@ -10,6 +10,7 @@
 #include "io/images.hpp"
 #include "io/json_writer.hpp"
 #include "io/provenance.hpp"
+#include "io/shading.hpp"
 
 namespace heightmarch {
 namespace {
@@ -104,6 +105,25 @@ void write_errors(JsonWriter& json, const std::optional<ErrorSummary>& errors, b
     write_groups(json, "by_view_angle", e, &ErrorDistribution::by_view_angle);
   }
   json.end_object();
+}
+
+// The shaded image's error (docs/measures.md#the-shaded-image), or null where the row has none.
+void write_image_error(JsonWriter& json, const Measurement& m) {
+  if (!m.image_error) {
+    json.null("image_error");
+    return;
+  }
+  const ImageError& e = *m.image_error;
+  json.begin_object("image_error")
+      .value("metric", "CIEDE2000")
+      .value("mean", e.mean)
+      .value("p99", e.p99)
+      .value("visible_share", e.visible_share)
+      .value("visible_threshold", kVisibleDeltaE)
+      .value("pixels", e.pixels)
+      .value("supersample", m.config.supersample)
+      .value("resolve", "box filter of the n x n ordered-grid subpixel samples in linear light")
+      .end_object();
 }
 
 // The fields of one row, shared by measurements.json and metrics.json.
@@ -206,11 +226,14 @@ void write_row(JsonWriter& json, const Measurement& m) {
     }
     json.end_object();
   }
+  write_image_error(json, m);
   if (m.render_image.empty()) {
     json.null("images");
   } else {
     json.begin_object("images").value("render", m.render_image).value("error", m.error_image);
     m.cost_image.empty() ? json.null("cost") : json.value("cost", m.cost_image);
+    m.difference_image.empty() ? json.null("difference") : json.value("difference", m.difference_image);
+    m.reference_image.empty() ? json.null("reference") : json.value("reference", m.reference_image);
     json.end_object();
   }
   m.failure.empty() ? json.null("failure") : json.value("failure", m.failure);
@@ -378,6 +401,15 @@ std::string summary_text(const Measurement& m) {
       }
       text.back() = '\n';
     }
+  if (m.image_error) {
+    const ImageError& i = *m.image_error;
+    std::snprintf(
+        buf, sizeof buf,
+        "  shaded image against the exact one at %dx%d subpixel rays: CIEDE2000 mean %.3g, p99 %.3g, "
+        "%.2f%% of %zu pixels above %g\n",
+        c.supersample, c.supersample, i.mean, i.p99, 100.0 * i.visible_share, i.pixels, kVisibleDeltaE);
+    text += buf;
+  }
   for (const HitChannelInfo& channel : hit_channels()) {
     const ErrorSummary::VisibilityError& v = e.visibility[std::size_t(channel.id)];
     if (!v.measured) continue;
@@ -391,19 +423,18 @@ std::string summary_text(const Measurement& m) {
 
 namespace {
 
-// hits.exr, error.png and render.png: the view's pixels.
+// hits.exr, the error map and the render: the view's pixels; with an image error, the colour
+// difference and the exact render supersampled too.
 void write_images(const std::string& dir, const TracedRow& traced, ImageFormat format) {
   const RayBatch& rays = traced.rays;
   const HitBuffers& hits = traced.hits;
-  const Configuration& c = traced.row.config;
   const int w = rays.image_width, h = rays.image_height;
   const std::size_t pixels = std::size_t(w) * std::size_t(h);
   // Scatter the batch (tile order) back to pixels; pixels without a ray stay -1 in hits.exr, which
   // holds every output a technique writes (the shadow factor is 1 where a technique writes none).
   const std::vector<std::string> names = written_channels();
   const std::size_t n = names.size();
-  std::vector<float> exr(pixels * n, -1.0f), error(pixels, 0.0f), u(pixels, 0.0f), v(pixels, 0.0f),
-      shadow(pixels, 1.0f);
+  std::vector<float> exr(pixels * n, -1.0f), error(pixels, 0.0f);
   std::vector<std::uint8_t> has_ray(pixels, 0);
   for (std::size_t i = 0; i < rays.size(); ++i) {
     if (rays.is_padding(i)) continue;
@@ -411,19 +442,26 @@ void write_images(const std::string& dir, const TracedRow& traced, ImageFormat f
     std::size_t k = 0;
     for_each_written(hits, [&](const auto& values) { exr[n * p + k++] = float(values[i]); });
     error[p] = traced.uv_error[i];
-    u[p] = hits.u[i];
-    v[p] = hits.v[i];
-    shadow[p] = hits.shadow[i];
     has_ray[p] = !hits.discarded[i];
   }
   write_exr(dir + "/hits.exr", w, h, names, exr);
   int heat_height = 0;
   const std::vector<std::uint8_t> heat = error_heat_map(error, has_ray, w, h, heat_height);
-  write_rgb8(dir + "/error" + extension(format), w, heat_height, heat);
+  const std::string ext = extension(format);
+  write_rgb8(dir + "/error" + ext, w, heat_height, heat);
   write_cost_image(dir, traced, format);
-  write_rgb8(
-      dir + "/render" + extension(format), w, h,
-      shade_render(traced.map, c.params.wrap, c.params.scale, u, v, shadow, has_ray, w, h, c.params.light));
+  if (const ShadedComparison* shaded = traced.shaded) {
+    write_rgb8(dir + "/render" + ext, w, h, srgb8(shaded->render));
+    write_rgb8(dir + "/reference" + ext, w, h, srgb8(*shaded->reference));
+    int difference_height = 0;
+    const std::vector<std::uint8_t> difference =
+        colour_difference_map(shaded->delta_e, shaded->compared, w, h, difference_height);
+    write_rgb8(dir + "/difference" + ext, w, difference_height, difference);
+    return;
+  }
+  LinearImage render;
+  accumulate_shaded(traced.shading(), rays, hits, 1.0f, 1.0f, render);
+  write_rgb8(dir + "/render" + ext, w, h, srgb8(render));
 }
 
 }  // namespace

@@ -25,8 +25,9 @@ std::string summary_text(const Measurement& row);
 std::string metrics_json(const Measurement& row);
 
 // hits.exr, error.png, cost.png (when the sample counts are known), render.png and metrics.json in
-// dir (the images in `images`' format: .webp for a suite's gallery); for rays from a file,
-// metrics.json and rays.csv (each ray with its hit and the exact one) only.
+// dir (the images in `images`' format: .webp for a suite's gallery), and where the row has an image
+// error difference and reference images; for rays from a file, metrics.json and rays.csv (each ray
+// with its hit and the exact one) only.
 void write_run_outputs(const std::string& dir, const TracedRow& traced,
                        ImageFormat images = ImageFormat::png);
 

@@ -26,7 +26,37 @@ std::string exact_key(const TechniqueParams& p, bool with_filter) {
 
 }  // namespace
 
-Scene::Scene(const DepthMap& map, const ViewSpec& view) : map(map), rays(make_view_rays(view)) {}
+Scene::Scene(const DepthMap& map, const ViewSpec& view, std::function<const Albedo&()> albedo)
+    : map(map), rays(make_view_rays(view)), view_(view), albedo_(std::move(albedo)) {}
+
+Shading Scene::shading(const TechniqueParams& params) {
+  Shading s;
+  s.map = &map;
+  s.albedo = &albedo_();
+  s.wrap = params.wrap;
+  s.scale = params.scale;
+  s.light = {params.light[0], params.light[1], params.light[2]};
+  return s;
+}
+
+const LinearImage& Scene::supersampled_exact(const TechniqueParams& params, int n) {
+  const LightVisibility visibility = visibility_for(params.technique);
+  auto& slot = supersampled_[params_key(params, false, false) + "/" + std::to_string(n) +
+                             (visibility == LightVisibility::compute ? "/visibility" : "")];
+  if (slot) return *slot;
+  slot = std::make_unique<LinearImage>();
+  const Shading shading = this->shading(params);
+  // Subpixel (i, j) of n x n at (i + 0.5) / n - 0.5 of a pixel from its centre: each pass is the
+  // view with its rays moved by that much, its footprint 1 / n of a pixel's.
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const RayBatch pass =
+          make_view_rays(subpixel_view(view_, (i + 0.5f) / float(n) - 0.5f, (j + 0.5f) / float(n) - 0.5f));
+      const HitBuffers hits = exact_hits(map, pass, params, visibility);
+      accumulate_shaded(shading, pass, hits, 1.0f / float(n), 1.0f / float(n * n), *slot);
+    }
+  return *slot;
+}
 
 const HitBuffers& Scene::exact(const TechniqueParams& params) {
   const LightVisibility visibility = visibility_for(params.technique);
@@ -63,10 +93,22 @@ const DepthMap& SceneCache::depth_map(const HeightfieldSource& source) {
   return *maps_.back().second;
 }
 
+const Albedo& SceneCache::albedo(const HeightfieldSource& source) {
+  for (auto& [s, albedo] : albedos_)
+    if (s == source) return *albedo;
+  albedos_.emplace_back(source,
+                        std::make_unique<Albedo>(source.albedo.empty() ? procedural_albedo(depth_map(source))
+                                                                       : load_albedo(source.albedo)));
+  return *albedos_.back().second;
+}
+
 Scene& SceneCache::scene(const Configuration& c) {
   for (auto& [key, scene] : scenes_)
     if (key.heightfield == c.heightfield && key.view == c.view) return *scene;
-  scenes_.emplace_back(c, std::make_unique<Scene>(depth_map(c.heightfield), c.view));
+  const HeightfieldSource source = c.heightfield;
+  scenes_.emplace_back(c,
+                       std::make_unique<Scene>(depth_map(source), c.view,
+                                               [this, source]() -> const Albedo& { return albedo(source); }));
   return *scenes_.back().second;
 }
 

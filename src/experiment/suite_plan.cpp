@@ -110,6 +110,7 @@ void apply(const PlanFilters& f, PlanSettings& s) {
     for (const std::string& text : f.layers) s.layer_specs.push_back(parse_layer_spec(text));
     refuse_repeats(s.layer_specs, prefix + "layers", [](const LayerSpec& l) { return to_string(l); });
     s.few_layer_specs = s.layer_specs;
+    s.gallery_layer_specs = s.layer_specs;
   }
   if (!f.isas.empty()) {
     std::vector<Isa> isas;
@@ -151,9 +152,22 @@ std::vector<Configuration> benchmark_plan(const PlanSettings& settings) {
 
 ViewSpec gallery_view(const PlanSettings& s) {
   ViewSpec view = default_view(s.gallery_width, s.gallery_height);
-  view.near_degrees =
-      s.window.kind == ViewSpec::Kind::perspective ? s.window.near_degrees : kDefaultNearDegrees;
-  view.far_degrees = s.window.kind == ViewSpec::Kind::perspective ? s.window.far_degrees : kDefaultFarDegrees;
+  switch (s.window.kind) {
+    case ViewSpec::Kind::tutorial:  // kGalleryTutorialFrames frames of the turn at half its window
+      view = seen_as(default_view(kTutorialWidth / 2, kTutorialHeight / 2),
+                     ViewSet::tutorial(std::min(kGalleryTutorialFrames, s.window.views)));
+      break;
+    case ViewSpec::Kind::poses:  // the user's own cameras, as measured
+      view = seen_as(view, ViewSet::poses(s.window.path));
+      break;
+    case ViewSpec::Kind::perspective:
+      view.near_degrees = s.window.near_degrees;
+      view.far_degrees = s.window.far_degrees;
+      break;
+    case ViewSpec::Kind::sweep:
+    case ViewSpec::Kind::rays_file:
+      break;
+  }
   return view;
 }
 
@@ -164,6 +178,7 @@ std::vector<Configuration> recommended_gallery_plan(const Recommendation& recomm
   const auto add = [&](Configuration c) {
     c.view = gallery_view(s);
     c.timed = false;
+    c.supersample = s.gallery_supersample;
     if (std::none_of(measured.begin(), measured.end(),
                      [&](const Configuration& m) { return m.same_measurement(c); }))
       add_to_plan(out, c);
@@ -335,11 +350,13 @@ std::vector<Configuration> suite_plan(const PlanSettings& s) {
     Configuration c = with_technique(on_view(s, first, kind, kPurposeGallery), technique, layers);
     c.view = gallery_view(s);
     c.timed = false;
+    c.supersample = s.gallery_supersample;
     add_to_plan(plan, c);
   };
   gallery(RunKind::exact, Technique::pom, kThirtyTwo);
-  for (Technique t : s.techniques)  // a shadow from a close hit
-    gallery(RunKind::trace, t, writes_visibility(info(t)) ? kThirtyTwo : LayerSpec::fixed(10));
+  for (Technique t : s.techniques)
+    for (const LayerSpec& layers : s.gallery_layer_specs)  // a shadow from a close hit
+      gallery(RunKind::trace, t, writes_visibility(info(t)) ? kThirtyTwo : layers);
   if (wanted(s, Technique::pom)) gallery(RunKind::trace, Technique::pom, kThirtyTwo);
   for (const Configuration& c : claims_plan(s)) add_to_plan(plan, c);
   // The parts asked for: a configuration stays for the purposes it serves among them.

@@ -13,6 +13,11 @@ namespace heightmarch {
 // The default view of side x side pixels seen around the surface, at the default span.
 ViewSpec around_window(int side);
 
+// 4 x 4: the exact render's own 1x against its 4 x 4 is the resolve's floor (docs/measures.md).
+inline constexpr int kGallerySupersample = 4;
+// The tutorial's frames the gallery shows, at half its window (the gallery stays light).
+inline constexpr int kGalleryTutorialFrames = 4;
+
 struct PlanSettings {
   std::string name;  // "default", "quick"
   std::vector<HeightfieldSource> heightfields;
@@ -36,6 +41,12 @@ struct PlanSettings {
   int sweep_size = 128;              // sweep views: side, pixels
   std::vector<double> sweep_angles;  // degrees
   int gallery_width = 512, gallery_height = 384;
+  // The layer specs the gallery shows each layered technique at: 10 (the tutorial's "about 10
+  // layers"; POM at 32 too), or those asked (--layers); what to ship is shown besides.
+  std::vector<LayerSpec> gallery_layer_specs{LayerSpec::fixed(10)};
+  // The gallery's shaded images against the exact one at n x n subpixel rays a pixel
+  // (Configuration::supersample; docs/measures.md#the-shaded-image).
+  int gallery_supersample = kGallerySupersample;
   Isa best_isa = Isa::scalar;         // the matrix's: the widest of isas
   std::vector<Isa> isas;              // every ISA the CPU runs, or those asked for
   int threads = 1;                    // the most of thread_counts: the matrix's
@@ -90,8 +101,10 @@ std::vector<Configuration> benchmark_plan(const PlanSettings& settings);
 // window's held-out set, for its accuracy only (purpose held-out).
 std::vector<Configuration> with_held_out(std::vector<Configuration> plan, const PlanSettings& settings);
 
-// The gallery's view: one perspective view of gallery_width x gallery_height at the window's span
-// (a picture of one camera, not a set's patchwork).
+// The gallery's view: the run's window as a picture. Around the surface (or single): one
+// perspective view of gallery_width x gallery_height at the window's span (one camera, not the
+// set's patchwork); the tutorial's scene: kGalleryTutorialFrames frames of its turn at half its
+// window; a user's poses: the poses as measured.
 ViewSpec gallery_view(const PlanSettings& settings);
 
 // What to ship, seen: on every heightfield with a recommendation, its exact render and each declared

@@ -23,7 +23,6 @@ namespace heightmarch {
 using namespace gl;  // the GL functions, loaded from the context's library (gl_functions.hpp)
 namespace {
 
-constexpr int kRowWidth = 1024;  // rays per framebuffer row
 // What the worker holds per ray of a batch beside the request it came in, asked of its budget
 // before the textures are made: their staging (48 bytes), the origin, direction and footprint
 // textures and the two attachments of the hits' outputs (80), the read-back (32), the hits and their
@@ -228,26 +227,30 @@ void GlRunner::set_depth_map(const DepthMap& map) {
   s.has_map = true;
 }
 
-void GlRunner::set_rays(const RayBatch& rays) {
+void GlRunner::set_rays(const DrawnRays& drawn) {
   State& s = *state_;
   s.prepared = false;
-  const int height = int((rays.size() + kRowWidth - 1) / kRowWidth);
+  const RayBatch& rays = drawn.rays;
+  const int height = int(rays.size() / drawn.row_width);
+  check_side(int(drawn.row_width));
   check_side(height);
   check_memory_budget(kWorkerBytesPerRay * double(rays.size()),
                       "the GLSL textures of " + std::to_string(rays.size()) + " rays");
   s.rays = rays.size();
-  s.width = kRowWidth;
+  s.width = int(drawn.row_width);
   s.height = height;
-  // One texel each in batch order; the last row's tail repeats a harmless straight-down ray.
-  std::vector<float> origins(std::size_t(s.width) * s.height * 4, 0.5f), directions(origins.size(), 0.0f),
-      footprints(origins.size(), 0.0f);
-  for (std::size_t i = 0; i < origins.size() / 4; ++i) directions[4 * i + 2] = 1.0f;
+  // A texel each, in the layout's row order (screen_layout.hpp): T and its turns, V and whether it
+  // is drawn, the gradients.
+  std::vector<float> origins(rays.size() * 4), directions(origins.size()), footprints(origins.size());
   for (std::size_t i = 0; i < rays.size(); ++i) {
     origins[4 * i] = rays.tx[i];
     origins[4 * i + 1] = rays.ty[i];
+    origins[4 * i + 2] = drawn.turn_u[i];
+    origins[4 * i + 3] = drawn.turn_v[i];
     directions[4 * i] = rays.vx[i];
     directions[4 * i + 1] = rays.vy[i];
     directions[4 * i + 2] = rays.vz[i];
+    directions[4 * i + 3] = float(drawn.drawn[i]);
     footprints[4 * i] = rays.du_dx[i];
     footprints[4 * i + 1] = rays.dv_dx[i];
     footprints[4 * i + 2] = rays.du_dy[i];

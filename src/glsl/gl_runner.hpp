@@ -7,6 +7,7 @@
 #include <string>
 
 #include "glsl/gl_context.hpp"
+#include "glsl/screen_layout.hpp"
 #include "heightmarch/gl_target.hpp"
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/hits.hpp"
@@ -33,9 +34,9 @@ class GlRunner {
   const GlRenderer& renderer() const { return renderer_; }
 
   // The depth map and the rays stay in the context until replaced, so a prepare on the same scene
-  // uploads neither again; rays need only tx, ty, vx, vy, vz.
+  // uploads neither again; the rays as the client laid them out (screen_layout.hpp).
   void set_depth_map(const DepthMap& map);
-  void set_rays(const RayBatch& rays);
+  void set_rays(const DrawnRays& rays);
   // The program of the technique, or of the brought-in shader when shader_path is not empty,
   // compiled and linked (or taken from the last 64 kept); InputError for a brought-in shader's
   // errors. Needs no depth map nor rays, so it runs under its own deadline.

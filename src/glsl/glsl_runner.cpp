@@ -23,9 +23,11 @@
 #include <optional>
 #include <thread>
 #include <tuple>
+#include <type_traits>
 #include <vector>
 
 #include "glsl/protocol.hpp"
+#include "glsl/screen_layout.hpp"
 #include "heightmarch/error.hpp"
 #include "heightmarch/memory_budget.hpp"
 #include "util/sanitizers.hpp"
@@ -132,18 +134,25 @@ struct WorkerProcess {
   // Contents, not pointers, decide: a caller's buffer may be refilled in place or reused.
   std::optional<DepthMap> sent_map;
   std::optional<std::array<std::vector<float>, protocol::kRayArrays>> sent_rays;
+  std::vector<std::uint32_t> sent_origin;  // and their pixels, which the layout follows
+  std::array<int, 4> sent_grid{};          // image and frame sizes
+  // Where the draw put each ray of the batch last sent (screen_layout.hpp), for the read-back.
+  std::vector<std::uint32_t> texel_of;
   // The last prepare that succeeded: what a draw is bounded by and whose fault a draw past it is.
   bool prepared = false;
   std::string shader_path;
-  std::size_t rays = 0;
+  std::size_t rays = 0;  // texels drawn
   double draw_bound = kDrawFloorSeconds;
 
   bool holds(const DepthMap& map) const {
     return sent_map && sent_map->width == map.width && sent_map->height == map.height &&
            same_bits(sent_map->texels, map.texels);
   }
+  static std::array<int, 4> grid(const RayBatch& rays) {
+    return {rays.image_width, rays.image_height, rays.frame_width, rays.frame_height};
+  }
   bool holds(const RayBatch& rays) const {
-    if (!sent_rays) return false;
+    if (!sent_rays || sent_origin != rays.origin || sent_grid != grid(rays)) return false;
     const auto arrays = protocol::ray_arrays(rays);
     for (std::size_t i = 0; i < arrays.size(); ++i)
       if (!same_bits((*sent_rays)[i], *arrays[i])) return false;
@@ -516,7 +525,11 @@ void GlslRunner::prepare(const DepthMap& map, const TechniqueParams& params, con
   request.value(std::uint8_t(send_map));
   if (send_map) protocol::write(request, map);
   request.value(std::uint8_t(send_rays));
-  if (send_rays) protocol::write(request, rays);
+  std::optional<ScreenLayout> layout;
+  if (send_rays) {
+    layout = screen_layout(rays);
+    protocol::write(request, layout->drawn);
+  }
   request.text(shader_path);
   w.prepared = false;
   const Seconds upload(upload_bound_seconds(params, request.bytes().size(), map.texels.size(), shader_path));
@@ -538,11 +551,14 @@ void GlslRunner::prepare(const DepthMap& map, const TechniqueParams& params, con
     w.sent_rays.emplace();
     const auto arrays = protocol::ray_arrays(rays);
     for (std::size_t i = 0; i < arrays.size(); ++i) (*w.sent_rays)[i] = *arrays[i];
+    w.sent_origin = rays.origin;
+    w.sent_grid = Worker::grid(rays);
+    w.texel_of = std::move(layout->texel_of);
+    w.rays = layout->drawn.rays.size();
   }
   w.prepared = true;
   w.shader_path = shader_path;
-  w.rays = rays.size();
-  w.draw_bound = draw_bound_seconds(params, rays.size());
+  w.draw_bound = draw_bound_seconds(params, w.rays);
 }
 
 GlDrawTime GlslRunner::draw() {
@@ -565,11 +581,22 @@ GlDrawTime GlslRunner::draw() {
 void GlslRunner::read(HitBuffers& hits, bool& samples_known) const {
   std::uint8_t known = 0;
   const Seconds bound(kStepFloorSeconds + double(worker_->rays) * kReadSecondsPerRay);
+  HitBuffers drawn;
   worker_->call(Message::read, {}, Message::hits, "read-back", bound, [&](protocol::Reader& reader) {
-    protocol::read(reader, hits, worker_->rays);
+    protocol::read(reader, drawn, worker_->rays);
     reader.value(known);
   });
   samples_known = known != 0;
+  // Each ray's hit from its texel.
+  const std::vector<std::uint32_t>& texel_of = worker_->texel_of;
+  hits.resize(texel_of.size());
+  hits.for_each([&](HitChannel channel, auto& to) {
+    drawn.for_each([&](HitChannel from_channel, const auto& from) {
+      if constexpr (std::is_same_v<std::decay_t<decltype(to)>, std::decay_t<decltype(from)>>)
+        if (from_channel == channel)
+          for (std::size_t i = 0; i < texel_of.size(); ++i) to[i] = from[texel_of[i]];
+    });
+  });
 }
 
 }  // namespace heightmarch

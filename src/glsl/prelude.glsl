@@ -18,6 +18,9 @@ uniform int levelOffsets[16];
 uniform int levelBlocksX[16];
 
 float samples;  // height samples taken by this fragment
+// Whole turns of the map main.glsl adds to a brought-in shader's T (user_shader.glsl); 0 for the
+// builtins, which read T as it is.
+vec2 rayTurns;
 
 #ifdef TRILINEAR
 // The level of detail of every sample of this fragment's ray, from its gradients (main.glsl): the

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstddef>
 #include <cstdio>
 #include <string>
@@ -68,11 +69,25 @@ DepthMap read_map(Reader& r) {
   return map;
 }
 
-RayBatch read_rays(Reader& r) {
-  RayBatch rays;
-  for (auto* a : ray_arrays(rays)) r.array(*a);
-  check_rays(rays);
-  return rays;
+DrawnRays read_rays(Reader& r) {
+  DrawnRays drawn;
+  for (auto* a : ray_arrays(drawn.rays)) r.array(*a);
+  check_rays(drawn.rays);
+  r.value(drawn.row_width);
+  r.array(drawn.turn_u);
+  r.array(drawn.turn_v);
+  r.array(drawn.drawn);
+  const std::size_t n = drawn.rays.tx.size();
+  if (drawn.turn_u.size() != n || drawn.turn_v.size() != n || drawn.drawn.size() != n)
+    throw InputError("drawn rays whose turns or flags differ in length from the rays");
+  if (drawn.row_width == 0 || n % drawn.row_width != 0)
+    throw InputError("drawn rays of " + std::to_string(n) + " texels in rows of " +
+                     std::to_string(drawn.row_width));
+  for (std::size_t i = 0; i < n; ++i)
+    if (!(std::fabs(drawn.turn_u[i]) <= 1e6f && std::fabs(drawn.turn_v[i]) <= 1e6f) || drawn.drawn[i] > 1)
+      throw InputError("drawn ray " + std::to_string(i + 1) +
+                       ": turns not finite within 1e6, or a flag not 0 or 1");
+  return drawn;
 }
 
 constexpr std::size_t kMaxPathBytes = 4096;  // PATH_MAX
@@ -109,8 +124,12 @@ void write(Writer& w, const DepthMap& map) {
   w.array(map.texels);
 }
 
-void write(Writer& w, const RayBatch& rays) {
-  for (const auto* a : ray_arrays(rays)) w.array(*a);
+void write(Writer& w, const DrawnRays& drawn) {
+  for (const auto* a : ray_arrays(drawn.rays)) w.array(*a);
+  w.value(drawn.row_width);
+  w.array(drawn.turn_u);
+  w.array(drawn.turn_v);
+  w.array(drawn.drawn);
 }
 
 void write(Writer& w, const HitBuffers& hits) {

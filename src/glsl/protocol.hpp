@@ -6,7 +6,8 @@
 // host byte order (both ends are the same build on the same machine). The client sends one
 // request and reads its answers:
 //   (at start)                  -> ready {u32 protocol version, GlRenderer}
-//   prepare {params, u8 map follows, [map], u8 rays follow, [rays], shader path}
+//   prepare {params, u8 map follows, [map], u8 rays follow, [drawn rays: T, V and the gradients
+//            a texel each, u32 row width, the turns' two arrays, u8 array drawn], shader path}
 //                               -> compiled (the program is linked), then done (uploaded)
 //                               (a map or rays not sent: the worker's last ones, unchanged)
 //   draw                        -> drawn {f64 seconds of draw + glFinish, timed in the worker,
@@ -34,6 +35,7 @@
 #include <variant>
 #include <vector>
 
+#include "glsl/screen_layout.hpp"
 #include "heightmarch/gl_target.hpp"
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/hits.hpp"
@@ -42,7 +44,7 @@
 
 namespace heightmarch::glsl_protocol {
 
-inline constexpr std::uint32_t kVersion = 6;
+inline constexpr std::uint32_t kVersion = 7;
 inline constexpr std::uint32_t kMagic = 0x4c474d48;  // "HMGL": a stray write to stdout is caught at once
 // The worker's exit status when an allocation failed outside a request (reading one, starting).
 inline constexpr int kOutOfMemoryStatus = 3;
@@ -158,8 +160,9 @@ std::array<std::vector<float>*, kRayArrays> ray_arrays(RayBatch& rays);
 // The one place that knows TechniqueParams' fields (params_fields in protocol.cpp, for both directions).
 void write(Writer& w, const TechniqueParams& params);
 void write(Writer& w, const DepthMap& map);
-// Only T, V and the gradients: all the GL run reads of a batch.
-void write(Writer& w, const RayBatch& rays);
+// The rays of a draw laid out (screen_layout.hpp): T, V and the gradients of each texel, its row
+// width, the turns and the drawn flags; all the GL run reads.
+void write(Writer& w, const DrawnRays& rays);
 void write(Writer& w, const HitBuffers& hits);
 // Hits as the worker answers them, for `rays` rays: arrays of that length, or BadMessage.
 void read(Reader& r, HitBuffers& hits, std::size_t rays);
@@ -173,9 +176,9 @@ void read(Reader& r, std::vector<GlDevice>& devices);
 // The requests the worker serves, read and checked whole before it acts on any.
 struct PrepareRequest {
   TechniqueParams params;
-  std::optional<DepthMap> map;   // none: the worker's last one
-  std::optional<RayBatch> rays;  // only T, V and the gradients; none: the worker's last ones
-  std::string shader_path;       // a brought-in shader's file, or empty
+  std::optional<DepthMap> map;    // none: the worker's last one
+  std::optional<DrawnRays> rays;  // none: the worker's last ones
+  std::string shader_path;        // a brought-in shader's file, or empty
 };
 struct DrawRequest {};
 struct ReadRequest {};
@@ -183,7 +186,8 @@ using Request = std::variant<PrepareRequest, DrawRequest, ReadRequest>;
 
 // The worker's message reader: BadMessage for a type that is no request or fields that do not fit
 // the payload, InputError for a value the command line would refuse (check(TechniqueParams),
-// check_depth_map, check_rays; a shader path that is no path).
+// check_depth_map, check_rays, and drawn rays whose arrays differ in length, fill no whole rows, or
+// hold turns not finite within 1e6 or flags other than 0 and 1; a shader path that is no path).
 Request read_request(Message type, const std::vector<char>& payload);
 
 using Deadline = std::optional<std::chrono::steady_clock::time_point>;  // none: wait for EOF at most

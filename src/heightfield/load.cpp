@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "heightfield/colour_channels.hpp"
 #include "heightmarch/error.hpp"
 #include "heightmarch/heightfield.hpp"
 #include "heightmarch/memory_budget.hpp"
@@ -213,6 +214,34 @@ DepthMap load_depth_map(const std::string& path, const MapReading& reading) {
   return std::move(map);
 }
 
+ColourChannels load_colour_channels(const std::string& path) {
+  const std::uintmax_t file_bytes = check_input_file(path, "colour texture", kMaxDepthMapFileBytes);
+  ChannelRead first = read_channel(path, file_bytes, 0);
+  std::string space = first.spec.get_string_attribute("oiio:ColorSpace");
+  std::transform(space.begin(), space.end(), space.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  ColourChannels colour;
+  colour.srgb =
+      space.empty() ? !first.spec.format.is_floating_point() : space.find("srgb") != std::string::npos;
+  const int channels = first.spec.nchannels;
+  colour.rgb[0] = std::move(first.map);
+  for (int c = 1; c < 3; ++c)
+    colour.rgb[std::size_t(c)] = channels >= 3 ? read_channel(path, file_bytes, c).map : colour.rgb[0];
+  std::size_t outside = 0;
+  for (DepthMap& channel : colour.rgb) {
+    for (float& t : channel.texels)
+      if (std::isfinite(t) && (t < 0.0f || t > 1.0f)) {
+        ++outside;
+        t = std::fmin(1.0f, std::fmax(0.0f, t));
+      }
+    check_depth_map(channel, path);
+  }
+  if (outside)
+    std::fprintf(stderr, "heightmarch: warning: %s: %zu colour values outside [0, 1] clamped\n",
+                 printable(path).c_str(), outside);
+  return colour;
+}
+
 std::string HeightfieldSource::label() const {
   if (!name.empty()) return name;
   return builtin.empty() ? std::filesystem::path(path).filename().string() : builtin;
@@ -253,6 +282,7 @@ std::string HeightfieldSource::describe() const {
   if (reading.convention != plain.convention) text += ":convention=" + to_string(reading.convention);
   if (reading.channel != plain.channel) text += ":channel=" + std::to_string(reading.channel);
   if (reading.wrap != plain.wrap) text += ":wrap=" + to_string(reading.wrap);
+  if (!albedo.empty()) text += ":albedo=" + albedo;
   return text;
 }
 
@@ -286,9 +316,10 @@ std::string to_string(Wrap wrap) { return wrap == Wrap::clamp ? "clamp" : "repea
 
 namespace {
 
-// Takes the trailing ":key=value" options off a map list's entry into `reading`; `text` keeps the
-// rest. Options are read from the end until a segment is no key=value.
-void take_entry_options(const std::string& entry, std::string& text, MapReading& reading) {
+// Takes the trailing ":key=value" options off a map list's entry into the source (its reading and
+// albedo); `text` keeps the rest. Options are read from the end until a segment is no key=value.
+void take_entry_options(const std::string& entry, std::string& text, HeightfieldSource& source) {
+  MapReading& reading = source.reading;
   std::vector<std::string> seen;
   // Each pass shortens text by a segment, or stops.
   for (std::size_t colon = text.rfind(':'); colon != std::string::npos && colon > 0;
@@ -306,13 +337,26 @@ void take_entry_options(const std::string& entry, std::string& text, MapReading&
       reading.channel = parse_channel(value, what);
     else if (key == "wrap")
       reading.wrap = parse_wrap(value, what);
+    else if (key == "albedo")
+      source.albedo = checked_albedo_path(value, what);
     else
       throw InputError("map list entry '" + entry + "': unknown option '" + key +
-                       "' (convention, channel, wrap)");
+                       "' (convention, channel, wrap, albedo)");
     seen.push_back(key);
     text.erase(colon);
   }
 }
+
+}  // namespace
+
+std::string checked_albedo_path(const std::string& path, const std::string& what) {
+  std::error_code ec;  // a name the file system refuses is no such file, not an exception
+  if (path.empty() || !std::filesystem::exists(path, ec))
+    throw InputError(what + " '" + path + "': no such colour texture file");
+  return path;
+}
+
+namespace {
 
 void check_resolution(int resolution) {
   if (resolution < 1 || resolution > kMaxDepthMapSide)
@@ -350,7 +394,7 @@ HeightfieldSource parse_heightfield(const std::string& entry, int resolution, st
   source.seed = seed;
   source.reading = reading;
   std::string text = entry;
-  if (!exists(entry)) take_entry_options(entry, text, source.reading);
+  if (!exists(entry)) take_entry_options(entry, text, source);
   const std::string prefix = "builtin:";
   const auto& names = builtin_heightfield_names();
   const bool prefixed = text.rfind(prefix, 0) == 0;

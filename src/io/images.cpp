@@ -73,6 +73,16 @@ constexpr Palette kViridis = {{{68, 1, 84},
                                {92, 200, 99},
                                {170, 220, 50},
                                {253, 231, 37}}};
+// matplotlib's cividis (the colour difference map): neither of the two above.
+constexpr Palette kCividis = {{{0, 34, 78},
+                               {18, 53, 112},
+                               {59, 73, 108},
+                               {87, 92, 109},
+                               {112, 113, 115},
+                               {138, 134, 120},
+                               {166, 157, 117},
+                               {196, 181, 105},
+                               {254, 232, 56}}};
 constexpr Colour kNoRay = {96, 96, 96};
 
 Colour colour_at(const Palette& palette, double t) {
@@ -90,8 +100,8 @@ double heat_position(double texels) {
   return (std::log10(std::max(texels, kHeatMapMinTexels)) - lo) / (hi - lo);
 }
 
-// A 3x5 bitmap font for the legends: digits, '.', and the letters of "texels", "samples" and
-// "cells".
+// A 3x5 bitmap font for the legends: digits, '.', and the letters of "texels", "samples",
+// "cells" and "dE00".
 const char* glyph(char c) {
   switch (c) {
     case '0':
@@ -120,6 +130,10 @@ const char* glyph(char c) {
       return "000110011101111";
     case 'c':
       return "000011100100011";
+    case 'd':
+      return "001001011101011";
+    case 'E':
+      return "111100110100111";
     case 'e':
       return "000111111100111";
     case 'l':
@@ -250,36 +264,18 @@ std::vector<std::uint8_t> cost_map(const std::vector<std::uint32_t>& samples,
       out_height);
 }
 
-std::vector<std::uint8_t> shade_render(const DepthMap& map, Wrap wrap, float scale,
-                                       const std::vector<float>& u, const std::vector<float>& v,
-                                       const std::vector<float>& shadow,
-                                       const std::vector<std::uint8_t>& has_ray, int width, int height,
-                                       const float light[3]) {
-  std::vector<std::uint8_t> rgb(3 * std::size_t(width) * std::size_t(height), 16);
-  const float du = 1.0f / float(map.width), dv = 1.0f / float(map.height);
-  for (std::size_t p = 0; p < std::size_t(width) * std::size_t(height); ++p) {
-    if (!has_ray[p]) continue;
-    // Surface height is -depth * scale; its slopes per uv give the normal.
-    const float sx =
-        (sample_depth(map, wrap, u[p] + du, v[p]) - sample_depth(map, wrap, u[p] - du, v[p])) / (2 * du);
-    const float sy =
-        (sample_depth(map, wrap, u[p], v[p] + dv) - sample_depth(map, wrap, u[p], v[p] - dv)) / (2 * dv);
-    float n[3] = {sx * scale, sy * scale, 1.0f};
-    const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    const float diffuse = std::max(0.0f, (n[0] * light[0] + n[1] * light[1] + n[2] * light[2]) / len);
-    // Warm base with a grid every 1/8 in uv, slightly darker deeper down.
-    const float gu = u[p] * 8 - std::floor(u[p] * 8), gv = v[p] * 8 - std::floor(v[p] * 8);
-    const bool line = gu < 0.03f || gv < 0.03f;
-    const float depth = sample_depth(map, wrap, u[p], v[p]);
-    const float tint = 1.0f - 0.35f * depth;
-    const float base[3] = {line ? 0.25f : 0.85f * tint, line ? 0.25f : 0.62f * tint,
-                           line ? 0.3f : 0.45f * tint};
-    const float s = shadow[p] * shadow[p] * shadow[p] * shadow[p];
-    const float light_amount = 0.25f + 0.75f * diffuse * s;
-    for (int k = 0; k < 3; ++k)
-      rgb[3 * p + k] = std::uint8_t(std::clamp(std::lround(255.0f * base[k] * light_amount), 0L, 255L));
-  }
-  return rgb;
+std::vector<std::uint8_t> colour_difference_map(const std::vector<float>& delta_e,
+                                                const std::vector<std::uint8_t>& has_ray, int width,
+                                                int height, int& out_height) {
+  const std::vector<LegendTick> ticks = {{0.0, "0"},
+                                         {1.0 / kDeltaEMapMax, "1"},
+                                         {2.0 / kDeltaEMapMax, "2"},
+                                         {5.0 / kDeltaEMapMax, "5"},
+                                         {1.0, "10"}};
+  return image_with_legend(
+      width, height, kCividis, ticks, "dE00",
+      [&](std::size_t p) { return has_ray[p] ? colour_at(kCividis, delta_e[p] / kDeltaEMapMax) : kNoRay; },
+      out_height);
 }
 
 }  // namespace heightmarch

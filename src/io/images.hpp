@@ -1,12 +1,9 @@
 #pragma once
-// Images for people and data files: PNG, WebP and EXR through OpenImageIO, the uv error heat map and
-// the shaded render of a technique's hits.
+// Images for people and data files: PNG, WebP and EXR through OpenImageIO, the uv error heat map,
+// the cost map and the colour difference map (the shaded render itself: shading.hpp).
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include "heightmarch/heightfield.hpp"
-#include "heightmarch/sampler.hpp"
 
 namespace heightmarch {
 
@@ -43,14 +40,14 @@ std::vector<std::uint8_t> cost_map(const std::vector<std::uint32_t>& samples,
                                    const std::vector<std::uint8_t>& has_ray, int width, int height,
                                    const std::string& unit, int& out_height);
 
-// The surface at each pixel's uv, lit by diffuse light along `light` (normals from the depth map's
-// slopes at that uv), on a gridded albedo that makes the parallax shift visible, times the soft
-// shadow factor to the 4th power as the "Parallax Occlusion Mapping in GLSL" tutorial does. Dark where a
-// pixel has no ray.
-std::vector<std::uint8_t> shade_render(const DepthMap& map, Wrap wrap, float scale,
-                                       const std::vector<float>& u, const std::vector<float>& v,
-                                       const std::vector<float>& shadow,
-                                       const std::vector<std::uint8_t>& has_ray, int width, int height,
-                                       const float light[3]);
+// The colour difference map's fixed scale: CIEDE2000 from 0 to this (more is drawn as this).
+inline constexpr double kDeltaEMapMax = 10.0;
+
+// Per-pixel colour difference (CIEDE2000, colour_difference.hpp) as RGB (cividis on the fixed
+// linear scale; grey where a pixel has no ray), with the legend strip: ticks at 0, 1, 2 (seen at a
+// glance above it), 5 and 10.
+std::vector<std::uint8_t> colour_difference_map(const std::vector<float>& delta_e,
+                                                const std::vector<std::uint8_t>& has_ray, int width,
+                                                int height, int& out_height);
 
 }  // namespace heightmarch

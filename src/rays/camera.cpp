@@ -75,9 +75,10 @@ Camera pose_camera(const CameraPose& p) {
   return c;
 }
 
-Ray camera_ray(const Camera& cam, const PlaneMap& plane, int px, int py, int width, int height) {
-  const double sx = (2.0 * (px + 0.5) / width - 1.0) * cam.tan_half_fov * double(width) / double(height);
-  const double sy = (1.0 - 2.0 * (py + 0.5) / height) * cam.tan_half_fov;  // row 0 = top of the image
+Ray camera_ray(const Camera& cam, const PlaneMap& plane, double image_x, double image_y, int width,
+               int height) {
+  const double sx = (2.0 * image_x / width - 1.0) * cam.tan_half_fov * double(width) / double(height);
+  const double sy = (1.0 - 2.0 * image_y / height) * cam.tan_half_fov;  // row 0 = top of the image
   const double dx = cam.forward.x + sx * cam.right.x + sy * cam.up.x;
   const double dy = cam.forward.y + sx * cam.right.y + sy * cam.up.y;
   const double dz = cam.forward.z + sx * cam.right.z + sy * cam.up.z;

@@ -38,8 +38,10 @@ inline constexpr double kTutorialDegreesPerSecond = -10.0;
 Camera tutorial_camera(double seconds);
 Camera pose_camera(const CameraPose& pose);
 
-// The ray of pixel (px, py) of a width x height image (row 0 at the top), towards the eye, where
-// it meets the plane within the map; a miss otherwise.
-Ray camera_ray(const Camera& camera, const PlaneMap& plane, int px, int py, int width, int height);
+// The ray through (image_x, image_y) of a width x height image, in pixels from its top left corner
+// (pixel (px, py)'s centre is (px + 0.5, py + 0.5)), towards the eye, where it meets the plane
+// within the map; a miss otherwise.
+Ray camera_ray(const Camera& camera, const PlaneMap& plane, double image_x, double image_y, int width,
+               int height);
 
 }  // namespace heightmarch

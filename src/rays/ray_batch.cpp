@@ -18,6 +18,8 @@ constexpr float kMaxRayOrigin = 1e6f;  // |T.x|, |T.y|
 }  // namespace
 
 void set_pixel_gradients(RayBatch& rays, int frame_width, int frame_height) {
+  rays.frame_width = frame_width;
+  rays.frame_height = frame_height;
   const std::size_t width = std::size_t(rays.image_width), height = std::size_t(rays.image_height);
   check_memory_budget(4.0 * double(width) * double(height), "the pixel grid of a view");
   constexpr std::uint32_t kNone = 0xffffffffu;

@@ -167,16 +167,26 @@ void size_views_for_rays(ViewSpec& view, double rays) {
     view.width = view.height = std::clamp(int(std::lround(std::sqrt(rays))), 1, kMaxViewSide);
     return;
   }
-  // The share of a frame's pixels that see the quad's front over the turn, at a coarse size.
+  // The tutorial keeps its window: under trilinear filtering the frame's size sets the level of
+  // detail every ray reads. The budget takes frames of the turn instead (at most those asked, at
+  // least one), by the share of a frame's pixels that see the quad's front over the turn, at a
+  // coarse size.
   ViewSpec probe = view;
   probe.width = kTutorialWidth / 10;
   probe.height = kTutorialHeight / 10;
   probe.fresh_rays = 0;
   const double share =
       double(make_view_rays(probe).ray_count) / (double(probe.width) * probe.height * view.views);
-  const double pixels = rays / view.views / std::max(share, 1e-3);
-  view.width = std::clamp(int(std::lround(std::sqrt(pixels * 4.0 / 3.0))), 1, kMaxViewSide);
-  view.height = std::clamp(int(std::lround(view.width * 0.75)), 1, kMaxViewSide);
+  const double per_frame = double(kTutorialWidth) * kTutorialHeight * std::max(share, 1e-3);
+  view.width = kTutorialWidth;
+  view.height = kTutorialHeight;
+  view.views = std::clamp(int(std::lround(rays / per_frame)), 1, view.views);
+}
+
+ViewSpec subpixel_view(ViewSpec view, float dx, float dy) {
+  view.subpixel[0] = dx;
+  view.subpixel[1] = dy;
+  return view;
 }
 
 std::string describe(const ViewSpec& view) {
@@ -282,15 +292,15 @@ RayBatch frame_rays(const ViewSpec& view) {
   const float sweep_v[3] = {float(std::sin(theta) * std::cos(phi)), float(std::sin(theta) * std::sin(phi)),
                             float(std::cos(theta))};
   const bool sweep = view.kind == ViewSpec::Kind::sweep;
-  const auto ray_of = [&](int px, int py) {
-    return sweep ? Ray{true,
-                       float((px + 0.5) / view.width),
-                       float((py + 0.5) / view.height),
-                       sweep_v[0],
-                       sweep_v[1],
-                       sweep_v[2]}
-                 : camera_ray(camera, square, px, py, view.width, view.height);
+  // The ray of a pixel through its centre moved by `offset` pixels.
+  const auto ray_at = [&](int px, int py, const float offset[2]) {
+    const double x = px + 0.5 + offset[0], y = py + 0.5 + offset[1];
+    return sweep
+               ? Ray{true, float(x / view.width), float(y / view.height), sweep_v[0], sweep_v[1], sweep_v[2]}
+               : camera_ray(camera, square, x, y, view.width, view.height);
   };
+  const float centre_offset[2] = {0.0f, 0.0f};  // a cell's azimuth: its own centre's, in every pass
+  const auto ray_of = [&](int px, int py) { return ray_at(px, py, view.subpixel); };
   const int tile = view.tile_size, tiles_x = (view.width + tile - 1) / tile;
   const int cells_x = (view.width + kViewCell - 1) / kViewCell,
             cells_y = (view.height + kViewCell - 1) / kViewCell;
@@ -315,8 +325,8 @@ RayBatch frame_rays(const ViewSpec& view) {
     const std::vector<int> order = shuffled(), across = shuffled(), along = shuffled();
     for (int j = 0; j < cells_x; ++j) {
       const int cx = order[j];
-      const Ray centre = ray_of(std::min(cx * kViewCell + kViewCell / 2, view.width - 1),
-                                std::min(cy * kViewCell + kViewCell / 2, view.height - 1));
+      const Ray centre = ray_at(std::min(cx * kViewCell + kViewCell / 2, view.width - 1),
+                                std::min(cy * kViewCell + kViewCell / 2, view.height - 1), centre_offset);
       Placement& place = cells[std::size_t(cy) * cells_x + cx];
       place.wrap = true;
       place.turn = phi + 2.0 * kPi * (j + (view.seed != 0 ? draws.next() : 0.0)) / cells_x -
@@ -366,7 +376,8 @@ RayBatch tutorial_rays(const ViewSpec& view) {
   }
   const PlaneMap quad{0.5, 0.5, 0.5, -1, 1, -1, 1, 0};
   return make_set(view.views, view.width, view.height, view.tile_size, offsets, [&](int k, int px, int py) {
-    return camera_ray(frames[k], quad, px, py, view.width, view.height);
+    return camera_ray(frames[k], quad, px + 0.5 + view.subpixel[0], py + 0.5 + view.subpixel[1], view.width,
+                      view.height);
   });
 }
 
@@ -392,7 +403,8 @@ RayBatch poses_rays(const ViewSpec& view, std::vector<std::size_t>& pose_lines) 
   RayBatch batch =
       make_set(int(poses.size()), width, height, view.tile_size, offsets, [&](int k, int px, int py) {
         if (px >= poses[k].width || py >= poses[k].height) return Ray{false, 0, 0, 0, 0, 0};
-        return camera_ray(cameras[k], plane, px, py, poses[k].width, poses[k].height);
+        return camera_ray(cameras[k], plane, px + 0.5 + view.subpixel[0], py + 0.5 + view.subpixel[1],
+                          poses[k].width, poses[k].height);
       });
   if (batch.ray_count == 0)
     throw InputError(view.path + ": no pose sees the surface within " + std::to_string(int(kMaxViewDegrees)) +

@@ -26,7 +26,7 @@ void check_prepare(const protocol::PrepareRequest& p) {
   try {
     check(p.params);
     if (p.map) check_depth_map(*p.map, "fuzz");
-    if (p.rays) check_rays(*p.rays);
+    if (p.rays) check_rays(p.rays->rays);
   } catch (const InputError&) {
     __builtin_trap();
   }

@@ -309,8 +309,13 @@
                     figure(shown.images.error, `uv error of ${what}, texels (one log scale, 0.01 to 10, for every image)`));
       if (shown.images.cost)
         images.append(figure(shown.images.cost, `height samples per pixel of ${what} (one log scale, 1 to 1024)`));
+      if (shown.images.difference)
+        images.append(figure(shown.images.difference,
+                             `colour difference of ${what} from the exact render supersampled (CIEDE2000, 0 to 10)`));
     }
     if (exact) images.append(figure(exact.images.render, `the exact render (${exact.view})`));
+    if (exact && exact.images.reference)
+      images.append(figure(exact.images.reference, `the exact render supersampled (${exact.view})`));
     if (!same) {
       const rendered = gallery.filter(g => g.technique).map(g => label(g));
       box.append(el("p", {class: "missing", text: rendered.length
