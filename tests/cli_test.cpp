@@ -641,7 +641,7 @@ std::vector<BadInput> bad_inputs() {
       // Every numeric option's range in one form, never DBL_MAX's 309 digits.
       {"NegativeMaxError", "recommend /nonexistent --max-error -1", "--max-error: must be >= 0, not -1"},
       {"NanMaxWrongSurface", "recommend /nonexistent --max-wrong-surface nan",
-       "--max-wrong-surface: must be in [0, 100], not nan"},
+       "--max-wrong: must be in [0, 100], not nan"},
       {"ZeroFrames", "recommend /nonexistent --frames 0", "--frames: must be in [1, 1073741824], not 0"},
       {"SuiteZeroScale", "suite --quick --scale 0", "--scale: must be in (0, 1], not 0"},
       {"SuiteZeroRepetitions", "suite --quick --repetitions 0", "--repetitions: must be in [1, 1000], not 0"},
