@@ -106,10 +106,22 @@ TEST(Plan, TheExactReferenceIsARowWithoutError) {
 TEST(Registry, MeasuresFollowTheHitList) {
   std::vector<std::string> names;
   for (const ErrorMeasure& m : error_measure_list()) names.push_back(m.name);
-  EXPECT_EQ(names,
-            (std::vector<std::string>{"uv_error_mean", "uv_error_rms", "uv_error_p50", "uv_error_p95",
-                                      "uv_error_p99", "uv_error_max", "wrong_surface_rate",
-                                      "depth_error_mean", "shadow_error_mean", "shadow_mismatch_rate"}));
+  // Each distribution as NAME_mean .. NAME_max and its wrong rate, in the list's order.
+  std::vector<std::string> expected;
+  const auto distribution = [&](const std::string& name, const std::string& rate) {
+    for (const char* statistic : {"mean", "rms", "p50", "p95", "p99", "max"})
+      expected.push_back(name + "_" + statistic);
+    expected.push_back(rate);
+  };
+  distribution("uv_error", "wrong_surface_rate");
+  expected.push_back("depth_error_mean");
+  distribution("pixel_error", "wrong_pixel_rate");
+  distribution("search_error", "search_wrong_surface_rate");
+  distribution("search_pixel_error", "search_wrong_pixel_rate");
+  distribution("filter_bias", "filter_wrong_surface_rate");
+  distribution("filter_pixel_bias", "filter_wrong_pixel_rate");
+  expected.insert(expected.end(), {"shadow_error_mean", "shadow_mismatch_rate"});
+  EXPECT_EQ(names, expected);
   std::vector<Configuration> plan;
   for (Technique t : {Technique::pom, Technique::shadow}) plan.push_back(small(t, "8", kPurposeCommand));
   MeasureOptions options;
