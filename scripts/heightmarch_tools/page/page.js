@@ -47,8 +47,9 @@
   const unique = values => [...new Set(values)];
   const meetsWrongBound = row => !TARGET || (row.errors[TARGET.wrong_measure] ?? 0) <= TARGET.max_wrong_rate;
 
-  // A configuration's figures, as lines of text: the first names it.
-  function describe(row) {
+  // A configuration's figures, as lines of text: the first names it. brief: each measure's p99 and
+  // rate only (a hover label of every statistic is taller than its chart, and Plotly draws none).
+  function describe(row, brief = false) {
     const lines = [`${label(row)} (row ${row.id})`, `${row.heightfield}, ${row.view}`,
                    `${row.renderer}, ${row.threads} thread${row.threads === 1 ? "" : "s"}`];
     if (row.rays_per_second) lines.push(`Mrays/s ${spreadText(row.rays_per_second, 1, 1e-6)}`,
@@ -56,13 +57,13 @@
     else lines.push("not timed (accuracy only)");
     lines.push(`samples/ray ${num(row.samples_per_ray, 2)}`);
     for (const [key, name] of MEASURES)
-      if (row.errors[key] !== undefined)
+      if (row.errors[key] !== undefined && (!brief || /_p99$|rate$/.test(key)))
         lines.push(`${name.replace(/ \(.*\)/, "")}: ${/rate/.test(key) ? percent(row.errors[key]) : errorText(row.errors[key])}`);
     if (row.precompute_seconds !== null) lines.push(`preprocessing ${num(row.precompute_seconds, 3)} s (once per map)`);
     return lines;
   }
   // The same as a Plotly hover label.
-  const hoverText = row => describe(row).map((line, i) => (i ? esc(line) : `<b>${esc(line)}</b>`)).join("<br>");
+  const hoverText = row => describe(row, true).map((line, i) => (i ? esc(line) : `<b>${esc(line)}</b>`)).join("<br>");
 
   // --- alerts and the recommendation ------------------------------------------------------------
   function showAlerts() {
